@@ -1,0 +1,47 @@
+#pragma once
+// A BVH paired with its triangles in leaf order: the traceable acceleration structure of one
+// mesh, with closest-hit and any-hit single-ray traversal.
+
+#include "dynrt/bvh/binned_sah_builder.h"
+#include "dynrt/bvh/ray.h"
+#include "dynrt/bvh/triangle.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace dynrt::bvh {
+
+struct TriangleBvh {
+    Bvh bvh;
+    /// `tris[i]` is the triangle of the caller's index `bvh.prim_ids[i]`, copied so a leaf's
+    /// triangles are contiguous in memory.
+    std::vector<Triangle> tris;
+    /// Zero-area triangles that were left out of the tree (they can never be hit).
+    std::size_t degenerate_skipped = 0;
+};
+
+/// Builds with `build_binned_sah` over the non-degenerate triangles of `tris` (borrowed for the
+/// call), binning each triangle by the centre of its box. Hits report indices into `tris`.
+/// Triangles must be finite (check with is_finite first: the engine reports non-finite input as
+/// an error before building). Runs in parallel on the calling thread's oneTBB arena.
+TriangleBvh build_triangle_bvh(std::span<const Triangle> tris, const BuildConfig& config);
+
+/// Closest hit along `ray` within [ray.tmin, ray.tmax], or a miss. Thread-safe on a shared
+/// tree. Box tests are conservative (Ize 2013, "Robust BVH Ray Traversal"), so no triangle that
+/// the watertight test would hit is culled by rounding in a box test.
+Hit intersect_closest(const TriangleBvh& accel, const Ray& ray);
+
+/// True when any triangle is hit within [ray.tmin, ray.tmax] (shadow rays). Thread-safe.
+bool intersect_any(const TriangleBvh& accel, const Ray& ray);
+
+/// `validate` for a triangle BVH built from `tris`: the tree invariants of `accel.bvh` against
+/// the triangles' boxes, except that exactly the degenerate triangles are absent, plus
+/// `accel.tris[i]` equal to `tris[accel.bvh.prim_ids[i]]` and `degenerate_skipped` equal to the
+/// number absent. Returns "" when valid, else the first violation. For tests and debug checks.
+std::string validate(const TriangleBvh& accel, std::span<const Triangle> tris,
+                     std::uint32_t leaf_size_max);
+
+}  // namespace dynrt::bvh

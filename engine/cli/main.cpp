@@ -1,0 +1,218 @@
+// The `dynrt` command line: render a scene to an image with a timing report, or describe a scene.
+
+#include "dynrt/anim/posed_scene.h"
+#include "dynrt/bvh/triangle.h"
+#include "dynrt/engine/camera.h"
+#include "dynrt/engine/image_output.h"
+#include "dynrt/engine/renderer.h"
+#include "dynrt/engine/report.h"
+#include "dynrt/engine/scene_loading.h"
+#include "dynrt/scene/scene_error.h"
+
+#include <CLI/CLI.hpp>
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <iomanip>
+#include <iostream>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace {
+
+struct RenderArgs {
+    std::string scene;
+    std::string res = "1024x1024";
+    std::string out = "dynrt.png";
+    std::string report;
+    std::string aov;
+    std::string camera;
+    std::vector<std::string> lights;
+    float cost_ratio = dynrt::bvh::BuildConfig{}.cost_ratio;
+    unsigned leaf_size = dynrt::bvh::BuildConfig{}.leaf_size_max;
+    int threads = 0;
+};
+
+/// Splits "a,b,c" into finite floats; `what` names the flag in errors.
+std::vector<float> parse_floats(const std::string& text, const std::string& what) {
+    std::vector<float> values;
+    std::size_t start = 0;
+    while (true) {
+        const std::size_t comma = std::min(text.find(',', start), text.size());
+        float v = 0.0f;
+        const char* first = text.data() + start;
+        const char* last = text.data() + comma;
+        const auto [ptr, ec] = std::from_chars(first, last, v);
+        if (ec != std::errc() || ptr != last || !std::isfinite(v)) {
+            throw std::invalid_argument(what + " '" + text + "': '" + std::string(first, last) +
+                                        "' is not a finite number");
+        }
+        values.push_back(v);
+        if (comma == text.size()) break;
+        start = comma + 1;
+    }
+    return values;
+}
+
+void parse_resolution(const std::string& text, int& width, int& height) {
+    const std::size_t x = text.find('x');
+    int w = 0, h = 0;
+    const auto parse = [](const char* first, const char* last, int& v) {
+        const auto [ptr, ec] = std::from_chars(first, last, v);
+        return ec == std::errc() && ptr == last;
+    };
+    if (x == std::string::npos || !parse(text.data(), text.data() + x, w) ||
+        !parse(text.data() + x + 1, text.data() + text.size(), h) || w < 1 || h < 1 ||
+        w > 16384 || h > 16384) {
+        throw std::invalid_argument("--res '" + text +
+                                    "': expected WIDTHxHEIGHT, each from 1 to 16384");
+    }
+    width = w;
+    height = h;
+}
+
+dynrt::PointLight parse_light(const std::string& text) {
+    const std::vector<float> v = parse_floats(text, "--light");
+    if (v.size() != 3 && v.size() != 4) {
+        throw std::invalid_argument("--light '" + text + "': expected x,y,z or x,y,z,intensity");
+    }
+    return dynrt::PointLight{glm::vec3(v[0], v[1], v[2]), v.size() == 4 ? v[3] : 1.0f};
+}
+
+int run_render(const RenderArgs& args) {
+    dynrt::RenderOptions options;
+    parse_resolution(args.res, options.width, options.height);
+    options.build.cost_ratio = args.cost_ratio;
+    options.build.leaf_size_max = args.leaf_size;
+    for (const std::string& light : args.lights) options.lights.push_back(parse_light(light));
+    const std::vector<dynrt::Aov> aovs = dynrt::parse_aov_list(args.aov);
+
+    const std::string source =
+        args.scene.empty() ? dynrt::default_scene_path().string() : args.scene;
+    const dynrt::Scene scene = dynrt::load_scene(source);
+    dynrt::Camera camera = dynrt::default_camera(dynrt::scene_bounds(scene));
+    if (!args.camera.empty()) camera = dynrt::parse_camera(args.camera, camera);
+
+    dynrt::Renderer renderer(options);
+    dynrt::RenderedFrame frame;
+    renderer.render(scene, camera, 0, frame);
+    dynrt::write_image(args.out, frame);
+    for (dynrt::Aov aov : aovs) dynrt::write_aov(args.out, aov, frame);
+
+    const std::vector<dynrt::FrameStats> frames{frame.stats};
+    std::cout << "dynrt: " << source << ": " << scene.objects.size() << " objects, "
+              << scene.triangle_count() << " triangles ("
+              << frame.stats.degenerate_skipped << " degenerate skipped), "
+              << options.width << "x" << options.height << " -> " << args.out << "\n";
+    dynrt::print_frame_header(std::cout);
+    for (const dynrt::FrameStats& f : frames) dynrt::print_frame_row(std::cout, f);
+    dynrt::print_summary(std::cout, frames);
+    if (!args.report.empty()) {
+        const dynrt::RunInfo run{source, options.width, options.height, options.build.cost_ratio,
+                                 options.build.leaf_size_max,
+                                 args.threads > 0 ? args.threads
+                                                  : tbb::info::default_concurrency()};
+        dynrt::write_report(args.report, run, frames);
+        std::cout << "report: " << args.report << "\n";
+    }
+    return 0;
+}
+
+int run_info(const std::string& source) {
+    const dynrt::Scene scene = dynrt::load_scene(source);
+    dynrt::anim::PosedScene posed;
+    dynrt::anim::pose_scene(scene, 0, posed);
+    std::cout << source << "\n";
+    std::cout << std::left << std::setw(40) << "object" << std::right << std::setw(12)
+              << "triangles" << std::setw(12) << "degenerate" << "  bounds (frame 0)\n";
+    dynrt::bvh::Aabb all;
+    std::size_t degenerate_total = 0;
+    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+        const dynrt::Object& object = scene.objects[i];
+        const std::vector<glm::vec3>& p = posed.objects[i].positions;
+        dynrt::bvh::Aabb bounds;
+        std::size_t degenerate = 0;
+        for (const glm::uvec3& t : object.mesh.triangles) {
+            const dynrt::bvh::Triangle tri{p[t.x], p[t.y], p[t.z]};
+            degenerate += dynrt::bvh::is_degenerate(tri);
+            bounds.extend(tri.bounds());
+        }
+        all.extend(bounds);
+        degenerate_total += degenerate;
+        std::cout << std::left << std::setw(40) << object.name << std::right << std::setw(12)
+                  << object.mesh.triangles.size() << std::setw(12) << degenerate << "  ["
+                  << bounds.lo.x << ", " << bounds.lo.y << ", " << bounds.lo.z << "] - ["
+                  << bounds.hi.x << ", " << bounds.hi.y << ", " << bounds.hi.z << "]\n";
+    }
+    std::cout << std::left << std::setw(40) << "total" << std::right << std::setw(12)
+              << scene.triangle_count() << std::setw(12) << degenerate_total << "  ["
+              << all.lo.x << ", " << all.lo.y << ", " << all.lo.z << "] - [" << all.hi.x << ", "
+              << all.hi.y << ", " << all.hi.z << "]\n"
+              << scene.objects.size() << " objects, " << scene.materials.size()
+              << " materials, " << scene.lights.size() << " lights\n";
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"dynrt: real-time ray tracing of animated triangle scenes on CPUs"};
+    app.require_subcommand(1);
+    int threads = 0;
+    app.add_option("--threads", threads, "Worker threads (default: all cores)")
+        ->check(CLI::Range(1, 1024));
+
+    RenderArgs render;
+    CLI::App* render_cmd = app.add_subcommand("render", "Render a scene to an image and report timings");
+    render_cmd->add_option("scene", render.scene,
+                           "glTF file (.gltf/.glb) or procedural spec (e.g. sphere:100000); "
+                           "default: the bundled scene");
+    render_cmd->add_option("--res", render.res, "Image size WIDTHxHEIGHT")->capture_default_str();
+    render_cmd->add_option("--out", render.out, "Output image; format by extension")
+        ->capture_default_str();
+    render_cmd->add_option("--report", render.report, "Write the frame report as JSON to this file");
+    render_cmd->add_option("--aov", render.aov,
+                           "Also write float EXRs next to the image: depth,object,prim,normal");
+    render_cmd->add_option("--camera", render.camera,
+                           "eye=x,y,z,target=x,y,z,up=x,y,z,fov=deg (any subset; default framing "
+                           "from the scene bounds)");
+    render_cmd->add_option("--light", render.lights,
+                           "Point light x,y,z[,intensity]; repeatable (default: one light above)")
+        ->allow_extra_args(false);
+    render_cmd->add_option("--cost-ratio", render.cost_ratio,
+                           "SAH intersection:traversal cost (0.1 big shallow leaves, 1 small deep)")
+        ->check(CLI::PositiveNumber)->capture_default_str();
+    render_cmd->add_option("--leaf-size", render.leaf_size, "Maximum triangles per leaf")
+        ->check(CLI::Range(1u, 1024u))->capture_default_str();
+    render_cmd->add_option("--threads", render.threads, "Worker threads (default: all cores)")
+        ->check(CLI::Range(1, 1024));
+
+    std::string info_scene;
+    CLI::App* info_cmd = app.add_subcommand("info", "Describe a scene: objects, triangles, bounds");
+    info_cmd->add_option("scene", info_scene, "glTF file or procedural spec")->required();
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e);
+    }
+
+    try {
+        const int thread_count = render.threads > 0 ? render.threads : threads;
+        std::optional<tbb::global_control> limit;
+        if (thread_count > 0) {
+            limit.emplace(tbb::global_control::max_allowed_parallelism, std::size_t(thread_count));
+        }
+        render.threads = thread_count;
+        if (*render_cmd) return run_render(render);
+        return run_info(info_scene);
+    } catch (const std::exception& e) {
+        std::cerr << "dynrt: error: " << e.what() << "\n";
+        return 1;
+    }
+}

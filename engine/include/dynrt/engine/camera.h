@@ -1,0 +1,45 @@
+#pragma once
+// Pinhole camera and the exact primary-ray convention (README.md, "Camera convention"), which
+// other tools reproduce to compare images pixel by pixel.
+
+#include "dynrt/bvh/aabb.h"
+#include "dynrt/bvh/ray.h"
+
+#include <glm/vec3.hpp>
+
+#include <string_view>
+
+namespace dynrt {
+
+struct Camera {
+    glm::vec3 eye{0.0f, 0.0f, 5.0f};
+    glm::vec3 target{0.0f};
+    glm::vec3 up{0.0f, 1.0f, 0.0f};
+    /// Vertical field of view in degrees, in (0, 180).
+    float fov_y_deg = 45.0f;
+};
+
+/// eye = c + 2.5 R normalize(0.6, 0.5, 1.0), target c, up +Y, fov 45, where c is the box
+/// centre and R half its diagonal.
+Camera default_camera(const bvh::Aabb& scene_bounds);
+
+/// Parses "eye=x,y,z,target=x,y,z,up=x,y,z,fov=deg"; any subset of the keys, in any order,
+/// overriding `base`. Throws std::invalid_argument naming the bad part.
+Camera parse_camera(std::string_view spec, const Camera& base);
+
+/// Precomputed basis of a camera for one image size; `ray(x, y)` is the convention's ray of
+/// pixel (x, y), y = 0 the top row: unit direction, starting at the eye.
+class CameraRays {
+public:
+    /// Throws std::invalid_argument for a degenerate camera (eye == target, up parallel to the
+    /// view direction, fov outside (0, 180)) or an empty image.
+    CameraRays(const Camera& camera, int width, int height);
+    bvh::Ray ray(int x, int y) const;
+
+private:
+    glm::vec3 eye_, fwd_, right_, up_;
+    float tan_half_fov_, aspect_;
+    int width_, height_;
+};
+
+}  // namespace dynrt

@@ -1,0 +1,31 @@
+#pragma once
+// Writing rendered frames to image files through OpenImageIO.
+
+#include "dynrt/engine/renderer.h"
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace dynrt {
+
+/// Auxiliary per-pixel outputs written next to the image for pixel-by-pixel comparison.
+enum class Aov { depth, object, prim, normal };
+
+/// Parses "depth,object,prim,normal" (any subset, no repeats; empty string = none). Throws
+/// std::invalid_argument naming an unknown or repeated entry.
+std::vector<Aov> parse_aov_list(const std::string& list);
+
+/// Writes the colour image; the format follows the extension (.png, .exr, .jpg, .tif, ...).
+/// Float formats (.exr, .hdr, .pfm) get linear values; all others get sRGB-encoded 8-bit
+/// values clamped to [0, 1]. Throws std::runtime_error naming the file on failure.
+void write_image(const std::filesystem::path& path, const RenderedFrame& frame);
+
+/// Path of one AOV next to `image`: "<dir>/<image stem>.<aov>.exr".
+std::filesystem::path aov_path(const std::filesystem::path& image, Aov aov);
+
+/// Writes float EXR images: depth (1 channel, +inf on a miss), object and prim (1 channel,
+/// -1 on a miss; exact up to 2^24), normal (3 channels, 0 on a miss).
+void write_aov(const std::filesystem::path& image, Aov aov, const RenderedFrame& frame);
+
+}  // namespace dynrt

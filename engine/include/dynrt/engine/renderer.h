@@ -1,0 +1,78 @@
+#pragma once
+// Renders one frame: pose the scene, build the BVH, trace primary rays in 16x16 tiles, trace a
+// shadow ray per hit and light, shade with Phong. Each stage is timed into FrameStats.
+//
+// Shading (reproduced by the reference renderer in tests/): at a hit with unit geometric normal
+// n turned to face the eye, view vector v = -dir, material (kd, ks, shininess), ambient a:
+//   color = a * kd + sum over lights L with n.l > 0 and the light visible from the hit:
+//           intensity_L * (kd * (n.l) + ks * max(0, r.v)^shininess),  r = 2 (n.l) n - l,
+// l the unit vector to the light. No distance falloff. A miss is the background colour.
+// A shadow ray is traced only for lights with n.l > 0; shadow_rays counts them.
+
+#include "dynrt/bvh/binned_sah_builder.h"
+#include "dynrt/engine/camera.h"
+#include "dynrt/engine/frame_stats.h"
+#include "dynrt/scene/scene.h"
+
+#include <glm/vec3.hpp>
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace dynrt {
+
+struct RenderOptions {
+    int width = 1024;
+    int height = 1024;
+    bvh::BuildConfig build;
+    /// Empty: one default light at c + 4 R normalize(-0.5, 1.0, 0.8) (scene box centre c,
+    /// half-diagonal R) unless the scene defines its own.
+    std::vector<PointLight> lights;
+    glm::vec3 background{0.05f, 0.06f, 0.08f};
+    /// Ambient term, as a fraction of the diffuse colour.
+    float ambient = 0.08f;
+};
+
+/// Per-pixel results, row-major with y = 0 the top row.
+struct RenderedFrame {
+    int width = 0;
+    int height = 0;
+    std::vector<glm::vec3> color;   ///< linear RGB
+    std::vector<float> depth;       ///< distance from the eye along the unit ray; +inf on a miss
+    std::vector<std::int32_t> object;  ///< object index in scene order; -1 on a miss
+    std::vector<std::int32_t> prim;    ///< triangle index within the object; -1 on a miss
+    std::vector<glm::vec3> normal;  ///< unit geometric normal facing the eye; 0 on a miss
+    FrameStats stats;
+};
+
+/// Keeps the per-frame structures (posed geometry, triangle arrays, hit buffers) alive across
+/// frames so rendering a sequence does not reallocate. Not thread-safe: one render at a time;
+/// each render runs in parallel on the caller's oneTBB arena.
+class Renderer {
+public:
+    explicit Renderer(RenderOptions options);
+    ~Renderer();
+    Renderer(const Renderer&) = delete;
+    Renderer& operator=(const Renderer&) = delete;
+
+    const RenderOptions& options() const { return options_; }
+
+    /// Renders `scene` at `frame` seen by `camera` into `out` (its buffers are reused).
+    /// Throws SceneError for non-finite posed geometry (naming object and frame) and
+    /// std::invalid_argument for a degenerate camera.
+    void render(const Scene& scene, const Camera& camera, int frame, RenderedFrame& out);
+
+private:
+    struct State;
+    RenderOptions options_;
+    std::unique_ptr<State> state_;
+};
+
+/// World-space bounds of `scene` at frame 0 (for the default camera and light).
+bvh::Aabb scene_bounds(const Scene& scene);
+
+/// The lights a render of `scene` uses under `options` (see RenderOptions::lights).
+std::vector<PointLight> effective_lights(const Scene& scene, const RenderOptions& options);
+
+}  // namespace dynrt

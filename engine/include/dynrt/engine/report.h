@@ -1,0 +1,38 @@
+#pragma once
+// The per-frame report: a fixed-width table for people and a JSON document for tools. The JSON
+// schema is documented in README.md ("Report") and only ever grows.
+
+#include "dynrt/engine/frame_stats.h"
+
+#include <filesystem>
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+namespace dynrt {
+
+/// What was rendered, recorded once per report.
+struct RunInfo {
+    std::string scene;
+    int width = 0;
+    int height = 0;
+    float cost_ratio = 0;
+    unsigned leaf_size_max = 0;
+    int threads = 0;
+};
+
+/// {"dynrt_report_version": 1, "run": {...}, "frames": [FrameStats...],
+///  "summary": {"median": {...}, "min": {...}, "max": {...}}}, pretty-printed.
+std::string report_json(const RunInfo& run, const std::vector<FrameStats>& frames);
+
+/// Writes report_json to `path`. Throws std::runtime_error naming the file on failure.
+void write_report(const std::filesystem::path& path, const RunInfo& run,
+                  const std::vector<FrameStats>& frames);
+
+/// Column header of the frame table, then one row per call of print_frame_row.
+void print_frame_header(std::ostream& out);
+void print_frame_row(std::ostream& out, const FrameStats& stats);
+/// Median / min / max rows over `frames` (printed only when there is more than one frame).
+void print_summary(std::ostream& out, const std::vector<FrameStats>& frames);
+
+}  // namespace dynrt

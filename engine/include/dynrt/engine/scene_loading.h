@@ -1,0 +1,38 @@
+#pragma once
+// Scene front ends: glTF 2.0 files and procedural spec strings, both producing the scene model.
+
+#include "dynrt/scene/scene.h"
+
+#include <filesystem>
+#include <string>
+
+namespace dynrt {
+
+/// Loads `source`: a path ending in .gltf or .glb (case-insensitive) is read as glTF, anything
+/// else is parsed as a procedural spec (see make_procedural_scene). Throws SceneError with a
+/// one-line message naming the file or spec, the object and the problem. The result has at
+/// least one triangle and only finite positions and in-range indices.
+Scene load_scene(const std::string& source);
+
+/// Reads a glTF 2.0 file (.gltf with external or embedded buffers, or .glb). Every triangle
+/// primitive of the default scene (or scene 0) becomes one Object in node-tree order, named
+/// "node/mesh" ("node/mesh#k" for the k-th primitive of a multi-primitive mesh), with the
+/// node's world matrix as transform and baseColorFactor as diffuse colour. Strips and fans are
+/// converted to lists; points and lines are skipped with a warning on stderr. Throws SceneError.
+Scene load_gltf(const std::filesystem::path& path);
+
+/// Builds a procedural scene from its spec (grammar in README.md, "Procedural scenes"):
+/// `sphere:N`, `soup:N`, `plane:N`, joined with '+', each optionally placed with
+/// `@x,y,z[,scale]` and coloured with `#rrggbb`. Exact definitions so other tools can build the
+/// same triangles. Throws SceneError for a malformed spec.
+Scene make_procedural_scene(const std::string& spec);
+
+/// Throws SceneError when `scene` has no triangles, an index out of range or a non-finite
+/// position, naming the object. Loaders call it; callers building scenes by hand may too.
+void check_scene(const Scene& scene);
+
+/// The bundled default scene (scenes/default.gltf), found next to the source tree or the
+/// installed executable.
+std::filesystem::path default_scene_path();
+
+}  // namespace dynrt

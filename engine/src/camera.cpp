@@ -1,0 +1,112 @@
+#include "dynrt/engine/camera.h"
+
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
+
+#include <charconv>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace dynrt {
+
+Camera default_camera(const bvh::Aabb& scene_bounds) {
+    const glm::vec3 c = scene_bounds.center();
+    const float r = 0.5f * glm::length(scene_bounds.extent());
+    Camera camera;
+    camera.target = c;
+    camera.eye = c + 2.5f * r * glm::normalize(glm::vec3(0.6f, 0.5f, 1.0f));
+    camera.up = glm::vec3(0.0f, 1.0f, 0.0f);
+    camera.fov_y_deg = 45.0f;
+    return camera;
+}
+
+namespace {
+
+float parse_float(std::string_view text, std::string_view spec) {
+    float value = 0.0f;
+    const char* end = text.data() + text.size();
+    const auto [ptr, ec] = std::from_chars(text.data(), end, value);
+    if (ec != std::errc() || ptr != end || !std::isfinite(value)) {
+        throw std::invalid_argument("camera '" + std::string(spec) + "': '" + std::string(text) +
+                                    "' is not a finite number");
+    }
+    return value;
+}
+
+}  // namespace
+
+Camera parse_camera(std::string_view spec, const Camera& base) {
+    // Split at commas; a key=value token starts a new key, plain tokens continue its vector.
+    std::vector<std::string_view> tokens;
+    for (std::size_t start = 0; start <= spec.size();) {
+        const std::size_t comma = std::min(spec.find(',', start), spec.size());
+        tokens.push_back(spec.substr(start, comma - start));
+        start = comma + 1;
+    }
+    Camera camera = base;
+    for (std::size_t i = 0; i < tokens.size();) {
+        const std::size_t eq = tokens[i].find('=');
+        if (eq == std::string_view::npos) {
+            throw std::invalid_argument("camera '" + std::string(spec) + "': expected key=value at '" +
+                                        std::string(tokens[i]) + "' (keys: eye, target, up, fov)");
+        }
+        const std::string_view key = tokens[i].substr(0, eq);
+        const std::string_view first = tokens[i].substr(eq + 1);
+        if (key == "fov") {
+            camera.fov_y_deg = parse_float(first, spec);
+            if (!(camera.fov_y_deg > 0.0f && camera.fov_y_deg < 180.0f)) {
+                throw std::invalid_argument("camera '" + std::string(spec) +
+                                            "': fov must be in (0, 180) degrees");
+            }
+            i += 1;
+            continue;
+        }
+        glm::vec3* target = key == "eye" ? &camera.eye
+                          : key == "target" ? &camera.target
+                          : key == "up" ? &camera.up : nullptr;
+        if (!target) {
+            throw std::invalid_argument("camera '" + std::string(spec) + "': unknown key '" +
+                                        std::string(key) + "' (keys: eye, target, up, fov)");
+        }
+        if (i + 2 >= tokens.size()) {
+            throw std::invalid_argument("camera '" + std::string(spec) + "': '" + std::string(key) +
+                                        "' needs three numbers x,y,z");
+        }
+        *target = glm::vec3(parse_float(first, spec), parse_float(tokens[i + 1], spec),
+                            parse_float(tokens[i + 2], spec));
+        i += 3;
+    }
+    return camera;
+}
+
+CameraRays::CameraRays(const Camera& camera, int width, int height)
+    : eye_(camera.eye), width_(width), height_(height) {
+    if (width <= 0 || height <= 0) throw std::invalid_argument("image size must be positive");
+    if (!(camera.fov_y_deg > 0.0f && camera.fov_y_deg < 180.0f)) {
+        throw std::invalid_argument("camera fov must be in (0, 180) degrees");
+    }
+    const glm::vec3 view = camera.target - camera.eye;
+    if (!(glm::length(view) > 0.0f)) throw std::invalid_argument("camera eye equals target");
+    fwd_ = glm::normalize(view);
+    const glm::vec3 side = glm::cross(fwd_, camera.up);
+    if (!(glm::length(side) > 1e-6f * glm::length(camera.up))) {
+        throw std::invalid_argument("camera up is parallel to the view direction");
+    }
+    right_ = glm::normalize(side);
+    up_ = glm::cross(right_, fwd_);
+    tan_half_fov_ = std::tan(glm::radians(camera.fov_y_deg) * 0.5f);
+    aspect_ = float(width) / float(height);
+}
+
+bvh::Ray CameraRays::ray(int x, int y) const {
+    const float sx = (2.0f * (float(x) + 0.5f) / float(width_) - 1.0f) * tan_half_fov_ * aspect_;
+    const float sy = (1.0f - 2.0f * (float(y) + 0.5f) / float(height_)) * tan_half_fov_;
+    bvh::Ray ray;
+    ray.org = eye_;
+    ray.dir = glm::normalize(fwd_ + sx * right_ + sy * up_);
+    return ray;
+}
+
+}  // namespace dynrt

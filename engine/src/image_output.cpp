@@ -1,0 +1,102 @@
+#include "dynrt/engine/image_output.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <stdexcept>
+
+namespace dynrt {
+
+namespace {
+
+constexpr const char* kAovNames[] = {"depth", "object", "prim", "normal"};
+
+float srgb_encode(float linear) {
+    const float c = std::clamp(linear, 0.0f, 1.0f);
+    return c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
+}
+
+void write_floats(const std::filesystem::path& path, int width, int height, int channels,
+                  const float* data, OIIO::TypeDesc file_type) {
+    std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create(path.string());
+    if (!out) {
+        throw std::runtime_error(path.string() + ": unknown or unsupported image format (" +
+                                 OIIO::geterror() + ")");
+    }
+    const OIIO::ImageSpec spec(width, height, channels, file_type);
+    if (!out->open(path.string(), spec) || !out->write_image(OIIO::TypeDesc::FLOAT, data) ||
+        !out->close()) {
+        throw std::runtime_error(path.string() + ": " + out->geterror());
+    }
+}
+
+}  // namespace
+
+std::vector<Aov> parse_aov_list(const std::string& list) {
+    std::vector<Aov> aovs;
+    std::size_t start = 0;
+    while (start < list.size()) {
+        const std::size_t comma = std::min(list.find(',', start), list.size());
+        const std::string name = list.substr(start, comma - start);
+        start = comma + 1;
+        bool known = false;
+        for (int a = 0; a < 4; ++a) {
+            if (name != kAovNames[a]) continue;
+            known = true;
+            const Aov aov = Aov(a);
+            if (std::find(aovs.begin(), aovs.end(), aov) != aovs.end()) {
+                throw std::invalid_argument("--aov: '" + name + "' given twice");
+            }
+            aovs.push_back(aov);
+        }
+        if (!known) {
+            throw std::invalid_argument("--aov: unknown output '" + name +
+                                        "' (known: depth, object, prim, normal)");
+        }
+    }
+    return aovs;
+}
+
+void write_image(const std::filesystem::path& path, const RenderedFrame& frame) {
+    // Float formats keep linear radiance; the rest expect display-encoded values.
+    std::string ext = path.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+    const bool float_file = ext == ".exr" || ext == ".hdr" || ext == ".pfm";
+    std::vector<float> rgb(frame.color.size() * 3);
+    for (std::size_t i = 0; i < frame.color.size(); ++i) {
+        for (int c = 0; c < 3; ++c) {
+            rgb[3 * i + c] = float_file ? frame.color[i][c] : srgb_encode(frame.color[i][c]);
+        }
+    }
+    write_floats(path, frame.width, frame.height, 3, rgb.data(),
+                 float_file ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
+}
+
+std::filesystem::path aov_path(const std::filesystem::path& image, Aov aov) {
+    std::filesystem::path out = image;
+    out.replace_filename(image.stem().string() + "." + kAovNames[int(aov)] + ".exr");
+    return out;
+}
+
+void write_aov(const std::filesystem::path& image, Aov aov, const RenderedFrame& frame) {
+    const std::filesystem::path path = aov_path(image, aov);
+    std::vector<float> data;
+    int channels = 1;
+    switch (aov) {
+    case Aov::depth: data = frame.depth; break;
+    case Aov::object: data.assign(frame.object.begin(), frame.object.end()); break;
+    case Aov::prim: data.assign(frame.prim.begin(), frame.prim.end()); break;
+    case Aov::normal:
+        channels = 3;
+        data.resize(frame.normal.size() * 3);
+        for (std::size_t i = 0; i < frame.normal.size(); ++i) {
+            for (int c = 0; c < 3; ++c) data[3 * i + c] = frame.normal[i][c];
+        }
+        break;
+    }
+    write_floats(path, frame.width, frame.height, channels, data.data(), OIIO::TypeDesc::FLOAT);
+}
+
+}  // namespace dynrt

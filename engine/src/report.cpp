@@ -1,0 +1,136 @@
+#include "dynrt/engine/report.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <fstream>
+#include <iomanip>
+#include <ostream>
+#include <stdexcept>
+
+namespace dynrt {
+
+namespace {
+
+/// Calls visit(key, value) for every report field in schema order: the one list of the keys,
+/// shared by the JSON writer and the summary.
+template <typename Visit>
+void for_each_field(const FrameStats& s, Visit&& visit) {
+    visit("frame", s.frame);
+    visit("triangles", s.triangles);
+    visit("degenerate_skipped", s.degenerate_skipped);
+    visit("update_ms", s.update_ms);
+    visit("build_ms", s.build_ms);
+    visit("primary_ms", s.primary_ms);
+    visit("shadow_ms", s.shadow_ms);
+    visit("shade_ms", s.shade_ms);
+    visit("total_ms", s.total_ms);
+    visit("primary_rays", s.primary_rays);
+    visit("shadow_rays", s.shadow_rays);
+    visit("primary_mrays_per_s", s.primary_mrays_per_s);
+    visit("shadow_mrays_per_s", s.shadow_mrays_per_s);
+    visit("sah_cost", s.sah_cost);
+    visit("nodes", s.nodes);
+    visit("leaves", s.leaves);
+    visit("leaf_tris_mean", s.leaf_tris_mean);
+    visit("leaf_tris_max", s.leaf_tris_max);
+    visit("depth", s.depth);
+}
+
+nlohmann::ordered_json frame_json(const FrameStats& s) {
+    nlohmann::ordered_json j;
+    for_each_field(s, [&](const char* key, auto value) { j[key] = value; });
+    return j;
+}
+
+/// Field-wise median, min and max over frames, as JSON objects with the frame keys.
+nlohmann::ordered_json summary_json(const std::vector<FrameStats>& frames) {
+    nlohmann::ordered_json median, lo, hi;
+    if (frames.empty()) return {{"median", median}, {"min", lo}, {"max", hi}};
+    std::vector<std::vector<double>> columns;
+    std::vector<const char*> keys;
+    for (const FrameStats& f : frames) {
+        std::size_t c = 0;
+        for_each_field(f, [&](const char* key, auto value) {
+            if (columns.size() <= c) { columns.emplace_back(); keys.push_back(key); }
+            columns[c++].push_back(double(value));
+        });
+    }
+    for (std::size_t c = 0; c < columns.size(); ++c) {
+        std::vector<double>& v = columns[c];
+        std::sort(v.begin(), v.end());
+        // The lower median for an even count, so integer fields stay values that occurred.
+        median[keys[c]] = v[(v.size() - 1) / 2];
+        lo[keys[c]] = v.front();
+        hi[keys[c]] = v.back();
+    }
+    return {{"median", median}, {"min", lo}, {"max", hi}};
+}
+
+void print_row(std::ostream& out, const std::string& label, double triangles, double build_ms,
+               double primary_ms, double shadow_ms, double shade_ms, double total_ms,
+               double mrays, double sah, double nodes, double leaf_mean, double leaf_max,
+               double depth) {
+    out << std::left << std::setw(7) << label << std::right << std::fixed
+        << std::setw(10) << std::setprecision(0) << triangles
+        << std::setw(9) << std::setprecision(2) << build_ms
+        << std::setw(9) << primary_ms << std::setw(9) << shadow_ms << std::setw(9) << shade_ms
+        << std::setw(9) << total_ms << std::setw(9) << mrays
+        << std::setw(9) << std::setprecision(1) << sah
+        << std::setw(10) << std::setprecision(0) << nodes
+        << std::setw(7) << std::setprecision(2) << leaf_mean
+        << std::setw(6) << std::setprecision(0) << leaf_max << std::setw(6) << depth << '\n';
+}
+
+}  // namespace
+
+std::string report_json(const RunInfo& run, const std::vector<FrameStats>& frames) {
+    nlohmann::ordered_json doc;
+    doc["dynrt_report_version"] = 1;
+    doc["run"] = {{"scene", run.scene},       {"width", run.width},
+                  {"height", run.height},     {"cost_ratio", run.cost_ratio},
+                  {"leaf_size_max", run.leaf_size_max}, {"threads", run.threads}};
+    doc["frames"] = nlohmann::ordered_json::array();
+    for (const FrameStats& f : frames) doc["frames"].push_back(frame_json(f));
+    doc["summary"] = summary_json(frames);
+    return doc.dump(2) + "\n";
+}
+
+void write_report(const std::filesystem::path& path, const RunInfo& run,
+                  const std::vector<FrameStats>& frames) {
+    std::ofstream file(path);
+    file << report_json(run, frames);
+    if (!file) throw std::runtime_error(path.string() + ": cannot write the report");
+}
+
+void print_frame_header(std::ostream& out) {
+    out << std::left << std::setw(7) << "frame" << std::right << std::setw(10) << "tris"
+        << std::setw(9) << "build" << std::setw(9) << "primary" << std::setw(9) << "shadow"
+        << std::setw(9) << "shade" << std::setw(9) << "total" << std::setw(9) << "Mrays/s"
+        << std::setw(9) << "SAH" << std::setw(10) << "nodes" << std::setw(7) << "leaf"
+        << std::setw(6) << "max" << std::setw(6) << "depth" << '\n'
+        << std::left << std::setw(7) << "" << std::right << std::setw(10) << ""
+        << std::setw(9) << "ms" << std::setw(9) << "ms" << std::setw(9) << "ms"
+        << std::setw(9) << "ms" << std::setw(9) << "ms" << std::setw(9) << "primary"
+        << std::setw(9) << "cost" << std::setw(10) << "" << std::setw(7) << "mean"
+        << std::setw(6) << "tris" << std::setw(6) << "" << '\n';
+}
+
+void print_frame_row(std::ostream& out, const FrameStats& s) {
+    print_row(out, std::to_string(s.frame), double(s.triangles), s.build_ms, s.primary_ms,
+              s.shadow_ms, s.shade_ms, s.total_ms, s.primary_mrays_per_s, s.sah_cost,
+              double(s.nodes), s.leaf_tris_mean, double(s.leaf_tris_max), double(s.depth));
+}
+
+void print_summary(std::ostream& out, const std::vector<FrameStats>& frames) {
+    if (frames.size() < 2) return;
+    const nlohmann::ordered_json summary = summary_json(frames);
+    for (const char* which : {"median", "min", "max"}) {
+        const nlohmann::ordered_json& j = summary[which];
+        print_row(out, which, j["triangles"], j["build_ms"], j["primary_ms"], j["shadow_ms"],
+                  j["shade_ms"], j["total_ms"], j["primary_mrays_per_s"], j["sah_cost"],
+                  j["nodes"], j["leaf_tris_mean"], j["leaf_tris_max"], j["depth"]);
+    }
+}
+
+}  // namespace dynrt

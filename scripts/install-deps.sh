@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# Installs dynrt's build and test dependencies from Debian/Ubuntu packages. Idempotent and
+# non-interactive: does nothing when everything is already there.
+set -euo pipefail
+
+required=(build-essential cmake ninja-build pkg-config
+          libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libtbb-dev
+          libopenimageio-dev libbenchmark-dev libgtest-dev libcli11-dev)
+# Embree is only a comparison backend and test oracle: install it when the archive has it.
+optional=(libembree-dev)
+
+missing=()
+for p in "${required[@]}" "${optional[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+[ ${#missing[@]} -eq 0 ] && exit 0
+
+sudo=""
+if [ "$(id -u)" -ne 0 ]; then
+  command -v sudo >/dev/null || { echo "install-deps: need root or sudo to install: ${missing[*]}" >&2; exit 1; }
+  sudo="sudo"
+fi
+export DEBIAN_FRONTEND=noninteractive
+echo "install-deps: installing ${missing[*]}"
+$sudo apt-get update -qq
+$sudo apt-get install -y -qq --no-install-recommends "${required[@]}" >/dev/null
+$sudo apt-get install -y -qq --no-install-recommends "${optional[@]}" >/dev/null \
+  || echo "install-deps: optional ${optional[*]} not available; Embree comparisons are skipped"

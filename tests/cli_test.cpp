@@ -1,0 +1,112 @@
+// Runs the `dynrt` executable as a user would: good runs write what they promise, bad flags and
+// bad input end with a clear one-line error and a non-zero exit, never a crash.
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <sys/wait.h>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Run {
+    int exit_code;
+    std::string output;  // stdout and stderr together
+};
+
+Run run_dynrt(const std::string& args) {
+    const std::string command = std::string(DYNRT_CLI_PATH) + " " + args + " 2>&1";
+    FILE* pipe = popen(command.c_str(), "r");
+    if (!pipe) return {-1, "popen failed"};
+    std::string output;
+    std::array<char, 4096> buffer;
+    while (std::size_t n = fread(buffer.data(), 1, buffer.size(), pipe)) output.append(buffer.data(), n);
+    const int status = pclose(pipe);
+    // A signal (a crash) is reported as exit code 128 + signal, as a shell would.
+    const int code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    return {code, output};
+}
+
+fs::path fresh_dir(const std::string& name) {
+    const fs::path dir = fs::path(testing::TempDir()) / ("dynrt_cli_" + name);
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    return dir;
+}
+
+TEST(Cli, RenderWritesImageAovsAndReport) {
+    const fs::path dir = fresh_dir("render");
+    const Run run = run_dynrt("render 'plane:2@0,-1,0,3+sphere:500' --res 40x30 --out " +
+                              (dir / "img.png").string() + " --aov depth,object,prim,normal" +
+                              " --report " + (dir / "r.json").string() + " --threads 2");
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+    for (const char* f : {"img.png", "img.depth.exr", "img.object.exr", "img.prim.exr",
+                          "img.normal.exr", "r.json"}) {
+        EXPECT_TRUE(fs::exists(dir / f)) << f;
+    }
+    std::ifstream report(dir / "r.json");
+    const nlohmann::json doc = nlohmann::json::parse(report);
+    ASSERT_EQ(doc["frames"].size(), 1u);
+    EXPECT_EQ(doc["frames"][0]["primary_rays"], 40 * 30);
+    EXPECT_GT(doc["frames"][0]["shadow_rays"].get<int>(), 0);
+    // plane:2 is 2x2 quads; sphere:500 has S = round((1 + sqrt(501)) / 2) = 12 stacks, 24 slices.
+    EXPECT_EQ(doc["frames"][0]["triangles"].get<int>(), 2 * 2 * 2 + 2 * 24 * (12 - 1));
+    EXPECT_NE(run.output.find("build"), std::string::npos);  // the printed table
+}
+
+TEST(Cli, InfoListsObjects) {
+    const Run run = run_dynrt("info 'sphere:100+soup:10'");
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+    EXPECT_NE(run.output.find("sphere:100"), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find("soup:10"), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find("2 objects"), std::string::npos) << run.output;
+}
+
+TEST(Cli, HelpOnEveryCommand) {
+    for (const char* cmd : {"--help", "render --help", "info --help"}) {
+        const Run run = run_dynrt(cmd);
+        EXPECT_EQ(run.exit_code, 0) << cmd;
+        EXPECT_NE(run.output.find("Usage"), std::string::npos) << cmd << run.output;
+    }
+}
+
+struct BadCall {
+    const char* args;
+    const char* expected;  // a fragment the error message must contain
+};
+
+class CliErrors : public testing::TestWithParam<BadCall> {};
+
+TEST_P(CliErrors, FailCleanlyWithAMessage) {
+    const Run run = run_dynrt(GetParam().args);
+    EXPECT_NE(run.exit_code, 0) << run.output;
+    EXPECT_LT(run.exit_code, 128) << "crashed: " << run.output;
+    EXPECT_NE(run.output.find(GetParam().expected), std::string::npos) << run.output;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    BadInput, CliErrors,
+    testing::Values(BadCall{"", "subcommand"},
+                    BadCall{"render sphere:10 --bogus", "--bogus"},
+                    BadCall{"render sphere:10 --res 10", "--res"},
+                    BadCall{"render sphere:10 --res 0x10", "--res"},
+                    BadCall{"render sphere:10 --cost-ratio -1", "cost-ratio"},
+                    BadCall{"render sphere:10 --leaf-size 0", "leaf-size"},
+                    BadCall{"render sphere:10 --threads 0", "threads"},
+                    BadCall{"render sphere:10 --aov depth,colour", "colour"},
+                    BadCall{"render sphere:10 --camera eye=1,2", "eye"},
+                    BadCall{"render sphere:10 --camera eye=0,0,0,target=0,0,0", "eye equals target"},
+                    BadCall{"render sphere:10 --light 1,2", "--light"},
+                    BadCall{"render sphere:10 --out /nonexistent-dir/x.png", "nonexistent-dir"},
+                    BadCall{"render sphere:10 --out x.unknownext", "x.unknownext"},
+                    BadCall{"render /no/such/file.gltf", "/no/such/file.gltf"},
+                    BadCall{"render cube:10", "cube:10"},
+                    BadCall{"info", "scene"}));
+
+}  // namespace

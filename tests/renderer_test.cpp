@@ -1,0 +1,120 @@
+#include "dynrt/engine/renderer.h"
+#include "dynrt/scene/scene_error.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+namespace dynrt {
+namespace {
+
+/// A unit quad in the XY plane at z = 0 facing +Z, plus whatever extra triangles a test adds.
+Scene quad_scene() {
+    Scene scene;
+    scene.source = "test";
+    scene.materials.push_back(Material{});
+    Object quad;
+    quad.name = "quad";
+    quad.mesh.positions = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}};
+    quad.mesh.triangles = {{0, 1, 2}, {0, 2, 3}};
+    scene.objects.push_back(quad);
+    return scene;
+}
+
+Camera looking_down_z() {
+    Camera camera;
+    camera.eye = glm::vec3(0.0f, 0.0f, 4.0f);
+    camera.target = glm::vec3(0.0f);
+    camera.fov_y_deg = 40.0f;
+    return camera;
+}
+
+TEST(Renderer, DegenerateTrianglesAreSkippedAndCounted) {
+    Scene scene = quad_scene();
+    Object sliver;
+    sliver.name = "sliver";
+    // Collinear and coincident vertices: zero area, never hit, never in the tree.
+    sliver.mesh.positions = {{0, 0, 1}, {0.5f, 0.5f, 1}, {1, 1, 1}, {0, 0, 1}};
+    sliver.mesh.triangles = {{0, 1, 2}, {0, 3, 3}};
+    scene.objects.push_back(sliver);
+    RenderOptions options;
+    options.width = options.height = 32;
+    Renderer renderer(options);
+    RenderedFrame frame;
+    renderer.render(scene, looking_down_z(), 0, frame);
+    EXPECT_EQ(frame.stats.degenerate_skipped, 2u);
+    EXPECT_EQ(frame.stats.triangles, 4u);
+    int quad_pixels = 0;
+    for (std::size_t p = 0; p < frame.object.size(); ++p) {
+        EXPECT_NE(frame.object[p], 1) << "pixel " << p << " hit a degenerate triangle";
+        quad_pixels += frame.object[p] == 0;
+    }
+    EXPECT_GT(quad_pixels, 0);
+}
+
+TEST(Renderer, NonFiniteGeometryNamesObjectAndFrame) {
+    Scene scene = quad_scene();
+    scene.objects[0].name = "broken quad";
+    scene.objects[0].mesh.positions[2].y = std::numeric_limits<float>::quiet_NaN();
+    Renderer renderer(RenderOptions{});
+    RenderedFrame frame;
+    try {
+        renderer.render(scene, looking_down_z(), 7, frame);
+        FAIL() << "expected SceneError";
+    } catch (const SceneError& e) {
+        const std::string message = e.what();
+        EXPECT_NE(message.find("broken quad"), std::string::npos) << message;
+        EXPECT_NE(message.find("frame 7"), std::string::npos) << message;
+    }
+}
+
+TEST(Renderer, OutputsAgreeWithEachOtherAndTheReport) {
+    const Scene scene = quad_scene();
+    RenderOptions options;
+    options.width = 21;
+    options.height = 13;
+    Renderer renderer(options);
+    RenderedFrame frame;
+    renderer.render(scene, looking_down_z(), 0, frame);
+    ASSERT_EQ(frame.color.size(), 21u * 13u);
+    std::size_t hits = 0;
+    for (std::size_t p = 0; p < frame.color.size(); ++p) {
+        const bool hit = frame.object[p] >= 0;
+        hits += hit;
+        EXPECT_EQ(hit, frame.prim[p] >= 0);
+        EXPECT_EQ(hit, std::isfinite(frame.depth[p]));
+        if (hit) {
+            EXPECT_NEAR(frame.normal[p].z, 1.0f, 1e-6f);  // facing the eye
+            EXPECT_GT(frame.depth[p], 3.99f);
+        } else {
+            EXPECT_EQ(frame.color[p], options.background);
+        }
+    }
+    EXPECT_GT(hits, 0u);
+    EXPECT_LT(hits, frame.color.size());
+    EXPECT_EQ(frame.stats.primary_rays, 21u * 13u);
+    // The default light is in front of the quad, so every hit traces exactly one shadow ray.
+    EXPECT_EQ(frame.stats.shadow_rays, hits);
+    EXPECT_EQ(frame.stats.triangles, 2u);
+    EXPECT_GE(frame.stats.total_ms, frame.stats.build_ms + frame.stats.primary_ms);
+}
+
+TEST(Renderer, LightBehindTheSurfaceCastsNoShadowRays) {
+    const Scene scene = quad_scene();
+    RenderOptions options;
+    options.width = options.height = 16;
+    options.lights = {PointLight{glm::vec3(0.0f, 0.0f, -5.0f), 1.0f}};
+    Renderer renderer(options);
+    RenderedFrame frame;
+    renderer.render(scene, looking_down_z(), 0, frame);
+    EXPECT_EQ(frame.stats.shadow_rays, 0u);
+    for (std::size_t p = 0; p < frame.color.size(); ++p) {
+        if (frame.object[p] >= 0) {
+            EXPECT_NEAR(frame.color[p].x, options.ambient * 0.8f, 1e-6f);  // ambient only
+        }
+    }
+}
+
+}  // namespace
+}  // namespace dynrt

@@ -15,12 +15,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Run {
+struct CliRun {
     int exit_code;
     std::string output;  // stdout and stderr together
 };
 
-Run run_dynrt(const std::string& args) {
+CliRun run_dynrt(const std::string& args) {
     const std::string command = std::string(DYNRT_CLI_PATH) + " " + args + " 2>&1";
     FILE* pipe = popen(command.c_str(), "r");
     if (!pipe) return {-1, "popen failed"};
@@ -42,7 +42,7 @@ fs::path fresh_dir(const std::string& name) {
 
 TEST(Cli, RenderWritesImageAovsAndReport) {
     const fs::path dir = fresh_dir("render");
-    const Run run = run_dynrt("render 'plane:2@0,-1,0,3+sphere:500' --res 40x30 --out " +
+    const CliRun run = run_dynrt("render 'plane:2@0,-1,0,3+sphere:500' --res 40x30 --out " +
                               (dir / "img.png").string() + " --aov depth,object,prim,normal" +
                               " --report " + (dir / "r.json").string() + " --threads 2");
     ASSERT_EQ(run.exit_code, 0) << run.output;
@@ -61,7 +61,7 @@ TEST(Cli, RenderWritesImageAovsAndReport) {
 }
 
 TEST(Cli, InfoListsObjects) {
-    const Run run = run_dynrt("info 'sphere:100+soup:10'");
+    const CliRun run = run_dynrt("info 'sphere:100+soup:10'");
     ASSERT_EQ(run.exit_code, 0) << run.output;
     EXPECT_NE(run.output.find("sphere:100"), std::string::npos) << run.output;
     EXPECT_NE(run.output.find("soup:10"), std::string::npos) << run.output;
@@ -70,7 +70,7 @@ TEST(Cli, InfoListsObjects) {
 
 TEST(Cli, HelpOnEveryCommand) {
     for (const char* cmd : {"--help", "render --help", "info --help"}) {
-        const Run run = run_dynrt(cmd);
+        const CliRun run = run_dynrt(cmd);
         EXPECT_EQ(run.exit_code, 0) << cmd;
         EXPECT_NE(run.output.find("Usage"), std::string::npos) << cmd << run.output;
     }
@@ -84,7 +84,7 @@ struct BadCall {
 class CliErrors : public testing::TestWithParam<BadCall> {};
 
 TEST_P(CliErrors, FailCleanlyWithAMessage) {
-    const Run run = run_dynrt(GetParam().args);
+    const CliRun run = run_dynrt(GetParam().args);
     EXPECT_NE(run.exit_code, 0) << run.output;
     EXPECT_LT(run.exit_code, 128) << "crashed: " << run.output;
     EXPECT_NE(run.output.find(GetParam().expected), std::string::npos) << run.output;

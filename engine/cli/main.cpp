@@ -91,6 +91,7 @@ int run_render(const RenderArgs& args) {
     options.build.leaf_size_max = args.leaf_size;
     for (const std::string& light : args.lights) options.lights.push_back(parse_light(light));
     const std::vector<dynrt::Aov> aovs = dynrt::parse_aov_list(args.aov);
+    dynrt::check_image_path(args.out);
 
     const std::string source =
         args.scene.empty() ? dynrt::default_scene_path().string() : args.scene;

@@ -74,6 +74,18 @@ void write_image(const std::filesystem::path& path, const RenderedFrame& frame) 
                  float_file ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
 }
 
+void check_image_path(const std::filesystem::path& path) {
+    if (!OIIO::ImageOutput::create(path.string())) {
+        throw std::invalid_argument(path.string() +
+                                    ": unknown image format (use .png, .exr, .jpg, .tif, ...)");
+    }
+    const std::filesystem::path parent = path.parent_path();
+    if (!parent.empty() && !std::filesystem::is_directory(parent)) {
+        throw std::invalid_argument(path.string() + ": folder " + parent.string() +
+                                    " does not exist");
+    }
+}
+
 std::filesystem::path aov_path(const std::filesystem::path& image, Aov aov) {
     std::filesystem::path out = image;
     out.replace_filename(image.stem().string() + "." + kAovNames[int(aov)] + ".exr");

@@ -76,11 +76,7 @@ void for_each_pixel_in_tiles(int width, int height, PerPixel&& per_pixel) {
     });
 }
 
-}  // namespace
-
-bvh::Aabb scene_bounds(const Scene& scene) {
-    anim::PosedScene posed;
-    anim::pose_scene(scene, 0, posed);
+bvh::Aabb bounds_of(const anim::PosedScene& posed) {
     bvh::Aabb bounds;
     for (const anim::PosedObject& object : posed.objects) {
         for (const glm::vec3& p : object.positions) bounds.extend(p);
@@ -88,13 +84,24 @@ bvh::Aabb scene_bounds(const Scene& scene) {
     return bounds;
 }
 
+PointLight default_light(const bvh::Aabb& bounds) {
+    const float r = 0.5f * glm::length(bounds.extent());
+    return PointLight{bounds.center() + 4.0f * r * glm::normalize(glm::vec3(-0.5f, 1.0f, 0.8f)),
+                      1.0f};
+}
+
+}  // namespace
+
+bvh::Aabb scene_bounds(const Scene& scene) {
+    anim::PosedScene posed;
+    anim::pose_scene(scene, 0, posed);
+    return bounds_of(posed);
+}
+
 std::vector<PointLight> effective_lights(const Scene& scene, const RenderOptions& options) {
     if (!options.lights.empty()) return options.lights;
     if (!scene.lights.empty()) return scene.lights;
-    const bvh::Aabb bounds = scene_bounds(scene);
-    const float r = 0.5f * glm::length(bounds.extent());
-    return {PointLight{bounds.center() + 4.0f * r * glm::normalize(glm::vec3(-0.5f, 1.0f, 0.8f)),
-                       1.0f}};
+    return {default_light(scene_bounds(scene))};
 }
 
 Renderer::Renderer(RenderOptions options)
@@ -107,7 +114,6 @@ void Renderer::render(const Scene& scene, const Camera& camera, int frame, Rende
     const Stopwatch frame_clock;
     const int width = options_.width, height = options_.height;
     const CameraRays rays(camera, width, height);
-    const std::vector<PointLight> lights = effective_lights(scene, options_);
     const std::size_t pixels = std::size_t(width) * std::size_t(height);
     FrameStats& stats = out.stats;
     stats = FrameStats{};
@@ -117,6 +123,12 @@ void Renderer::render(const Scene& scene, const Camera& camera, int frame, Rende
     Stopwatch clock;
     anim::pose_scene(scene, frame, s.posed);
     gather_triangles(scene, s.posed, s.triangles, s.object_first);
+    // The default light is placed from the bounds at frame 0; when this is frame 0 they come
+    // from the geometry just posed instead of posing it a second time.
+    const std::vector<PointLight> lights =
+        frame == 0 && options_.lights.empty() && scene.lights.empty()
+            ? std::vector<PointLight>{default_light(bounds_of(s.posed))}
+            : effective_lights(scene, options_);
     stats.update_ms = clock.lap_ms();
     stats.triangles = s.triangles.size();
 

@@ -21,6 +21,10 @@ std::vector<Aov> parse_aov_list(const std::string& list);
 /// values clamped to [0, 1]. Throws std::runtime_error naming the file on failure.
 void write_image(const std::filesystem::path& path, const RenderedFrame& frame);
 
+/// Throws std::invalid_argument when `path` cannot be written as an image: unknown format
+/// extension or missing parent folder. Lets callers fail before a long render, not after.
+void check_image_path(const std::filesystem::path& path);
+
 /// Path of one AOV next to `image`: "<dir>/<image stem>.<aov>.exr".
 std::filesystem::path aov_path(const std::filesystem::path& image, Aov aov);
 

@@ -1,0 +1,67 @@
+// The invariants every later stage may rely on without checking again: triangles exist, indices
+// are in range, positions and transforms are finite, material indices are valid.
+
+#include "dynrt/engine/scene_loading.h"
+#include "dynrt/scene/scene_error.h"
+
+#include "message_text.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace dynrt {
+
+namespace {
+
+[[noreturn]] void fail(const Scene& scene, const Object* object, const std::string& what) {
+    if (object == nullptr) throw SceneError(cat(scene.source, ": ", what));
+    throw SceneError(cat(scene.source, ": object '", object->name, "': ", what));
+}
+
+bool is_finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+std::string to_text(const glm::vec3& v) {
+    std::ostringstream out;
+    out << '(' << v.x << ", " << v.y << ", " << v.z << ')';
+    return out.str();
+}
+
+void check_object(const Scene& scene, const Object& object) {
+    if (object.material >= scene.materials.size()) {
+        fail(scene, &object,
+             cat("material index ", object.material, " out of range (", scene.materials.size(),
+                 " materials)"));
+    }
+    for (int column = 0; column < 4; ++column) {
+        const glm::vec4& c = object.transform[column];
+        if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z) || !std::isfinite(c.w)) {
+            fail(scene, &object, "transform is not finite");
+        }
+    }
+    const std::vector<glm::vec3>& positions = object.mesh.positions;
+    for (std::size_t v = 0; v < positions.size(); ++v) {
+        if (!is_finite(positions[v])) {
+            fail(scene, &object, cat("vertex ", v, " position ", to_text(positions[v]), " is not finite"));
+        }
+    }
+    const std::vector<glm::uvec3>& triangles = object.mesh.triangles;
+    for (std::size_t t = 0; t < triangles.size(); ++t) {
+        for (int corner = 0; corner < 3; ++corner) {
+            if (triangles[t][corner] >= positions.size()) {
+                fail(scene, &object,
+                     cat("triangle ", t, " index ", triangles[t][corner], " out of range (", positions.size(),
+                         " vertices)"));
+            }
+        }
+    }
+}
+
+}  // namespace
+
+void check_scene(const Scene& scene) {
+    if (scene.materials.empty()) fail(scene, nullptr, "scene has no materials");
+    for (const Object& object : scene.objects) check_object(scene, object);
+    if (scene.triangle_count() == 0) fail(scene, nullptr, "scene has no triangles");
+}
+
+}  // namespace dynrt

@@ -1,0 +1,217 @@
+// glTF 2.0 -> scene model. Reading the file (gltf_file), walking the node tree
+// (gltf_node_tree), reading accessors (gltf_accessors) and assembling strips and fans
+// (triangle_assembly) live in their own files; this one maps glTF primitives and materials onto
+// Objects and Materials and names every problem by file and object.
+
+#include "dynrt/engine/scene_loading.h"
+#include "dynrt/scene/scene_error.h"
+
+#include "gltf_accessors.h"
+#include "gltf_data_error.h"
+#include "gltf_file.h"
+#include "gltf_node_tree.h"
+#include "message_text.h"
+#include "triangle_assembly.h"
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <numeric>
+#include <optional>
+
+namespace dynrt {
+
+namespace {
+
+constexpr float kDefaultGrey = 0.8f;
+
+/// Phong parameters from glTF metallic-roughness, a deliberately simple mapping (dynrt shades
+/// with Phong and ignores textures and metalness):
+///   diffuse   = baseColorFactor.rgb (linear, clamped to [0, 1]);
+///   specular  = grey 0.2 * (1 - roughness / 2): 0.2 for a mirror-smooth surface, 0.1 for a
+///               fully rough one (glTF's default roughness is 1);
+///   shininess = 2 / alpha^2 - 2 with alpha = roughness^2, the Blinn-Phong exponent matching a
+///               Beckmann lobe (Walter et al. 2007, "Microfacet Models for Refraction through
+///               Rough Surfaces"), clamped to [8, 128] so rough surfaces keep a broad highlight.
+Material convert_material(const tinygltf::Material& source, std::size_t index) {
+    Material material;
+    material.name = source.name.empty() ? cat("material", index) : source.name;
+    const tinygltf::PbrMetallicRoughness& pbr = source.pbrMetallicRoughness;
+    material.diffuse = glm::vec3(1.0f);
+    if (pbr.baseColorFactor.size() >= 3) {
+        for (int c = 0; c < 3; ++c) {
+            const double value = pbr.baseColorFactor[static_cast<std::size_t>(c)];
+            material.diffuse[c] =
+                std::isfinite(value) ? static_cast<float>(std::clamp(value, 0.0, 1.0)) : 1.0f;
+        }
+    }
+    const double roughness =
+        std::isfinite(pbr.roughnessFactor) ? std::clamp(pbr.roughnessFactor, 0.0, 1.0) : 1.0;
+    material.specular = glm::vec3(static_cast<float>(0.2 * (1.0 - 0.5 * roughness)));
+    const double alpha_squared = std::pow(roughness, 4.0);
+    const double shininess = alpha_squared > 0.0 ? 2.0 / alpha_squared - 2.0 : 128.0;
+    material.shininess = static_cast<float>(std::clamp(shininess, 8.0, 128.0));
+    return material;
+}
+
+const char* mode_name(int mode) {
+    switch (mode) {
+        case TINYGLTF_MODE_POINTS:
+            return "POINTS";
+        case TINYGLTF_MODE_LINE:
+            return "LINES";
+        case TINYGLTF_MODE_LINE_LOOP:
+            return "LINE_LOOP";
+        case TINYGLTF_MODE_LINE_STRIP:
+            return "LINE_STRIP";
+        case TINYGLTF_MODE_TRIANGLES:
+            return "TRIANGLES";
+        case TINYGLTF_MODE_TRIANGLE_STRIP:
+            return "TRIANGLE_STRIP";
+        case TINYGLTF_MODE_TRIANGLE_FAN:
+            return "TRIANGLE_FAN";
+        default:
+            return "unknown";
+    }
+}
+
+std::optional<TriangleTopology> topology_of(int mode) {
+    switch (mode) {
+        case TINYGLTF_MODE_TRIANGLES:
+            return TriangleTopology::list;
+        case TINYGLTF_MODE_TRIANGLE_STRIP:
+            return TriangleTopology::strip;
+        case TINYGLTF_MODE_TRIANGLE_FAN:
+            return TriangleTopology::fan;
+        default:
+            return std::nullopt;
+    }
+}
+
+/// Turns the primitives of one glTF file into Objects, naming problems by file and object.
+class GltfSceneBuilder {
+public:
+    GltfSceneBuilder(const std::filesystem::path& path, const tinygltf::Model& model)
+        : path_(path), model_(model) {}
+
+    Scene build() {
+        Scene scene;
+        scene.source = path_.string();
+        scene.materials.push_back(Material{.name = "default", .diffuse = glm::vec3(kDefaultGrey)});
+        for (std::size_t i = 0; i < model_.materials.size(); ++i) {
+            scene.materials.push_back(convert_material(model_.materials[i], i));
+        }
+
+        std::vector<GltfNodeInstance> instances;
+        try {
+            instances = flatten_node_tree(model_);
+        } catch (const GltfDataError& e) {
+            fail(e.what());
+        }
+        for (const GltfNodeInstance& instance : instances) add_node(instance, scene);
+
+        if (scene.objects.empty()) {
+            fail(cat("no triangles: the default scene has no triangle primitive (", skipped_,
+                     " other primitives skipped)"));
+        }
+        check_scene(scene);
+        return scene;
+    }
+
+private:
+    [[noreturn]] void fail(const std::string& what) const {
+        throw SceneError(cat(path_.string(), ": ", what));
+    }
+
+    [[noreturn]] void fail_object(const std::string& object, const std::string& what) const {
+        fail(cat("object '", object, "': ", what));
+    }
+
+    void warn_object(const std::string& object, const std::string& what) {
+        ++skipped_;
+        std::cerr << "dynrt: warning: " << path_.string() << ": object '" << object << "': " << what << '\n';
+    }
+
+    void add_node(const GltfNodeInstance& instance, Scene& scene) {
+        const tinygltf::Node& node = model_.nodes[static_cast<std::size_t>(instance.node)];
+        if (node.mesh < 0) return;
+        const std::string node_name = gltf_node_name(model_, instance.node);
+        if (static_cast<std::size_t>(node.mesh) >= model_.meshes.size()) {
+            fail(cat("node '", node_name, "': mesh ", node.mesh, " does not exist (", model_.meshes.size(),
+                     " meshes)"));
+        }
+        const tinygltf::Mesh& mesh = model_.meshes[static_cast<std::size_t>(node.mesh)];
+        const std::string mesh_name = mesh.name.empty() ? cat("mesh", node.mesh) : mesh.name;
+        const glm::mat4 transform(instance.world);
+        for (std::size_t k = 0; k < mesh.primitives.size(); ++k) {
+            std::string name = cat(node_name, "/", mesh_name);
+            if (mesh.primitives.size() > 1) name += cat("#", k);
+            add_primitive(mesh.primitives[k], name, transform, scene);
+        }
+    }
+
+    void add_primitive(const tinygltf::Primitive& primitive, const std::string& name,
+                       const glm::mat4& transform, Scene& scene) {
+        const std::optional<TriangleTopology> topology = topology_of(primitive.mode);
+        if (!topology) {
+            warn_object(name, cat("skipping ", mode_name(primitive.mode), " primitive (mode ", primitive.mode,
+                                  "): only triangles are traced"));
+            return;
+        }
+        const auto position = primitive.attributes.find("POSITION");
+        if (position == primitive.attributes.end()) {
+            warn_object(name, "skipping primitive without POSITION attribute");
+            return;
+        }
+
+        Object object;
+        object.name = name;
+        object.transform = transform;
+        try {
+            object.mesh.positions = read_positions(model_, position->second);
+            std::vector<std::uint32_t> indices;
+            if (primitive.indices >= 0) {
+                indices = read_indices(model_, primitive.indices, object.mesh.positions.size());
+            } else {
+                indices.resize(object.mesh.positions.size());
+                std::iota(indices.begin(), indices.end(), 0u);
+            }
+            object.mesh.triangles = assemble_triangles(*topology, indices);
+        } catch (const GltfDataError& e) {
+            fail_object(name, e.what());
+        }
+        if (object.mesh.triangles.empty()) {
+            warn_object(name, "skipping primitive with no triangles");
+            return;
+        }
+
+        if (primitive.material >= 0) {
+            if (static_cast<std::size_t>(primitive.material) >= model_.materials.size()) {
+                fail_object(name, cat("material ", primitive.material, " does not exist (",
+                                      model_.materials.size(), " materials)"));
+            }
+            // dynrt material 0 is the default; glTF material i is dynrt material i + 1.
+            object.material = static_cast<std::uint32_t>(primitive.material) + 1;
+        }
+        for (int column = 0; column < 4; ++column) {
+            const glm::vec4& c = transform[column];
+            if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z) || !std::isfinite(c.w)) {
+                fail_object(name, "node world transform is not finite in single precision");
+            }
+        }
+        scene.objects.push_back(std::move(object));
+    }
+
+    const std::filesystem::path& path_;
+    const tinygltf::Model& model_;
+    std::size_t skipped_ = 0;
+};
+
+}  // namespace
+
+Scene load_gltf(const std::filesystem::path& path) {
+    const tinygltf::Model model = read_gltf_model(path);
+    return GltfSceneBuilder(path, model).build();
+}
+
+}  // namespace dynrt

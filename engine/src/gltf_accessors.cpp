@@ -1,0 +1,203 @@
+// Accessor layout (glTF 2.0 section 3.6.2): element i of an accessor starts at byte
+//   bufferView.byteOffset + accessor.byteOffset + i * stride
+// of its buffer, stride = bufferView.byteStride or, when 0, the element size. All of
+// [accessor.byteOffset, accessor.byteOffset + (count - 1) * stride + element size) must lie
+// within the bufferView, and the bufferView within its buffer; both are checked here with
+// arithmetic that cannot overflow, since every number comes from an untrusted file.
+
+#include "gltf_accessors.h"
+
+#include "gltf_data_error.h"
+#include "message_text.h"
+
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <sstream>
+#include <string>
+
+namespace dynrt {
+
+static_assert(std::endian::native == std::endian::little,
+              "glTF buffers are little-endian and are read here with memcpy, without byte swaps");
+
+namespace {
+
+/// Where an accessor's elements are, after every range check.
+struct ElementRange {
+    const unsigned char* first = nullptr;
+    std::size_t stride = 0;
+    std::size_t count = 0;
+};
+
+/// True when offset + (count - 1) * stride + size <= limit (or offset <= limit for count 0),
+/// evaluated without overflow.
+bool fits(std::size_t offset, std::size_t stride, std::size_t count, std::size_t size, std::size_t limit) {
+    if (offset > limit) return false;
+    if (count == 0) return true;
+    std::size_t room = limit - offset;
+    if (size > room) return false;
+    room -= size;
+    return count - 1 == 0 || stride == 0 || (count - 1) <= room / stride;
+}
+
+[[noreturn]] void fail(int accessor, const std::string& what) {
+    throw GltfDataError(cat("accessor ", accessor, ": ", what));
+}
+
+const char* component_type_name(int type) {
+    switch (type) {
+        case TINYGLTF_COMPONENT_TYPE_BYTE:
+            return "BYTE";
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+            return "UNSIGNED_BYTE";
+        case TINYGLTF_COMPONENT_TYPE_SHORT:
+            return "SHORT";
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+            return "UNSIGNED_SHORT";
+        case TINYGLTF_COMPONENT_TYPE_INT:
+            return "INT";
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+            return "UNSIGNED_INT";
+        case TINYGLTF_COMPONENT_TYPE_FLOAT:
+            return "FLOAT";
+        case TINYGLTF_COMPONENT_TYPE_DOUBLE:
+            return "DOUBLE";
+        default:
+            return "an unknown component type";
+    }
+}
+
+const char* type_name(int type) {
+    switch (type) {
+        case TINYGLTF_TYPE_SCALAR:
+            return "SCALAR";
+        case TINYGLTF_TYPE_VEC2:
+            return "VEC2";
+        case TINYGLTF_TYPE_VEC3:
+            return "VEC3";
+        case TINYGLTF_TYPE_VEC4:
+            return "VEC4";
+        case TINYGLTF_TYPE_MAT2:
+            return "MAT2";
+        case TINYGLTF_TYPE_MAT3:
+            return "MAT3";
+        case TINYGLTF_TYPE_MAT4:
+            return "MAT4";
+        default:
+            return "an unknown type";
+    }
+}
+
+/// Range-checks accessor `index`, whose elements are `element_size` bytes.
+ElementRange locate(const tinygltf::Model& model, int index, std::size_t element_size) {
+    if (index < 0 || static_cast<std::size_t>(index) >= model.accessors.size()) {
+        fail(index, cat("does not exist (", model.accessors.size(), " accessors)"));
+    }
+    const tinygltf::Accessor& accessor = model.accessors[static_cast<std::size_t>(index)];
+    if (accessor.sparse.isSparse) fail(index, "sparse accessors are not supported");
+    if (accessor.bufferView < 0) {
+        fail(index, "has no bufferView (all-zero or compressed data is not supported)");
+    }
+    if (static_cast<std::size_t>(accessor.bufferView) >= model.bufferViews.size()) {
+        fail(index, cat("bufferView ", accessor.bufferView, " does not exist"));
+    }
+    const tinygltf::BufferView& view = model.bufferViews[static_cast<std::size_t>(accessor.bufferView)];
+    const std::string view_name = cat("bufferView ", accessor.bufferView);
+    if (view.buffer < 0 || static_cast<std::size_t>(view.buffer) >= model.buffers.size()) {
+        fail(index, cat(view_name, ": buffer ", view.buffer, " does not exist"));
+    }
+    const tinygltf::Buffer& buffer = model.buffers[static_cast<std::size_t>(view.buffer)];
+    if (!fits(view.byteOffset, 0, 1, view.byteLength, buffer.data.size())) {
+        fail(index, cat(view_name, " (offset ", view.byteOffset, ", length ", view.byteLength,
+                        ") exceeds buffer ", view.buffer, " (", buffer.data.size(), " bytes)"));
+    }
+    const std::size_t stride = view.byteStride != 0 ? view.byteStride : element_size;
+    if (stride < element_size) {
+        fail(index,
+             cat(view_name, " byteStride ", stride, " is smaller than the ", element_size, "-byte element"));
+    }
+    if (!fits(accessor.byteOffset, stride, accessor.count, element_size, view.byteLength)) {
+        fail(index, cat(accessor.count, " elements of ", element_size, " bytes (offset ", accessor.byteOffset,
+                        ", stride ", stride, ") exceed ", view_name, " (", view.byteLength, " bytes)"));
+    }
+    return ElementRange{buffer.data.data() + view.byteOffset + accessor.byteOffset, stride, accessor.count};
+}
+
+}  // namespace
+
+std::vector<glm::vec3> read_positions(const tinygltf::Model& model, int accessor) {
+    if (accessor >= 0 && static_cast<std::size_t>(accessor) < model.accessors.size()) {
+        const tinygltf::Accessor& a = model.accessors[static_cast<std::size_t>(accessor)];
+        if (a.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT || a.type != TINYGLTF_TYPE_VEC3) {
+            fail(accessor, cat("POSITION must be FLOAT VEC3, not ", component_type_name(a.componentType), " ",
+                               type_name(a.type)));
+        }
+    }
+    const ElementRange range = locate(model, accessor, 3 * sizeof(float));
+    if (range.count > UINT32_MAX) fail(accessor, "more than 2^32 - 1 positions");
+
+    std::vector<glm::vec3> positions(range.count);
+    for (std::size_t i = 0; i < range.count; ++i) {
+        float xyz[3];
+        // memcpy: glTF only guarantees 4-byte alignment relative to the buffer start.
+        std::memcpy(xyz, range.first + i * range.stride, sizeof(xyz));
+        if (!std::isfinite(xyz[0]) || !std::isfinite(xyz[1]) || !std::isfinite(xyz[2])) {
+            std::ostringstream what;
+            what << "position " << i << " is not finite (" << xyz[0] << ", " << xyz[1] << ", " << xyz[2]
+                 << ")";
+            fail(accessor, what.str());
+        }
+        positions[i] = glm::vec3(xyz[0], xyz[1], xyz[2]);
+    }
+    return positions;
+}
+
+std::vector<std::uint32_t> read_indices(const tinygltf::Model& model, int accessor,
+                                        std::size_t vertex_count) {
+    std::size_t size = 0;
+    if (accessor >= 0 && static_cast<std::size_t>(accessor) < model.accessors.size()) {
+        const tinygltf::Accessor& a = model.accessors[static_cast<std::size_t>(accessor)];
+        switch (a.componentType) {
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+                size = 1;
+                break;
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+                size = 2;
+                break;
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+                size = 4;
+                break;
+            default:
+                break;
+        }
+        if (size == 0 || a.type != TINYGLTF_TYPE_SCALAR) {
+            fail(accessor, cat("indices must be SCALAR UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT, not ",
+                               component_type_name(a.componentType), " ", type_name(a.type)));
+        }
+    }
+    const ElementRange range = locate(model, accessor, size);
+
+    std::vector<std::uint32_t> indices(range.count);
+    for (std::size_t i = 0; i < range.count; ++i) {
+        const unsigned char* element = range.first + i * range.stride;
+        std::uint32_t value = 0;
+        if (size == 1) {
+            value = element[0];
+        } else if (size == 2) {
+            std::uint16_t v16;
+            std::memcpy(&v16, element, 2);
+            value = v16;
+        } else {
+            std::memcpy(&value, element, 4);
+        }
+        if (value >= vertex_count) {
+            fail(accessor,
+                 cat("index ", i, " (value ", value, ") out of range of ", vertex_count, " positions"));
+        }
+        indices[i] = value;
+    }
+    return indices;
+}
+
+}  // namespace dynrt

@@ -1,0 +1,169 @@
+// GLB container layout (glTF 2.0 section 4.4): a 12-byte header (magic "glTF", version 2, total
+// length) then chunks of (length, type, data), the first one JSON, an optional second one BIN.
+// tinygltf 2.7 checks the BIN chunk's length against the GLB length without its 8-byte header,
+// so a corrupt file could make it read past the end; the container is checked here first.
+
+#include "gltf_file.h"
+
+#include "dynrt/scene/scene_error.h"
+
+#include "message_text.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cstdint>
+#include <fstream>
+#include <iostream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+namespace dynrt {
+
+namespace {
+
+constexpr std::uint32_t kGlbMagic = 0x46546C67;   // "glTF"
+constexpr std::uint32_t kChunkJson = 0x4E4F534A;  // "JSON"
+constexpr std::size_t kGlbHeaderSize = 12;
+constexpr std::size_t kChunkHeaderSize = 8;
+
+[[noreturn]] void fail(const std::filesystem::path& path, const std::string& what) {
+    throw SceneError(cat(path.string(), ": ", what));
+}
+
+std::string lowercase_extension(const std::filesystem::path& path) {
+    std::string extension = path.extension().string();
+    std::transform(extension.begin(), extension.end(), extension.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return extension;
+}
+
+/// tinygltf messages are several lines; a SceneError is one.
+std::string one_line(const std::string& text) {
+    std::string line;
+    std::size_t start = 0;
+    while (start < text.size()) {
+        std::size_t end = text.find('\n', start);
+        if (end == std::string::npos) end = text.size();
+        const std::string piece = text.substr(start, end - start);
+        if (!piece.empty()) {
+            if (!line.empty()) line += "; ";
+            line += piece;
+        }
+        start = end + 1;
+    }
+    return line;
+}
+
+/// The loader callback for images: accept and drop them, so textures cost no decoding and a
+/// missing or unreadable image is no error.
+bool ignore_image(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*,
+                  int, void*) {
+    return true;
+}
+
+void print_warnings(const std::filesystem::path& path, const std::string& warnings) {
+    std::size_t start = 0;
+    while (start < warnings.size()) {
+        std::size_t end = warnings.find('\n', start);
+        if (end == std::string::npos) end = warnings.size();
+        const std::string line = warnings.substr(start, end - start);
+        // Images are dropped anyway; telling about each missing texture would only be noise.
+        // tinygltf words those as "... for image[i] ..." plus, before it, "File not found" (or
+        // "File read error", "File is empty") lines that only optional files, images, produce.
+        const bool about_image = line.find("image") != std::string::npos || line.rfind("File ", 0) == 0;
+        if (!line.empty() && !about_image) {
+            std::cerr << "dynrt: warning: " << path.string() << ": " << line << '\n';
+        }
+        start = end + 1;
+    }
+}
+
+std::vector<unsigned char> read_bytes(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) fail(path, "cannot open file");
+    std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (in.bad()) fail(path, "cannot read file");
+    return bytes;
+}
+
+std::uint32_t read_u32(const std::vector<unsigned char>& bytes, std::size_t offset) {
+    return static_cast<std::uint32_t>(bytes[offset]) | static_cast<std::uint32_t>(bytes[offset + 1]) << 8 |
+           static_cast<std::uint32_t>(bytes[offset + 2]) << 16 |
+           static_cast<std::uint32_t>(bytes[offset + 3]) << 24;
+}
+
+/// Checks the GLB header and that every chunk lies within the declared length; returns it.
+std::size_t check_glb_container(const std::filesystem::path& path, const std::vector<unsigned char>& bytes) {
+    if (bytes.size() < kGlbHeaderSize) {
+        fail(path, cat("truncated GLB: ", bytes.size(), " bytes, shorter than the 12-byte header"));
+    }
+    if (read_u32(bytes, 0) != kGlbMagic) fail(path, "not a GLB file (the first 4 bytes are not 'glTF')");
+    const std::uint32_t version = read_u32(bytes, 4);
+    if (version != 2) fail(path, cat("unsupported GLB version ", version, " (expected 2)"));
+    const std::size_t length = read_u32(bytes, 8);
+    if (length > bytes.size()) {
+        fail(path, cat("truncated GLB: the header says ", length, " bytes, the file has ", bytes.size()));
+    }
+    std::size_t offset = kGlbHeaderSize;
+    for (int chunk = 0; offset < length; ++chunk) {
+        if (length - offset < kChunkHeaderSize) {
+            fail(path, cat("truncated GLB: chunk ", chunk, " header at byte ", offset, " is cut off"));
+        }
+        const std::size_t chunk_length = read_u32(bytes, offset);
+        const std::uint32_t chunk_type = read_u32(bytes, offset + 4);
+        if (chunk == 0 && chunk_type != kChunkJson) fail(path, "corrupt GLB: the first chunk is not JSON");
+        if (chunk_length > length - offset - kChunkHeaderSize) {
+            fail(path, cat("truncated GLB: chunk ", chunk, " at byte ", offset, " claims ", chunk_length,
+                           " bytes, only ", length - offset - kChunkHeaderSize, " remain"));
+        }
+        offset += kChunkHeaderSize + chunk_length;
+    }
+    if (length == kGlbHeaderSize) fail(path, "truncated GLB: no JSON chunk");
+    return length;
+}
+
+}  // namespace
+
+bool is_gltf_path(const std::filesystem::path& path) {
+    const std::string extension = lowercase_extension(path);
+    return extension == ".gltf" || extension == ".glb";
+}
+
+tinygltf::Model read_gltf_model(const std::filesystem::path& path) {
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) fail(path, "no such file");
+    if (std::filesystem::is_directory(path, ec)) fail(path, "is a directory, not a glTF file");
+
+    tinygltf::TinyGLTF loader;
+    loader.SetImageLoader(&ignore_image, nullptr);
+    tinygltf::Model model;
+    std::string error, warnings;
+    bool ok = false;
+    // tinygltf reports through its return value, but its JSON library and some container
+    // accesses can still throw on hostile input.
+    try {
+        if (lowercase_extension(path) == ".glb") {
+            const std::vector<unsigned char> bytes = read_bytes(path);
+            // The checked length comes from the 32-bit header field, so the cast is lossless.
+            const std::size_t length = check_glb_container(path, bytes);
+            ok = loader.LoadBinaryFromMemory(&model, &error, &warnings, bytes.data(),
+                                             static_cast<unsigned int>(length), path.parent_path().string());
+        } else {
+            ok = loader.LoadASCIIFromFile(&model, &error, &warnings, path.string());
+        }
+    } catch (const SceneError&) {
+        throw;
+    } catch (const std::exception& e) {
+        fail(path, cat("invalid glTF: ", e.what()));
+    }
+    if (!ok) {
+        const std::string reason = one_line(error);
+        fail(path, cat("invalid glTF: ", reason.empty() ? std::string("tinygltf gave no reason") : reason));
+    }
+    // tinygltf also appends non-fatal problems to `error` while succeeding.
+    print_warnings(path, warnings + "\n" + error);
+    return model;
+}
+
+}  // namespace dynrt

@@ -1,0 +1,618 @@
+// glTF loading: small files written by the test itself (good ones for every index type,
+// topology, node transform kind and container, bad ones for every error the loader promises to
+// name), the bundled default scene, and every glTF under the shared scenes folder.
+
+#include "dynrt/engine/scene_loading.h"
+#include "dynrt/scene/scene_error.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <cctype>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <limits>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+namespace dynrt {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+constexpr int kUnsignedByte = 5121, kUnsignedShort = 5123, kUnsignedInt = 5125, kFloat = 5126;
+constexpr int kPoints = 0, kLines = 1, kTriangles = 4, kStrip = 5, kFan = 6;
+
+/// Builds a glTF document and its binary buffer, then writes it as .gltf + .bin or as .glb.
+class GltfBuilder {
+public:
+    GltfBuilder() {
+        doc_ = {{"asset", {{"version", "2.0"}}},
+                {"scenes", json::array({json{{"nodes", json::array()}}})},
+                {"scene", 0},
+                {"nodes", json::array()},
+                {"meshes", json::array()},
+                {"accessors", json::array()},
+                {"bufferViews", json::array()}};
+    }
+
+    json& doc() { return doc_; }
+    std::vector<unsigned char>& bin() { return bin_; }
+
+    int add_view(const void* data, std::size_t bytes, std::size_t stride = 0) {
+        while (bin_.size() % 4 != 0) bin_.push_back(0);
+        json view = {{"buffer", 0}, {"byteOffset", bin_.size()}, {"byteLength", bytes}};
+        if (stride != 0) view["byteStride"] = stride;
+        const auto* first = static_cast<const unsigned char*>(data);
+        bin_.insert(bin_.end(), first, first + bytes);
+        return push("bufferViews", view);
+    }
+
+    int add_accessor(int view, int component_type, std::size_t count, const std::string& type,
+                     std::size_t byte_offset = 0) {
+        json accessor = {
+            {"bufferView", view}, {"componentType", component_type}, {"count", count}, {"type", type}};
+        if (byte_offset != 0) accessor["byteOffset"] = byte_offset;
+        return push("accessors", accessor);
+    }
+
+    int add_positions(const std::vector<glm::vec3>& points) {
+        const int view = add_view(points.data(), points.size() * sizeof(glm::vec3));
+        return add_accessor(view, kFloat, points.size(), "VEC3");
+    }
+
+    template <class Index>
+    int add_indices(const std::vector<Index>& indices, int component_type) {
+        const int view = add_view(indices.data(), indices.size() * sizeof(Index));
+        return add_accessor(view, component_type, indices.size(), "SCALAR");
+    }
+
+    static json primitive(int positions, int indices = -1, int mode = kTriangles, int material = -1) {
+        json p = {{"attributes", {{"POSITION", positions}}}, {"mode", mode}};
+        if (indices >= 0) p["indices"] = indices;
+        if (material >= 0) p["material"] = material;
+        return p;
+    }
+
+    int add_mesh(const std::string& name, const json& primitives) {
+        json mesh = {{"primitives", primitives}};
+        if (!name.empty()) mesh["name"] = name;
+        return push("meshes", mesh);
+    }
+
+    /// Adds a node; a root (listed in scene 0) unless `root` is false.
+    int add_node(json node, bool root = true) {
+        const int index = push("nodes", node);
+        if (root) doc_["scenes"][0]["nodes"].push_back(index);
+        return index;
+    }
+
+    int add_material(const std::string& name, const glm::vec3& rgb) {
+        if (!doc_.contains("materials")) doc_["materials"] = json::array();
+        return push(
+            "materials",
+            {{"name", name}, {"pbrMetallicRoughness", {{"baseColorFactor", {rgb.x, rgb.y, rgb.z, 1.0}}}}});
+    }
+
+    /// Writes `path` (.gltf) and, next to it, `<stem>.bin`.
+    void write_gltf(const fs::path& path) {
+        const std::string bin_name = path.stem().string() + ".bin";
+        json d = doc_;
+        if (!bin_.empty()) d["buffers"] = json::array({json{{"uri", bin_name}, {"byteLength", bin_.size()}}});
+        std::ofstream(path) << d.dump(1);
+        std::ofstream(path.parent_path() / bin_name, std::ios::binary)
+            .write(reinterpret_cast<const char*>(bin_.data()), static_cast<std::streamsize>(bin_.size()));
+    }
+
+    /// The GLB container bytes: header, JSON chunk (space-padded), BIN chunk (zero-padded).
+    std::vector<unsigned char> glb_bytes() const {
+        std::vector<unsigned char> bin = bin_;
+        while (bin.size() % 4 != 0) bin.push_back(0);
+        json d = doc_;
+        d["buffers"] = json::array({json{{"byteLength", bin_.size()}}});
+        std::string text = d.dump();
+        while (text.size() % 4 != 0) text.push_back(' ');
+        std::vector<unsigned char> out;
+        const auto u32 = [&](std::uint32_t v) {
+            for (int i = 0; i < 4; ++i) out.push_back(static_cast<unsigned char>(v >> (8 * i)));
+        };
+        u32(0x46546C67);
+        u32(2);
+        u32(static_cast<std::uint32_t>(12 + 8 + text.size() + 8 + bin.size()));
+        u32(static_cast<std::uint32_t>(text.size()));
+        u32(0x4E4F534A);
+        out.insert(out.end(), text.begin(), text.end());
+        u32(static_cast<std::uint32_t>(bin.size()));
+        u32(0x004E4942);
+        out.insert(out.end(), bin.begin(), bin.end());
+        return out;
+    }
+
+    void write_glb(const fs::path& path) const { write_bytes(path, glb_bytes()); }
+
+    static void write_bytes(const fs::path& path, const std::vector<unsigned char>& bytes) {
+        std::ofstream(path, std::ios::binary)
+            .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+    }
+
+private:
+    int push(const char* array, const json& value) {
+        doc_[array].push_back(value);
+        return static_cast<int>(doc_[array].size()) - 1;
+    }
+
+    json doc_;
+    std::vector<unsigned char> bin_;
+};
+
+const std::vector<glm::vec3> kQuad = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+
+/// A one-node, one-mesh quad ("quad_node/quad_mesh") with the given index component type.
+GltfBuilder quad_builder(int index_type = kUnsignedShort) {
+    GltfBuilder b;
+    const int positions = b.add_positions(kQuad);
+    int indices = -1;
+    switch (index_type) {
+        case kUnsignedByte: indices = b.add_indices(std::vector<std::uint8_t>{0, 1, 2, 0, 2, 3}, index_type); break;
+        case kUnsignedShort: indices = b.add_indices(std::vector<std::uint16_t>{0, 1, 2, 0, 2, 3}, index_type); break;
+        case kUnsignedInt: indices = b.add_indices(std::vector<std::uint32_t>{0, 1, 2, 0, 2, 3}, index_type); break;
+    }
+    const int mesh = b.add_mesh("quad_mesh", json::array({GltfBuilder::primitive(positions, indices)}));
+    b.add_node({{"name", "quad_node"}, {"mesh", mesh}});
+    return b;
+}
+
+class GltfLoaderTest : public ::testing::Test {
+protected:
+    void SetUp() override {
+        static int counter = 0;
+        dir_ = fs::temp_directory_path() /
+               ("dynrt_gltf_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
+        fs::create_directories(dir_);
+    }
+    void TearDown() override {
+        std::error_code ec;
+        fs::remove_all(dir_, ec);
+    }
+
+    fs::path path(const std::string& name) const { return dir_ / name; }
+
+    Scene write_and_load(GltfBuilder& b, const std::string& name = "scene.gltf") {
+        b.write_gltf(path(name));
+        return load_gltf(path(name));
+    }
+
+    /// Expects load_gltf(file) to throw a SceneError naming the file and containing each fragment.
+    void expect_error(const fs::path& file, const std::vector<std::string>& fragments) {
+        try {
+            load_gltf(file);
+            ADD_FAILURE() << "no error for " << file;
+        } catch (const SceneError& e) {
+            const std::string what = e.what();
+            EXPECT_EQ(what.rfind(file.string() + ": ", 0), 0u) << what;
+            EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+            for (const std::string& fragment : fragments) {
+                EXPECT_NE(what.find(fragment), std::string::npos) << "'" << fragment << "' not in: " << what;
+            }
+        }
+    }
+
+    void expect_error(GltfBuilder& b, const std::vector<std::string>& fragments) {
+        b.write_gltf(path("bad.gltf"));
+        expect_error(path("bad.gltf"), fragments);
+    }
+
+    fs::path dir_;
+};
+
+// ---- Good files ------------------------------------------------------------------------------
+
+TEST_F(GltfLoaderTest, IndexedTrianglesWithEveryIndexType) {
+    for (const int type : {kUnsignedByte, kUnsignedShort, kUnsignedInt}) {
+        SCOPED_TRACE(type);
+        GltfBuilder b = quad_builder(type);
+        const Scene scene = write_and_load(b);
+        ASSERT_EQ(scene.objects.size(), 1u);
+        const Object& o = scene.objects[0];
+        EXPECT_EQ(o.name, "quad_node/quad_mesh");
+        EXPECT_EQ(o.mesh.positions, kQuad);
+        ASSERT_EQ(o.mesh.triangles.size(), 2u);
+        EXPECT_EQ(o.mesh.triangles[0], glm::uvec3(0, 1, 2));
+        EXPECT_EQ(o.mesh.triangles[1], glm::uvec3(0, 2, 3));
+        EXPECT_EQ(o.transform, glm::mat4(1.0f));
+        EXPECT_EQ(o.material, 0u);
+        ASSERT_EQ(scene.materials.size(), 1u);
+        EXPECT_EQ(scene.materials[0].diffuse, glm::vec3(0.8f));
+        EXPECT_EQ(scene.source, path("scene.gltf").string());
+    }
+}
+
+TEST_F(GltfLoaderTest, NonIndexedTriangles) {
+    GltfBuilder b;
+    const int positions = b.add_positions({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {2, 0, 0}, {3, 0, 0}, {2, 1, 0}});
+    b.add_node({{"name", "n"}, {"mesh", b.add_mesh("m", json::array({GltfBuilder::primitive(positions)}))}});
+    const Scene scene = write_and_load(b);
+    ASSERT_EQ(scene.objects.size(), 1u);
+    EXPECT_EQ(scene.objects[0].mesh.triangles, (std::vector<glm::uvec3>{{0, 1, 2}, {3, 4, 5}}));
+}
+
+TEST_F(GltfLoaderTest, StripsAlternateWindingAndFansPivotOnTheFirstVertex) {
+    GltfBuilder b;
+    const int positions = b.add_positions({{0, 0, 0}, {0, 1, 0}, {1, 0, 0}, {1, 1, 0}, {2, 0, 0}});
+    const int indices = b.add_indices(std::vector<std::uint16_t>{0, 1, 2, 3, 4}, kUnsignedShort);
+    const int strip = b.add_mesh("strip", json::array({GltfBuilder::primitive(positions, indices, kStrip)}));
+    const int fan = b.add_mesh("fan", json::array({GltfBuilder::primitive(positions, indices, kFan)}));
+    const int plain_strip =
+        b.add_mesh("plain_strip", json::array({GltfBuilder::primitive(positions, -1, kStrip)}));
+    b.add_node({{"name", "s"}, {"mesh", strip}});
+    b.add_node({{"name", "f"}, {"mesh", fan}});
+    b.add_node({{"name", "p"}, {"mesh", plain_strip}});
+    const Scene scene = write_and_load(b);
+    ASSERT_EQ(scene.objects.size(), 3u);
+    // glTF 2.0 3.7.2.1: strip p_i = (v_i, v_{i+1+i%2}, v_{i+2-i%2}); fan p_i = (v_{i+1}, v_{i+2}, v_0).
+    const std::vector<glm::uvec3> expected_strip = {{0, 1, 2}, {1, 3, 2}, {2, 3, 4}};
+    EXPECT_EQ(scene.objects[0].mesh.triangles, expected_strip);
+    EXPECT_EQ(scene.objects[1].mesh.triangles, (std::vector<glm::uvec3>{{1, 2, 0}, {2, 3, 0}, {3, 4, 0}}));
+    EXPECT_EQ(scene.objects[2].mesh.triangles, expected_strip);
+    // Consistent winding: every strip triangle of this zig-zag faces the same way.
+    for (const glm::uvec3& t : scene.objects[0].mesh.triangles) {
+        const glm::vec3 a = scene.objects[0].mesh.positions[t.x], b2 = scene.objects[0].mesh.positions[t.y],
+                        c = scene.objects[0].mesh.positions[t.z];
+        EXPECT_LT((b2.x - a.x) * (c.y - a.y) - (b2.y - a.y) * (c.x - a.x), 0.0f);
+    }
+}
+
+TEST_F(GltfLoaderTest, NodeHierarchyWithMatrixAndTrs) {
+    GltfBuilder b;
+    const int mesh = b.add_mesh(
+        "tri", json::array({GltfBuilder::primitive(b.add_positions({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}))}));
+    // Parent: matrix = translate(1,2,3) * scale(2), column-major.
+    const double half_sqrt2 = std::sqrt(0.5);
+    const int child = b.add_node({{"name", "child"},
+                                  {"mesh", mesh},
+                                  {"translation", {0.0, 1.0, 0.0}},
+                                  {"rotation", {0.0, 0.0, half_sqrt2, half_sqrt2}},
+                                  {"scale", {1.0, 1.0, 3.0}}},
+                                 false);
+    const int grandchild =
+        b.add_node({{"name", "grandchild"}, {"mesh", mesh}, {"translation", {5.0, 0.0, 0.0}}}, false);
+    b.doc()["nodes"][child]["children"] = json::array({grandchild});
+    b.add_node({{"name", "parent"},
+                {"matrix", {2, 0, 0, 0, 0, 2, 0, 0, 0, 0, 2, 0, 1, 2, 3, 1}},
+                {"children", json::array({child})}});
+    const Scene scene = write_and_load(b);
+    ASSERT_EQ(scene.objects.size(), 2u);
+    EXPECT_EQ(scene.objects[0].name, "child/tri");
+    EXPECT_EQ(scene.objects[1].name, "grandchild/tri");
+
+    const glm::mat4 parent = glm::scale(glm::translate(glm::mat4(1.0f), {1, 2, 3}), glm::vec3(2.0f));
+    const glm::mat4 child_local = glm::scale(
+        glm::rotate(glm::translate(glm::mat4(1.0f), {0, 1, 0}), glm::radians(90.0f), glm::vec3(0, 0, 1)),
+        {1, 1, 3});
+    const glm::mat4 expected_child = parent * child_local;
+    const glm::mat4 expected_grandchild = expected_child * glm::translate(glm::mat4(1.0f), {5, 0, 0});
+    for (int c = 0; c < 4; ++c) {
+        for (int r = 0; r < 4; ++r) {
+            EXPECT_NEAR(scene.objects[0].transform[c][r], expected_child[c][r], 1e-5f) << c << "," << r;
+            EXPECT_NEAR(scene.objects[1].transform[c][r], expected_grandchild[c][r], 1e-5f) << c << "," << r;
+        }
+    }
+    // Positions stay in mesh space.
+    EXPECT_EQ(scene.objects[1].mesh.positions[1], glm::vec3(1, 0, 0));
+}
+
+TEST_F(GltfLoaderTest, UnnamedNodesMultiPrimitiveMeshesAndMaterials) {
+    GltfBuilder b;
+    const int positions = b.add_positions(kQuad);
+    const int indices = b.add_indices(std::vector<std::uint8_t>{0, 1, 2}, kUnsignedByte);
+    const int red = b.add_material("red", {1.0f, 0.0f, 0.0f});
+    const int blue = b.add_material("", {0.0f, 0.25f, 1.0f});
+    const int mesh =
+        b.add_mesh("", json::array({GltfBuilder::primitive(positions, indices, kTriangles, blue),
+                                    GltfBuilder::primitive(positions, indices),
+                                    GltfBuilder::primitive(positions, indices, kTriangles, red)}));
+    b.add_node({{"mesh", mesh}});
+    // A material with a texture whose image file is missing: textures are ignored, no error.
+    b.doc()["images"] = json::array({json{{"uri", "missing_texture.png"}}});
+    b.doc()["textures"] = json::array({json{{"source", 0}}});
+    b.doc()["materials"][red]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+
+    const Scene scene = write_and_load(b);
+    ASSERT_EQ(scene.objects.size(), 3u);
+    EXPECT_EQ(scene.objects[0].name, "node0/mesh0#0");
+    EXPECT_EQ(scene.objects[1].name, "node0/mesh0#1");
+    EXPECT_EQ(scene.objects[2].name, "node0/mesh0#2");
+    ASSERT_EQ(scene.materials.size(), 3u);
+    EXPECT_EQ(scene.materials[0].diffuse, glm::vec3(0.8f));
+    EXPECT_EQ(scene.materials[1].name, "red");
+    EXPECT_EQ(scene.materials[1].diffuse, glm::vec3(1.0f, 0.0f, 0.0f));
+    EXPECT_EQ(scene.materials[2].name, "material1");
+    EXPECT_EQ(scene.materials[2].diffuse, glm::vec3(0.0f, 0.25f, 1.0f));
+    EXPECT_EQ(scene.objects[0].material, 2u);
+    EXPECT_EQ(scene.objects[1].material, 0u);
+    EXPECT_EQ(scene.objects[2].material, 1u);
+}
+
+TEST_F(GltfLoaderTest, ByteStrideAndOffsetsAreRespected) {
+    GltfBuilder b;
+    // Interleaved: 4 bytes of padding, then x y z, then 8 more bytes: a 24-byte stride.
+    std::vector<float> interleaved;
+    for (const glm::vec3& p : kQuad) {
+        interleaved.insert(interleaved.end(), {-7.0f, p.x, p.y, p.z, -8.0f, -9.0f});
+    }
+    const int view = b.add_view(interleaved.data(), interleaved.size() * sizeof(float), 24);
+    const int positions = b.add_accessor(view, kFloat, 4, "VEC3", 4);
+    // Indices start 2 bytes into their view.
+    const std::vector<std::uint16_t> raw = {999, 0, 2, 3};
+    const int index_view = b.add_view(raw.data(), raw.size() * 2);
+    const int indices = b.add_accessor(index_view, kUnsignedShort, 3, "SCALAR", 2);
+    b.add_node({{"name", "n"},
+                {"mesh", b.add_mesh("m", json::array({GltfBuilder::primitive(positions, indices)}))}});
+    const Scene scene = write_and_load(b);
+    ASSERT_EQ(scene.objects.size(), 1u);
+    EXPECT_EQ(scene.objects[0].mesh.positions, kQuad);
+    EXPECT_EQ(scene.objects[0].mesh.triangles, (std::vector<glm::uvec3>{{0, 2, 3}}));
+}
+
+TEST_F(GltfLoaderTest, GlbLoadsLikeGltfWhateverTheExtensionCase) {
+    GltfBuilder b = quad_builder(kUnsignedInt);
+    b.write_glb(path("QUAD.GLB"));
+    const Scene scene = load_scene(path("QUAD.GLB").string());
+    ASSERT_EQ(scene.objects.size(), 1u);
+    EXPECT_EQ(scene.objects[0].name, "quad_node/quad_mesh");
+    EXPECT_EQ(scene.objects[0].mesh.positions, kQuad);
+    EXPECT_EQ(scene.objects[0].mesh.triangles.size(), 2u);
+
+    b.write_gltf(path("Quad.GlTf"));
+    EXPECT_EQ(load_scene(path("Quad.GlTf").string()).triangle_count(), 2u);
+}
+
+TEST_F(GltfLoaderTest, SceneSelection) {
+    GltfBuilder b;
+    const int mesh = b.add_mesh(
+        "m", json::array({GltfBuilder::primitive(b.add_positions({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}))}));
+    const int a = b.add_node({{"name", "a"}, {"mesh", mesh}});
+    const int c = b.add_node({{"name", "c"}, {"mesh", mesh}}, false);
+    const int p = b.add_node({{"name", "p"}, {"mesh", mesh}, {"children", json::array({c})}}, false);
+    b.doc()["scenes"].push_back({{"nodes", json::array({p})}});
+
+    b.doc()["scene"] = 1;
+    Scene scene = write_and_load(b);
+    ASSERT_EQ(scene.objects.size(), 2u);
+    EXPECT_EQ(scene.objects[0].name, "p/m");
+    EXPECT_EQ(scene.objects[1].name, "c/m");
+
+    b.doc().erase("scene");  // no default: scene 0
+    scene = write_and_load(b);
+    ASSERT_EQ(scene.objects.size(), 1u);
+    EXPECT_EQ(scene.objects[0].name, "a/m");
+
+    b.doc().erase("scenes");  // no scenes: every root node, in node order
+    scene = write_and_load(b);
+    ASSERT_EQ(scene.objects.size(), 3u);
+    EXPECT_EQ(scene.objects[0].name, "a/m");
+    EXPECT_EQ(scene.objects[1].name, "p/m");
+    EXPECT_EQ(scene.objects[2].name, "c/m");
+    (void)a;
+}
+
+TEST_F(GltfLoaderTest, PointsAndLinesAreSkipped) {
+    GltfBuilder b;
+    const int positions = b.add_positions(kQuad);
+    const int mesh = b.add_mesh("mixed", json::array({GltfBuilder::primitive(positions, -1, kPoints),
+                                                      GltfBuilder::primitive(positions, -1, kLines),
+                                                      GltfBuilder::primitive(positions, -1, kFan)}));
+    b.add_node({{"name", "n"}, {"mesh", mesh}});
+    const Scene scene = write_and_load(b);
+    ASSERT_EQ(scene.objects.size(), 1u);
+    EXPECT_EQ(scene.objects[0].name, "n/mixed#2");
+    EXPECT_EQ(scene.objects[0].mesh.triangles.size(), 2u);
+}
+
+// ---- Bad files -------------------------------------------------------------------------------
+
+TEST_F(GltfLoaderTest, MissingFile) { expect_error(path("nope.gltf"), {"no such file"}); }
+
+TEST_F(GltfLoaderTest, MalformedJson) {
+    std::ofstream(path("broken.gltf")) << "{ \"asset\": { \"version\": \"2.0\" }, \"nodes\": [ ";
+    expect_error(path("broken.gltf"), {"invalid glTF"});
+    std::ofstream(path("empty.gltf")) << "";
+    expect_error(path("empty.gltf"), {"invalid glTF"});
+}
+
+TEST_F(GltfLoaderTest, TruncatedAndCorruptGlb) {
+    const std::vector<unsigned char> good = quad_builder().glb_bytes();
+    for (const std::size_t size : {std::size_t{0}, std::size_t{5}, std::size_t{12}, std::size_t{30},
+                                   good.size() / 2, good.size() - 4}) {
+        SCOPED_TRACE(size);
+        GltfBuilder::write_bytes(path("cut.glb"), std::vector<unsigned char>(
+                                                      good.begin(), good.begin() + static_cast<long>(size)));
+        expect_error(path("cut.glb"), {"truncated GLB"});
+    }
+    std::vector<unsigned char> bad_magic = good;
+    bad_magic[0] = 'x';
+    GltfBuilder::write_bytes(path("magic.glb"), bad_magic);
+    expect_error(path("magic.glb"), {"not a GLB"});
+
+    // A BIN chunk whose length overruns the file by less than its own 8-byte header: the case
+    // tinygltf 2.7 itself would read past the end for.
+    std::vector<unsigned char> overrun = good;
+    const std::size_t json_length = overrun[12] | overrun[13] << 8 | overrun[14] << 16 | overrun[15] << 24;
+    const std::size_t bin_header = 20 + json_length;
+    overrun[bin_header] = static_cast<unsigned char>(overrun[bin_header] + 4);
+    GltfBuilder::write_bytes(path("overrun.glb"), overrun);
+    expect_error(path("overrun.glb"), {"truncated GLB"});
+
+    // Text where a GLB should be.
+    std::ofstream(path("text.glb")) << "{ \"asset\": { \"version\": \"2.0\" } }";
+    expect_error(path("text.glb"), {"not a GLB"});
+}
+
+TEST_F(GltfLoaderTest, MissingBinFile) {
+    GltfBuilder b = quad_builder();
+    b.write_gltf(path("scene.gltf"));
+    fs::remove(path("scene.bin"));
+    expect_error(path("scene.gltf"), {"invalid glTF", "scene.bin"});
+}
+
+TEST_F(GltfLoaderTest, AccessorOutOfBufferViewRange) {
+    GltfBuilder b = quad_builder();
+    b.doc()["accessors"][0]["count"] = 5;  // 5 positions in a 4-position view
+    expect_error(b, {"object 'quad_node/quad_mesh'", "accessor 0", "exceed bufferView 0"});
+
+    b = quad_builder();
+    b.doc()["accessors"][1]["byteOffset"] = 2;  // 6 indices shifted past the view's end
+    expect_error(b, {"object 'quad_node/quad_mesh'", "accessor 1"});
+}
+
+TEST_F(GltfLoaderTest, BufferViewOutOfBufferRange) {
+    GltfBuilder b = quad_builder();
+    b.doc()["bufferViews"][0]["byteOffset"] = 1000;
+    expect_error(b, {"object 'quad_node/quad_mesh'", "exceeds buffer 0"});
+
+    b = quad_builder();
+    b.doc()["bufferViews"][1]["byteLength"] = 1u << 20;
+    expect_error(b, {"object 'quad_node/quad_mesh'", "exceeds buffer 0"});
+
+    b = quad_builder();
+    b.doc()["accessors"][0]["bufferView"] = 7;
+    expect_error(b, {"object 'quad_node/quad_mesh'"});
+}
+
+TEST_F(GltfLoaderTest, IndexOutOfRange) {
+    GltfBuilder b;
+    const int positions = b.add_positions(kQuad);
+    const int indices = b.add_indices(std::vector<std::uint16_t>{0, 1, 2, 0, 2, 7}, kUnsignedShort);
+    b.add_node({{"name", "n"},
+                {"mesh", b.add_mesh("m", json::array({GltfBuilder::primitive(positions, indices)}))}});
+    expect_error(b, {"object 'n/m'", "index 5 (value 7) out of range of 4 positions"});
+}
+
+TEST_F(GltfLoaderTest, NonFinitePositions) {
+    for (const float bad :
+         {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity()}) {
+        GltfBuilder b;
+        const int positions = b.add_positions({{0, 0, 0}, {1, bad, 0}, {0, 1, 0}});
+        b.add_node(
+            {{"name", "n"}, {"mesh", b.add_mesh("m", json::array({GltfBuilder::primitive(positions)}))}});
+        expect_error(b, {"object 'n/m'", "position 1 is not finite"});
+    }
+}
+
+TEST_F(GltfLoaderTest, NoTriangles) {
+    GltfBuilder b;
+    b.add_node({{"name", "empty"}});
+    expect_error(b, {"no triangles"});
+
+    GltfBuilder lines;
+    const int positions = lines.add_positions(kQuad);
+    lines.add_node(
+        {{"name", "n"},
+         {"mesh", lines.add_mesh("m", json::array({GltfBuilder::primitive(positions, -1, kLines),
+                                                   GltfBuilder::primitive(positions, -1, kPoints)}))}});
+    expect_error(lines, {"no triangles"});
+}
+
+TEST_F(GltfLoaderTest, UnsupportedAccessors) {
+    GltfBuilder b = quad_builder();
+    b.doc()["accessors"][0]["sparse"] = {{"count", 1},
+                                         {"indices", {{"bufferView", 1}, {"componentType", kUnsignedShort}}},
+                                         {"values", {{"bufferView", 0}}}};
+    expect_error(b, {"object 'quad_node/quad_mesh'", "sparse"});
+
+    b = quad_builder();
+    b.doc()["accessors"][0]["componentType"] = kUnsignedShort;  // quantized positions
+    expect_error(b, {"object 'quad_node/quad_mesh'", "POSITION must be FLOAT VEC3"});
+
+    b = quad_builder();
+    b.doc()["accessors"][1]["componentType"] = kFloat;
+    expect_error(b, {"object 'quad_node/quad_mesh'", "indices must be"});
+}
+
+TEST_F(GltfLoaderTest, BrokenNodeGraph) {
+    GltfBuilder cycle = quad_builder();
+    cycle.add_node({{"name", "other"}, {"children", json::array({0})}}, false);
+    cycle.doc()["nodes"][0]["children"] = json::array({1});
+    expect_error(cycle, {"node 'quad_node'", "reached twice"});
+
+    GltfBuilder missing_child = quad_builder();
+    missing_child.doc()["nodes"][0]["children"] = json::array({42});
+    expect_error(missing_child, {"node 'quad_node' refers to node 42"});
+
+    GltfBuilder missing_mesh = quad_builder();
+    missing_mesh.doc()["nodes"][0]["mesh"] = 3;
+    expect_error(missing_mesh, {"node 'quad_node': mesh 3 does not exist"});
+
+    GltfBuilder bad_scene = quad_builder();
+    bad_scene.doc()["scene"] = 4;
+    expect_error(bad_scene, {"default scene 4"});
+
+    GltfBuilder bad_matrix = quad_builder();
+    bad_matrix.doc()["nodes"][0]["matrix"] = {1, 0, 0};
+    expect_error(bad_matrix, {"node 'quad_node'", "matrix"});
+
+    GltfBuilder bad_material = quad_builder();
+    bad_material.doc()["meshes"][0]["primitives"][0]["material"] = 2;
+    expect_error(bad_material, {"object 'quad_node/quad_mesh'", "material 2"});
+}
+
+// ---- Bundled and shared scenes ---------------------------------------------------------------
+
+TEST(DefaultScene, LoadsWithSeveralObjectsAndAHierarchy) {
+    const fs::path path = default_scene_path();
+    ASSERT_TRUE(fs::exists(path)) << path;
+    const Scene scene = load_gltf(path);
+    EXPECT_GE(scene.objects.size(), 10u);
+    EXPECT_GE(scene.materials.size(), 6u);
+    EXPECT_GE(scene.triangle_count(), 30000u);
+    EXPECT_LE(scene.triangle_count(), 80000u);
+
+    // box_top sits under box_stack: world = stack TRS * top TRS.
+    const auto find = [&](const std::string& name) -> const Object& {
+        for (const Object& o : scene.objects) {
+            if (o.name == name) return o;
+        }
+        ADD_FAILURE() << "no object " << name;
+        return scene.objects.front();
+    };
+    const glm::mat4 stack = glm::rotate(glm::translate(glm::mat4(1.0f), {-2.7f, 0.0f, -2.4f}),
+                                        glm::radians(25.0f), glm::vec3(0, 1, 0));
+    const glm::vec4 expected = stack * glm::vec4(0.1f, 1.55f, 0.05f, 1.0f);
+    const Object& top = find("box_top/box");
+    for (int r = 0; r < 3; ++r) EXPECT_NEAR(top.transform[3][r], expected[r], 1e-5f);
+    EXPECT_EQ(find("pedestal/pedestal#1").name, "pedestal/pedestal#1");
+    EXPECT_NE(find("pedestal/pedestal#0").material, find("pedestal/pedestal#1").material);
+}
+
+TEST(SharedScenes, EveryGltfLoadsOrThrowsSceneError) {
+    const fs::path root = DYNRT_SHARED_SCENES_DIR;
+    if (!fs::is_directory(root)) GTEST_SKIP() << root << " does not exist";
+    int loaded = 0, rejected = 0;
+    for (const fs::directory_entry& entry : fs::recursive_directory_iterator(root)) {
+        std::string ext = entry.path().extension().string();
+        for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        if (!entry.is_regular_file() || (ext != ".gltf" && ext != ".glb")) continue;
+        try {
+            const Scene scene = load_gltf(entry.path());
+            EXPECT_GT(scene.triangle_count(), 0u) << entry.path();
+            ++loaded;
+        } catch (const SceneError& e) {
+            ++rejected;
+            std::cout << "[ rejected ] " << e.what() << '\n';
+        } catch (const std::exception& e) {
+            ADD_FAILURE() << entry.path() << ": not a SceneError: " << e.what();
+        }
+    }
+    std::cout << "[ shared   ] " << loaded << " loaded, " << rejected << " rejected\n";
+    EXPECT_GT(loaded, 0);
+}
+
+}  // namespace
+}  // namespace dynrt

@@ -19,7 +19,10 @@ struct BuildConfig {
     /// Hard upper bound on primitives per leaf; a node above it is always split, by the best
     /// binned split or, when no bin separates the primitives, by the median. Must be >= 1.
     std::uint32_t leaf_size_max = 8;
-    /// Number of bins per axis. Must be >= 2.
+    /// Number of bins per axis for large nodes. Must be >= 2; values above 64 act as 64. A node
+    /// of n primitives uses min(bin_count, 4 + n/20) bins (Embree's rule: fewer bins where
+    /// clearing and sweeping them would cost more than binning), and nodes of at most four
+    /// primitives try every split exactly instead.
     std::uint32_t bin_count = 16;
 
     SahCosts sah_costs() const { return SahCosts{1.0f, cost_ratio}; }
@@ -28,8 +31,11 @@ struct BuildConfig {
 /// Builds a tree over `boxes.size()` primitives; `centers[i]` is the point used to bin
 /// primitive i (usually its box centre or centroid) and must lie inside `boxes[i]`. Boxes must
 /// be non-empty and finite. Both spans are borrowed for the duration of the call only.
-/// Runs in parallel on the calling thread's oneTBB arena. The result satisfies `validate`.
-/// An empty input gives an empty tree.
+/// Runs in parallel on the calling thread's oneTBB arena. The result satisfies `validate`, its
+/// depth is at most kMaxDepth whatever the input (median splits take over where the SAH would
+/// go deeper), and its prim_ids and tree shape do not depend on thread timing (the order of
+/// nodes in the array may). An empty input gives an empty tree. Throws std::invalid_argument
+/// for a bad config or spans of different sizes, std::length_error for 2^31 or more primitives.
 Bvh build_binned_sah(std::span<const Aabb> boxes, std::span<const glm::vec3> centers,
                      const BuildConfig& config);
 

@@ -19,8 +19,11 @@ struct Triangle {
 };
 
 /// True when the triangle has zero area: its edge cross product, evaluated exactly enough in
-/// double precision, is the zero vector (coincident or collinear vertices). Such a triangle
-/// can never be hit and is kept out of every tree.
+/// double precision, is the zero vector (coincident or collinear vertices). Exact (edges in
+/// double, error-free products) unless one triangle's coordinates span a factor above ~2^29.
+/// Such a triangle has nothing to hit and is kept out of every tree; the watertight test alone
+/// never hits one with coincident vertices, but its rounded shear can give a collinear one a
+/// sliver of area.
 bool is_degenerate(const Triangle& tri);
 
 /// True when all nine coordinates are finite.

@@ -37,6 +37,18 @@ Hit intersect_closest(const TriangleBvh& accel, const Ray& ray);
 /// True when any triangle is hit within [ray.tmin, ray.tmax] (shadow rays). Thread-safe.
 bool intersect_any(const TriangleBvh& accel, const Ray& ray);
 
+/// Work done by traversals, for benchmarks and tuning (quality of a tree beyond its SAH cost).
+struct TraversalStats {
+    /// Nodes whose children were box-tested, plus leaves whose triangles were tested.
+    std::uint64_t nodes_visited = 0;
+    std::uint64_t triangles_tested = 0;
+};
+
+/// intersect_closest that also adds its work to `stats` (a separate instantiation of the same
+/// traversal; the plain overload pays nothing for counting). Thread-safe if `stats` is not
+/// shared.
+Hit intersect_closest(const TriangleBvh& accel, const Ray& ray, TraversalStats& stats);
+
 /// `validate` for a triangle BVH built from `tris`: the tree invariants of `accel.bvh` against
 /// the triangles' boxes, except that exactly the degenerate triangles are absent, plus
 /// `accel.tris[i]` equal to `tris[accel.bvh.prim_ids[i]]` and `degenerate_skipped` equal to the

@@ -1,0 +1,30 @@
+#pragma once
+// The builder's core, shared by build_binned_sah (caller's boxes and centres) and
+// build_triangle_bvh (boxes computed from triangles): both first fill an array of primitive
+// references, then hand it over here.
+
+#include "prim_ref.h"
+
+#include "dynrt/bvh/binned_sah_builder.h"
+
+#include <cstddef>
+#include <functional>
+
+namespace dynrt::bvh::detail {
+
+/// Builds the tree over `refs[0, count)`, reordering them in place (they end in leaf order).
+/// `root_box` must be the union of the refs' boxes and `root_center_box` the bounds of their
+/// centres. `count` must be >= 1 and < 2^31. `config` must already be checked. Runs on the
+/// calling thread's oneTBB arena. `alongside_output`, when set, runs once the refs are in their
+/// final order, concurrently with the filling of the result's vectors (the caller's own
+/// per-primitive output, such as triangles in leaf order, can overlap with it).
+/// Instantiated for BoxCenterRef and ExplicitCenterRef.
+template <class Ref>
+Bvh build_from_prim_refs(Ref* refs, std::size_t count, const Aabb& root_box,
+                         const Aabb& root_center_box, const BuildConfig& config,
+                         const std::function<void()>& alongside_output);
+
+/// Throws std::invalid_argument unless cost_ratio > 0, leaf_size_max >= 1 and bin_count >= 2.
+void check_config(const BuildConfig& config);
+
+}  // namespace dynrt::bvh::detail

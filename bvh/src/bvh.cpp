@@ -1,0 +1,193 @@
+// Tree-wide figures and invariant checks. SAH cost after MacDonald and Booth 1990, "Heuristics
+// for ray tracing using space subdivision".
+
+#include "tree_checks.h"
+
+#include <algorithm>
+#include <cstddef>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace dynrt::bvh {
+namespace {
+
+/// Half area in double, so summing a million small nodes loses nothing to float rounding.
+double half_area_d(const Aabb& b) {
+    if (b.is_empty()) return 0.0;
+    const double x = static_cast<double>(b.hi.x) - b.lo.x;
+    const double y = static_cast<double>(b.hi.y) - b.lo.y;
+    const double z = static_cast<double>(b.hi.z) - b.lo.z;
+    return x * y + y * z + z * x;
+}
+
+std::string box_text(const Aabb& b) {
+    return "[(" + std::to_string(b.lo.x) + ", " + std::to_string(b.lo.y) + ", " +
+           std::to_string(b.lo.z) + "), (" + std::to_string(b.hi.x) + ", " +
+           std::to_string(b.hi.y) + ", " + std::to_string(b.hi.z) + ")]";
+}
+
+}  // namespace
+
+double sah_cost(const Bvh& bvh, const SahCosts& costs) {
+    if (bvh.empty()) return 0.0;
+    const double root_area = half_area_d(bvh.nodes[0].box);
+    // A flat or point-like root makes every area ratio 0/0; its limit when the boxes are inflated
+    // uniformly is 1, so every node then counts with weight 1.
+    const bool flat = !(root_area > 0.0);
+    double cost = 0.0;
+    // Walk from the root (rather than over the array) so only nodes of the tree count; the walk
+    // is bounded by the node count in case the tree is malformed.
+    std::vector<std::uint32_t> stack{0};
+    std::size_t visited = 0;
+    while (!stack.empty() && visited++ < bvh.nodes.size()) {
+        const BvhNode& node = bvh.nodes[stack.back()];
+        stack.pop_back();
+        const double weight = flat ? 1.0 : half_area_d(node.box) / root_area;
+        if (node.is_leaf()) {
+            cost += weight * node.count * costs.intersection;
+        } else {
+            cost += weight * costs.traversal;
+            if (node.first + 1 < bvh.nodes.size()) {
+                stack.push_back(node.first);
+                stack.push_back(node.first + 1);
+            }
+        }
+    }
+    return cost;
+}
+
+BvhStats compute_stats(const Bvh& bvh) {
+    BvhStats stats;
+    if (bvh.empty()) return stats;
+    std::size_t leaf_prims = 0;
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> stack{{0u, 1u}};  // node, depth
+    while (!stack.empty() && stats.nodes < bvh.nodes.size()) {
+        const auto [index, depth] = stack.back();
+        stack.pop_back();
+        const BvhNode& node = bvh.nodes[index];
+        ++stats.nodes;
+        stats.depth = std::max(stats.depth, depth);
+        if (node.is_leaf()) {
+            ++stats.leaves;
+            leaf_prims += node.count;
+            stats.leaf_prims_max = std::max(stats.leaf_prims_max, node.count);
+        } else if (node.first + 1 < bvh.nodes.size()) {
+            stack.push_back({node.first, depth + 1});
+            stack.push_back({node.first + 1, depth + 1});
+        }
+    }
+    stats.leaf_prims_mean =
+        stats.leaves != 0 ? static_cast<double>(leaf_prims) / static_cast<double>(stats.leaves) : 0.0;
+    return stats;
+}
+
+namespace detail {
+
+std::string check_tree(const Bvh& bvh, std::span<const Aabb> prim_boxes,
+                       std::uint32_t leaf_size_max, bool allow_missing,
+                       std::vector<std::uint8_t>& in_tree) {
+    const std::size_t prim_count = prim_boxes.size();
+    in_tree.assign(prim_count, 0);
+    if (bvh.empty()) {
+        if (!bvh.prim_ids.empty()) {
+            return "empty tree but " + std::to_string(bvh.prim_ids.size()) + " primitive ids";
+        }
+        if (prim_count != 0 && !allow_missing) {
+            return "empty tree for " + std::to_string(prim_count) + " primitives";
+        }
+        return {};
+    }
+    if (!allow_missing && bvh.prim_ids.size() != prim_count) {
+        return std::to_string(bvh.prim_ids.size()) + " primitive ids for " +
+               std::to_string(prim_count) + " primitives";
+    }
+    // Each id must be valid and unique.
+    for (std::size_t pos = 0; pos < bvh.prim_ids.size(); ++pos) {
+        const std::uint32_t id = bvh.prim_ids[pos];
+        if (id >= prim_count) {
+            return "prim_ids[" + std::to_string(pos) + "] = " + std::to_string(id) +
+                   " is out of range";
+        }
+        if (in_tree[id]) return "primitive " + std::to_string(id) + " appears twice in prim_ids";
+        in_tree[id] = 1;
+    }
+
+    // Depth-first walk: each node reached once, leaf ranges covering every position once.
+    const std::size_t node_count = bvh.nodes.size();
+    std::vector<std::uint8_t> node_seen(node_count, 0);
+    std::vector<std::uint8_t> position_seen(bvh.prim_ids.size(), 0);
+    std::size_t positions_covered = 0;
+    std::size_t nodes_reached = 0;
+    struct Entry {
+        std::uint32_t node, depth;
+    };
+    std::vector<Entry> stack{{0, 1}};
+    while (!stack.empty()) {
+        const Entry e = stack.back();
+        stack.pop_back();
+        auto where = [&] { return "node " + std::to_string(e.node); };
+        if (e.node >= node_count) return where() + " is out of range";
+        if (node_seen[e.node]) return where() + " is reached twice";
+        node_seen[e.node] = 1;
+        ++nodes_reached;
+        if (e.depth > kMaxDepth) {
+            return where() + " is at depth " + std::to_string(e.depth) + " > kMaxDepth";
+        }
+        const BvhNode& node = bvh.nodes[e.node];
+        if (node.is_leaf()) {
+            if (node.count > leaf_size_max) {
+                return where() + " is a leaf of " + std::to_string(node.count) +
+                       " primitives > leaf_size_max " + std::to_string(leaf_size_max);
+            }
+            if (node.first > bvh.prim_ids.size() ||
+                node.count > bvh.prim_ids.size() - node.first) {
+                return where() + " has leaf range [" + std::to_string(node.first) + ", +" +
+                       std::to_string(node.count) + ") outside prim_ids";
+            }
+            for (std::uint32_t k = 0; k < node.count; ++k) {
+                const std::uint32_t pos = node.first + k;
+                if (position_seen[pos]) {
+                    return where() + ": prim_ids position " + std::to_string(pos) +
+                           " belongs to two leaves";
+                }
+                position_seen[pos] = 1;
+                ++positions_covered;
+                const std::uint32_t id = bvh.prim_ids[pos];
+                if (!node.box.contains(prim_boxes[id])) {
+                    return where() + ": box " + box_text(node.box) + " does not contain primitive " +
+                           std::to_string(id) + "'s box " + box_text(prim_boxes[id]);
+                }
+            }
+        } else {
+            if (node.first == 0 || node.first >= node_count - 1) {
+                return where() + " has child index " + std::to_string(node.first) +
+                       " out of range";
+            }
+            for (std::uint32_t c = node.first; c <= node.first + 1; ++c) {
+                if (!node.box.contains(bvh.nodes[c].box)) {
+                    return where() + ": box " + box_text(node.box) + " does not contain child " +
+                           std::to_string(c) + "'s box " + box_text(bvh.nodes[c].box);
+                }
+                stack.push_back({c, e.depth + 1});
+            }
+        }
+    }
+    if (positions_covered != bvh.prim_ids.size()) {
+        return std::to_string(bvh.prim_ids.size() - positions_covered) +
+               " prim_ids positions are in no leaf";
+    }
+    if (nodes_reached != node_count) {
+        return std::to_string(node_count - nodes_reached) + " nodes are unreachable from the root";
+    }
+    return {};
+}
+
+}  // namespace detail
+
+std::string validate(const Bvh& bvh, std::span<const Aabb> prim_boxes, std::uint32_t leaf_size_max) {
+    std::vector<std::uint8_t> in_tree;
+    return detail::check_tree(bvh, prim_boxes, leaf_size_max, false, in_tree);
+}
+
+}  // namespace dynrt::bvh

@@ -1,0 +1,315 @@
+// Triangle BVH: build over the non-degenerate triangles, single-ray closest-hit and any-hit
+// traversal. Box tests follow Ize 2013, "Robust BVH Ray Traversal" (JCGT 2(2)); triangles use
+// the watertight test of Woop, Benthin and Wald 2013.
+
+#include "dynrt/bvh/triangle_bvh.h"
+
+#include "binned_sah_core.h"
+#include "huge_pages.h"
+#include "tree_checks.h"
+#include "watertight_kernel.h"
+
+#include <oneapi/tbb/blocked_range.h>
+#include <oneapi/tbb/parallel_for.h>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace dynrt::bvh {
+namespace {
+
+/// Triangles per block of the parallel passes that filter degenerates and fill references.
+constexpr std::size_t kBlock = 16 * 1024;
+
+// ---- Robust box test ------------------------------------------------------------------------
+//
+// Ize 2013: with the reciprocal direction rounded and t = (plane - org) * inv_dir rounded twice
+// more, each slab distance is within gamma(3) of the exact value, where
+// gamma(n) = n u / (1 - n u) and u = 2^-24 is the unit roundoff. Growing the far distance by
+// (1 + 2 gamma(3)) therefore never rejects a box the exact ray meets (for t >= 0, i.e. rays with
+// tmin >= 0, which is every ray the engine makes). The same factor is applied to the ray's
+// current tmax: a triangle whose watertight t equals the closest hit so far may lie exactly on
+// the box's near face, and a rounded-up near distance must not hide it.
+constexpr float kUnitRoundoff = std::numeric_limits<float>::epsilon() * 0.5f;
+constexpr float gamma_n(int n) { return n * kUnitRoundoff / (1.0f - n * kUnitRoundoff); }
+constexpr float kFarScale = 1.0f + 2.0f * gamma_n(3);
+
+/// Per-ray constants of the box test.
+//
+// Zero direction components: inv_dir is then +-inf and a plane through the origin gives
+// (plane - org) * inv_dir = 0 * inf = NaN. Every max/min below is written `x > acc ? x : acc`
+// (resp. `<`), which keeps the accumulator when x is NaN, so such a slab simply does not
+// constrain the interval. That is exact: a ray parallel to a slab and lying on its boundary
+// plane is inside the closed slab for all t. A ray parallel to the slab and strictly outside
+// gets +inf as near or -inf as far distance and misses, also exact. Components so small that
+// 1/d overflows (|d| < 2^-128) behave as zero. A packet version must keep the NaN-ignoring
+// operand order (x86 maxps/minps return their second operand when either is NaN).
+struct BoxRay {
+    glm::vec3 org;
+    glm::vec3 inv_dir;
+
+    explicit BoxRay(const Ray& ray)
+        : org(ray.org), inv_dir(1.0f / ray.dir.x, 1.0f / ray.dir.y, 1.0f / ray.dir.z) {}
+};
+
+/// The ray's octant: bit a set where direction component a is negative (or -0), so the near
+/// plane on that axis is the box's `hi`. Traversal is instantiated per octant, which turns the
+/// near/far plane choice into plain loads.
+int octant_of(const glm::vec3& dir) {
+    return (std::signbit(dir.x) ? 1 : 0) | (std::signbit(dir.y) ? 2 : 0) |
+           (std::signbit(dir.z) ? 4 : 0);
+}
+
+/// True when the ray segment [tmin, tmax] may meet `box`; `tnear` gets the entry distance.
+template <int kOctant>
+inline bool hit_box(const Aabb& box, const BoxRay& r, float tmin, float tmax, float& tnear) {
+    constexpr bool kNegX = (kOctant & 1) != 0;
+    constexpr bool kNegY = (kOctant & 2) != 0;
+    constexpr bool kNegZ = (kOctant & 4) != 0;
+    const float t0x = ((kNegX ? box.hi.x : box.lo.x) - r.org.x) * r.inv_dir.x;
+    const float t1x = ((kNegX ? box.lo.x : box.hi.x) - r.org.x) * r.inv_dir.x;
+    const float t0y = ((kNegY ? box.hi.y : box.lo.y) - r.org.y) * r.inv_dir.y;
+    const float t1y = ((kNegY ? box.lo.y : box.hi.y) - r.org.y) * r.inv_dir.y;
+    const float t0z = ((kNegZ ? box.hi.z : box.lo.z) - r.org.z) * r.inv_dir.z;
+    const float t1z = ((kNegZ ? box.lo.z : box.hi.z) - r.org.z) * r.inv_dir.z;
+    float tn = tmin;
+    float tf = tmax;
+    tn = t0x > tn ? t0x : tn;
+    tn = t0y > tn ? t0y : tn;
+    tn = t0z > tn ? t0z : tn;
+    tf = t1x < tf ? t1x : tf;
+    tf = t1y < tf ? t1y : tf;
+    tf = t1z < tf ? t1z : tf;
+    tnear = tn;
+    return tn <= tf * kFarScale;
+}
+
+// ---- Traversal ------------------------------------------------------------------------------
+
+constexpr int kStackSize = 2 * static_cast<int>(kMaxDepth);
+
+/// Front-to-back stack traversal. The nearer child is visited next and the farther one pushed
+/// with its entry distance, so a closest-hit query pops it only if it can still beat the hit.
+/// The stack holds at most one entry per level of the current path (depth <= kMaxDepth).
+template <bool kAnyHit, bool kCount, int kOctant>
+bool traverse(const TriangleBvh& accel, const Ray& ray, Hit& hit, TraversalStats* stats) {
+    const std::vector<BvhNode>& nodes = accel.bvh.nodes;
+    if (nodes.empty()) return false;
+    const BoxRay box_ray(ray);
+    const WatertightRay tri_ray(ray);
+    const float tmin = ray.tmin;
+    float tmax = ray.tmax;
+
+    struct Entry {
+        std::uint32_t node;
+        float tnear;
+    };
+    Entry stack[kStackSize];
+    int top = 0;
+    bool found = false;
+
+    float tnear;
+    if (!hit_box<kOctant>(nodes[0].box, box_ray, tmin, tmax, tnear)) return false;
+    std::uint32_t index = 0;
+    while (true) {
+        const BvhNode& node = nodes[index];
+        if constexpr (kCount) ++stats->nodes_visited;
+        if (!node.is_leaf()) {
+            const std::uint32_t left = node.first;
+            float t_left, t_right;
+            const bool hit_left = hit_box<kOctant>(nodes[left].box, box_ray, tmin, tmax, t_left);
+            const bool hit_right = hit_box<kOctant>(nodes[left + 1].box, box_ray, tmin, tmax, t_right);
+            if (hit_left && hit_right) {
+                if (t_right < t_left) {
+                    stack[top++] = Entry{left, t_left};
+                    index = left + 1;
+                } else {
+                    stack[top++] = Entry{left + 1, t_right};
+                    index = left;
+                }
+                continue;
+            }
+            if (hit_left) {
+                index = left;
+                continue;
+            }
+            if (hit_right) {
+                index = left + 1;
+                continue;
+            }
+        } else {
+            const Triangle* tris = accel.tris.data();
+            const std::uint32_t end = node.first + node.count;
+            if constexpr (kCount) stats->triangles_tested += node.count;
+            for (std::uint32_t k = node.first; k < end; ++k) {
+                Hit candidate;
+                if (detail::watertight_test(tri_ray, tris[k], tmin, tmax, candidate)) {
+                    if constexpr (kAnyHit) {
+                        return true;
+                    } else {
+                        hit = candidate;
+                        hit.prim = accel.bvh.prim_ids[k];
+                        tmax = candidate.t;
+                        found = true;
+                    }
+                }
+            }
+        }
+        // Pop the next subtree that can still contain a hit closer than the current one; the
+        // comparison is the box test's own with the current tmax.
+        while (true) {
+            if (top == 0) return found;
+            const Entry e = stack[--top];
+            if (e.tnear <= tmax * kFarScale) {
+                index = e.node;
+                break;
+            }
+        }
+    }
+}
+
+template <bool kAnyHit, bool kCount>
+bool traverse_octant(const TriangleBvh& accel, const Ray& ray, Hit& hit, TraversalStats* stats) {
+    switch (octant_of(ray.dir)) {
+        case 0: return traverse<kAnyHit, kCount, 0>(accel, ray, hit, stats);
+        case 1: return traverse<kAnyHit, kCount, 1>(accel, ray, hit, stats);
+        case 2: return traverse<kAnyHit, kCount, 2>(accel, ray, hit, stats);
+        case 3: return traverse<kAnyHit, kCount, 3>(accel, ray, hit, stats);
+        case 4: return traverse<kAnyHit, kCount, 4>(accel, ray, hit, stats);
+        case 5: return traverse<kAnyHit, kCount, 5>(accel, ray, hit, stats);
+        case 6: return traverse<kAnyHit, kCount, 6>(accel, ray, hit, stats);
+        default: return traverse<kAnyHit, kCount, 7>(accel, ray, hit, stats);
+    }
+}
+
+}  // namespace
+
+TriangleBvh build_triangle_bvh(std::span<const Triangle> tris, const BuildConfig& config) {
+    detail::check_config(config);
+    TriangleBvh accel;
+    const std::size_t n = tris.size();
+    if (n == 0) return accel;
+    if (n >= (std::size_t{1} << 31)) {
+        throw std::length_error("build_triangle_bvh: more than 2^31 - 1 triangles");
+    }
+
+    // Pass 1: mark non-degenerate triangles and count them per block. Fixed blocks and an
+    // ordered prefix sum keep the reference order, hence the tree, deterministic.
+    const std::size_t blocks = (n + kBlock - 1) / kBlock;
+    auto keep = std::make_unique_for_overwrite<std::uint8_t[]>(n);
+    std::vector<std::size_t> block_offset(blocks + 1, 0);
+    tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
+        const std::size_t end = std::min(n, (b + 1) * kBlock);
+        std::size_t kept = 0;
+        for (std::size_t i = b * kBlock; i < end; ++i) {
+            keep[i] = is_degenerate(tris[i]) ? 0 : 1;
+            kept += keep[i];
+        }
+        block_offset[b + 1] = kept;
+    });
+    for (std::size_t b = 0; b < blocks; ++b) block_offset[b + 1] += block_offset[b];
+    const std::size_t count = block_offset[blocks];
+    accel.degenerate_skipped = n - count;
+    if (count == 0) return accel;
+
+    // Pass 2: references and per-block bounds.
+    auto refs = detail::make_uninitialized_buffer<detail::BoxCenterRef>(count);
+    struct BlockBounds {
+        Aabb box, centers;
+    };
+    std::vector<BlockBounds> block_bounds(blocks);
+    tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
+        const std::size_t end = std::min(n, (b + 1) * kBlock);
+        std::size_t out = block_offset[b];
+        BlockBounds bounds;
+        for (std::size_t i = b * kBlock; i < end; ++i) {
+            if (!keep[i]) continue;
+            const Triangle& t = tris[i];
+            const glm::vec3 lo = glm::min(glm::min(t.v0, t.v1), t.v2);
+            const glm::vec3 hi = glm::max(glm::max(t.v0, t.v1), t.v2);
+            detail::BoxCenterRef& r = refs[out++];
+            r = detail::BoxCenterRef{lo, static_cast<std::uint32_t>(i), hi, 0};
+            bounds.box.extend(lo);
+            bounds.box.extend(hi);
+            bounds.centers.extend((lo + hi) * 0.5f);
+        }
+        block_bounds[b] = bounds;
+    });
+    Aabb root_box, root_centers;
+    for (const BlockBounds& b : block_bounds) {
+        root_box.extend(b.box);
+        root_centers.extend(b.centers);
+    }
+
+    // Copy the triangles in leaf order while the builder fills its own output vectors: three
+    // serial fills (triangles, nodes, ids) of fresh memory share the threads.
+    const detail::BoxCenterRef* leaf_order = refs.get();
+    accel.bvh = detail::build_from_prim_refs(refs.get(), count, root_box, root_centers, config, [&] {
+        detail::resize_with_huge_pages(accel.tris, count);
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kBlock),
+                          [&](const tbb::blocked_range<std::size_t>& r) {
+                              for (std::size_t i = r.begin(); i < r.end(); ++i) {
+                                  accel.tris[i] = tris[leaf_order[i].id];
+                              }
+                          });
+    });
+    return accel;
+}
+
+Hit intersect_closest(const TriangleBvh& accel, const Ray& ray) {
+    Hit hit;
+    traverse_octant<false, false>(accel, ray, hit, nullptr);
+    return hit;
+}
+
+Hit intersect_closest(const TriangleBvh& accel, const Ray& ray, TraversalStats& stats) {
+    Hit hit;
+    traverse_octant<false, true>(accel, ray, hit, &stats);
+    return hit;
+}
+
+bool intersect_any(const TriangleBvh& accel, const Ray& ray) {
+    Hit unused;
+    return traverse_octant<true, false>(accel, ray, unused, nullptr);
+}
+
+std::string validate(const TriangleBvh& accel, std::span<const Triangle> tris,
+                     std::uint32_t leaf_size_max) {
+    std::vector<Aabb> boxes(tris.size());
+    for (std::size_t i = 0; i < tris.size(); ++i) boxes[i] = tris[i].bounds();
+    std::vector<std::uint8_t> in_tree;
+    std::string error = detail::check_tree(accel.bvh, boxes, leaf_size_max, true, in_tree);
+    if (!error.empty()) return error;
+
+    std::size_t missing = 0;
+    for (std::size_t i = 0; i < tris.size(); ++i) {
+        if (in_tree[i]) continue;
+        if (!is_degenerate(tris[i])) {
+            return "triangle " + std::to_string(i) + " is not degenerate but not in the tree";
+        }
+        ++missing;
+    }
+    if (missing != accel.degenerate_skipped) {
+        return "degenerate_skipped is " + std::to_string(accel.degenerate_skipped) + " but " +
+               std::to_string(missing) + " triangles are absent";
+    }
+    if (accel.tris.size() != accel.bvh.prim_ids.size()) {
+        return std::to_string(accel.tris.size()) + " triangles for " +
+               std::to_string(accel.bvh.prim_ids.size()) + " primitive ids";
+    }
+    for (std::size_t k = 0; k < accel.tris.size(); ++k) {
+        if (std::memcmp(&accel.tris[k], &tris[accel.bvh.prim_ids[k]], sizeof(Triangle)) != 0) {
+            return "tris[" + std::to_string(k) + "] is not a copy of triangle " +
+                   std::to_string(accel.bvh.prim_ids[k]);
+        }
+    }
+    return {};
+}
+
+}  // namespace dynrt::bvh

@@ -12,6 +12,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <random>
 #include <span>
@@ -19,6 +20,17 @@
 #include <vector>
 
 namespace dynrt::bvh::testing {
+
+inline constexpr float kInf = std::numeric_limits<float>::infinity();
+
+inline Ray make_ray(glm::vec3 org, glm::vec3 dir, float tmin = 0.0f, float tmax = kInf) {
+    Ray r;
+    r.org = org;
+    r.dir = dir;
+    r.tmin = tmin;
+    r.tmax = tmax;
+    return r;
+}
 
 inline glm::vec3 random_point(std::mt19937& rng, const glm::vec3& lo, const glm::vec3& hi) {
     std::uniform_real_distribution<float> u(0.0f, 1.0f);

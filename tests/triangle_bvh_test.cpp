@@ -24,24 +24,15 @@ using testing::brute_force_any;
 using testing::brute_force_closest;
 using testing::random_direction;
 using testing::random_point;
+using testing::kInf;
+using testing::make_ray;
 using testing::random_soup;
-
-constexpr float kInf = std::numeric_limits<float>::infinity();
 
 BuildConfig config_with(std::uint32_t leaf_size_max, float cost_ratio = 1.0f) {
     BuildConfig c;
     c.leaf_size_max = leaf_size_max;
     c.cost_ratio = cost_ratio;
     return c;
-}
-
-Ray make_ray(glm::vec3 org, glm::vec3 dir, float tmin = 0.0f, float tmax = kInf) {
-    Ray r;
-    r.org = org;
-    r.dir = dir;
-    r.tmin = tmin;
-    r.tmax = tmax;
-    return r;
 }
 
 /// Closest and any hit of `accel` agree with brute force over `tris` for `ray`.

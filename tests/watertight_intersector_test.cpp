@@ -20,21 +20,12 @@ namespace {
 using testing::ClosedMesh;
 using testing::count_hits;
 using testing::random_direction;
+using testing::kInf;
+using testing::make_ray;
 using testing::random_point;
-
-constexpr float kInf = std::numeric_limits<float>::infinity();
 
 bool intersect(const Ray& ray, const Triangle& tri, Hit& hit) {
     return intersect_watertight(WatertightRay(ray), tri, ray.tmin, ray.tmax, hit);
-}
-
-Ray make_ray(glm::vec3 org, glm::vec3 dir, float tmin = 0.0f, float tmax = kInf) {
-    Ray r;
-    r.org = org;
-    r.dir = dir;
-    r.tmin = tmin;
-    r.tmax = tmax;
-    return r;
 }
 
 const Triangle kUnit{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};

@@ -1,8 +1,9 @@
 #pragma once
-// Four-lane float and int vectors for the builder's inner loops (binning and partitioning),
-// written with GCC/Clang vector extensions: plain C++ operators that compile to SSE/AVX on x86
-// and to NEON or scalar code elsewhere, so there are no intrinsics and no ISA names. This is the
-// only place the bvh module spells out SIMD; lane 3 is always a don't-care lane.
+// Four-lane float and int vectors for the builder's inner loops (binning and partitioning) and
+// the traversal's two-box test, written with GCC/Clang vector extensions: plain C++ operators
+// that compile to SSE/AVX on x86 and to NEON or scalar code elsewhere, so there are no
+// intrinsics and no ISA names. This is the only place the bvh module spells out SIMD. Where a
+// vector holds a point or box corner, lane 3 is a don't-care lane.
 
 #include <cstdint>
 #include <cstring>

@@ -5,6 +5,7 @@
 #include "dynrt/bvh/triangle_bvh.h"
 
 #include "binned_sah_core.h"
+#include "float4.h"
 #include "huge_pages.h"
 #include "tree_checks.h"
 #include "watertight_kernel.h"
@@ -90,6 +91,53 @@ inline bool hit_box(const Aabb& box, const BoxRay& r, float tmin, float tmax, fl
     return tn <= tf * kFarScale;
 }
 
+/// Per-ray constants of the two-box test: lanes 0 and 1 compute entry distances of the left and
+/// right child, lanes 2 and 3 the negated exit distances (the reciprocal direction negated,
+/// which is exact), so one NaN-ignoring `x > acc ? x : acc` chain yields both the largest entry
+/// and the smallest exit distance of both boxes, bit for bit as hit_box does.
+struct PairRay {
+    detail::Float4 org_x, org_y, org_z;
+    detail::Float4 inv_x, inv_y, inv_z;
+
+    explicit PairRay(const BoxRay& r)
+        : org_x(detail::splat4(r.org.x)), org_y(detail::splat4(r.org.y)),
+          org_z(detail::splat4(r.org.z)),
+          inv_x(detail::Float4{r.inv_dir.x, r.inv_dir.x, -r.inv_dir.x, -r.inv_dir.x}),
+          inv_y(detail::Float4{r.inv_dir.y, r.inv_dir.y, -r.inv_dir.y, -r.inv_dir.y}),
+          inv_z(detail::Float4{r.inv_dir.z, r.inv_dir.z, -r.inv_dir.z, -r.inv_dir.z}) {}
+};
+
+/// hit_box for the two children at `pair[0]`, `pair[1]` at once. `bounds` is
+/// {tmin, tmin, -tmax, -tmax}. Returns bit 0 for the left child, bit 1 for the right one.
+template <int kOctant>
+inline unsigned hit_pair(const BvhNode* pair, const PairRay& r, detail::Float4 bounds,
+                         float& t_left, float& t_right) {
+    constexpr bool kNegX = (kOctant & 1) != 0;
+    constexpr bool kNegY = (kOctant & 2) != 0;
+    constexpr bool kNegZ = (kOctant & 4) != 0;
+    const Aabb& a = pair[0].box;
+    const Aabb& b = pair[1].box;
+    using detail::Float4;
+    const Float4 px{kNegX ? a.hi.x : a.lo.x, kNegX ? b.hi.x : b.lo.x, kNegX ? a.lo.x : a.hi.x,
+                    kNegX ? b.lo.x : b.hi.x};
+    const Float4 py{kNegY ? a.hi.y : a.lo.y, kNegY ? b.hi.y : b.lo.y, kNegY ? a.lo.y : a.hi.y,
+                    kNegY ? b.lo.y : b.hi.y};
+    const Float4 pz{kNegZ ? a.hi.z : a.lo.z, kNegZ ? b.hi.z : b.lo.z, kNegZ ? a.lo.z : a.hi.z,
+                    kNegZ ? b.lo.z : b.hi.z};
+    const Float4 tx = (px - r.org_x) * r.inv_x;
+    const Float4 ty = (py - r.org_y) * r.inv_y;
+    const Float4 tz = (pz - r.org_z) * r.inv_z;
+    Float4 acc = bounds;
+    acc = tx > acc ? tx : acc;
+    acc = ty > acc ? ty : acc;
+    acc = tz > acc ? tz : acc;
+    t_left = acc[0];
+    t_right = acc[1];
+    const unsigned hit_left = acc[0] <= -acc[2] * kFarScale ? 1u : 0u;
+    const unsigned hit_right = acc[1] <= -acc[3] * kFarScale ? 2u : 0u;
+    return hit_left | hit_right;
+}
+
 // ---- Traversal ------------------------------------------------------------------------------
 
 constexpr int kStackSize = 2 * static_cast<int>(kMaxDepth);
@@ -99,12 +147,14 @@ constexpr int kStackSize = 2 * static_cast<int>(kMaxDepth);
 /// The stack holds at most one entry per level of the current path (depth <= kMaxDepth).
 template <bool kAnyHit, bool kCount, int kOctant>
 bool traverse(const TriangleBvh& accel, const Ray& ray, Hit& hit, TraversalStats* stats) {
-    const std::vector<BvhNode>& nodes = accel.bvh.nodes;
-    if (nodes.empty()) return false;
+    if (accel.bvh.nodes.empty()) return false;
+    const BvhNode* nodes = accel.bvh.nodes.data();
     const BoxRay box_ray(ray);
+    const PairRay pair_ray(box_ray);
     const WatertightRay tri_ray(ray);
     const float tmin = ray.tmin;
     float tmax = ray.tmax;
+    detail::Float4 bounds{tmin, tmin, -tmax, -tmax};
 
     struct Entry {
         std::uint32_t node;
@@ -123,24 +173,17 @@ bool traverse(const TriangleBvh& accel, const Ray& ray, Hit& hit, TraversalStats
         if (!node.is_leaf()) {
             const std::uint32_t left = node.first;
             float t_left, t_right;
-            const bool hit_left = hit_box<kOctant>(nodes[left].box, box_ray, tmin, tmax, t_left);
-            const bool hit_right = hit_box<kOctant>(nodes[left + 1].box, box_ray, tmin, tmax, t_right);
-            if (hit_left && hit_right) {
-                if (t_right < t_left) {
-                    stack[top++] = Entry{left, t_left};
-                    index = left + 1;
-                } else {
-                    stack[top++] = Entry{left + 1, t_right};
-                    index = left;
-                }
+            const unsigned hits = hit_pair<kOctant>(nodes + left, pair_ray, bounds, t_left, t_right);
+            if (hits == 3u) {
+                // Nearer child next, the other pushed; selects rather than branches, as which
+                // child is nearer is close to a coin flip.
+                const bool right_first = t_right < t_left;
+                stack[top++] = Entry{right_first ? left : left + 1, right_first ? t_left : t_right};
+                index = right_first ? left + 1 : left;
                 continue;
             }
-            if (hit_left) {
-                index = left;
-                continue;
-            }
-            if (hit_right) {
-                index = left + 1;
+            if (hits != 0u) {
+                index = left + (hits >> 1);
                 continue;
             }
         } else {
@@ -156,6 +199,7 @@ bool traverse(const TriangleBvh& accel, const Ray& ray, Hit& hit, TraversalStats
                         hit = candidate;
                         hit.prim = accel.bvh.prim_ids[k];
                         tmax = candidate.t;
+                        bounds = detail::Float4{tmin, tmin, -tmax, -tmax};
                         found = true;
                     }
                 }

@@ -60,6 +60,20 @@ TEST(Cli, RenderWritesImageAovsAndReport) {
     EXPECT_NE(run.output.find("build"), std::string::npos);  // the printed table
 }
 
+TEST(Cli, BenchPrintsOneRowPerConfigurationAndWritesCsv) {
+    const fs::path dir = fresh_dir("bench");
+    const CliRun run = run_dynrt("bench sphere:300 --res 16x16 --repeat 2 --warmup 0 "
+                                 "--sweep cost-ratio=0.5,2 --sweep leaf=2,4 --csv " +
+                                 (dir / "b.csv").string());
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+    EXPECT_NE(run.output.find("4 configuration(s)"), std::string::npos) << run.output;
+    std::ifstream csv(dir / "b.csv");
+    std::string line;
+    int lines = 0;
+    while (std::getline(csv, line)) ++lines;
+    EXPECT_EQ(lines, 1 + 4);
+}
+
 TEST(Cli, InfoListsObjects) {
     const CliRun run = run_dynrt("info 'sphere:100+soup:10'");
     ASSERT_EQ(run.exit_code, 0) << run.output;
@@ -69,7 +83,7 @@ TEST(Cli, InfoListsObjects) {
 }
 
 TEST(Cli, HelpOnEveryCommand) {
-    for (const char* cmd : {"--help", "render --help", "info --help"}) {
+    for (const char* cmd : {"--help", "render --help", "bench --help", "info --help"}) {
         const CliRun run = run_dynrt(cmd);
         EXPECT_EQ(run.exit_code, 0) << cmd;
         EXPECT_NE(run.output.find("Usage"), std::string::npos) << cmd << run.output;
@@ -107,6 +121,9 @@ INSTANTIATE_TEST_SUITE_P(
                     BadCall{"render sphere:10 --out x.unknownext", "x.unknownext"},
                     BadCall{"render /no/such/file.gltf", "/no/such/file.gltf"},
                     BadCall{"render cube:10", "cube:10"},
+                    BadCall{"bench sphere:10 --sweep leaf=0", "leaf"},
+                    BadCall{"bench sphere:10 --sweep depth=3", "depth"},
+                    BadCall{"bench sphere:10 --repeat 0", "repeat"},
                     BadCall{"info", "scene"}));
 
 }  // namespace

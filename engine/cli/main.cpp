@@ -1,6 +1,7 @@
 // The `dynrt` command line: render a scene to an image with a timing report, or describe a scene.
 
 #include "dynrt/anim/posed_scene.h"
+#include "dynrt/engine/bench.h"
 #include "dynrt/bvh/triangle.h"
 #include "dynrt/engine/camera.h"
 #include "dynrt/engine/image_output.h"
@@ -16,6 +17,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <optional>
@@ -25,17 +27,29 @@
 
 namespace {
 
-struct RenderArgs {
+/// What `render` and `bench` share: the scene, the view and the build settings.
+struct FrameArgs {
     std::string scene;
     std::string res = "1024x1024";
-    std::string out = "dynrt.png";
-    std::string report;
-    std::string aov;
     std::string camera;
     std::vector<std::string> lights;
     float cost_ratio = dynrt::bvh::BuildConfig{}.cost_ratio;
     unsigned leaf_size = dynrt::bvh::BuildConfig{}.leaf_size_max;
     int threads = 0;
+};
+
+struct RenderArgs : FrameArgs {
+    std::string out = "dynrt.png";
+    std::string report;
+    std::string aov;
+};
+
+struct BenchArgs : FrameArgs {
+    int repeat = 5;
+    int warmup = 1;
+    std::vector<std::string> sweeps;
+    std::string csv;
+    std::string json;
 };
 
 /// Splits "a,b,c" into finite floats; `what` names the flag in errors.
@@ -84,20 +98,32 @@ dynrt::PointLight parse_light(const std::string& text) {
     return dynrt::PointLight{glm::vec3(v[0], v[1], v[2]), v.size() == 4 ? v[3] : 1.0f};
 }
 
-int run_render(const RenderArgs& args) {
+dynrt::RenderOptions render_options(const FrameArgs& args) {
     dynrt::RenderOptions options;
     parse_resolution(args.res, options.width, options.height);
     options.build.cost_ratio = args.cost_ratio;
     options.build.leaf_size_max = args.leaf_size;
     for (const std::string& light : args.lights) options.lights.push_back(parse_light(light));
+    return options;
+}
+
+std::string scene_source(const FrameArgs& args) {
+    return args.scene.empty() ? dynrt::default_scene_path().string() : args.scene;
+}
+
+dynrt::Camera camera_for(const dynrt::Scene& scene, const FrameArgs& args) {
+    const dynrt::Camera camera = dynrt::default_camera(dynrt::scene_bounds(scene));
+    return args.camera.empty() ? camera : dynrt::parse_camera(args.camera, camera);
+}
+
+int run_render(const RenderArgs& args) {
+    const dynrt::RenderOptions options = render_options(args);
     const std::vector<dynrt::Aov> aovs = dynrt::parse_aov_list(args.aov);
     dynrt::check_image_path(args.out);
 
-    const std::string source =
-        args.scene.empty() ? dynrt::default_scene_path().string() : args.scene;
+    const std::string source = scene_source(args);
     const dynrt::Scene scene = dynrt::load_scene(source);
-    dynrt::Camera camera = dynrt::default_camera(dynrt::scene_bounds(scene));
-    if (!args.camera.empty()) camera = dynrt::parse_camera(args.camera, camera);
+    const dynrt::Camera camera = camera_for(scene, args);
 
     dynrt::Renderer renderer(options);
     dynrt::RenderedFrame frame;
@@ -121,6 +147,34 @@ int run_render(const RenderArgs& args) {
         dynrt::write_report(args.report, run, frames);
         std::cout << "report: " << args.report << "\n";
     }
+    return 0;
+}
+
+void write_text(const std::string& path, const std::string& text) {
+    std::ofstream file(path);
+    file << text;
+    if (!file) throw std::runtime_error(path + ": cannot write");
+}
+
+int run_bench(const BenchArgs& args) {
+    const dynrt::RenderOptions base = render_options(args);
+    const std::vector<dynrt::bvh::BuildConfig> configs = dynrt::expand_sweeps(args.sweeps, base.build);
+    const std::string source = scene_source(args);
+    const dynrt::Scene scene = dynrt::load_scene(source);
+    const dynrt::Camera camera = camera_for(scene, args);
+    std::cout << "dynrt bench: " << source << ", " << scene.triangle_count() << " triangles, "
+              << base.width << "x" << base.height << ", " << configs.size()
+              << " configuration(s), median (min-max) of " << args.repeat << " runs after "
+              << args.warmup << " warm-up\n";
+    std::vector<dynrt::BenchRow> rows;
+    for (const dynrt::bvh::BuildConfig& config : configs) {
+        dynrt::RenderOptions options = base;
+        options.build = config;
+        rows.push_back(dynrt::bench_configuration(scene, camera, options, args.repeat, args.warmup));
+    }
+    dynrt::print_bench_table(std::cout, rows);
+    if (!args.csv.empty()) write_text(args.csv, dynrt::bench_csv(rows));
+    if (!args.json.empty()) write_text(args.json, dynrt::bench_json(rows));
     return 0;
 }
 
@@ -168,30 +222,49 @@ int main(int argc, char** argv) {
     app.add_option("--threads", threads, "Worker threads (default: all cores)")
         ->check(CLI::Range(1, 1024));
 
+    const auto add_frame_options = [](CLI::App* cmd, FrameArgs& args) {
+        cmd->add_option("scene", args.scene,
+                        "glTF file (.gltf/.glb) or procedural spec (e.g. sphere:100000); "
+                        "default: the bundled scene");
+        cmd->add_option("--res", args.res, "Image size WIDTHxHEIGHT")->capture_default_str();
+        cmd->add_option("--camera", args.camera,
+                        "eye=x,y,z,target=x,y,z,up=x,y,z,fov=deg (any subset; default framing "
+                        "from the scene bounds)");
+        cmd->add_option("--light", args.lights,
+                        "Point light x,y,z[,intensity]; repeatable (default: one light above)")
+            ->allow_extra_args(false);
+        cmd->add_option("--cost-ratio", args.cost_ratio,
+                        "SAH intersection:traversal cost (0.1 big shallow leaves, 1 small deep)")
+            ->check(CLI::PositiveNumber)->capture_default_str();
+        cmd->add_option("--leaf-size", args.leaf_size, "Maximum triangles per leaf")
+            ->check(CLI::Range(1u, 1024u))->capture_default_str();
+        cmd->add_option("--threads", args.threads, "Worker threads (default: all cores)")
+            ->check(CLI::Range(1, 1024));
+    };
+
     RenderArgs render;
     CLI::App* render_cmd = app.add_subcommand("render", "Render a scene to an image and report timings");
-    render_cmd->add_option("scene", render.scene,
-                           "glTF file (.gltf/.glb) or procedural spec (e.g. sphere:100000); "
-                           "default: the bundled scene");
-    render_cmd->add_option("--res", render.res, "Image size WIDTHxHEIGHT")->capture_default_str();
+    add_frame_options(render_cmd, render);
     render_cmd->add_option("--out", render.out, "Output image; format by extension")
         ->capture_default_str();
     render_cmd->add_option("--report", render.report, "Write the frame report as JSON to this file");
     render_cmd->add_option("--aov", render.aov,
                            "Also write float EXRs next to the image: depth,object,prim,normal");
-    render_cmd->add_option("--camera", render.camera,
-                           "eye=x,y,z,target=x,y,z,up=x,y,z,fov=deg (any subset; default framing "
-                           "from the scene bounds)");
-    render_cmd->add_option("--light", render.lights,
-                           "Point light x,y,z[,intensity]; repeatable (default: one light above)")
+
+    BenchArgs bench;
+    CLI::App* bench_cmd = app.add_subcommand(
+        "bench", "Time a scene's frame under one or more build configurations");
+    add_frame_options(bench_cmd, bench);
+    bench_cmd->add_option("--repeat", bench.repeat, "Timed runs per configuration")
+        ->check(CLI::Range(1, 1000))->capture_default_str();
+    bench_cmd->add_option("--warmup", bench.warmup, "Untimed runs before them")
+        ->check(CLI::Range(0, 1000))->capture_default_str();
+    bench_cmd->add_option("--sweep", bench.sweeps,
+                          "cost-ratio=V1,V2,... or leaf=N1,N2,...; repeatable, combined as a "
+                          "cross product")
         ->allow_extra_args(false);
-    render_cmd->add_option("--cost-ratio", render.cost_ratio,
-                           "SAH intersection:traversal cost (0.1 big shallow leaves, 1 small deep)")
-        ->check(CLI::PositiveNumber)->capture_default_str();
-    render_cmd->add_option("--leaf-size", render.leaf_size, "Maximum triangles per leaf")
-        ->check(CLI::Range(1u, 1024u))->capture_default_str();
-    render_cmd->add_option("--threads", render.threads, "Worker threads (default: all cores)")
-        ->check(CLI::Range(1, 1024));
+    bench_cmd->add_option("--csv", bench.csv, "Also write the rows as CSV to this file");
+    bench_cmd->add_option("--json", bench.json, "Also write the rows as JSON to this file");
 
     std::string info_scene;
     CLI::App* info_cmd = app.add_subcommand("info", "Describe a scene: objects, triangles, bounds");
@@ -204,13 +277,15 @@ int main(int argc, char** argv) {
     }
 
     try {
-        const int thread_count = render.threads > 0 ? render.threads : threads;
+        FrameArgs& frame_args = *bench_cmd ? static_cast<FrameArgs&>(bench) : render;
+        const int thread_count = frame_args.threads > 0 ? frame_args.threads : threads;
         std::optional<tbb::global_control> limit;
         if (thread_count > 0) {
             limit.emplace(tbb::global_control::max_allowed_parallelism, std::size_t(thread_count));
         }
-        render.threads = thread_count;
+        frame_args.threads = thread_count;
         if (*render_cmd) return run_render(render);
+        if (*bench_cmd) return run_bench(bench);
         return run_info(info_scene);
     } catch (const std::exception& e) {
         std::cerr << "dynrt: error: " << e.what() << "\n";

@@ -1,0 +1,62 @@
+#pragma once
+// `dynrt bench`: renders a scene repeatedly under each build configuration of a sweep and
+// summarises every stage's time as median, min and max over the repeats.
+
+#include "dynrt/bvh/binned_sah_builder.h"
+#include "dynrt/engine/camera.h"
+#include "dynrt/engine/renderer.h"
+#include "dynrt/scene/scene.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+namespace dynrt {
+
+/// Median (the lower one for an even count), min and max of repeated measurements.
+struct Spread {
+    double median = 0;
+    double min = 0;
+    double max = 0;
+};
+
+/// Summarises `values`, which must not be empty.
+Spread spread_of(std::vector<double> values);
+
+/// One configuration's figures over `repeat` renders of the same frame.
+struct BenchRow {
+    bvh::BuildConfig build;
+    std::size_t triangles = 0;
+    Spread build_ms;
+    Spread trace_ms;  ///< primary + shadow rays
+    Spread shade_ms;
+    Spread total_ms;
+    Spread mrays_per_s;  ///< primary + shadow rays per trace time
+    double sah_cost = 0;
+    double leaf_tris_mean = 0;
+    std::uint32_t depth = 0;
+};
+
+/// Expands sweep specs such as "cost-ratio=0.1,1" and "leaf=4,8" into the cross product of
+/// their values applied to `base`, in order (the first sweep varies slowest). No sweep gives
+/// {base}. Throws std::invalid_argument naming a malformed spec, an unknown parameter, a value
+/// out of range or a parameter swept twice.
+std::vector<bvh::BuildConfig> expand_sweeps(const std::vector<std::string>& sweeps,
+                                            const bvh::BuildConfig& base);
+
+/// Renders frame 0 of `scene` `warmup` times untimed, then `repeat` times (>= 1) timed, with
+/// `options` (whose build config is the configuration measured).
+BenchRow bench_configuration(const Scene& scene, const Camera& camera,
+                             const RenderOptions& options, int repeat, int warmup);
+
+/// The table for people: one row per configuration, "median (min-max)" per timed figure.
+void print_bench_table(std::ostream& out, const std::vector<BenchRow>& rows);
+
+/// The same rows as CSV (one header line, then a line per row; each Spread as three columns
+/// `<key>_median,<key>_min,<key>_max`) and as JSON ({"rows": [...]}, Spreads as objects).
+std::string bench_csv(const std::vector<BenchRow>& rows);
+std::string bench_json(const std::vector<BenchRow>& rows);
+
+}  // namespace dynrt

@@ -1,0 +1,225 @@
+#include "dynrt/engine/bench.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <iomanip>
+#include <ostream>
+#include <sstream>
+#include <stdexcept>
+
+namespace dynrt {
+
+namespace {
+
+/// The float as the double of its shortest decimal form, so a cost ratio of 0.1f is written as
+/// 0.1, not 0.100000001.
+double shortest_decimal(float value) {
+    char text[32];
+    const auto [end, ec] = std::to_chars(text, text + sizeof(text), value);
+    double out = value;
+    std::from_chars(text, end, out);
+    return out;
+}
+
+/// Calls visit(key, value) for every column of a row, in output order: the one list of the
+/// columns, shared by the CSV and JSON writers.
+template <typename Visit>
+void for_each_column(const BenchRow& row, Visit&& visit) {
+    visit("cost_ratio", shortest_decimal(row.build.cost_ratio));
+    visit("leaf_size_max", row.build.leaf_size_max);
+    visit("triangles", row.triangles);
+    visit("build_ms", row.build_ms);
+    visit("trace_ms", row.trace_ms);
+    visit("shade_ms", row.shade_ms);
+    visit("total_ms", row.total_ms);
+    visit("mrays_per_s", row.mrays_per_s);
+    visit("sah_cost", row.sah_cost);
+    visit("leaf_tris_mean", row.leaf_tris_mean);
+    visit("depth", row.depth);
+}
+
+std::vector<std::string> split(const std::string& text, char separator) {
+    std::vector<std::string> parts;
+    std::size_t start = 0;
+    while (true) {
+        const std::size_t end = std::min(text.find(separator, start), text.size());
+        parts.push_back(text.substr(start, end - start));
+        if (end == text.size()) return parts;
+        start = end + 1;
+    }
+}
+
+double parse_number(const std::string& text, const std::string& sweep) {
+    double value = 0;
+    const char* last = text.data() + text.size();
+    const auto [ptr, ec] = std::from_chars(text.data(), last, value);
+    if (ec != std::errc() || ptr != last || !std::isfinite(value)) {
+        throw std::invalid_argument("--sweep '" + sweep + "': '" + text + "' is not a number");
+    }
+    return value;
+}
+
+std::string format_spread(const Spread& s, int precision) {
+    std::ostringstream out;
+    out << std::fixed << std::setprecision(precision) << s.median << " (" << s.min << "-"
+        << s.max << ")";
+    return out.str();
+}
+
+}  // namespace
+
+Spread spread_of(std::vector<double> values) {
+    if (values.empty()) throw std::invalid_argument("spread_of: no values");
+    std::sort(values.begin(), values.end());
+    return Spread{values[(values.size() - 1) / 2], values.front(), values.back()};
+}
+
+std::vector<bvh::BuildConfig> expand_sweeps(const std::vector<std::string>& sweeps,
+                                            const bvh::BuildConfig& base) {
+    std::vector<bvh::BuildConfig> configs{base};
+    std::vector<std::string> swept;
+    for (const std::string& sweep : sweeps) {
+        const std::size_t eq = sweep.find('=');
+        const std::string name = sweep.substr(0, eq);
+        if (eq == std::string::npos || eq + 1 == sweep.size()) {
+            throw std::invalid_argument("--sweep '" + sweep + "': expected NAME=V1,V2,...");
+        }
+        if (name != "cost-ratio" && name != "leaf") {
+            throw std::invalid_argument("--sweep '" + sweep + "': unknown parameter '" + name +
+                                        "' (known: cost-ratio, leaf)");
+        }
+        if (std::find(swept.begin(), swept.end(), name) != swept.end()) {
+            throw std::invalid_argument("--sweep: '" + name + "' is swept twice");
+        }
+        swept.push_back(name);
+        std::vector<bvh::BuildConfig> expanded;
+        for (const bvh::BuildConfig& config : configs) {
+            for (const std::string& text : split(sweep.substr(eq + 1), ',')) {
+                const double value = parse_number(text, sweep);
+                bvh::BuildConfig c = config;
+                if (name == "cost-ratio") {
+                    if (!(value > 0.0)) {
+                        throw std::invalid_argument("--sweep '" + sweep +
+                                                    "': cost ratios must be > 0");
+                    }
+                    c.cost_ratio = float(value);
+                } else {
+                    if (value != std::floor(value) || value < 1 || value > 1024) {
+                        throw std::invalid_argument("--sweep '" + sweep +
+                                                    "': leaf sizes are whole numbers 1 to 1024");
+                    }
+                    c.leaf_size_max = std::uint32_t(value);
+                }
+                expanded.push_back(c);
+            }
+        }
+        configs = std::move(expanded);
+    }
+    return configs;
+}
+
+BenchRow bench_configuration(const Scene& scene, const Camera& camera,
+                             const RenderOptions& options, int repeat, int warmup) {
+    if (repeat < 1) throw std::invalid_argument("bench: repeat must be at least 1");
+    Renderer renderer(options);
+    RenderedFrame frame;
+    for (int i = 0; i < warmup; ++i) renderer.render(scene, camera, 0, frame);
+    std::vector<double> build, trace, shade, total, mrays;
+    for (int i = 0; i < repeat; ++i) {
+        renderer.render(scene, camera, 0, frame);
+        const FrameStats& s = frame.stats;
+        const double trace_ms = s.primary_ms + s.shadow_ms;
+        build.push_back(s.build_ms);
+        trace.push_back(trace_ms);
+        shade.push_back(s.shade_ms);
+        total.push_back(s.total_ms);
+        mrays.push_back(trace_ms > 0 ? double(s.primary_rays + s.shadow_rays) / (trace_ms * 1e3)
+                                     : 0.0);
+    }
+    BenchRow row;
+    row.build = options.build;
+    row.triangles = frame.stats.triangles;
+    row.build_ms = spread_of(build);
+    row.trace_ms = spread_of(trace);
+    row.shade_ms = spread_of(shade);
+    row.total_ms = spread_of(total);
+    row.mrays_per_s = spread_of(mrays);
+    // The tree is the same on every repeat (the builder is deterministic in shape).
+    row.sah_cost = frame.stats.sah_cost;
+    row.leaf_tris_mean = frame.stats.leaf_tris_mean;
+    row.depth = frame.stats.depth;
+    return row;
+}
+
+void print_bench_table(std::ostream& out, const std::vector<BenchRow>& rows) {
+    out << std::left << std::setw(8) << "cost" << std::setw(6) << "leaf" << std::right
+        << std::setw(10) << "tris" << std::setw(22) << "build ms" << std::setw(22) << "trace ms"
+        << std::setw(22) << "shade ms" << std::setw(22) << "total ms" << std::setw(22)
+        << "Mrays/s" << std::setw(9) << "SAH" << std::setw(7) << "leaf" << std::setw(6)
+        << "depth" << '\n';
+    for (const BenchRow& r : rows) {
+        std::ostringstream cost;
+        cost << r.build.cost_ratio;
+        out << std::left << std::setw(8) << cost.str() << std::setw(6) << r.build.leaf_size_max
+            << std::right << std::setw(10) << r.triangles << std::setw(22)
+            << format_spread(r.build_ms, 2) << std::setw(22) << format_spread(r.trace_ms, 2)
+            << std::setw(22) << format_spread(r.shade_ms, 2) << std::setw(22)
+            << format_spread(r.total_ms, 2) << std::setw(22) << format_spread(r.mrays_per_s, 2)
+            << std::fixed << std::setprecision(1) << std::setw(9) << r.sah_cost
+            << std::setprecision(2) << std::setw(7) << r.leaf_tris_mean << std::setw(6)
+            << r.depth << '\n';
+    }
+}
+
+std::string bench_csv(const std::vector<BenchRow>& rows) {
+    std::ostringstream out;
+    out << std::setprecision(9);
+    const auto write_header = [&](const BenchRow& row) {
+        bool first = true;
+        for_each_column(row, [&](const char* key, const auto& value) {
+            if constexpr (std::is_same_v<std::decay_t<decltype(value)>, Spread>) {
+                out << (first ? "" : ",") << key << "_median," << key << "_min," << key << "_max";
+            } else {
+                out << (first ? "" : ",") << key;
+            }
+            first = false;
+        });
+        out << '\n';
+    };
+    write_header(rows.empty() ? BenchRow{} : rows.front());
+    for (const BenchRow& row : rows) {
+        bool first = true;
+        for_each_column(row, [&](const char*, const auto& value) {
+            if constexpr (std::is_same_v<std::decay_t<decltype(value)>, Spread>) {
+                out << (first ? "" : ",") << value.median << ',' << value.min << ',' << value.max;
+            } else {
+                out << (first ? "" : ",") << value;
+            }
+            first = false;
+        });
+        out << '\n';
+    }
+    return out.str();
+}
+
+std::string bench_json(const std::vector<BenchRow>& rows) {
+    nlohmann::ordered_json doc;
+    doc["rows"] = nlohmann::ordered_json::array();
+    for (const BenchRow& row : rows) {
+        nlohmann::ordered_json j;
+        for_each_column(row, [&](const char* key, const auto& value) {
+            if constexpr (std::is_same_v<std::decay_t<decltype(value)>, Spread>) {
+                j[key] = {{"median", value.median}, {"min", value.min}, {"max", value.max}};
+            } else {
+                j[key] = value;
+            }
+        });
+        doc["rows"].push_back(j);
+    }
+    return doc.dump(2) + "\n";
+}
+
+}  // namespace dynrt

@@ -1,0 +1,97 @@
+#include "dynrt/engine/bench.h"
+#include "dynrt/engine/scene_loading.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <sstream>
+#include <stdexcept>
+
+namespace dynrt {
+namespace {
+
+TEST(Bench, SpreadIsLowerMedianMinMax) {
+    const Spread odd = spread_of({5.0, 1.0, 3.0});
+    EXPECT_EQ(odd.median, 3.0);
+    EXPECT_EQ(odd.min, 1.0);
+    EXPECT_EQ(odd.max, 5.0);
+    EXPECT_EQ(spread_of({4.0, 2.0}).median, 2.0);
+    EXPECT_THROW(spread_of({}), std::invalid_argument);
+}
+
+TEST(Bench, SweepsExpandToTheCrossProductFirstSweepSlowest) {
+    bvh::BuildConfig base;
+    base.cost_ratio = 3.0f;
+    base.leaf_size_max = 5;
+    EXPECT_EQ(expand_sweeps({}, base).size(), 1u);
+    const std::vector<bvh::BuildConfig> configs =
+        expand_sweeps({"cost-ratio=0.1,2", "leaf=1,4,16"}, base);
+    ASSERT_EQ(configs.size(), 6u);
+    const float ratios[] = {0.1f, 0.1f, 0.1f, 2.0f, 2.0f, 2.0f};
+    const unsigned leaves[] = {1, 4, 16, 1, 4, 16};
+    for (std::size_t i = 0; i < configs.size(); ++i) {
+        EXPECT_EQ(configs[i].cost_ratio, ratios[i]) << i;
+        EXPECT_EQ(configs[i].leaf_size_max, leaves[i]) << i;
+        EXPECT_EQ(configs[i].bin_count, base.bin_count);
+    }
+    const std::vector<bvh::BuildConfig> leaf_only = expand_sweeps({"leaf=2"}, base);
+    ASSERT_EQ(leaf_only.size(), 1u);
+    EXPECT_EQ(leaf_only[0].cost_ratio, 3.0f);  // unswept parameters keep the base value
+}
+
+TEST(Bench, MalformedSweepsAreErrors) {
+    for (const char* bad : {"cost-ratio", "cost-ratio=", "cost-ratio=0", "cost-ratio=-1",
+                            "cost-ratio=x", "cost-ratio=1,,2", "leaf=0", "leaf=2.5", "leaf=2000",
+                            "depth=3", "=1"}) {
+        EXPECT_THROW(expand_sweeps({bad}, bvh::BuildConfig{}), std::invalid_argument) << bad;
+    }
+    EXPECT_THROW(expand_sweeps({"leaf=1", "leaf=2"}, bvh::BuildConfig{}), std::invalid_argument);
+}
+
+TEST(Bench, RowsSummariseRepeatedRendersAndSerialise) {
+    const Scene scene = load_scene("sphere:500");
+    RenderOptions options;
+    options.width = options.height = 24;
+    std::vector<BenchRow> rows;
+    for (const bvh::BuildConfig& config : expand_sweeps({"cost-ratio=0.1,1"}, options.build)) {
+        options.build = config;
+        rows.push_back(bench_configuration(scene, default_camera(scene_bounds(scene)), options, 3, 1));
+    }
+    ASSERT_EQ(rows.size(), 2u);
+    for (const BenchRow& row : rows) {
+        EXPECT_EQ(row.triangles, scene.triangle_count());
+        for (const Spread& s : {row.build_ms, row.trace_ms, row.shade_ms, row.total_ms}) {
+            EXPECT_LE(s.min, s.median);
+            EXPECT_LE(s.median, s.max);
+            EXPECT_GE(s.min, 0.0);
+        }
+        EXPECT_GT(row.sah_cost, 0.0);
+        EXPECT_GT(row.depth, 0u);
+    }
+    // Cheaper intersections (ratio 0.1) make bigger leaves than ratio 1.
+    EXPECT_GT(rows[0].leaf_tris_mean, rows[1].leaf_tris_mean);
+
+    const std::string csv = bench_csv(rows);
+    std::istringstream lines(csv);
+    std::string header, line;
+    std::getline(lines, header);
+    EXPECT_EQ(header.rfind("cost_ratio,leaf_size_max,triangles,build_ms_median,build_ms_min,", 0), 0u)
+        << header;
+    int data_lines = 0;
+    while (std::getline(lines, line)) ++data_lines;
+    EXPECT_EQ(data_lines, 2);
+    EXPECT_EQ(csv.find("0.100000001"), std::string::npos) << "cost ratio printed as a float";
+
+    const nlohmann::json doc = nlohmann::json::parse(bench_json(rows));
+    ASSERT_EQ(doc["rows"].size(), 2u);
+    EXPECT_EQ(doc["rows"][0]["cost_ratio"], 0.1);
+    EXPECT_EQ(doc["rows"][1]["triangles"], scene.triangle_count());
+    EXPECT_EQ(doc["rows"][0]["trace_ms"]["median"], rows[0].trace_ms.median);
+
+    std::ostringstream table;
+    print_bench_table(table, rows);
+    EXPECT_NE(table.str().find("trace ms"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace dynrt

@@ -60,7 +60,8 @@ TEST(Bench, RowsSummariseRepeatedRendersAndSerialise) {
     ASSERT_EQ(rows.size(), 2u);
     for (const BenchRow& row : rows) {
         EXPECT_EQ(row.triangles, scene.triangle_count());
-        for (const Spread& s : {row.build_ms, row.trace_ms, row.shade_ms, row.total_ms}) {
+        for (const Spread& s : {row.build_ms, row.trace_ms, row.primary_ms, row.shadow_ms,
+                                row.shade_ms, row.total_ms}) {
             EXPECT_LE(s.min, s.median);
             EXPECT_LE(s.median, s.max);
             EXPECT_GE(s.min, 0.0);

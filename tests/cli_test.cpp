@@ -74,6 +74,28 @@ TEST(Cli, BenchPrintsOneRowPerConfigurationAndWritesCsv) {
     EXPECT_EQ(lines, 1 + 4);
 }
 
+#if DYNRT_HAVE_EMBREE
+TEST(Cli, BenchVsEmbreePrintsTheEmbreeBlock) {
+    const CliRun run = run_dynrt("bench sphere:500 --res 32x32 --repeat 1 --vs embree");
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+    EXPECT_NE(run.output.find("hit agreement"), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find("medium"), std::string::npos) << run.output;
+}
+#else
+TEST(Cli, BenchVsEmbreeWithoutEmbreeIsAClearError) {
+    const CliRun run = run_dynrt("bench sphere:10 --res 16x16 --repeat 1 --vs embree");
+    EXPECT_EQ(run.exit_code, 1) << run.output;
+    EXPECT_NE(run.output.find("this dynrt was built without Embree"), std::string::npos)
+        << run.output;
+}
+#endif
+
+TEST(Cli, BenchVsAnUnknownTracerIsAnError) {
+    const CliRun run = run_dynrt("bench sphere:10 --res 16x16 --repeat 1 --vs optix");
+    EXPECT_EQ(run.exit_code, 1) << run.output;
+    EXPECT_NE(run.output.find("--vs"), std::string::npos) << run.output;
+}
+
 TEST(Cli, InfoListsObjects) {
     const CliRun run = run_dynrt("info 'sphere:100+soup:10'");
     ASSERT_EQ(run.exit_code, 0) << run.output;

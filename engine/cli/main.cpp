@@ -10,7 +10,12 @@
 #include "dynrt/engine/scene_loading.h"
 #include "dynrt/scene/scene_error.h"
 
+#if DYNRT_HAVE_EMBREE
+#include "dynrt/embree/embree_tracer.h"
+#endif
+
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
@@ -50,6 +55,7 @@ struct BenchArgs : FrameArgs {
     std::vector<std::string> sweeps;
     std::string csv;
     std::string json;
+    std::string vs;
 };
 
 /// Splits "a,b,c" into finite floats; `what` names the flag in errors.
@@ -157,6 +163,16 @@ void write_text(const std::string& path, const std::string& text) {
 }
 
 int run_bench(const BenchArgs& args) {
+    if (!args.vs.empty() && args.vs != "embree") {
+        throw std::invalid_argument("--vs '" + args.vs + "': the only tracer to compare with is "
+                                    "'embree'");
+    }
+#if !DYNRT_HAVE_EMBREE
+    if (!args.vs.empty()) {
+        throw std::runtime_error("--vs embree: this dynrt was built without Embree "
+                                 "(install libembree-dev and reconfigure)");
+    }
+#endif
     const dynrt::RenderOptions base = render_options(args);
     const std::vector<dynrt::bvh::BuildConfig> configs = dynrt::expand_sweeps(args.sweeps, base.build);
     const std::string source = scene_source(args);
@@ -167,14 +183,32 @@ int run_bench(const BenchArgs& args) {
               << " configuration(s), median (min-max) of " << args.repeat << " runs after "
               << args.warmup << " warm-up\n";
     std::vector<dynrt::BenchRow> rows;
+    // The first configuration's frame, to compare Embree's hits with.
+    dynrt::RenderedFrame first_frame;
     for (const dynrt::bvh::BuildConfig& config : configs) {
         dynrt::RenderOptions options = base;
         options.build = config;
-        rows.push_back(dynrt::bench_configuration(scene, camera, options, args.repeat, args.warmup));
+        rows.push_back(dynrt::bench_configuration(scene, camera, options, args.repeat, args.warmup,
+                                                  rows.empty() ? &first_frame : nullptr));
     }
     dynrt::print_bench_table(std::cout, rows);
+    // CSV stays dynrt-only: its one-row-per-configuration layout has no place for Embree rows.
     if (!args.csv.empty()) write_text(args.csv, dynrt::bench_csv(rows));
-    if (!args.json.empty()) write_text(args.json, dynrt::bench_json(rows));
+    std::string json = args.json.empty() ? std::string() : dynrt::bench_json(rows);
+#if DYNRT_HAVE_EMBREE
+    if (args.vs == "embree") {
+        const std::vector<dynrt::embree::EmbreeRow> embree_rows = dynrt::embree::bench_embree(
+            scene, camera, base, args.repeat, args.warmup, first_frame);
+        std::cout << "\n";
+        dynrt::embree::print_embree_table(std::cout, embree_rows, rows.front());
+        if (!json.empty()) {
+            nlohmann::ordered_json doc = nlohmann::ordered_json::parse(json);
+            doc["embree"] = nlohmann::ordered_json::parse(dynrt::embree::embree_json(embree_rows));
+            json = doc.dump(2) + "\n";
+        }
+    }
+#endif
+    if (!args.json.empty()) write_text(args.json, json);
     return 0;
 }
 
@@ -264,7 +298,12 @@ int main(int argc, char** argv) {
                           "cross product")
         ->allow_extra_args(false);
     bench_cmd->add_option("--csv", bench.csv, "Also write the rows as CSV to this file");
-    bench_cmd->add_option("--json", bench.json, "Also write the rows as JSON to this file");
+    bench_cmd->add_option("--json", bench.json,
+                          "Also write the rows as JSON to this file (with --vs embree, the "
+                          "Embree rows too, as \"embree\")");
+    bench_cmd->add_option("--vs", bench.vs,
+                          "Also bench another tracer on the same rays: embree (Embree 3 builds "
+                          "low/medium/high, rtcIntersect1/16, rtcOccluded16, hit agreement)");
 
     std::string info_scene;
     CLI::App* info_cmd = app.add_subcommand("info", "Describe a scene: objects, triangles, bounds");

@@ -33,6 +33,8 @@ void for_each_column(const BenchRow& row, Visit&& visit) {
     visit("triangles", row.triangles);
     visit("build_ms", row.build_ms);
     visit("trace_ms", row.trace_ms);
+    visit("primary_ms", row.primary_ms);
+    visit("shadow_ms", row.shadow_ms);
     visit("shade_ms", row.shade_ms);
     visit("total_ms", row.total_ms);
     visit("mrays_per_s", row.mrays_per_s);
@@ -122,18 +124,22 @@ std::vector<bvh::BuildConfig> expand_sweeps(const std::vector<std::string>& swee
 }
 
 BenchRow bench_configuration(const Scene& scene, const Camera& camera,
-                             const RenderOptions& options, int repeat, int warmup) {
+                             const RenderOptions& options, int repeat, int warmup,
+                             RenderedFrame* last_frame) {
     if (repeat < 1) throw std::invalid_argument("bench: repeat must be at least 1");
     Renderer renderer(options);
-    RenderedFrame frame;
+    RenderedFrame local_frame;
+    RenderedFrame& frame = last_frame ? *last_frame : local_frame;
     for (int i = 0; i < warmup; ++i) renderer.render(scene, camera, 0, frame);
-    std::vector<double> build, trace, shade, total, mrays;
+    std::vector<double> build, trace, primary, shadow, shade, total, mrays;
     for (int i = 0; i < repeat; ++i) {
         renderer.render(scene, camera, 0, frame);
         const FrameStats& s = frame.stats;
         const double trace_ms = s.primary_ms + s.shadow_ms;
         build.push_back(s.build_ms);
         trace.push_back(trace_ms);
+        primary.push_back(s.primary_ms);
+        shadow.push_back(s.shadow_ms);
         shade.push_back(s.shade_ms);
         total.push_back(s.total_ms);
         mrays.push_back(trace_ms > 0 ? double(s.primary_rays + s.shadow_rays) / (trace_ms * 1e3)
@@ -144,6 +150,8 @@ BenchRow bench_configuration(const Scene& scene, const Camera& camera,
     row.triangles = frame.stats.triangles;
     row.build_ms = spread_of(build);
     row.trace_ms = spread_of(trace);
+    row.primary_ms = spread_of(primary);
+    row.shadow_ms = spread_of(shadow);
     row.shade_ms = spread_of(shade);
     row.total_ms = spread_of(total);
     row.mrays_per_s = spread_of(mrays);
@@ -164,10 +172,10 @@ void print_bench_table(std::ostream& out, const std::vector<BenchRow>& rows) {
         std::ostringstream cost;
         cost << r.build.cost_ratio;
         out << std::left << std::setw(8) << cost.str() << std::setw(6) << r.build.leaf_size_max
-            << std::right << std::setw(10) << r.triangles << std::setw(22)
-            << format_spread(r.build_ms, 2) << std::setw(22) << format_spread(r.trace_ms, 2)
-            << std::setw(22) << format_spread(r.shade_ms, 2) << std::setw(22)
-            << format_spread(r.total_ms, 2) << std::setw(22) << format_spread(r.mrays_per_s, 2)
+            << std::right << std::setw(10) << r.triangles << ' ' << std::setw(21)
+            << format_spread(r.build_ms, 2) << ' ' << std::setw(21) << format_spread(r.trace_ms, 2)
+            << ' ' << std::setw(21) << format_spread(r.shade_ms, 2) << ' ' << std::setw(21)
+            << format_spread(r.total_ms, 2) << ' ' << std::setw(21) << format_spread(r.mrays_per_s, 2)
             << std::fixed << std::setprecision(1) << std::setw(9) << r.sah_cost
             << std::setprecision(2) << std::setw(7) << r.leaf_tris_mean << std::setw(6)
             << r.depth << '\n';

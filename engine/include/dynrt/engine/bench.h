@@ -31,6 +31,8 @@ struct BenchRow {
     std::size_t triangles = 0;
     Spread build_ms;
     Spread trace_ms;  ///< primary + shadow rays
+    Spread primary_ms;  ///< primary rays alone
+    Spread shadow_ms;   ///< shadow rays alone
     Spread shade_ms;
     Spread total_ms;
     Spread mrays_per_s;  ///< primary + shadow rays per trace time
@@ -47,9 +49,11 @@ std::vector<bvh::BuildConfig> expand_sweeps(const std::vector<std::string>& swee
                                             const bvh::BuildConfig& base);
 
 /// Renders frame 0 of `scene` `warmup` times untimed, then `repeat` times (>= 1) timed, with
-/// `options` (whose build config is the configuration measured).
+/// `options` (whose build config is the configuration measured). If `last_frame` is not null,
+/// the last timed render is left in it (for comparing hits with another tracer).
 BenchRow bench_configuration(const Scene& scene, const Camera& camera,
-                             const RenderOptions& options, int repeat, int warmup);
+                             const RenderOptions& options, int repeat, int warmup,
+                             RenderedFrame* last_frame = nullptr);
 
 /// The table for people: one row per configuration, "median (min-max)" per timed figure.
 void print_bench_table(std::ostream& out, const std::vector<BenchRow>& rows);

@@ -1,0 +1,120 @@
+#pragma once
+// Embree 3 side of `dynrt bench --vs embree`: the same posed world-space triangles and the same
+// camera and shadow rays as dynrt's renderer, traced by Embree, timed, and compared hit by hit
+// with a dynrt frame. Embree's types stay in the .cpp; this header needs no Embree include.
+
+#include "dynrt/engine/bench.h"
+#include "dynrt/engine/camera.h"
+#include "dynrt/engine/renderer.h"
+#include "dynrt/scene/scene.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <iosfwd>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace dynrt::embree {
+
+/// Embree's BVH build qualities; `low` also sets RTC_SCENE_FLAG_DYNAMIC (its refit-friendly
+/// builder, the one meant for animated scenes).
+enum class BuildQuality { low, medium, high };
+
+/// "low", "medium", "high".
+const char* quality_name(BuildQuality quality);
+
+/// Per-pixel closest hits, row-major like RenderedFrame: object index in scene order and
+/// triangle index within the object, both -1 on a miss; Embree's barycentrics of the hit
+/// (p = (1-u-v) v0 + u v1 + v v2, dynrt's convention too), 0 on a miss.
+struct PixelHits {
+    std::vector<std::int32_t> object;
+    std::vector<std::int32_t> prim;
+    std::vector<float> u;
+    std::vector<float> v;
+};
+
+/// Pixels where two hit sets disagree: on hit/miss or object, and on the primitive only (the
+/// latter is expected at shared edges, where either triangle is a correct answer).
+struct HitAgreement {
+    std::size_t object_differs = 0;
+    std::size_t prim_only_differs = 0;
+};
+
+/// Compares hits per pixel; both must cover the same number of pixels.
+HitAgreement compare_hits(const std::vector<std::int32_t>& object_a,
+                          const std::vector<std::int32_t>& prim_a,
+                          const std::vector<std::int32_t>& object_b,
+                          const std::vector<std::int32_t>& prim_b);
+
+/// One Embree device and scene holding frame 0 of a dynrt scene, one triangle geometry per
+/// object (geomID = object index, primID = triangle index in the object). Owns its Embree
+/// handles. Not thread-safe to rebuild; the trace calls run in parallel over 16x16 tiles on
+/// the caller's oneTBB arena and may be called repeatedly after a build.
+class EmbreeTracer {
+public:
+    /// Throws std::runtime_error if Embree cannot create a device.
+    EmbreeTracer();
+    ~EmbreeTracer();
+    EmbreeTracer(const EmbreeTracer&) = delete;
+    EmbreeTracer& operator=(const EmbreeTracer&) = delete;
+
+    /// Poses `scene` at frame 0 and copies its triangles into fresh Embree geometry buffers
+    /// (untimed), then commits the scene with `quality`. Returns the rtcCommitScene time in
+    /// ms: the BVH build alone, comparable to dynrt's build_ms. Throws std::runtime_error on
+    /// an Embree error.
+    double build(const Scene& scene, BuildQuality quality);
+
+    /// Primary rays of `camera` at width x height (CameraRays), one rtcIntersect1 per pixel.
+    /// Fills `out` and returns the time in ms. Requires a build.
+    double intersect1(const Camera& camera, int width, int height, PixelHits& out);
+
+    /// The same rays as packets of 16: each 16x16 tile traced as one rtcIntersect16 per row
+    /// (lanes past the image edge masked off). Same results as intersect1.
+    double intersect16(const Camera& camera, int width, int height, PixelHits& out);
+
+    /// dynrt's shadow rays for the hits `hits` (from intersect1/16 with the same camera, so
+    /// with Embree's barycentrics, not dynrt's): per hit and light on the lit side, from the
+    /// barycentric hit point offset along the facing
+    /// normal (offset_along_normal) towards the light, t in [0, 1], traced with
+    /// rtcOccluded16 in the same row packets. Counts the rays in `rays` and returns ms.
+    double occluded16(const Camera& camera, int width, int height,
+                      const std::vector<PointLight>& lights, const PixelHits& hits,
+                      std::size_t& rays);
+
+private:
+    struct State;
+    std::unique_ptr<State> state_;
+};
+
+/// One Embree build quality's figures over `repeat` runs after `warmup`.
+struct EmbreeRow {
+    BuildQuality quality = BuildQuality::low;
+    Spread build_ms;        ///< rtcCommitScene only; buffer creation and upload excluded
+    Spread intersect1_ms;   ///< primary rays, one at a time
+    Spread intersect16_ms;  ///< primary rays, 16-wide packets
+    Spread occluded16_ms;   ///< shadow rays, 16-wide packets
+    Spread mrays_per_s;     ///< (primary + shadow rays) / (intersect16 + occluded16 time)
+    std::size_t shadow_rays = 0;
+    /// Embree's intersect1 hits against the dynrt frame given to bench_embree.
+    HitAgreement vs_dynrt;
+    /// Pixels where intersect16 and intersect1 disagree on object or primitive (expected 0).
+    std::size_t packet_vs_single_differs = 0;
+};
+
+/// Benches every build quality on frame 0 of `scene` with `options`' resolution and lights,
+/// and compares each quality's hits with `dynrt_frame` (a dynrt render of the same frame).
+std::vector<EmbreeRow> bench_embree(const Scene& scene, const Camera& camera,
+                                    const RenderOptions& options, int repeat, int warmup,
+                                    const RenderedFrame& dynrt_frame);
+
+/// The Embree block: one row per quality with the ratios dynrt/Embree taken from `dynrt_row`
+/// (build ms over build ms, primary trace ms over intersect1 and intersect16 ms, medians),
+/// then a "hit agreement" line per quality.
+void print_embree_table(std::ostream& out, const std::vector<EmbreeRow>& rows,
+                        const BenchRow& dynrt_row);
+
+/// The rows as a JSON array (Spreads as {"median", "min", "max"} objects).
+std::string embree_json(const std::vector<EmbreeRow>& rows);
+
+}  // namespace dynrt::embree

@@ -1,0 +1,437 @@
+#include "dynrt/embree/embree_tracer.h"
+
+#include "dynrt/anim/posed_scene.h"
+#include "dynrt/bvh/triangle.h"
+#include "dynrt/packet/tiling.h"
+#include "shadow_ray_offset.h"
+#include "stopwatch.h"
+
+#include <embree3/rtcore.h>
+#include <nlohmann/json.hpp>
+#include <tbb/combinable.h>
+#include <tbb/parallel_for.h>
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <functional>
+#include <iomanip>
+#include <limits>
+#include <ostream>
+#include <sstream>
+#include <stdexcept>
+
+namespace dynrt::embree {
+
+namespace {
+
+constexpr int kLanes = 16;
+static_assert(packet::kTileSize == kLanes, "one packet is one tile row");
+
+RTCBuildQuality rtc_quality(BuildQuality quality) {
+    switch (quality) {
+        case BuildQuality::low: return RTC_BUILD_QUALITY_LOW;
+        case BuildQuality::medium: return RTC_BUILD_QUALITY_MEDIUM;
+        case BuildQuality::high: return RTC_BUILD_QUALITY_HIGH;
+    }
+    return RTC_BUILD_QUALITY_MEDIUM;
+}
+
+void check(RTCDevice device, const char* what) {
+    const RTCError error = rtcGetDeviceError(device);
+    if (error != RTC_ERROR_NONE) {
+        throw std::runtime_error(std::string("Embree: ") + what + " failed (error " +
+                                 std::to_string(int(error)) + ")");
+    }
+}
+
+void resize_hits(PixelHits& hits, std::size_t pixels) {
+    hits.object.assign(pixels, -1);
+    hits.prim.assign(pixels, -1);
+    hits.u.assign(pixels, 0.0f);
+    hits.v.assign(pixels, 0.0f);
+}
+
+/// Runs body(tile) for every 16x16 tile in parallel.
+template <typename Body>
+void for_each_tile(int width, int height, Body&& body) {
+    const packet::Tiling tiling(width, height);
+    tbb::parallel_for(0, tiling.count(), [&](int i) { body(tiling.tile(i)); });
+}
+
+std::string format_spread(const Spread& s) {
+    std::ostringstream out;
+    out << std::fixed << std::setprecision(2) << s.median << " (" << s.min << "-" << s.max
+        << ")";
+    return out.str();
+}
+
+std::string format_ratio(double num, double den) {
+    std::ostringstream out;
+    out << std::fixed << std::setprecision(2);
+    if (den > 0) {
+        out << num / den;
+    } else {
+        out << "-";
+    }
+    return out.str();
+}
+
+}  // namespace
+
+const char* quality_name(BuildQuality quality) {
+    switch (quality) {
+        case BuildQuality::low: return "low";
+        case BuildQuality::medium: return "medium";
+        case BuildQuality::high: return "high";
+    }
+    return "?";
+}
+
+HitAgreement compare_hits(const std::vector<std::int32_t>& object_a,
+                          const std::vector<std::int32_t>& prim_a,
+                          const std::vector<std::int32_t>& object_b,
+                          const std::vector<std::int32_t>& prim_b) {
+    if (object_a.size() != object_b.size() || prim_a.size() != object_a.size() ||
+        prim_b.size() != object_b.size()) {
+        throw std::invalid_argument("compare_hits: hit sets of different sizes");
+    }
+    HitAgreement agreement;
+    for (std::size_t p = 0; p < object_a.size(); ++p) {
+        if (object_a[p] != object_b[p]) {
+            ++agreement.object_differs;
+        } else if (prim_a[p] != prim_b[p]) {
+            ++agreement.prim_only_differs;
+        }
+    }
+    return agreement;
+}
+
+struct EmbreeTracer::State {
+    RTCDevice device = nullptr;
+    RTCScene scene = nullptr;
+    /// Frame 0 of the scene last built: positions per object and each object's triangles.
+    anim::PosedScene posed;
+    std::vector<std::vector<glm::uvec3>> indices;
+
+    void release_scene() {
+        if (scene) rtcReleaseScene(scene);
+        scene = nullptr;
+    }
+    /// The world-space triangle `prim` of `object`.
+    bvh::Triangle triangle(std::int32_t object, std::int32_t prim) const {
+        const glm::uvec3& t = indices[std::size_t(object)][std::size_t(prim)];
+        const std::vector<glm::vec3>& p = posed.objects[std::size_t(object)].positions;
+        return bvh::Triangle{p[t.x], p[t.y], p[t.z]};
+    }
+};
+
+EmbreeTracer::EmbreeTracer() : state_(std::make_unique<State>()) {
+    state_->device = rtcNewDevice(nullptr);
+    if (!state_->device) throw std::runtime_error("Embree: cannot create a device");
+}
+
+EmbreeTracer::~EmbreeTracer() {
+    state_->release_scene();
+    rtcReleaseDevice(state_->device);
+}
+
+double EmbreeTracer::build(const Scene& scene, BuildQuality quality) {
+    State& s = *state_;
+    s.release_scene();
+    anim::pose_scene(scene, 0, s.posed);
+    s.indices.resize(scene.objects.size());
+
+    // ---- Buffers: created and filled outside the timed part ----
+    s.scene = rtcNewScene(s.device);
+    check(s.device, "rtcNewScene");
+    rtcSetSceneBuildQuality(s.scene, rtc_quality(quality));
+    rtcSetSceneFlags(s.scene, quality == BuildQuality::low ? RTC_SCENE_FLAG_DYNAMIC
+                                                            : RTC_SCENE_FLAG_NONE);
+    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+        const std::vector<glm::uvec3>& tris = scene.objects[i].mesh.triangles;
+        const std::vector<glm::vec3>& p = s.posed.objects[i].positions;
+        s.indices[i] = tris;
+        if (tris.empty() || p.empty()) continue;  // an empty geometry is an Embree error
+        RTCGeometry geom = rtcNewGeometry(s.device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        rtcSetGeometryBuildQuality(geom, rtc_quality(quality));
+        // Own (not shared) buffers: Embree pads them for its 16-byte vertex loads.
+        auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
+            geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), p.size()));
+        auto* index = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+            geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), tris.size()));
+        check(s.device, "rtcSetNewGeometryBuffer");
+        for (std::size_t v = 0; v < p.size(); ++v) {
+            vertices[3 * v] = p[v].x;
+            vertices[3 * v + 1] = p[v].y;
+            vertices[3 * v + 2] = p[v].z;
+        }
+        for (std::size_t t = 0; t < tris.size(); ++t) {
+            index[3 * t] = tris[t].x;
+            index[3 * t + 1] = tris[t].y;
+            index[3 * t + 2] = tris[t].z;
+        }
+        rtcCommitGeometry(geom);
+        rtcAttachGeometryByID(s.scene, geom, unsigned(i));
+        rtcReleaseGeometry(geom);
+        check(s.device, "creating a triangle geometry");
+    }
+
+    // ---- Build: the commit alone is timed ----
+    const Stopwatch clock;
+    rtcCommitScene(s.scene);
+    const double ms = clock.elapsed_ms();
+    check(s.device, "rtcCommitScene");
+    return ms;
+}
+
+double EmbreeTracer::intersect1(const Camera& camera, int width, int height, PixelHits& out) {
+    if (!state_->scene) throw std::logic_error("EmbreeTracer::intersect1 before build");
+    RTCScene scene = state_->scene;
+    const CameraRays rays(camera, width, height);
+    resize_hits(out, std::size_t(width) * std::size_t(height));
+    const Stopwatch clock;
+    for_each_tile(width, height, [&](const packet::Tile& tile) {
+        RTCIntersectContext context;
+        rtcInitIntersectContext(&context);
+        for (int y = tile.y0; y < tile.y1; ++y) {
+            for (int x = tile.x0; x < tile.x1; ++x) {
+                const bvh::Ray ray = rays.ray(x, y);
+                RTCRayHit rh;
+                rh.ray.org_x = ray.org.x;
+                rh.ray.org_y = ray.org.y;
+                rh.ray.org_z = ray.org.z;
+                rh.ray.dir_x = ray.dir.x;
+                rh.ray.dir_y = ray.dir.y;
+                rh.ray.dir_z = ray.dir.z;
+                rh.ray.tnear = ray.tmin;
+                rh.ray.tfar = ray.tmax;
+                rh.ray.time = 0.0f;
+                rh.ray.mask = ~0u;
+                rh.ray.id = 0;
+                rh.ray.flags = 0;
+                rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+                rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+                rtcIntersect1(scene, &context, &rh);
+                if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
+                const std::size_t p = std::size_t(y) * width + x;
+                out.object[p] = std::int32_t(rh.hit.geomID);
+                out.prim[p] = std::int32_t(rh.hit.primID);
+                out.u[p] = rh.hit.u;
+                out.v[p] = rh.hit.v;
+            }
+        }
+    });
+    return clock.elapsed_ms();
+}
+
+double EmbreeTracer::intersect16(const Camera& camera, int width, int height, PixelHits& out) {
+    if (!state_->scene) throw std::logic_error("EmbreeTracer::intersect16 before build");
+    RTCScene scene = state_->scene;
+    const CameraRays rays(camera, width, height);
+    resize_hits(out, std::size_t(width) * std::size_t(height));
+    const Stopwatch clock;
+    for_each_tile(width, height, [&](const packet::Tile& tile) {
+        RTCIntersectContext context;
+        rtcInitIntersectContext(&context);
+        for (int y = tile.y0; y < tile.y1; ++y) {
+            alignas(64) int valid[kLanes];
+            RTCRayHit16 rh;  // RTC_ALIGN(64) in its declaration
+            for (int lane = 0; lane < kLanes; ++lane) {
+                const int x = tile.x0 + lane;
+                valid[lane] = x < tile.x1 ? -1 : 0;
+                // Masked-off lanes still get a harmless ray, so no lane holds garbage.
+                const bvh::Ray ray = rays.ray(std::min(x, tile.x1 - 1), y);
+                rh.ray.org_x[lane] = ray.org.x;
+                rh.ray.org_y[lane] = ray.org.y;
+                rh.ray.org_z[lane] = ray.org.z;
+                rh.ray.dir_x[lane] = ray.dir.x;
+                rh.ray.dir_y[lane] = ray.dir.y;
+                rh.ray.dir_z[lane] = ray.dir.z;
+                rh.ray.tnear[lane] = ray.tmin;
+                rh.ray.tfar[lane] = ray.tmax;
+                rh.ray.time[lane] = 0.0f;
+                rh.ray.mask[lane] = ~0u;
+                rh.ray.id[lane] = unsigned(lane);
+                rh.ray.flags[lane] = 0;
+                rh.hit.geomID[lane] = RTC_INVALID_GEOMETRY_ID;
+                rh.hit.instID[0][lane] = RTC_INVALID_GEOMETRY_ID;
+            }
+            rtcIntersect16(valid, scene, &context, &rh);
+            for (int lane = 0; lane < tile.x1 - tile.x0; ++lane) {
+                if (rh.hit.geomID[lane] == RTC_INVALID_GEOMETRY_ID) continue;
+                const std::size_t p = std::size_t(y) * width + tile.x0 + lane;
+                out.object[p] = std::int32_t(rh.hit.geomID[lane]);
+                out.prim[p] = std::int32_t(rh.hit.primID[lane]);
+                out.u[p] = rh.hit.u[lane];
+                out.v[p] = rh.hit.v[lane];
+            }
+        }
+    });
+    return clock.elapsed_ms();
+}
+
+double EmbreeTracer::occluded16(const Camera& camera, int width, int height,
+                                const std::vector<PointLight>& lights, const PixelHits& hits,
+                                std::size_t& rays_traced) {
+    if (!state_->scene) throw std::logic_error("EmbreeTracer::occluded16 before build");
+    const State& s = *state_;
+    const CameraRays rays(camera, width, height);
+    tbb::combinable<std::size_t> counts([] { return std::size_t(0); });
+    const Stopwatch clock;
+    for_each_tile(width, height, [&](const packet::Tile& tile) {
+        RTCIntersectContext context;
+        rtcInitIntersectContext(&context);
+        std::size_t traced = 0;
+        for (int y = tile.y0; y < tile.y1; ++y) {
+            // Per pixel of the row: facing normal and hit point, computed once for all lights,
+            // exactly as the renderer does.
+            glm::vec3 normal[kLanes]{}, point[kLanes]{}, origin[kLanes]{};
+            bool hit[kLanes] = {};
+            for (int lane = 0; lane < tile.x1 - tile.x0; ++lane) {
+                const std::size_t p = std::size_t(y) * width + tile.x0 + lane;
+                if (hits.object[p] < 0) continue;
+                hit[lane] = true;
+                const bvh::Triangle tri = s.triangle(hits.object[p], hits.prim[p]);
+                const glm::vec3 dir = rays.ray(tile.x0 + lane, y).dir;
+                const glm::vec3 n =
+                    glm::normalize(glm::cross(tri.v1 - tri.v0, tri.v2 - tri.v0));
+                normal[lane] = glm::dot(n, dir) > 0.0f ? -n : n;
+                point[lane] = (1.0f - hits.u[p] - hits.v[p]) * tri.v0 + hits.u[p] * tri.v1 +
+                              hits.v[p] * tri.v2;
+                origin[lane] = offset_along_normal(point[lane], normal[lane]);
+            }
+            for (const PointLight& light : lights) {
+                alignas(64) int valid[kLanes];
+                RTCRay16 ray;
+                int active = 0;
+                for (int lane = 0; lane < kLanes; ++lane) {
+                    const bool lit = hit[lane] &&
+                                     glm::dot(normal[lane], light.position - point[lane]) > 0.0f;
+                    valid[lane] = lit ? -1 : 0;
+                    active += lit;
+                    const glm::vec3 org = lit ? origin[lane] : glm::vec3(0.0f);
+                    const glm::vec3 dir = lit ? light.position - org : glm::vec3(0, 0, 1);
+                    ray.org_x[lane] = org.x;
+                    ray.org_y[lane] = org.y;
+                    ray.org_z[lane] = org.z;
+                    ray.dir_x[lane] = dir.x;
+                    ray.dir_y[lane] = dir.y;
+                    ray.dir_z[lane] = dir.z;
+                    ray.tnear[lane] = 0.0f;
+                    ray.tfar[lane] = 1.0f;
+                    ray.time[lane] = 0.0f;
+                    ray.mask[lane] = ~0u;
+                    ray.id[lane] = unsigned(lane);
+                    ray.flags[lane] = 0;
+                }
+                if (active == 0) continue;
+                rtcOccluded16(valid, s.scene, &context, &ray);
+                traced += std::size_t(active);
+            }
+        }
+        counts.local() += traced;
+    });
+    const double ms = clock.elapsed_ms();
+    rays_traced = counts.combine(std::plus<>());
+    return ms;
+}
+
+std::vector<EmbreeRow> bench_embree(const Scene& scene, const Camera& camera,
+                                    const RenderOptions& options, int repeat, int warmup,
+                                    const RenderedFrame& dynrt_frame) {
+    if (repeat < 1) throw std::invalid_argument("bench: repeat must be at least 1");
+    const int width = options.width, height = options.height;
+    const std::vector<PointLight> lights = effective_lights(scene, options);
+    const std::size_t pixels = std::size_t(width) * std::size_t(height);
+    EmbreeTracer tracer;
+    PixelHits single, packet;
+    std::vector<EmbreeRow> rows;
+    for (BuildQuality quality : {BuildQuality::low, BuildQuality::medium, BuildQuality::high}) {
+        std::vector<double> build, i1, i16, o16, mrays;
+        std::size_t shadow_rays = 0;
+        for (int run = 0; run < warmup + repeat; ++run) {
+            const double build_ms = tracer.build(scene, quality);
+            const double i1_ms = tracer.intersect1(camera, width, height, single);
+            const double i16_ms = tracer.intersect16(camera, width, height, packet);
+            const double o16_ms =
+                tracer.occluded16(camera, width, height, lights, single, shadow_rays);
+            if (run < warmup) continue;
+            build.push_back(build_ms);
+            i1.push_back(i1_ms);
+            i16.push_back(i16_ms);
+            o16.push_back(o16_ms);
+            const double ms = i16_ms + o16_ms;
+            mrays.push_back(ms > 0 ? double(pixels + shadow_rays) / (ms * 1e3) : 0.0);
+        }
+        EmbreeRow row;
+        row.quality = quality;
+        row.build_ms = spread_of(build);
+        row.intersect1_ms = spread_of(i1);
+        row.intersect16_ms = spread_of(i16);
+        row.occluded16_ms = spread_of(o16);
+        row.mrays_per_s = spread_of(mrays);
+        row.shadow_rays = shadow_rays;
+        row.vs_dynrt = compare_hits(dynrt_frame.object, dynrt_frame.prim, single.object,
+                                    single.prim);
+        const HitAgreement packets =
+            compare_hits(single.object, single.prim, packet.object, packet.prim);
+        row.packet_vs_single_differs = packets.object_differs + packets.prim_only_differs;
+        rows.push_back(row);
+    }
+    return rows;
+}
+
+void print_embree_table(std::ostream& out, const std::vector<EmbreeRow>& rows,
+                        const BenchRow& dynrt_row) {
+    out << "embree 3 (build = rtcCommitScene only, buffer upload excluded; Mrays/s = primary + "
+           "shadow rays over intersect16 + occluded16; ratios dynrt/embree of medians, dynrt "
+           "row 1: build "
+        << std::fixed << std::setprecision(2) << dynrt_row.build_ms.median << " ms, primary "
+        << dynrt_row.primary_ms.median << " ms)\n";
+    out << std::left << std::setw(8) << "quality" << std::right << std::setw(22) << "build ms"
+        << std::setw(22) << "intersect1 ms" << std::setw(22) << "intersect16 ms"
+        << std::setw(22) << "occluded16 ms" << std::setw(22) << "Mrays/s" << std::setw(9)
+        << "build x" << std::setw(9) << "i1 x" << std::setw(9) << "i16 x" << '\n';
+    for (const EmbreeRow& r : rows) {
+        out << std::left << std::setw(8) << quality_name(r.quality) << std::right
+            << ' ' << std::setw(21) << format_spread(r.build_ms) << ' ' << std::setw(21)
+            << format_spread(r.intersect1_ms) << ' ' << std::setw(21)
+            << format_spread(r.intersect16_ms) << ' ' << std::setw(21)
+            << format_spread(r.occluded16_ms) << ' ' << std::setw(21) << format_spread(r.mrays_per_s)
+            << std::setw(9) << format_ratio(dynrt_row.build_ms.median, r.build_ms.median)
+            << std::setw(9)
+            << format_ratio(dynrt_row.primary_ms.median, r.intersect1_ms.median)
+            << std::setw(9)
+            << format_ratio(dynrt_row.primary_ms.median, r.intersect16_ms.median) << '\n';
+    }
+    for (const EmbreeRow& r : rows) {
+        out << "hit agreement (" << quality_name(r.quality) << "): " << r.vs_dynrt.object_differs
+            << " pixels differ in hit/object, " << r.vs_dynrt.prim_only_differs
+            << " only in primitive; intersect16 vs intersect1: " << r.packet_vs_single_differs
+            << " differ\n";
+    }
+}
+
+std::string embree_json(const std::vector<EmbreeRow>& rows) {
+    nlohmann::ordered_json array = nlohmann::ordered_json::array();
+    const auto spread = [](const Spread& s) {
+        return nlohmann::ordered_json{{"median", s.median}, {"min", s.min}, {"max", s.max}};
+    };
+    for (const EmbreeRow& r : rows) {
+        array.push_back(nlohmann::ordered_json{
+            {"quality", quality_name(r.quality)},
+            {"build_ms", spread(r.build_ms)},
+            {"intersect1_ms", spread(r.intersect1_ms)},
+            {"intersect16_ms", spread(r.intersect16_ms)},
+            {"occluded16_ms", spread(r.occluded16_ms)},
+            {"mrays_per_s", spread(r.mrays_per_s)},
+            {"shadow_rays", r.shadow_rays},
+            {"hit_object_differs", r.vs_dynrt.object_differs},
+            {"hit_prim_only_differs", r.vs_dynrt.prim_only_differs},
+            {"packet_vs_single_differs", r.packet_vs_single_differs}});
+    }
+    return array.dump(2);
+}
+
+}  // namespace dynrt::embree

@@ -1,0 +1,92 @@
+// Embree 3 as an independent oracle: on the same posed triangles and camera rays, its closest
+// hits must name the same object as dynrt's for (almost) every pixel, and its single-ray and
+// 16-wide packet paths must agree exactly with each other.
+
+#include <gtest/gtest.h>
+
+#if DYNRT_HAVE_EMBREE
+
+#include "dynrt/embree/embree_tracer.h"
+#include "dynrt/engine/camera.h"
+#include "dynrt/engine/renderer.h"
+#include "dynrt/engine/scene_loading.h"
+
+#include <string>
+
+namespace dynrt::embree {
+namespace {
+
+struct Case {
+    const char* spec;
+    /// Pixels allowed to differ in hit/object, out of 128 x 128.
+    std::size_t object_differs_max;
+};
+
+class EmbreeAgreement : public testing::TestWithParam<Case> {};
+
+TEST_P(EmbreeAgreement, HitsMatchDynrtAndPacketsMatchSingleRays) {
+    const Case c = GetParam();
+    const Scene scene = load_scene(c.spec);
+    const Camera camera = default_camera(scene_bounds(scene));
+    RenderOptions options;
+    options.width = 128;
+    options.height = 128;
+    const std::size_t pixels = std::size_t(options.width) * std::size_t(options.height);
+
+    Renderer renderer(options);
+    RenderedFrame frame;
+    renderer.render(scene, camera, 0, frame);
+
+    EmbreeTracer tracer;
+    for (BuildQuality quality : {BuildQuality::low, BuildQuality::medium, BuildQuality::high}) {
+        SCOPED_TRACE(quality_name(quality));
+        EXPECT_GE(tracer.build(scene, quality), 0.0);
+        PixelHits single, packet;
+        tracer.intersect1(camera, options.width, options.height, single);
+        tracer.intersect16(camera, options.width, options.height, packet);
+        ASSERT_EQ(single.object.size(), pixels);
+
+        const HitAgreement vs_dynrt =
+            compare_hits(frame.object, frame.prim, single.object, single.prim);
+        EXPECT_LE(vs_dynrt.object_differs, c.object_differs_max);
+        EXPECT_LE(vs_dynrt.object_differs, pixels / 1000);  // <= 0.1% in any case
+        // Shared-edge ties may pick either triangle, but only along edges.
+        EXPECT_LE(vs_dynrt.prim_only_differs, pixels / 100);
+
+        EXPECT_EQ(single.object, packet.object);
+        EXPECT_EQ(single.prim, packet.prim);
+
+        std::size_t shadow_rays = 0;
+        tracer.occluded16(camera, options.width, options.height,
+                          effective_lights(scene, options), single, shadow_rays);
+        // The same rule as dynrt's (one per hit and light on the lit side) on the same hits.
+        if (vs_dynrt.object_differs == 0 && vs_dynrt.prim_only_differs == 0) {
+            EXPECT_EQ(shadow_rays, frame.stats.shadow_rays);
+        }
+        EXPECT_GT(shadow_rays, 0u);
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Scenes, EmbreeAgreement,
+    testing::Values(Case{"sphere:20000", 0}, Case{"soup:5000", 16},
+                    Case{"plane:4@0,-1,0,3+sphere:2000+soup:500@0.5,0.5,0.5,0.5", 16}),
+    [](const testing::TestParamInfo<Case>& info) { return "scene" + std::to_string(info.index); });
+
+TEST(EmbreeCompareHits, CountsObjectAndPrimitiveDifferencesSeparately) {
+    const HitAgreement a = compare_hits({-1, 0, 1, 1, 2}, {-1, 3, 4, 5, 6},
+                                        {0, 0, 1, 1, -1}, {1, 3, 4, 9, -1});
+    EXPECT_EQ(a.object_differs, 2u);     // miss vs hit, hit vs miss
+    EXPECT_EQ(a.prim_only_differs, 1u);  // same object, other triangle
+}
+
+}  // namespace
+}  // namespace dynrt::embree
+
+#else
+
+TEST(EmbreeAgreement, SkippedWithoutEmbree) {
+    GTEST_SKIP() << "this dynrt was built without Embree";
+}
+
+#endif

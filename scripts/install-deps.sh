@@ -5,7 +5,8 @@ set -euo pipefail
 
 required=(build-essential cmake ninja-build pkg-config
           libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libtbb-dev
-          libopenimageio-dev libbenchmark-dev libgtest-dev libcli11-dev)
+          libopenimageio-dev libbenchmark-dev libgtest-dev libcli11-dev
+          gnuplot-nox)  # gnuplot draws the charts of `dynrt bench --plot`
 # Embree is only a comparison backend and test oracle: install it when the archive has it.
 optional=(libembree-dev)
 

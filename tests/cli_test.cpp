@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -81,6 +82,15 @@ TEST(Cli, BenchVsEmbreePrintsTheEmbreeBlock) {
     EXPECT_NE(run.output.find("hit agreement"), std::string::npos) << run.output;
     EXPECT_NE(run.output.find("medium"), std::string::npos) << run.output;
 }
+
+TEST(Cli, BenchDiffImageMarksDisagreementsWithEmbree) {
+    const fs::path dir = fresh_dir("diff");
+    const CliRun run = run_dynrt("bench sphere:500 --res 32x24 --repeat 1 --warmup 0 --vs embree "
+                                 "--diff-image " + (dir / "diff.png").string());
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+    EXPECT_TRUE(fs::exists(dir / "diff.png"));
+    EXPECT_NE(run.output.find("0 red pixels"), std::string::npos) << run.output;
+}
 #else
 TEST(Cli, BenchVsEmbreeWithoutEmbreeIsAClearError) {
     const CliRun run = run_dynrt("bench sphere:10 --res 16x16 --repeat 1 --vs embree");
@@ -89,6 +99,18 @@ TEST(Cli, BenchVsEmbreeWithoutEmbreeIsAClearError) {
         << run.output;
 }
 #endif
+
+TEST(Cli, BenchPlotDrawsAChartAndKeepsItsScript) {
+    if (std::system("command -v gnuplot >/dev/null 2>&1") != 0) {
+        GTEST_SKIP() << "gnuplot is not installed (scripts/install-deps.sh installs it)";
+    }
+    const fs::path dir = fresh_dir("plot");
+    const CliRun run = run_dynrt("bench sphere:300 --res 16x16 --repeat 1 --warmup 0 "
+                                 "--sweep leaf=1,4,16 --plot " + (dir / "sweep.png").string());
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+    EXPECT_GT(fs::file_size(dir / "sweep.png"), 1000u);
+    EXPECT_TRUE(fs::exists(dir / "sweep.png.gp"));
+}
 
 TEST(Cli, BenchVsAnUnknownTracerIsAnError) {
     const CliRun run = run_dynrt("bench sphere:10 --res 16x16 --repeat 1 --vs optix");
@@ -146,6 +168,8 @@ INSTANTIATE_TEST_SUITE_P(
                     BadCall{"bench sphere:10 --sweep leaf=0", "leaf"},
                     BadCall{"bench sphere:10 --sweep depth=3", "depth"},
                     BadCall{"bench sphere:10 --repeat 0", "repeat"},
+                    BadCall{"bench sphere:10 --plot chart.svg", "chart.svg"},
+                    BadCall{"bench sphere:10 --diff-image d.png", "--vs embree"},
                     BadCall{"info", "scene"}));
 
 }  // namespace

@@ -73,13 +73,6 @@ INSTANTIATE_TEST_SUITE_P(
                     Case{"plane:4@0,-1,0,3+sphere:2000+soup:500@0.5,0.5,0.5,0.5", 16}),
     [](const testing::TestParamInfo<Case>& info) { return "scene" + std::to_string(info.index); });
 
-TEST(EmbreeCompareHits, CountsObjectAndPrimitiveDifferencesSeparately) {
-    const HitAgreement a = compare_hits({-1, 0, 1, 1, 2}, {-1, 3, 4, 5, 6},
-                                        {0, 0, 1, 1, -1}, {1, 3, 4, 9, -1});
-    EXPECT_EQ(a.object_differs, 2u);     // miss vs hit, hit vs miss
-    EXPECT_EQ(a.prim_only_differs, 1u);  // same object, other triangle
-}
-
 }  // namespace
 }  // namespace dynrt::embree
 

@@ -2,6 +2,8 @@
 
 #include "dynrt/anim/posed_scene.h"
 #include "dynrt/engine/bench.h"
+#include "dynrt/engine/bench_plot.h"
+#include "dynrt/engine/hit_agreement.h"
 #include "dynrt/bvh/triangle.h"
 #include "dynrt/engine/camera.h"
 #include "dynrt/engine/image_output.h"
@@ -22,10 +24,12 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <optional>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -56,6 +60,8 @@ struct BenchArgs : FrameArgs {
     std::string csv;
     std::string json;
     std::string vs;
+    std::string plot;
+    std::string diff_image;
 };
 
 /// Splits "a,b,c" into finite floats; `what` names the flag in errors.
@@ -173,6 +179,16 @@ int run_bench(const BenchArgs& args) {
                                  "(install libembree-dev and reconfigure)");
     }
 #endif
+    if (!args.diff_image.empty()) {
+        if (args.vs.empty()) {
+            throw std::invalid_argument("--diff-image: shows where dynrt and another tracer "
+                                        "disagree, so it needs --vs embree");
+        }
+        dynrt::check_image_path(args.diff_image);
+    }
+    if (!args.plot.empty() && std::filesystem::path(args.plot).extension() != ".png") {
+        throw std::invalid_argument("--plot '" + args.plot + "': charts are written as .png");
+    }
     const dynrt::RenderOptions base = render_options(args);
     const std::vector<dynrt::bvh::BuildConfig> configs = dynrt::expand_sweeps(args.sweeps, base.build);
     const std::string source = scene_source(args);
@@ -194,13 +210,29 @@ int run_bench(const BenchArgs& args) {
     dynrt::print_bench_table(std::cout, rows);
     // CSV stays dynrt-only: its one-row-per-configuration layout has no place for Embree rows.
     if (!args.csv.empty()) write_text(args.csv, dynrt::bench_csv(rows));
+    if (!args.plot.empty()) {
+        std::ostringstream title;
+        title << "dynrt bench: " << source << ", " << scene.triangle_count() << " triangles, "
+              << base.width << "x" << base.height;
+        dynrt::plot_bench(args.plot, rows, title.str());
+        std::cout << "plot: " << args.plot << "\n";
+    }
     std::string json = args.json.empty() ? std::string() : dynrt::bench_json(rows);
 #if DYNRT_HAVE_EMBREE
     if (args.vs == "embree") {
+        std::vector<dynrt::PixelAgreement> disagreement;
         const std::vector<dynrt::embree::EmbreeRow> embree_rows = dynrt::embree::bench_embree(
-            scene, camera, base, args.repeat, args.warmup, first_frame);
+            scene, camera, base, args.repeat, args.warmup, first_frame,
+            args.diff_image.empty() ? nullptr : &disagreement);
         std::cout << "\n";
         dynrt::embree::print_embree_table(std::cout, embree_rows, rows.front());
+        if (!args.diff_image.empty()) {
+            dynrt::write_disagreement_image(args.diff_image, first_frame, disagreement);
+            const dynrt::HitAgreement counts = dynrt::count_disagreements(disagreement);
+            std::cout << "diff image: " << args.diff_image << " (" << counts.object_differs
+                      << " red pixels: hit/object differs; " << counts.prim_only_differs
+                      << " yellow: primitive only; over all Embree qualities)\n";
+        }
         if (!json.empty()) {
             nlohmann::ordered_json doc = nlohmann::ordered_json::parse(json);
             doc["embree"] = nlohmann::ordered_json::parse(dynrt::embree::embree_json(embree_rows));
@@ -301,6 +333,12 @@ int main(int argc, char** argv) {
     bench_cmd->add_option("--json", bench.json,
                           "Also write the rows as JSON to this file (with --vs embree, the "
                           "Embree rows too, as \"embree\")");
+    bench_cmd->add_option("--plot", bench.plot,
+                          "Also draw build, trace and total ms against the swept parameter "
+                          "into this PNG (with gnuplot; the script is kept as FILE.gp)");
+    bench_cmd->add_option("--diff-image", bench.diff_image,
+                          "With --vs embree: write an image marking the pixels whose hit "
+                          "differs (red: hit/object, yellow: primitive only)");
     bench_cmd->add_option("--vs", bench.vs,
                           "Also bench another tracer on the same rays: embree (Embree 3 builds "
                           "low/medium/high, rtcIntersect1/16, rtcOccluded16, hit agreement)");

@@ -88,25 +88,6 @@ const char* quality_name(BuildQuality quality) {
     return "?";
 }
 
-HitAgreement compare_hits(const std::vector<std::int32_t>& object_a,
-                          const std::vector<std::int32_t>& prim_a,
-                          const std::vector<std::int32_t>& object_b,
-                          const std::vector<std::int32_t>& prim_b) {
-    if (object_a.size() != object_b.size() || prim_a.size() != object_a.size() ||
-        prim_b.size() != object_b.size()) {
-        throw std::invalid_argument("compare_hits: hit sets of different sizes");
-    }
-    HitAgreement agreement;
-    for (std::size_t p = 0; p < object_a.size(); ++p) {
-        if (object_a[p] != object_b[p]) {
-            ++agreement.object_differs;
-        } else if (prim_a[p] != prim_b[p]) {
-            ++agreement.prim_only_differs;
-        }
-    }
-    return agreement;
-}
-
 struct EmbreeTracer::State {
     RTCDevice device = nullptr;
     RTCScene scene = nullptr;
@@ -339,11 +320,13 @@ double EmbreeTracer::occluded16(const Camera& camera, int width, int height,
 
 std::vector<EmbreeRow> bench_embree(const Scene& scene, const Camera& camera,
                                     const RenderOptions& options, int repeat, int warmup,
-                                    const RenderedFrame& dynrt_frame) {
+                                    const RenderedFrame& dynrt_frame,
+                                    std::vector<PixelAgreement>* disagreement) {
     if (repeat < 1) throw std::invalid_argument("bench: repeat must be at least 1");
     const int width = options.width, height = options.height;
     const std::vector<PointLight> lights = effective_lights(scene, options);
     const std::size_t pixels = std::size_t(width) * std::size_t(height);
+    if (disagreement) disagreement->assign(pixels, PixelAgreement::same);
     EmbreeTracer tracer;
     PixelHits single, packet;
     std::vector<EmbreeRow> rows;
@@ -372,8 +355,14 @@ std::vector<EmbreeRow> bench_embree(const Scene& scene, const Camera& camera,
         row.occluded16_ms = spread_of(o16);
         row.mrays_per_s = spread_of(mrays);
         row.shadow_rays = shadow_rays;
-        row.vs_dynrt = compare_hits(dynrt_frame.object, dynrt_frame.prim, single.object,
-                                    single.prim);
+        const std::vector<PixelAgreement> per_pixel =
+            classify_hits(dynrt_frame.object, dynrt_frame.prim, single.object, single.prim);
+        row.vs_dynrt = count_disagreements(per_pixel);
+        if (disagreement) {
+            for (std::size_t p = 0; p < per_pixel.size(); ++p) {
+                (*disagreement)[p] = std::max((*disagreement)[p], per_pixel[p]);
+            }
+        }
         const HitAgreement packets =
             compare_hits(single.object, single.prim, packet.object, packet.prim);
         row.packet_vs_single_differs = packets.object_differs + packets.prim_only_differs;

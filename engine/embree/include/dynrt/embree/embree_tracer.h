@@ -5,6 +5,7 @@
 
 #include "dynrt/engine/bench.h"
 #include "dynrt/engine/camera.h"
+#include "dynrt/engine/hit_agreement.h"
 #include "dynrt/engine/renderer.h"
 #include "dynrt/scene/scene.h"
 
@@ -33,19 +34,6 @@ struct PixelHits {
     std::vector<float> u;
     std::vector<float> v;
 };
-
-/// Pixels where two hit sets disagree: on hit/miss or object, and on the primitive only (the
-/// latter is expected at shared edges, where either triangle is a correct answer).
-struct HitAgreement {
-    std::size_t object_differs = 0;
-    std::size_t prim_only_differs = 0;
-};
-
-/// Compares hits per pixel; both must cover the same number of pixels.
-HitAgreement compare_hits(const std::vector<std::int32_t>& object_a,
-                          const std::vector<std::int32_t>& prim_a,
-                          const std::vector<std::int32_t>& object_b,
-                          const std::vector<std::int32_t>& prim_b);
 
 /// One Embree device and scene holding frame 0 of a dynrt scene, one triangle geometry per
 /// object (geomID = object index, primID = triangle index in the object). Owns its Embree
@@ -104,9 +92,12 @@ struct EmbreeRow {
 
 /// Benches every build quality on frame 0 of `scene` with `options`' resolution and lights,
 /// and compares each quality's hits with `dynrt_frame` (a dynrt render of the same frame).
+/// If `disagreement` is not null, it receives per pixel the worst disagreement between
+/// `dynrt_frame` and any quality's intersect1 hits (for `--diff-image`).
 std::vector<EmbreeRow> bench_embree(const Scene& scene, const Camera& camera,
                                     const RenderOptions& options, int repeat, int warmup,
-                                    const RenderedFrame& dynrt_frame);
+                                    const RenderedFrame& dynrt_frame,
+                                    std::vector<PixelAgreement>* disagreement = nullptr);
 
 /// The Embree block: one row per quality with the ratios dynrt/Embree taken from `dynrt_row`
 /// (build ms over build ms, primary trace ms over intersect1 and intersect16 ms, medians),

@@ -1,0 +1,31 @@
+#pragma once
+// Charts of `dynrt bench` results, drawn by gnuplot (Debian's gnuplot-nox, installed by
+// scripts/install-deps.sh) so that nobody has to read a table to see a trend.
+
+#include "dynrt/engine/bench.h"
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace dynrt {
+
+/// A gnuplot script, with the data inline, that draws the median build, trace and total ms of
+/// `rows` (min-max as error bars) against the swept parameter into the PNG `png`:
+/// - one parameter varies across the rows (cost ratio or leaf size): one chart, one line each
+///   for build, trace and total;
+/// - both vary: three charts side by side (build, trace, total) against the cost ratio, one
+///   line per leaf size;
+/// - neither: one chart with a single point per line.
+/// The x axis is logarithmic when the values span a factor of 8 or more (sweeps are usually
+/// geometric). `title` heads the chart. Throws std::invalid_argument if `rows` is empty.
+std::string bench_plot_script(const std::vector<BenchRow>& rows, const std::string& title,
+                              const std::filesystem::path& png);
+
+/// Writes bench_plot_script next to the image as "<png>.gp" (kept, so the chart can be
+/// restyled or redrawn) and runs gnuplot on it. Throws std::runtime_error if gnuplot is not
+/// installed, fails, or does not produce the image.
+void plot_bench(const std::filesystem::path& png, const std::vector<BenchRow>& rows,
+                const std::string& title);
+
+}  // namespace dynrt

@@ -1,0 +1,165 @@
+#include "dynrt/engine/bench_plot.h"
+
+#include <spawn.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <charconv>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+extern char** environ;
+
+namespace dynrt {
+
+namespace {
+
+/// `text` as a gnuplot single-quoted string, in which only the quote itself needs escaping
+/// (by doubling it).
+std::string single_quoted(const std::string& text) {
+    std::string out = "'";
+    for (char c : text) {
+        out += c;
+        if (c == '\'') out += '\'';
+    }
+    return out + "'";
+}
+
+/// The shortest decimal that reads back as `value` (0.1f prints as 0.1).
+std::string shortest(float value) {
+    char text[32];
+    const auto [end, ec] = std::to_chars(text, text + sizeof(text), value);
+    return std::string(text, end);
+}
+
+enum class Axis { cost_ratio, leaf_size };
+
+float x_of(const BenchRow& row, Axis axis) {
+    return axis == Axis::cost_ratio ? row.build.cost_ratio : float(row.build.leaf_size_max);
+}
+
+/// The distinct values of a parameter over the rows, ascending.
+std::vector<float> distinct(const std::vector<BenchRow>& rows, Axis axis) {
+    std::vector<float> values;
+    for (const BenchRow& row : rows) values.push_back(x_of(row, axis));
+    std::sort(values.begin(), values.end());
+    values.erase(std::unique(values.begin(), values.end()), values.end());
+    return values;
+}
+
+/// One gnuplot datablock: x, then median/min/max of build, trace and total, sorted by x.
+void write_block(std::ostream& out, const std::string& name, std::vector<BenchRow> rows,
+                 Axis axis) {
+    std::sort(rows.begin(), rows.end(), [axis](const BenchRow& a, const BenchRow& b) {
+        return x_of(a, axis) < x_of(b, axis);
+    });
+    out << name << " << EOD\n# x build_median build_min build_max trace_median trace_min "
+                   "trace_max total_median total_min total_max\n";
+    for (const BenchRow& r : rows) {
+        out << shortest(x_of(r, axis));
+        for (const Spread* s : {&r.build_ms, &r.trace_ms, &r.total_ms}) {
+            out << ' ' << s->median << ' ' << s->min << ' ' << s->max;
+        }
+        out << '\n';
+    }
+    out << "EOD\n";
+}
+
+void write_x_axis(std::ostream& out, const std::vector<float>& xs, Axis axis) {
+    out << "set xlabel "
+        << single_quoted(axis == Axis::cost_ratio
+                             ? "SAH cost ratio (intersection : traversal)"
+                             : "maximum triangles per leaf")
+        << "\n";
+    if (xs.front() > 0 && xs.back() >= 8 * xs.front()) {
+        out << (axis == Axis::leaf_size ? "set logscale x 2\n" : "set logscale x 10\n");
+    }
+    // Ticks at exactly the swept values; a little margin so end points are not on the frame.
+    out << "set xtics (";
+    for (std::size_t i = 0; i < xs.size(); ++i) out << (i ? ", " : "") << shortest(xs[i]);
+    out << ")\nset autoscale xfix\nset offsets graph 0.05, graph 0.05, graph 0.05, graph 0.02\n";
+}
+
+}  // namespace
+
+std::string bench_plot_script(const std::vector<BenchRow>& rows, const std::string& title,
+                              const std::filesystem::path& png) {
+    if (rows.empty()) throw std::invalid_argument("bench plot: no rows to plot");
+    const std::vector<float> costs = distinct(rows, Axis::cost_ratio);
+    const std::vector<float> leaves = distinct(rows, Axis::leaf_size);
+    const bool both = costs.size() > 1 && leaves.size() > 1;
+    const Axis axis = (leaves.size() > 1 && costs.size() == 1) ? Axis::leaf_size
+                                                                : Axis::cost_ratio;
+    std::ostringstream out;
+    out.precision(9);
+    out << "# dynrt bench chart; redraw with: gnuplot " << single_quoted(png.string() + ".gp")
+        << "\nset terminal pngcairo size " << (both ? 1500 : 1000)
+        << ",620 noenhanced font ',11'\nset output " << single_quoted(png.string())
+        << "\nset grid\nset key top left\nset ylabel 'ms per frame (median, bars min-max)'\n"
+           "set yrange [0:*]\n";
+    if (!both) {
+        write_block(out, "$rows", rows, axis);
+        write_x_axis(out, axis == Axis::cost_ratio ? costs : leaves, axis);
+        out << "set title " << single_quoted(title) << "\nplot "
+            << "$rows using 1:2:3:4 with yerrorlines lw 2 title 'build', "
+            << "$rows using 1:5:6:7 with yerrorlines lw 2 title 'trace (primary + shadow)', "
+            << "$rows using 1:8:9:10 with yerrorlines lw 2 title 'total'\n";
+        return out.str();
+    }
+    for (std::size_t i = 0; i < leaves.size(); ++i) {
+        std::vector<BenchRow> series;
+        for (const BenchRow& r : rows) {
+            if (float(r.build.leaf_size_max) == leaves[i]) series.push_back(r);
+        }
+        write_block(out, "$leaf" + std::to_string(i), series, Axis::cost_ratio);
+    }
+    write_x_axis(out, costs, Axis::cost_ratio);
+    out << "set multiplot layout 1,3 title " << single_quoted(title) << "\n";
+    const char* panels[] = {"build", "trace (primary + shadow)", "total"};
+    for (int panel = 0; panel < 3; ++panel) {
+        const int column = 2 + 3 * panel;
+        out << "set title " << single_quoted(panels[panel]) << "\nplot ";
+        for (std::size_t i = 0; i < leaves.size(); ++i) {
+            out << (i ? ", " : "") << "$leaf" << i << " using 1:" << column << ':' << column + 1
+                << ':' << column + 2 << " with yerrorlines lw 2 title "
+                << single_quoted("leaf " + shortest(leaves[i]));
+        }
+        out << '\n';
+    }
+    out << "unset multiplot\n";
+    return out.str();
+}
+
+void plot_bench(const std::filesystem::path& png, const std::vector<BenchRow>& rows,
+                const std::string& title) {
+    const std::filesystem::path script = png.string() + ".gp";
+    {
+        std::ofstream file(script);
+        file << bench_plot_script(rows, title, png);
+        if (!file) throw std::runtime_error(script.string() + ": cannot write");
+    }
+    std::error_code ignored;
+    std::filesystem::remove(png, ignored);  // so a stale image cannot pass for a new one
+    // posix_spawnp rather than std::system: no shell, so no quoting of the path is needed.
+    std::string program = "gnuplot";
+    std::string argument = script.string();
+    char* argv[] = {program.data(), argument.data(), nullptr};
+    pid_t pid = 0;
+    const int spawn_error = posix_spawnp(&pid, "gnuplot", nullptr, nullptr, argv, environ);
+    if (spawn_error != 0) {
+        throw std::runtime_error("--plot: cannot run gnuplot (" +
+                                 std::string(std::strerror(spawn_error)) +
+                                 "); install gnuplot-nox (scripts/install-deps.sh does)");
+    }
+    int status = 0;
+    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {}
+    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || !std::filesystem::exists(png)) {
+        throw std::runtime_error("--plot: gnuplot failed to draw " + png.string() +
+                                 " (script kept in " + script.string() + ")");
+    }
+}
+
+}  // namespace dynrt

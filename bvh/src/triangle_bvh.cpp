@@ -260,9 +260,14 @@ TriangleBvh build_triangle_bvh(std::span<const Triangle> tris, const BuildConfig
     for (std::size_t b = 0; b < blocks; ++b) block_offset[b + 1] += block_offset[b];
     const std::size_t count = block_offset[blocks];
     accel.degenerate_skipped = n - count;
-    if (count == 0) return accel;
+    accel.skipped_ids.resize(n - count);
+    if (count == 0) {
+        for (std::size_t i = 0; i < n; ++i) accel.skipped_ids[i] = static_cast<std::uint32_t>(i);
+        return accel;
+    }
 
-    // Pass 2: references and per-block bounds.
+    // Pass 2: references, the skipped ids (block b's start after the b * kBlock - kept ones of
+    // the blocks before it) and per-block bounds.
     auto refs = detail::make_uninitialized_buffer<detail::BoxCenterRef>(count);
     struct BlockBounds {
         Aabb box, centers;
@@ -271,9 +276,13 @@ TriangleBvh build_triangle_bvh(std::span<const Triangle> tris, const BuildConfig
     tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
         const std::size_t end = std::min(n, (b + 1) * kBlock);
         std::size_t out = block_offset[b];
+        std::size_t skipped_out = b * kBlock - block_offset[b];
         BlockBounds bounds;
         for (std::size_t i = b * kBlock; i < end; ++i) {
-            if (!keep[i]) continue;
+            if (!keep[i]) {
+                accel.skipped_ids[skipped_out++] = static_cast<std::uint32_t>(i);
+                continue;
+            }
             const Triangle& t = tris[i];
             const glm::vec3 lo = glm::min(glm::min(t.v0, t.v1), t.v2);
             const glm::vec3 hi = glm::max(glm::max(t.v0, t.v1), t.v2);
@@ -337,11 +346,19 @@ std::string validate(const TriangleBvh& accel, std::span<const Triangle> tris,
         if (!is_degenerate(tris[i])) {
             return "triangle " + std::to_string(i) + " is not degenerate but not in the tree";
         }
+        if (missing >= accel.skipped_ids.size() || accel.skipped_ids[missing] != i) {
+            return "triangle " + std::to_string(i) + " is absent but not skipped_ids[" +
+                   std::to_string(missing) + "]";
+        }
         ++missing;
     }
     if (missing != accel.degenerate_skipped) {
         return "degenerate_skipped is " + std::to_string(accel.degenerate_skipped) + " but " +
                std::to_string(missing) + " triangles are absent";
+    }
+    if (accel.skipped_ids.size() != missing) {
+        return std::to_string(accel.skipped_ids.size()) + " skipped ids for " +
+               std::to_string(missing) + " absent triangles";
     }
     if (accel.tris.size() != accel.bvh.prim_ids.size()) {
         return std::to_string(accel.tris.size()) + " triangles for " +

@@ -21,6 +21,10 @@ struct TriangleBvh {
     std::vector<Triangle> tris;
     /// Zero-area triangles that were left out of the tree (they can never be hit).
     std::size_t degenerate_skipped = 0;
+    /// The caller's indices of those triangles, ascending (`degenerate_skipped` of them). A
+    /// refit (refit.h) checks them: it can only move boxes, never add a triangle, so one of
+    /// them gaining area means the tree needs a rebuild.
+    std::vector<std::uint32_t> skipped_ids;
 };
 
 /// Builds with `build_binned_sah` over the non-degenerate triangles of `tris` (borrowed for the
@@ -50,9 +54,11 @@ struct TraversalStats {
 Hit intersect_closest(const TriangleBvh& accel, const Ray& ray, TraversalStats& stats);
 
 /// `validate` for a triangle BVH built from `tris`: the tree invariants of `accel.bvh` against
-/// the triangles' boxes, except that exactly the degenerate triangles are absent, plus
-/// `accel.tris[i]` equal to `tris[accel.bvh.prim_ids[i]]` and `degenerate_skipped` equal to the
-/// number absent. Returns "" when valid, else the first violation. For tests and debug checks.
+/// the triangles' boxes, except that degenerate triangles may be absent (and no others), plus
+/// `accel.tris[i]` equal to `tris[accel.bvh.prim_ids[i]]`, `skipped_ids` listing exactly the
+/// absent triangles in ascending order and `degenerate_skipped` equal to their number. Holds
+/// after a refit too (a triangle that became degenerate stays in the tree, which is allowed).
+/// Returns "" when valid, else the first violation. For tests and debug checks.
 std::string validate(const TriangleBvh& accel, std::span<const Triangle> tris,
                      std::uint32_t leaf_size_max);
 

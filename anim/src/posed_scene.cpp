@@ -1,35 +1,470 @@
+// One frame of the scene (see posed_scene.h for the pipeline). The per-object work is split in
+// two: a cheap serial-per-object part that decides the object's transform, joint matrices and
+// morph weights (and from them `changed`), and the vertex loop, run in parallel blocks. Every
+// vertex is computed on its own in double and rounded once, so results never depend on the
+// thread count.
+
 #include "dynrt/anim/posed_scene.h"
 
+#include "dynrt/anim/morphing.h"
+#include "dynrt/anim/skinning.h"
 #include "dynrt/scene/scene_error.h"
 
-#include <glm/mat4x4.hpp>
+#include "animation_data_check.h"
+#include "node_animation.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <glm/geometric.hpp>
+#include <glm/mat3x3.hpp>
+
+#include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <limits>
+#include <numeric>
+#include <stdexcept>
 #include <string>
 
 namespace dynrt::anim {
 
-void pose_scene(const Scene& scene, int frame, PosedScene& out) {
-    out.frame = frame;
-    out.objects.resize(scene.objects.size());
-    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+namespace {
+
+/// Vertices per parallel block: large enough that scheduling costs little next to skinning a
+/// block, small enough that one big object still spreads over every core.
+constexpr std::size_t kVertexBlock = 4096;
+constexpr std::size_t kNoVertex = std::numeric_limits<std::size_t>::max();
+
+bool is_finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+bool is_finite(const glm::dmat4& m) {
+    for (int c = 0; c < 4; ++c) {
+        for (int r = 0; r < 4; ++r) {
+            if (!std::isfinite(m[c][r])) return false;
+        }
+    }
+    return true;
+}
+
+/// Copies `values` into `out`; true when that changed `out`.
+template <class T>
+bool assign_if_different(std::vector<T>& out, std::span<const T> values) {
+    if (std::equal(out.begin(), out.end(), values.begin(), values.end())) return false;
+    out.assign(values.begin(), values.end());
+    return true;
+}
+
+/// Runs body(first, last) over [0, count) in parallel blocks; returns the lowest index for
+/// which body reported a non-finite result (body returns that index or kNoVertex), else
+/// kNoVertex. The lowest, so the error message does not depend on scheduling.
+template <class Body>
+std::size_t for_vertex_blocks(std::size_t count, const Body& body) {
+    std::atomic<std::size_t> first_bad{kNoVertex};
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kVertexBlock),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                          const std::size_t bad = body(range.begin(), range.end());
+                          std::size_t seen = first_bad.load();
+                          while (bad < seen && !first_bad.compare_exchange_weak(seen, bad)) {
+                          }
+                      });
+    return first_bad.load();
+}
+
+/// The homogeneous transform of p, divided by w, as pose_scene has always computed it.
+glm::dvec3 transform_point(const glm::dmat4& m, const glm::dvec3& p) {
+    const glm::dvec4 h = m * glm::dvec4(p, 1.0);
+    return glm::dvec3(h) / h.w;
+}
+
+}  // namespace
+
+struct ScenePoser::Impl {
+    /// What ScenePoser decided about one object at construction.
+    struct ObjectPlan {
+        MotionClass derived = MotionClass::static_;
+        MotionClass effective = MotionClass::static_;
+        bool skinned = false;
+        /// Not skinned, and a channel drives its node or an ancestor: its world matrix comes from
+        /// the evaluated nodes instead of Object::transform.
+        bool node_driven = false;
+        /// Has morph targets whose weights a channel on its node drives.
+        bool morph_driven = false;
+        /// Indices into Scene::motions of this object's procedural motions, in order.
+        std::vector<std::size_t> motions;
+        /// Frame-0 box centre and radius, and per-triangle frame-0 unit normals when it explodes.
+        MotionReference reference;
+        std::vector<glm::dvec3> normals;
+        /// Static or rigid but skinned or with clip-held morph weights: its fixed object-space shape.
+        std::vector<glm::vec3> own_object_space;
+        bool uses_own_object_space = false;
+
+        bool fixed() const { return effective <= MotionClass::rigid; }
+    };
+
+    Impl(const Scene& s, PoseSettings p, std::vector<std::size_t> c)
+        : scene(s), settings(std::move(p)), clips(std::move(c)), nodes(s, clips) {}
+
+    const Scene& scene;
+    PoseSettings settings;
+    std::vector<std::size_t> clips;
+    NodeAnimation nodes;
+    std::vector<ObjectPlan> plans;
+    double end_time = 0.0;
+
+    /// A non-finite result found while posing one object.
+    struct Failure {
+        std::size_t vertex = kNoVertex;
+        bool transform = false;
+    };
+
+    std::span<const glm::vec3> object_space(std::size_t i) const {
+        const ObjectPlan& plan = plans[i];
+        if (!plan.fixed()) return {};
+        if (plan.uses_own_object_space) return plan.own_object_space;
+        return scene.objects[i].mesh.positions;
+    }
+
+    /// The object's world matrix before procedural motion: its node's evaluated world matrix,
+    /// or Object::transform when no channel reaches it (exactly as pose_scene always did), or
+    /// the identity for skinned objects.
+    glm::dmat4 base_world(std::size_t i, const PosedScene& out) const {
         const Object& object = scene.objects[i];
-        std::vector<glm::vec3>& posed = out.objects[i].positions;
-        posed.resize(object.mesh.positions.size());
-        // Transform in double so that a large translation does not cost the small geometry its
-        // precision twice (once in the matrix product, once in the rounding).
-        const glm::dmat4 m(object.transform);
-        for (std::size_t v = 0; v < posed.size(); ++v) {
-            const glm::dvec4 p = m * glm::dvec4(glm::dvec3(object.mesh.positions[v]), 1.0);
-            posed[v] = glm::vec3(glm::dvec3(p) / p.w);
-            if (!std::isfinite(posed[v].x) || !std::isfinite(posed[v].y) ||
-                !std::isfinite(posed[v].z)) {
-                throw SceneError(scene.source + ": object '" + object.name + "', frame " +
-                                 std::to_string(frame) + ": vertex " + std::to_string(v) +
+        if (plans[i].skinned) return glm::dmat4(1.0);
+        if (plans[i].node_driven) return out.node_world[static_cast<std::size_t>(object.node)];
+        return glm::dmat4(object.transform);
+    }
+
+    /// Decides transform, joint matrices, morph weights and `changed` of object i.
+    void pose_inputs(std::size_t i, int frame, bool with_motions, PosedScene& out) const {
+        const Object& object = scene.objects[i];
+        const ObjectPlan& plan = plans[i];
+        PosedObject& posed = out.objects[i];
+        bool changed = !posed.evaluated;
+
+        if (object.morph) {
+            const std::span<const double> weights =
+                plan.morph_driven ? nodes.weights(static_cast<std::size_t>(object.node), out.node_weights)
+                                  : std::span<const double>(object.morph->default_weights);
+            changed |= assign_if_different(posed.morph_weights, weights);
+        } else {
+            posed.morph_weights.clear();
+        }
+
+        if (plan.skinned) {
+            const Skin& skin = scene.skins[object.skin->skin];
+            if (posed.joint_matrices.size() != skin.joints.size()) {
+                posed.joint_matrices.resize(skin.joints.size());
+                changed = true;
+            }
+            for (std::size_t j = 0; j < skin.joints.size(); ++j) {
+                const glm::dmat4 joint = out.node_world[skin.joints[j]] * skin.inverse_bind_matrices[j];
+                if (joint != posed.joint_matrices[j]) {
+                    posed.joint_matrices[j] = joint;
+                    changed = true;
+                }
+            }
+        } else {
+            posed.joint_matrices.clear();
+        }
+
+        const glm::dmat4 node_transform = base_world(i, out);
+        glm::dmat4 transform(1.0);
+        int motion_frame = 0;
+        if (plan.fixed()) {
+            transform = node_transform;
+            // A fixed object's motions are all rigid: fold them into its transform.
+            if (with_motions) {
+                for (std::size_t k = 0; k < plan.motions.size(); ++k) {
+                    transform = rigid_motion_matrix(plan.reference, frame) * transform;
+                }
+            }
+        } else if (with_motions && !plan.motions.empty()) {
+            motion_frame = frame;
+        }
+        changed |= transform != posed.transform || node_transform != posed.node_transform ||
+                   motion_frame != posed.motion_frame;
+        posed.transform = transform;
+        posed.node_transform = node_transform;
+        posed.motion_frame = motion_frame;
+        posed.motion_class = plan.effective;
+        posed.changed = changed;
+        posed.evaluated = true;
+    }
+
+    /// World positions of object i; returns what was not finite.
+    Failure pose_positions(std::size_t i, int frame, bool with_motions, bool skip_fixed, PosedScene& out) const {
+        const Object& object = scene.objects[i];
+        const ObjectPlan& plan = plans[i];
+        PosedObject& posed = out.objects[i];
+        Failure failure;
+        if (plan.fixed() && skip_fixed) {
+            posed.positions.clear();
+            failure.transform = !is_finite(posed.transform);
+            return failure;
+        }
+        posed.positions.resize(object.mesh.positions.size());
+        glm::vec3* const result = posed.positions.data();
+
+        if (plan.fixed()) {
+            const std::span<const glm::vec3> source = object_space(i);
+            const glm::dmat4 m = posed.transform;
+            failure.vertex = for_vertex_blocks(source.size(), [&](std::size_t first, std::size_t last) {
+                std::size_t bad = kNoVertex;
+                for (std::size_t v = first; v < last; ++v) {
+                    result[v] = glm::vec3(transform_point(m, glm::dvec3(source[v])));
+                    if (bad == kNoVertex && !is_finite(result[v])) bad = v;
+                }
+                return bad;
+            });
+            return failure;
+        }
+
+        const glm::dmat4 base = posed.node_transform;
+        const bool morph = plan.morph_driven;
+        const std::span<const double> weights = posed.morph_weights;
+        const std::span<const glm::dmat4> joints = posed.joint_matrices;
+        const std::span<const std::size_t> motions =
+            with_motions ? std::span<const std::size_t>(plan.motions) : std::span<const std::size_t>();
+        failure.vertex = for_vertex_blocks(object.mesh.positions.size(), [&](std::size_t first, std::size_t last) {
+            std::size_t bad = kNoVertex;
+            for (std::size_t v = first; v < last; ++v) {
+                glm::dvec3 p = morph ? morphed_position(*object.morph, weights, v) : glm::dvec3(object.mesh.positions[v]);
+                p = plan.skinned ? skinned_position(*object.skin, joints, v, p) : transform_point(base, p);
+                for (const std::size_t m : motions) {
+                    switch (scene.motions[m].kind) {
+                        case MotionKind::rigid:
+                            p = rigid_motion(p, plan.reference, frame);
+                            break;
+                        case MotionKind::wave:
+                            p = wave_motion(p, plan.reference, frame);
+                            break;
+                        case MotionKind::explode: {
+                            const std::size_t triangle = v / 3;
+                            p += explode_offset(plan.normals[triangle], static_cast<std::uint32_t>(triangle),
+                                                plan.reference, frame);
+                            break;
+                        }
+                    }
+                }
+                result[v] = glm::vec3(p);
+                if (bad == kNoVertex && !is_finite(result[v])) bad = v;
+            }
+            return bad;
+        });
+        return failure;
+    }
+
+    void pose_camera(int frame, PosedScene& out) const {
+        if (scene.cameras.empty()) {
+            out.camera.reset();
+            return;
+        }
+        const SceneCamera& camera = scene.cameras.front();
+        const glm::dmat4& world = out.node_world[camera.node];
+        const glm::dmat3 axes(world);
+        PosedCamera posed;
+        posed.eye = transform_point(world, glm::dvec3(0.0));
+        posed.forward = glm::normalize(axes * glm::dvec3(0.0, 0.0, -1.0));
+        posed.up = glm::normalize(axes * glm::dvec3(0.0, 1.0, 0.0));
+        posed.yfov_rad = camera.yfov_rad;
+        posed.aspect_ratio = camera.aspect_ratio;
+        const auto finite = [](const glm::dvec3& v) {
+            return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+        };
+        if (!finite(posed.eye) || !finite(posed.forward) || !finite(posed.up)) {
+            throw SceneError(scene.source + ": camera '" + camera.name + "', frame " + std::to_string(frame) +
+                             ": its node's world transform is not finite or collapses an axis");
+        }
+        out.camera = posed;
+    }
+
+    /// Poses every object (or only those with procedural motions), applying their motions or
+    /// not (the frame-0 reference the motions are defined from is the pose without them).
+    void pose(int frame, PosedScene& out, bool with_motions, bool skip_fixed, bool motion_objects_only) const {
+        out.frame = frame;
+        out.time_s = static_cast<double>(frame) / settings.fps;
+        nodes.evaluate(out.time_s, out.node_world, out.node_weights);
+        const std::size_t count = scene.objects.size();
+        out.objects.resize(count);
+        std::vector<Failure> failures(count);
+        tbb::parallel_for(std::size_t(0), count, [&](std::size_t i) {
+            if (motion_objects_only && plans[i].motions.empty()) return;
+            pose_inputs(i, frame, with_motions, out);
+            failures[i] = pose_positions(i, frame, with_motions, skip_fixed, out);
+        });
+        for (std::size_t i = 0; i < count; ++i) {
+            const std::string where =
+                scene.source + ": object '" + scene.objects[i].name + "', frame " + std::to_string(frame) + ": ";
+            if (failures[i].vertex != kNoVertex) {
+                throw SceneError(where + "vertex " + std::to_string(failures[i].vertex) +
                                  " has a non-finite position");
             }
+            if (failures[i].transform) throw SceneError(where + "world transform is not finite");
+        }
+        pose_camera(frame, out);
+    }
+
+    void classify();
+    void apply_overrides();
+    void prepare_object_spaces();
+    void prepare_motion_references();
+};
+
+void ScenePoser::Impl::classify() {
+    plans.resize(scene.objects.size());
+    for (std::size_t m = 0; m < scene.motions.size(); ++m) plans[scene.motions[m].object].motions.push_back(m);
+    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+        const Object& object = scene.objects[i];
+        ObjectPlan& plan = plans[i];
+        const bool has_node = object.node >= 0;
+        const auto node = static_cast<std::size_t>(object.node);
+        plan.skinned = object.skin.has_value();
+        plan.node_driven = !plan.skinned && has_node && nodes.transform_driven(node);
+        plan.morph_driven = object.morph && has_node && nodes.weights_driven(node);
+
+        bool deforms = plan.morph_driven && nodes.weights_vary(node);
+        if (plan.skinned) {
+            for (const std::uint32_t joint : scene.skins[object.skin->skin].joints) {
+                deforms = deforms || nodes.transform_varies(joint);
+            }
+        }
+        const bool moves = !plan.skinned && has_node && nodes.transform_varies(node);
+        MotionClass derived = deforms ? MotionClass::deformable : moves ? MotionClass::rigid : MotionClass::static_;
+        for (const std::size_t m : plan.motions) {
+            switch (scene.motions[m].kind) {
+                case MotionKind::rigid:
+                    derived = std::max(derived, MotionClass::rigid);
+                    break;
+                case MotionKind::wave:
+                    derived = std::max(derived, MotionClass::deformable);
+                    break;
+                case MotionKind::explode:
+                    derived = MotionClass::exploding;
+                    break;
+            }
+        }
+        plan.derived = plan.effective = derived;
+    }
+}
+
+void ScenePoser::Impl::apply_overrides() {
+    for (const ClassOverride& override_ : settings.class_overrides) {
+        if (override_.object >= plans.size()) {
+            throw std::invalid_argument("class override '" + override_.spec + "': object index " +
+                                        std::to_string(override_.object) + " out of range");
+        }
+        ObjectPlan& plan = plans[override_.object];
+        if (override_.motion_class < plan.derived) {
+            throw std::invalid_argument(
+                "class override '" + override_.spec + "': object '" + scene.objects[override_.object].name +
+                "' is " + motion_class_name(plan.derived) + " and a class can only be raised (static < rigid < " +
+                "deformable < exploding), not lowered to " + motion_class_name(override_.motion_class));
+        }
+        plan.effective = override_.motion_class;
+    }
+}
+
+void ScenePoser::Impl::prepare_object_spaces() {
+    // Static or rigid objects whose shape is not mesh.positions: skinned ones (their skinned
+    // pose, which no joint changes) and those whose weights a clip holds constant. Any time
+    // gives the same shape; t = 0 is as good as any.
+    std::vector<glm::dmat4> node_world, joints;
+    std::vector<double> node_weights;
+    bool evaluated = false;
+    for (std::size_t i = 0; i < plans.size(); ++i) {
+        ObjectPlan& plan = plans[i];
+        if (!plan.fixed() || !(plan.skinned || plan.morph_driven)) continue;
+        if (!evaluated) nodes.evaluate(0.0, node_world, node_weights);
+        evaluated = true;
+        const Object& object = scene.objects[i];
+        const std::span<const double> weights =
+            plan.morph_driven ? nodes.weights(static_cast<std::size_t>(object.node), node_weights)
+                              : std::span<const double>();
+        if (plan.skinned) compute_joint_matrices(scene.skins[object.skin->skin], node_world, joints);
+        plan.own_object_space.resize(object.mesh.positions.size());
+        for (std::size_t v = 0; v < object.mesh.positions.size(); ++v) {
+            glm::dvec3 p = plan.morph_driven ? morphed_position(*object.morph, weights, v)
+                                             : glm::dvec3(object.mesh.positions[v]);
+            if (plan.skinned) p = skinned_position(*object.skin, joints, v, p);
+            plan.own_object_space[v] = glm::vec3(p);
+        }
+        plan.uses_own_object_space = true;
+    }
+}
+
+void ScenePoser::Impl::prepare_motion_references() {
+    if (scene.motions.empty()) return;
+    PosedScene frame0;
+    pose(0, frame0, false, false, true);
+    for (std::size_t i = 0; i < plans.size(); ++i) {
+        ObjectPlan& plan = plans[i];
+        if (plan.motions.empty()) continue;
+        const std::vector<glm::vec3>& p = frame0.objects[i].positions;
+        plan.reference = motion_reference(p);
+        const bool explodes = std::any_of(plan.motions.begin(), plan.motions.end(), [&](std::size_t m) {
+            return scene.motions[m].kind == MotionKind::explode;
+        });
+        if (!explodes) continue;
+        const std::vector<glm::uvec3>& triangles = scene.objects[i].mesh.triangles;
+        plan.normals.resize(triangles.size());
+        for (std::size_t t = 0; t < triangles.size(); ++t) {
+            plan.normals[t] = face_normal(glm::dvec3(p[triangles[t].x]), glm::dvec3(p[triangles[t].y]),
+                                          glm::dvec3(p[triangles[t].z]));
         }
     }
 }
+
+ScenePoser::ScenePoser(const Scene& scene, PoseSettings settings) {
+    if (!std::isfinite(settings.fps) || !(settings.fps > 0.0)) {
+        throw std::invalid_argument("fps must be finite and positive, not " + std::to_string(settings.fps));
+    }
+    std::vector<std::size_t> clips(scene.clips.size());
+    std::iota(clips.begin(), clips.end(), std::size_t(0));
+    if (settings.clips) {
+        for (const std::size_t c : *settings.clips) {
+            if (c >= scene.clips.size()) {
+                throw std::invalid_argument("clip index " + std::to_string(c) + " out of range (" + scene.source +
+                                            " has " + std::to_string(scene.clips.size()) + " clips)");
+            }
+        }
+        clips = *settings.clips;
+    }
+    check_animation_data(scene);
+    impl_ = std::make_unique<Impl>(scene, std::move(settings), std::move(clips));
+    for (const std::size_t c : impl_->clips) impl_->end_time = std::max(impl_->end_time, scene.clips[c].end_time());
+    impl_->classify();
+    impl_->apply_overrides();
+    impl_->prepare_object_spaces();
+    impl_->prepare_motion_references();
+}
+
+ScenePoser::~ScenePoser() = default;
+ScenePoser::ScenePoser(ScenePoser&&) noexcept = default;
+ScenePoser& ScenePoser::operator=(ScenePoser&&) noexcept = default;
+
+void ScenePoser::pose(int frame, PosedScene& out) const {
+    impl_->pose(frame, out, true, impl_->settings.skip_fixed_positions, false);
+}
+
+MotionClass ScenePoser::motion_class(std::size_t object) const { return impl_->plans.at(object).effective; }
+
+MotionClass ScenePoser::derived_class(std::size_t object) const { return impl_->plans.at(object).derived; }
+
+std::span<const glm::vec3> ScenePoser::object_space_positions(std::size_t object) const {
+    return impl_->object_space(object);
+}
+
+double ScenePoser::time_of(int frame) const { return static_cast<double>(frame) / impl_->settings.fps; }
+
+double ScenePoser::end_time() const { return impl_->end_time; }
+
+const PoseSettings& ScenePoser::settings() const { return impl_->settings; }
+
+void pose_scene(const Scene& scene, const PoseSettings& settings, int frame, PosedScene& out) {
+    ScenePoser(scene, settings).pose(frame, out);
+}
+
+void pose_scene(const Scene& scene, int frame, PosedScene& out) { pose_scene(scene, PoseSettings{}, frame, out); }
 
 }  // namespace dynrt::anim

@@ -10,6 +10,7 @@
 #include "gltf_data_error.h"
 #include "message_text.h"
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -124,7 +125,142 @@ ElementRange locate(const tinygltf::Model& model, int index, std::size_t element
     return ElementRange{buffer.data.data() + view.byteOffset + accessor.byteOffset, stride, accessor.count};
 }
 
+std::size_t component_count(int type) {
+    switch (type) {
+        case TINYGLTF_TYPE_SCALAR:
+            return 1;
+        case TINYGLTF_TYPE_VEC2:
+            return 2;
+        case TINYGLTF_TYPE_VEC3:
+            return 3;
+        case TINYGLTF_TYPE_VEC4:
+            return 4;
+        case TINYGLTF_TYPE_MAT4:
+            return 16;
+        default:
+            return 0;
+    }
+}
+
+/// Bytes per component of an integer or float component type, 0 for others.
+std::size_t component_size(int component_type) {
+    switch (component_type) {
+        case TINYGLTF_COMPONENT_TYPE_BYTE:
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+            return 1;
+        case TINYGLTF_COMPONENT_TYPE_SHORT:
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+            return 2;
+        case TINYGLTF_COMPONENT_TYPE_FLOAT:
+            return 4;
+        default:
+            return 0;
+    }
+}
+
+bool integer_allowed(int component_type, NormalizedIntegers integers) {
+    switch (component_type) {
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+            return integers != NormalizedIntegers::none;
+        case TINYGLTF_COMPONENT_TYPE_BYTE:
+        case TINYGLTF_COMPONENT_TYPE_SHORT:
+            return integers == NormalizedIntegers::any;
+        default:
+            return false;
+    }
+}
+
+/// One component at `bytes` as a double; normalised integers per glTF 2.0 section 3.11.
+double read_component(const unsigned char* bytes, int component_type) {
+    switch (component_type) {
+        case TINYGLTF_COMPONENT_TYPE_BYTE: {
+            std::int8_t c;
+            std::memcpy(&c, bytes, 1);
+            return std::max(c / 127.0, -1.0);
+        }
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+            return bytes[0] / 255.0;
+        case TINYGLTF_COMPONENT_TYPE_SHORT: {
+            std::int16_t c;
+            std::memcpy(&c, bytes, 2);
+            return std::max(c / 32767.0, -1.0);
+        }
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+            std::uint16_t c;
+            std::memcpy(&c, bytes, 2);
+            return c / 65535.0;
+        }
+        default: {
+            float c;
+            std::memcpy(&c, bytes, 4);
+            return c;
+        }
+    }
+}
+
+const tinygltf::Accessor& find_accessor(const tinygltf::Model& model, int index) {
+    if (index < 0 || static_cast<std::size_t>(index) >= model.accessors.size()) {
+        fail(index, cat("does not exist (", model.accessors.size(), " accessors)"));
+    }
+    return model.accessors[static_cast<std::size_t>(index)];
+}
+
 }  // namespace
+
+std::size_t accessor_count(const tinygltf::Model& model, int accessor) {
+    return find_accessor(model, accessor).count;
+}
+
+std::vector<double> read_numbers(const tinygltf::Model& model, int accessor, int type, NormalizedIntegers integers) {
+    const tinygltf::Accessor& a = find_accessor(model, accessor);
+    const bool is_float = a.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT;
+    const bool integer_ok = type != TINYGLTF_TYPE_MAT4 && integer_allowed(a.componentType, integers);
+    if (a.type != type || (!is_float && !integer_ok)) {
+        const char* others = integers == NormalizedIntegers::none          ? ""
+                             : integers == NormalizedIntegers::unsigned_only ? " or normalized UNSIGNED_BYTE/SHORT"
+                                                                             : " or normalized (UNSIGNED_)BYTE/SHORT";
+        fail(accessor, cat("must be FLOAT", others, " ", type_name(type), ", not ", component_type_name(a.componentType),
+                           " ", type_name(a.type)));
+    }
+    if (!is_float && !a.normalized) {
+        fail(accessor, cat(component_type_name(a.componentType), " components must be normalized here"));
+    }
+    const std::size_t components = component_count(type);
+    const std::size_t size = component_size(a.componentType);
+    const ElementRange range = locate(model, accessor, components * size);
+    std::vector<double> numbers(range.count * components);
+    for (std::size_t i = 0; i < range.count; ++i) {
+        const unsigned char* element = range.first + i * range.stride;
+        for (std::size_t c = 0; c < components; ++c) {
+            const double value = read_component(element + c * size, a.componentType);
+            if (!std::isfinite(value)) fail(accessor, cat("element ", i, " is not finite"));
+            numbers[i * components + c] = value;
+        }
+    }
+    return numbers;
+}
+
+std::vector<std::uint16_t> read_joint_indices(const tinygltf::Model& model, int accessor) {
+    const tinygltf::Accessor& a = find_accessor(model, accessor);
+    if (a.type != TINYGLTF_TYPE_VEC4 || (a.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
+                                         a.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT)) {
+        fail(accessor, cat("joint indices must be UNSIGNED_BYTE or UNSIGNED_SHORT VEC4, not ",
+                           component_type_name(a.componentType), " ", type_name(a.type)));
+    }
+    const std::size_t size = component_size(a.componentType);
+    const ElementRange range = locate(model, accessor, 4 * size);
+    std::vector<std::uint16_t> joints(range.count * 4);
+    for (std::size_t i = 0; i < range.count; ++i) {
+        for (std::size_t c = 0; c < 4; ++c) {
+            const unsigned char* bytes = range.first + i * range.stride + c * size;
+            std::uint16_t value = bytes[0];
+            if (size == 2) std::memcpy(&value, bytes, 2);
+            joints[i * 4 + c] = value;
+        }
+    }
+    return joints;
+}
 
 std::vector<glm::vec3> read_positions(const tinygltf::Model& model, int accessor) {
     if (accessor >= 0 && static_cast<std::size_t>(accessor) < model.accessors.size()) {

@@ -17,6 +17,27 @@ namespace dynrt {
 /// GltfDataError naming the accessor and the problem.
 std::vector<glm::vec3> read_positions(const tinygltf::Model& model, int accessor);
 
+/// Which integer component types a numeric accessor may use besides FLOAT. Integers must be
+/// `normalized` and map to [0, 1] (unsigned: c / (2^bits - 1)) or [-1, 1] (signed:
+/// max(c / (2^(bits-1) - 1), -1)), as glTF 2.0 sections 3.7.2.1 and 3.11 define.
+enum class NormalizedIntegers {
+    none,           ///< FLOAT only
+    unsigned_only,  ///< also UNSIGNED_BYTE and UNSIGNED_SHORT (skin weights)
+    any,            ///< also BYTE and SHORT (rotations and morph weights in animations)
+};
+
+/// The elements of accessor `accessor` of type `type` (TINYGLTF_TYPE_SCALAR ... MAT4) as
+/// doubles, flattened element by element (count * components numbers), each checked finite.
+/// MAT4 must be FLOAT. Throws GltfDataError naming the accessor and the problem.
+std::vector<double> read_numbers(const tinygltf::Model& model, int accessor, int type, NormalizedIntegers integers);
+
+/// The joint indices of a JOINTS_n accessor: VEC4 UNSIGNED_BYTE or UNSIGNED_SHORT, flattened.
+/// Throws GltfDataError naming the accessor and the problem.
+std::vector<std::uint16_t> read_joint_indices(const tinygltf::Model& model, int accessor);
+
+/// The element count of accessor `accessor`; throws GltfDataError when it does not exist.
+std::size_t accessor_count(const tinygltf::Model& model, int accessor);
+
 /// The SCALAR UNSIGNED_BYTE/SHORT/INT elements of accessor `accessor` widened to 32 bits, each
 /// checked below `vertex_count`. Throws GltfDataError naming the accessor and the problem.
 std::vector<std::uint32_t> read_indices(const tinygltf::Model& model, int accessor, std::size_t vertex_count);

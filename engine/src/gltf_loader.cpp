@@ -1,15 +1,23 @@
 // glTF 2.0 -> scene model. Reading the file (gltf_file), walking the node tree
-// (gltf_node_tree), reading accessors (gltf_accessors) and assembling strips and fans
-// (triangle_assembly) live in their own files; this one maps glTF primitives and materials onto
-// Objects and Materials and names every problem by file and object.
+// (gltf_node_tree), reading accessors (gltf_accessors), assembling strips and fans
+// (triangle_assembly), skins (gltf_skins), morph targets (gltf_morph_targets), cameras
+// (gltf_cameras) and animations (gltf_animations) live in their own files; this one maps glTF
+// nodes, primitives and materials onto Nodes, Objects and Materials and names every problem by
+// file and object.
 
 #include "dynrt/engine/scene_loading.h"
 #include "dynrt/scene/scene_error.h"
 
+#include "dynrt/anim/morphing.h"
+
 #include "gltf_accessors.h"
+#include "gltf_animations.h"
+#include "gltf_cameras.h"
 #include "gltf_data_error.h"
 #include "gltf_file.h"
+#include "gltf_morph_targets.h"
 #include "gltf_node_tree.h"
+#include "gltf_skins.h"
 #include "message_text.h"
 #include "triangle_assembly.h"
 
@@ -108,7 +116,26 @@ public:
         } catch (const GltfDataError& e) {
             fail(e.what());
         }
-        for (const GltfNodeInstance& instance : instances) add_node(instance, scene);
+        std::vector<int> scene_node_of(model_.nodes.size(), -1);
+        for (std::size_t i = 0; i < instances.size(); ++i) {
+            scene_node_of[static_cast<std::size_t>(instances[i].node)] = static_cast<int>(i);
+            // flatten_node_tree has already read (and checked) every one of these nodes.
+            Node node = gltf_scene_node(model_.nodes[static_cast<std::size_t>(instances[i].node)]);
+            node.name = gltf_node_name(model_, instances[i].node);
+            node.parent = instances[i].parent;
+            scene.nodes.push_back(std::move(node));
+        }
+        GltfSkins skins(model_, scene_node_of);
+        for (std::size_t i = 0; i < instances.size(); ++i) add_node(i, instances[i], skins, scene);
+
+        std::vector<std::string> warnings;
+        try {
+            scene.cameras = read_cameras(model_, instances, warnings);
+            scene.clips = read_animations(model_, scene_node_of, warnings);
+        } catch (const GltfDataError& e) {
+            fail(e.what());
+        }
+        for (const std::string& warning : warnings) warn(warning);
 
         if (scene.objects.empty()) {
             fail(cat("no triangles: the default scene has no triangle primitive (", skipped_,
@@ -127,31 +154,56 @@ private:
         fail(cat("object '", object, "': ", what));
     }
 
-    void warn_object(const std::string& object, const std::string& what) {
-        ++skipped_;
-        std::cerr << "dynrt: warning: " << path_.string() << ": object '" << object << "': " << what << '\n';
+    void warn(const std::string& what) const {
+        std::cerr << "dynrt: warning: " << path_.string() << ": " << what << '\n';
     }
 
-    void add_node(const GltfNodeInstance& instance, Scene& scene) {
+    void warn_object(const std::string& object, const std::string& what) {
+        ++skipped_;
+        warn(cat("object '", object, "': ", what));
+    }
+
+    /// Adds the primitives of scene node `scene_node`, the instance `instance`.
+    void add_node(std::size_t scene_node, const GltfNodeInstance& instance, GltfSkins& skins, Scene& scene) {
         const tinygltf::Node& node = model_.nodes[static_cast<std::size_t>(instance.node)];
-        if (node.mesh < 0) return;
         const std::string node_name = gltf_node_name(model_, instance.node);
+        if (node.skin >= 0 && node.mesh < 0) fail(cat("node '", node_name, "': has a skin but no mesh"));
+        if (node.mesh < 0) return;
         if (static_cast<std::size_t>(node.mesh) >= model_.meshes.size()) {
             fail(cat("node '", node_name, "': mesh ", node.mesh, " does not exist (", model_.meshes.size(),
                      " meshes)"));
         }
         const tinygltf::Mesh& mesh = model_.meshes[static_cast<std::size_t>(node.mesh)];
         const std::string mesh_name = mesh.name.empty() ? cat("mesh", node.mesh) : mesh.name;
-        const glm::mat4 transform(instance.world);
+        std::optional<std::uint32_t> skin;
+        if (node.skin >= 0) {
+            try {
+                skin = skins.use(node.skin, scene.skins);
+            } catch (const GltfDataError& e) {
+                fail(cat("node '", node_name, "': ", e.what()));
+            }
+        }
+        const PrimitiveOwner owner{node, mesh, static_cast<std::int32_t>(scene_node), glm::mat4(instance.world), skin};
         for (std::size_t k = 0; k < mesh.primitives.size(); ++k) {
             std::string name = cat(node_name, "/", mesh_name);
             if (mesh.primitives.size() > 1) name += cat("#", k);
-            add_primitive(mesh.primitives[k], name, transform, scene);
+            add_primitive(mesh.primitives[k], name, owner, skins, scene);
         }
     }
 
-    void add_primitive(const tinygltf::Primitive& primitive, const std::string& name,
-                       const glm::mat4& transform, Scene& scene) {
+    /// What a primitive takes from the node and mesh it belongs to.
+    struct PrimitiveOwner {
+        const tinygltf::Node& node;
+        const tinygltf::Mesh& mesh;
+        std::int32_t scene_node;
+        glm::mat4 transform;
+        /// Scene::skins index when the node is skinned.
+        std::optional<std::uint32_t> skin;
+    };
+
+    void add_primitive(const tinygltf::Primitive& primitive, const std::string& name, const PrimitiveOwner& owner,
+                       const GltfSkins& skins, Scene& scene) {
+        const glm::mat4& transform = owner.transform;
         const std::optional<TriangleTopology> topology = topology_of(primitive.mode);
         if (!topology) {
             warn_object(name, cat("skipping ", mode_name(primitive.mode), " primitive (mode ", primitive.mode,
@@ -167,6 +219,7 @@ private:
         Object object;
         object.name = name;
         object.transform = transform;
+        object.node = owner.scene_node;
         try {
             object.mesh.positions = read_positions(model_, position->second);
             std::vector<std::uint32_t> indices;
@@ -177,6 +230,13 @@ private:
                 std::iota(indices.begin(), indices.end(), 0u);
             }
             object.mesh.triangles = assemble_triangles(*topology, indices);
+            add_morph_targets(primitive, owner, object);
+            if (owner.skin) {
+                object.skin = skins.read_weights(primitive, *owner.skin, scene.skins, object.mesh.positions.size());
+                if (primitive.attributes.count("JOINTS_2") != 0) {
+                    warn(cat("object '", name, "': only JOINTS_0/WEIGHTS_0 and JOINTS_1/WEIGHTS_1 are used (8 influences)"));
+                }
+            }
         } catch (const GltfDataError& e) {
             fail_object(name, e.what());
         }
@@ -200,6 +260,16 @@ private:
             }
         }
         scene.objects.push_back(std::move(object));
+    }
+
+    /// Reads the primitive's morph targets into `object`, with mesh.positions morphed by the
+    /// default weights (in double, rounded once) so unanimated code sees the morphed shape.
+    void add_morph_targets(const tinygltf::Primitive& primitive, const PrimitiveOwner& owner, Object& object) const {
+        object.morph = read_morph_targets(model_, owner.node, owner.mesh, primitive, object.mesh.positions);
+        if (!object.morph) return;
+        for (std::size_t v = 0; v < object.mesh.positions.size(); ++v) {
+            object.mesh.positions[v] = glm::vec3(anim::morphed_position(*object.morph, object.morph->default_weights, v));
+        }
     }
 
     const std::filesystem::path& path_;

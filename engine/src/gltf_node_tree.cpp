@@ -4,6 +4,7 @@
 #include "gltf_node_tree.h"
 
 #include "gltf_data_error.h"
+#include "gltf_names.h"
 #include "message_text.h"
 
 #include <cmath>
@@ -31,55 +32,41 @@ void check_length(const std::vector<double>& values, std::size_t expected, const
     if (!all_finite(values)) throw GltfDataError(cat(what, " is not finite"));
 }
 
-/// Rotation matrix of the unit quaternion (x, y, z, w), normalised first because exporters
-/// round the components.
-glm::dmat3 rotation_matrix(double x, double y, double z, double w) {
-    const double length = std::sqrt(x * x + y * y + z * z + w * w);
-    if (!(length > 0.0)) throw GltfDataError("rotation quaternion has zero length");
-    x /= length, y /= length, z /= length, w /= length;
-    glm::dmat3 r;  // r[column][row]
-    r[0] = glm::dvec3(1 - 2 * (y * y + z * z), 2 * (x * y + w * z), 2 * (x * z - w * y));
-    r[1] = glm::dvec3(2 * (x * y - w * z), 1 - 2 * (x * x + z * z), 2 * (y * z + w * x));
-    r[2] = glm::dvec3(2 * (x * z + w * y), 2 * (y * z - w * x), 1 - 2 * (x * x + y * y));
-    return r;
-}
-
 }  // namespace
 
 std::string gltf_node_name(const tinygltf::Model& model, int index) {
-    if (index >= 0 && static_cast<std::size_t>(index) < model.nodes.size() &&
-        !model.nodes[static_cast<std::size_t>(index)].name.empty()) {
-        return model.nodes[static_cast<std::size_t>(index)].name;
-    }
-    return cat("node", index);
+    return gltf_element_name(model.nodes, index, "node");
 }
 
-glm::dmat4 gltf_local_matrix(const tinygltf::Node& node) {
+glm::dmat4 gltf_local_matrix(const tinygltf::Node& node) { return gltf_scene_node(node).rest_local(); }
+
+Node gltf_scene_node(const tinygltf::Node& node) {
     check_length(node.matrix, 16, "matrix");
     check_length(node.translation, 3, "translation");
     check_length(node.rotation, 4, "rotation");
     check_length(node.scale, 3, "scale");
 
-    glm::dmat4 local(1.0);
+    Node result;
     if (!node.matrix.empty()) {
         // glTF stores matrices column-major, as glm does.
+        glm::dmat4 matrix(1.0);
         for (int column = 0; column < 4; ++column) {
-            for (int row = 0; row < 4; ++row) local[column][row] = node.matrix[4 * column + row];
+            for (int row = 0; row < 4; ++row) matrix[column][row] = node.matrix[4 * column + row];
         }
-        return local;
-    }
-    glm::dmat3 rotation(1.0);
-    if (!node.rotation.empty()) {
-        rotation = rotation_matrix(node.rotation[0], node.rotation[1], node.rotation[2], node.rotation[3]);
-    }
-    for (int column = 0; column < 3; ++column) {
-        const double scale = node.scale.empty() ? 1.0 : node.scale[static_cast<std::size_t>(column)];
-        local[column] = glm::dvec4(rotation[column] * scale, 0.0);
+        result.matrix = matrix;
+        return result;
     }
     if (!node.translation.empty()) {
-        local[3] = glm::dvec4(node.translation[0], node.translation[1], node.translation[2], 1.0);
+        result.translation = glm::dvec3(node.translation[0], node.translation[1], node.translation[2]);
     }
-    return local;
+    if (!node.rotation.empty()) {
+        const glm::dvec4 q(node.rotation[0], node.rotation[1], node.rotation[2], node.rotation[3]);
+        const double length = std::sqrt(q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w);
+        if (!(length > 0.0)) throw GltfDataError("rotation quaternion has zero length");
+        result.rotation = q;  // trs_matrix normalises it
+    }
+    if (!node.scale.empty()) result.scale = glm::dvec3(node.scale[0], node.scale[1], node.scale[2]);
+    return result;
 }
 
 std::vector<GltfNodeInstance> flatten_node_tree(const tinygltf::Model& model) {

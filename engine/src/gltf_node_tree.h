@@ -3,6 +3,8 @@
 // loading so animation (a later issue) can re-evaluate the same instances with animated local
 // transforms.
 
+#include "dynrt/scene/node.h"
+
 #include <tiny_gltf.h>
 
 #include <glm/mat4x4.hpp>
@@ -26,6 +28,10 @@ std::string gltf_node_name(const tinygltf::Model& model, int index);
 /// The node's local matrix: its column-major `matrix`, or translation * rotation * scale.
 /// Throws GltfDataError for wrong array lengths, non-finite values or a zero quaternion.
 glm::dmat4 gltf_local_matrix(const tinygltf::Node& node);
+
+/// The node's rest transform as a scene node (matrix, or TRS),
+/// without name or parent. Throws like gltf_local_matrix.
+Node gltf_scene_node(const tinygltf::Node& node);
 
 /// The nodes of the default scene (`scene`, else scene 0; with no scenes at all, every node
 /// that is nobody's child) in depth-first pre-order, parents before children. Throws

@@ -1,12 +1,23 @@
 #pragma once
 // The scene model every front end (glTF, procedural specs) produces and every later stage
 // (animation, BVH update, rendering) reads. Objects own their vertex buffers in object space and
-// carry a transform, so animation can later move either without touching the other.
+// carry a transform, so animation can move either without touching the other. What animates
+// them lives beside them, one concept per header: the node hierarchy (node.h), skins (skin.h),
+// morph targets (morph_targets.h), keyframe clips (animation_clip.h), cameras (scene_camera.h)
+// and user-added procedural motions (procedural_motion.h). dynrt::anim evaluates it all.
+
+#include "dynrt/scene/animation_clip.h"
+#include "dynrt/scene/morph_targets.h"
+#include "dynrt/scene/node.h"
+#include "dynrt/scene/procedural_motion.h"
+#include "dynrt/scene/scene_camera.h"
+#include "dynrt/scene/skin.h"
 
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,14 +37,23 @@ struct Mesh {
     std::vector<glm::uvec3> triangles;
 };
 
-/// One traceable thing. Its world-space triangles are `transform * mesh.positions`.
+/// One traceable thing. Unanimated and unskinned, its world-space triangles are
+/// `transform * mesh.positions`; dynrt::anim::pose_scene gives them at any frame.
 struct Object {
     /// For reports and errors: glTF "node/mesh" (with "#k" for the k-th primitive when a mesh
     /// has several), or the procedural spec that made it.
     std::string name;
     Mesh mesh;
+    /// The node's world matrix in the rest pose (ignored by skinning, as glTF requires).
     glm::mat4 transform{1.0f};
     std::uint32_t material = 0;
+    /// The node it hangs on (index into Scene::nodes), or -1 when it has none (procedural
+    /// scenes): then `transform` never changes.
+    std::int32_t node = -1;
+    /// Joint influences when the object is skinned; vertex count as mesh.positions.
+    std::optional<SkinWeights> skin;
+    /// Position morph targets when it has some; vertex count as mesh.positions.
+    std::optional<MorphTargets> morph;
 };
 
 struct PointLight {
@@ -49,6 +69,15 @@ struct Scene {
     std::vector<Material> materials;
     /// Lights the scene itself defines; empty means "use the renderer's default light".
     std::vector<PointLight> lights;
+    /// The node hierarchy, parents before children; empty for procedural scenes.
+    std::vector<Node> nodes;
+    std::vector<Skin> skins;
+    /// Keyframe clips in file order.
+    std::vector<AnimationClip> clips;
+    /// Perspective cameras in node order; the first one is "the scene's camera".
+    std::vector<SceneCamera> cameras;
+    /// User-added motions, applied in this order (dynrt::anim::add_procedural_motions).
+    std::vector<ProceduralMotion> motions;
 
     std::size_t triangle_count() const;
 };

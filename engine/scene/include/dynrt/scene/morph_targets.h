@@ -1,0 +1,26 @@
+#pragma once
+// Morph targets (glTF 2.0 section 3.7.2.2): the posed vertex is
+// base + sum_i weight_i * delta_i, with weights from the node, the mesh or an animation.
+
+#include <glm/vec3.hpp>
+
+#include <vector>
+
+namespace dynrt {
+
+/// Position morph targets of one object. An object has them only when some target moves
+/// positions; then every target is kept (a NORMAL-only one as zero displacements), so weight i
+/// is target i's.
+struct MorphTargets {
+    /// The mesh's own POSITION attribute. Mesh::positions holds these with `default_weights`
+    /// applied (computed in double, rounded once), so code that never animates weights sees
+    /// the morphed rest shape.
+    std::vector<glm::vec3> base_positions;
+    /// One displacement per vertex for each target, in target order; all zero for a target
+    /// without POSITION.
+    std::vector<std::vector<glm::vec3>> position_deltas;
+    /// One weight per target: the node's `weights`, else the mesh's, else all zero.
+    std::vector<double> default_weights;
+};
+
+}  // namespace dynrt

@@ -11,6 +11,7 @@
 
 #if DYNRT_HAVE_EMBREE
 #include "bm_embree.h"
+#include "dynrt/embree/embree_rays.h"
 #endif
 
 #include <benchmark/benchmark.h>
@@ -112,22 +113,7 @@ void BM_TraceClosestEmbree(benchmark::State& state, const std::string& spec) {
         for_each_pixel_by_tile([&](std::size_t i) {
             RTCIntersectContext context;
             rtcInitIntersectContext(&context);
-            RTCRayHit rh;
-            const bvh::Ray& r = rays[i];
-            rh.ray.org_x = r.org.x;
-            rh.ray.org_y = r.org.y;
-            rh.ray.org_z = r.org.z;
-            rh.ray.dir_x = r.dir.x;
-            rh.ray.dir_y = r.dir.y;
-            rh.ray.dir_z = r.dir.z;
-            rh.ray.tnear = r.tmin;
-            rh.ray.tfar = r.tmax;
-            rh.ray.time = 0.0f;
-            rh.ray.mask = 0xffffffffu;
-            rh.ray.id = 0;
-            rh.ray.flags = 0;
-            rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-            rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+            RTCRayHit rh = embree::to_rtc_ray_hit(rays[i]);
             rtcIntersect1(scene, &context, &rh);
             t[i] = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID ? rh.ray.tfar
                                                             : std::numeric_limits<float>::infinity();

@@ -13,6 +13,7 @@
 // deterministic; the order of nodes in the array is not (task scheduling decides it).
 
 #include "binned_sah_core.h"
+#include "binned_sah_phases.h"
 #include "huge_pages.h"
 
 #include <oneapi/tbb/blocked_range.h>
@@ -261,6 +262,53 @@ struct ChildRange {
 
     std::size_t size() const { return end - begin; }
 };
+
+/// In-place branchless partition by the split's bin (Lomuto: every element is swapped with
+/// the first right-side one, which advances only for left-side elements). Which side an
+/// element falls on is a coin flip at upper levels, so a branchy (Hoare) loop would
+/// mispredict about every other element. The side is read from the bin index binning stored
+/// in the reference, so the split counts are reproduced exactly. Child boxes come from the
+/// bins; child centre bounds are gathered on the way into a two-entry array indexed by the
+/// side. Left elements keep their relative order.
+template <int kAxis, class Ref>
+[[gnu::always_inline]] inline void partition_along(Ref* refs, const ChildRange& range,
+                                                   const Split& split, ChildRange& left,
+                                                   ChildRange& right) {
+    const std::uint32_t last_left_bin = split.bin;
+    // [0] right side, [1] left side: indexing by the side keeps the loop branch-free.
+    Box4 centers[2] = {Box4::empty(), Box4::empty()};
+    Ref* a = refs + range.begin;
+    const std::size_t n = range.size();
+    std::size_t j = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::uint32_t bin = (a[i].bin_ids >> (8 * kAxis)) & 0xffu;
+        const std::size_t is_left = bin <= last_left_bin ? 1 : 0;
+        const Ref t = a[i];
+        a[i] = a[j];
+        a[j] = t;
+        j += is_left;
+        centers[is_left].extend(t.center4());
+    }
+    const Box4& left_centers = centers[1];
+    const Box4& right_centers = centers[0];
+    const std::size_t mid = range.begin + j;
+    left = ChildRange{range.begin, mid, split.left_box, left_centers};
+    right = ChildRange{mid, range.end, split.right_box, right_centers};
+}
+
+/// Always inlined, like partition_along: the builder's split_node had both inline before they
+/// were shared with partition_node (binned_sah_phases.h), and a second caller must not change
+/// the builder's code.
+template <class Ref>
+[[gnu::always_inline]] inline void partition_refs(Ref* refs, const ChildRange& range,
+                                                  const Split& split, ChildRange& left,
+                                                  ChildRange& right) {
+    switch (split.axis) {
+        case 0: partition_along<0>(refs, range, split, left, right); break;
+        case 1: partition_along<1>(refs, range, split, left, right); break;
+        default: partition_along<2>(refs, range, split, left, right); break;
+    }
+}
 
 template <class Ref>
 class Builder {
@@ -515,45 +563,9 @@ private:
         return n;
     }
 
-    /// In-place branchless partition by the split's bin (Lomuto: every element is swapped with
-    /// the first right-side one, which advances only for left-side elements). Which side an
-    /// element falls on is a coin flip at upper levels, so a branchy (Hoare) loop would
-    /// mispredict about every other element. The side is read from the bin index binning stored
-    /// in the reference, so the split counts are reproduced exactly. Child boxes come from the
-    /// bins; child centre bounds are gathered on the way into a two-entry array indexed by the
-    /// side. Left elements keep their relative order.
     void partition(const ChildRange& range, const Split& split, ChildRange& left,
                    ChildRange& right) const {
-        switch (split.axis) {
-            case 0: partition_along<0>(range, split, left, right); break;
-            case 1: partition_along<1>(range, split, left, right); break;
-            default: partition_along<2>(range, split, left, right); break;
-        }
-    }
-
-    template <int kAxis>
-    void partition_along(const ChildRange& range, const Split& split, ChildRange& left,
-                         ChildRange& right) const {
-        const std::uint32_t last_left_bin = split.bin;
-        // [0] right side, [1] left side: indexing by the side keeps the loop branch-free.
-        Box4 centers[2] = {Box4::empty(), Box4::empty()};
-        Ref* a = refs_ + range.begin;
-        const std::size_t n = range.size();
-        std::size_t j = 0;
-        for (std::size_t i = 0; i < n; ++i) {
-            const std::uint32_t bin = (a[i].bin_ids >> (8 * kAxis)) & 0xffu;
-            const std::size_t is_left = bin <= last_left_bin ? 1 : 0;
-            const Ref t = a[i];
-            a[i] = a[j];
-            a[j] = t;
-            j += is_left;
-            centers[is_left].extend(t.center4());
-        }
-        const Box4& left_centers = centers[1];
-        const Box4& right_centers = centers[0];
-        const std::size_t mid = range.begin + j;
-        left = ChildRange{range.begin, mid, split.left_box, left_centers};
-        right = ChildRange{mid, range.end, split.right_box, right_centers};
+        partition_refs(refs_, range, split, left, right);
     }
 
     /// Forced split when no binned split is usable: an object median along the widest centre
@@ -639,6 +651,25 @@ void check_config(const BuildConfig& config) {
         throw std::invalid_argument("BuildConfig: bin_count must be >= 2, got " +
                                     std::to_string(config.bin_count));
     }
+}
+
+BinnedSplit bin_node(BoxCenterRef* refs, std::size_t count, const Aabb& center_box,
+                     std::uint32_t bin_count, bool parallel) {
+    const BinMapping mapping(Box4::from(center_box), std::clamp(bin_count, 2u, kMaxBins));
+    const Split split = find_split(refs, 0, count, mapping, parallel);
+    return BinnedSplit{split.axis, split.bin, split.cost};
+}
+
+std::size_t partition_node(BoxCenterRef* refs, std::size_t count, const BinnedSplit& split) {
+    Split s;
+    s.axis = split.axis;
+    s.bin = split.bin;
+    s.cost = split.cost;
+    s.left_box = Box4::empty();
+    s.right_box = Box4::empty();
+    ChildRange left, right;
+    partition_refs(refs, ChildRange{0, count, Box4::empty(), Box4::empty()}, s, left, right);
+    return left.size();
 }
 
 template <class Ref>

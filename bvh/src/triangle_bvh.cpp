@@ -143,8 +143,9 @@ inline unsigned hit_pair(const BvhNode* pair, const PairRay& r, detail::Float4 b
 constexpr int kStackSize = 2 * static_cast<int>(kMaxDepth);
 
 /// Front-to-back stack traversal. The nearer child is visited next and the farther one pushed
-/// with its entry distance, so a closest-hit query pops it only if it can still beat the hit.
-/// The stack holds at most one entry per level of the current path (depth <= kMaxDepth).
+/// with its entry distance, so a closest-hit query pops it only if it can still beat the hit or
+/// tie with it (entry distance <= tmax, never <, since a tie may still win on the primitive
+/// index). The stack holds at most one entry per level of the current path (depth <= kMaxDepth).
 template <bool kAnyHit, bool kCount, int kOctant>
 bool traverse(const TriangleBvh& accel, const Ray& ray, Hit& hit, TraversalStats* stats) {
     if (accel.bvh.nodes.empty()) return false;
@@ -196,11 +197,19 @@ bool traverse(const TriangleBvh& accel, const Ray& ray, Hit& hit, TraversalStats
                     if constexpr (kAnyHit) {
                         return true;
                     } else {
-                        hit = candidate;
-                        hit.prim = accel.bvh.prim_ids[k];
-                        tmax = candidate.t;
-                        bounds = detail::Float4{tmin, tmin, -tmax, -tmax};
-                        found = true;
+                        // candidate.t <= tmax here. On a tie (shared edges and vertices) the
+                        // lower primitive index wins, so the answer does not depend on the
+                        // order leaves are visited in, and packet traversal, which visits them
+                        // in another order, finds the very same hit. Before the first hit,
+                        // hit.prim is kInvalidId and anything wins.
+                        const std::uint32_t prim = accel.bvh.prim_ids[k];
+                        if (candidate.t < tmax || prim < hit.prim) {
+                            hit = candidate;
+                            hit.prim = prim;
+                            tmax = candidate.t;
+                            bounds = detail::Float4{tmin, tmin, -tmax, -tmax};
+                            found = true;
+                        }
                     }
                 }
             }

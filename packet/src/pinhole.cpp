@@ -1,0 +1,88 @@
+// Pinhole primary rays in SIMD; the arithmetic mirrors engine/src/camera.cpp operation for
+// operation (glm's normalize is v * (1 / sqrt(dot(v, v))), its dot (x*x + y*y) + z*z).
+
+#include "dynrt/packet/pinhole.h"
+
+#include "dynrt/packet/simd.h"
+
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
+
+#include <cmath>
+#include <limits>
+
+namespace dynrt::packet {
+
+PinholeRays::PinholeRays(glm::vec3 eye, glm::vec3 target, glm::vec3 up, float fov_y_deg,
+                         int width, int height)
+    : eye_(eye), width_(width), height_(height) {
+    fwd_ = glm::normalize(target - eye);
+    right_ = glm::normalize(glm::cross(fwd_, up));
+    up_ = glm::cross(right_, fwd_);
+    tan_half_fov_ = std::tan(glm::radians(fov_y_deg) * 0.5f);
+    aspect_ = float(width) / float(height);
+}
+
+bvh::Ray PinholeRays::ray(int x, int y) const {
+    const float sx = (2.0f * (float(x) + 0.5f) / float(width_) - 1.0f) * tan_half_fov_ * aspect_;
+    const float sy = (1.0f - 2.0f * (float(y) + 0.5f) / float(height_)) * tan_half_fov_;
+    bvh::Ray ray;
+    ray.org = eye_;
+    ray.dir = glm::normalize(fwd_ + sx * right_ + sy * up_);
+    return ray;
+}
+
+namespace {
+
+template <int W>
+void fill_rows(const PinholeRays& camera, const glm::vec3& eye, const glm::vec3& fwd,
+               const glm::vec3& right, const glm::vec3& up, float tan_half_fov, float aspect,
+               int width, int height, const Tile& tile, RayPacket& packet) {
+    using L = simd::Lanes<W>;
+    using F = typename L::F;
+    static_assert(kTileSize % W == 0 || W > kTileSize);
+    if constexpr (W > kTileSize) {
+        fill_tile(tile, [&](int x, int y) { return camera.ray(x, y); }, packet);
+    } else {
+        packet.clear();
+        F lane_x;
+        for (int i = 0; i < W; ++i) lane_x[i] = float(i);
+        const float inf = std::numeric_limits<float>::infinity();
+        for (int y = tile.y0; y < tile.y1; ++y) {
+            const float sy = (1.0f - 2.0f * (float(y) + 0.5f) / float(height)) * tan_half_fov;
+            for (int x0 = tile.x0; x0 < tile.x0 + kTileSize; x0 += W) {
+                // Lanes past the image edge compute a ray too (a harmless one) but stay inactive.
+                const F x = L::splat(float(x0)) + lane_x;
+                const F sx = (L::splat(2.0f) * (x + L::splat(0.5f)) / L::splat(float(width)) -
+                              L::splat(1.0f)) *
+                             L::splat(tan_half_fov) * L::splat(aspect);
+                const F dx = L::splat(fwd.x) + sx * L::splat(right.x) + L::splat(sy * up.x);
+                const F dy = L::splat(fwd.y) + sx * L::splat(right.y) + L::splat(sy * up.y);
+                const F dz = L::splat(fwd.z) + sx * L::splat(right.z) + L::splat(sy * up.z);
+                const F inv_len = L::splat(1.0f) / L::sqrt(dx * dx + dy * dy + dz * dz);
+                const int lane = tile_lane(tile, x0, y);
+                L::store(packet.org_x + lane, L::splat(eye.x));
+                L::store(packet.org_y + lane, L::splat(eye.y));
+                L::store(packet.org_z + lane, L::splat(eye.z));
+                L::store(packet.dir_x + lane, dx * inv_len);
+                L::store(packet.dir_y + lane, dy * inv_len);
+                L::store(packet.dir_z + lane, dz * inv_len);
+                L::store(packet.tmin + lane, L::splat(0.0f));
+                L::store(packet.tmax + lane, L::splat(inf));
+            }
+            // The row's pixels as one run of bits (16 lanes per row, never across a word).
+            const int row_lane = tile_lane(tile, tile.x0, y);
+            packet.active.words[row_lane >> 6] |= ((std::uint64_t{1} << (tile.x1 - tile.x0)) - 1)
+                                                 << (row_lane & 63);
+        }
+    }
+}
+
+}  // namespace
+
+void PinholeRays::fill_tile(const Tile& tile, RayPacket& packet) const {
+    fill_rows<simd::kNativeLanes>(*this, eye_, fwd_, right_, up_, tan_half_fov_, aspect_, width_,
+                                  height_, tile, packet);
+}
+
+}  // namespace dynrt::packet

@@ -45,6 +45,8 @@ struct FrameArgs {
     float cost_ratio = dynrt::bvh::BuildConfig{}.cost_ratio;
     unsigned leaf_size = dynrt::bvh::BuildConfig{}.leaf_size_max;
     int threads = 0;
+    std::string tracer = "packet";
+    std::string packet_culling = "all";
 };
 
 struct RenderArgs : FrameArgs {
@@ -116,6 +118,8 @@ dynrt::RenderOptions render_options(const FrameArgs& args) {
     options.build.cost_ratio = args.cost_ratio;
     options.build.leaf_size_max = args.leaf_size;
     for (const std::string& light : args.lights) options.lights.push_back(parse_light(light));
+    options.tracer = args.tracer == "single" ? dynrt::Tracer::single : dynrt::Tracer::packet;
+    options.packet.culling = dynrt::packet::PacketCulling::parse(args.packet_culling);
     return options;
 }
 
@@ -309,6 +313,11 @@ int main(int argc, char** argv) {
             ->check(CLI::Range(1u, 1024u))->capture_default_str();
         cmd->add_option("--threads", args.threads, "Worker threads (default: all cores)")
             ->check(CLI::Range(1, 1024));
+        cmd->add_option("--tracer", args.tracer, "packet (16x16 ray packets) or single (one ray at a time)")
+            ->check(CLI::IsMember({"packet", "single"}))->capture_default_str();
+        cmd->add_option("--packet-culling", args.packet_culling,
+                        "Packet culling stages: ab,bp,edge,nf (any subset), all or none")
+            ->capture_default_str();
     };
 
     RenderArgs render;

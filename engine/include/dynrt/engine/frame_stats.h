@@ -27,6 +27,11 @@ struct FrameStats {
     double leaf_tris_mean = 0;
     std::uint32_t leaf_tris_max = 0;
     std::uint32_t depth = 0;
+    /// Packet tracer work over primary and shadow rays, counted only when
+    /// RenderOptions::count_packet_work is set (0 otherwise): ray/triangle tests performed, and
+    /// tests the culling stages avoided (packet::PacketStats has the breakdown).
+    std::uint64_t ray_triangle_tests = 0;
+    std::uint64_t ray_triangle_culled = 0;
 };
 
 }  // namespace dynrt

@@ -1,0 +1,293 @@
+// Packet traversal of a two-level BVH. The top level holds a handful of instances, so it is
+// traversed once per packet with a lane mask per node (no ranges, no beams); each instance
+// reached is traced by the packet tracer on a packet of just the lanes that reach it.
+//
+// Why this equals the single-ray two-level tracer bit for bit although it visits instances in
+// another order and with other intermediate tmax values: an instance's tree traced with
+// tmax = T returns the lexicographically smallest (t, prim) among its hits with t <= T (that is
+// bvh::intersect_closest's contract, and packet::intersect_closest equals it lane by lane for
+// the same ray, which to_object_space makes bit-identical in both tracers). Both tracers keep
+// the running minimum of (t, object, prim) and pass its t as T, so an instance holding the
+// overall minimum always returns it (T is never below it) and no instance returns anything
+// smaller: both end at the overall minimum, whatever the order. The top-level box tests only
+// skip instances that cannot hit within T (they are the single-ray test's arithmetic, with the
+// same padding), so they never change the answer either.
+
+#include "dynrt/packet/two_level_packet.h"
+
+#include "dynrt/packet/simd.h"
+
+#include <bit>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace dynrt::packet {
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+// The single-ray box test's growth of far distances (bvh/src/robust_box_test.h, Ize 2013).
+constexpr float kUnitRoundoff = std::numeric_limits<float>::epsilon() * 0.5f;
+constexpr float gamma_n(int n) { return n * kUnitRoundoff / (1.0f - n * kUnitRoundoff); }
+constexpr float kFarScale = 1.0f + 2.0f * gamma_n(3);
+
+constexpr int kStackSize = 2 * static_cast<int>(bvh::kMaxDepth);
+
+LaneMask operator&(const LaneMask& a, const LaneMask& b) {
+    LaneMask out;
+    for (int w = 0; w < kPacketRays / 64; ++w) out.words[w] = a.words[w] & b.words[w];
+    return out;
+}
+
+LaneMask without(const LaneMask& a, const LaneMask& b) {
+    LaneMask out;
+    for (int w = 0; w < kPacketRays / 64; ++w) out.words[w] = a.words[w] & ~b.words[w];
+    return out;
+}
+
+/// Calls f(lane) for every lane in `mask`, ascending.
+template <class F>
+void for_each_lane(const LaneMask& mask, F&& f) {
+    for (int w = 0; w < kPacketRays / 64; ++w) {
+        for (std::uint64_t bits = mask.words[w]; bits != 0; bits &= bits - 1) {
+            f(w * 64 + std::countr_zero(bits));
+        }
+    }
+}
+
+/// The packet's reciprocal directions, computed once and used at every top-level node.
+struct alignas(64) InverseDirs {
+    alignas(64) float x[kPacketRays];
+    alignas(64) float y[kPacketRays];
+    alignas(64) float z[kPacketRays];
+
+    explicit InverseDirs(const RayPacket& p) {
+        for (int i = 0; i < kPacketRays; ++i) {
+            x[i] = 1.0f / p.dir_x[i];
+            y[i] = 1.0f / p.dir_y[i];
+            z[i] = 1.0f / p.dir_z[i];
+        }
+    }
+};
+
+/// The lanes of `lanes` whose segment [tmin, tmax[lane]] may meet `box`: bvh's robust single-ray
+/// test (robust_box_test.h) lane by lane, with the near plane chosen by the sign bit of the
+/// reciprocal direction (the octant) and the same NaN-ignoring operand order, hence the same
+/// verdicts. `tnear_min` gets the smallest entry distance of the hitting lanes (+inf if none),
+/// to visit nearer subtrees first.
+template <int W>
+LaneMask hit_box_lanes(const bvh::Aabb& box, const RayPacket& p, const InverseDirs& inv,
+                       const float* tmax, const LaneMask& lanes, float& tnear_min) {
+    using L = simd::Lanes<W>;
+    using F = typename L::F;
+    using I = typename L::I;
+    LaneMask out;
+    F nearest = L::splat(kInf);
+    const I zero = L::splat(std::int32_t{0});
+    for (int first = 0; first < kPacketRays; first += W) {
+        const std::uint32_t wanted = lanes.extract(first, W);
+        if (wanted == 0) continue;
+        auto slab = [&](const float* org, const float* inv_dir, float lo, float hi, F& t0, F& t1) {
+            const F o = L::load(org + first);
+            const F r = L::load(inv_dir + first);
+            const I negative = L::bits_of(r) < zero;
+            t0 = (L::select(negative, L::splat(hi), L::splat(lo)) - o) * r;
+            t1 = (L::select(negative, L::splat(lo), L::splat(hi)) - o) * r;
+        };
+        F t0x, t1x, t0y, t1y, t0z, t1z;
+        slab(p.org_x, inv.x, box.lo.x, box.hi.x, t0x, t1x);
+        slab(p.org_y, inv.y, box.lo.y, box.hi.y, t0y, t1y);
+        slab(p.org_z, inv.z, box.lo.z, box.hi.z, t0z, t1z);
+        F tn = L::load(p.tmin + first);
+        F tf = L::load(tmax + first);
+        tn = L::max_into(t0x, tn);
+        tn = L::max_into(t0y, tn);
+        tn = L::max_into(t0z, tn);
+        tf = L::min_into(t1x, tf);
+        tf = L::min_into(t1y, tf);
+        tf = L::min_into(t1z, tf);
+        const std::uint32_t hit = L::bits(tn <= tf * L::splat(kFarScale)) & wanted;
+        if (hit == 0) continue;
+        out.words[first >> 6] |= std::uint64_t{hit} << (first & 63);
+        nearest = L::min_into(L::select(L::from_bits(hit), tn, L::splat(kInf)), nearest);
+    }
+    tnear_min = L::reduce_min(nearest);
+    return out;
+}
+
+/// The largest top-level padding over the active lanes' origins (bvh::top_level_pad): one
+/// padded box per node for the whole packet, larger than each lane needs, so still conservative.
+float packet_pad(const bvh::TwoLevelBvh& tlas, const RayPacket& packet) {
+    if (tlas.origin_pad_rel == 0.0f) return 0.0f;
+    float pad = 0.0f;
+    for_each_lane(packet.active, [&](int lane) {
+        pad = std::fmax(pad, bvh::top_level_pad(
+                                 tlas, glm::vec3(packet.org_x[lane], packet.org_y[lane], packet.org_z[lane])));
+    });
+    return pad;
+}
+
+/// Fills `local` with the lanes `lanes` of `packet` in `instance`'s object space (the single-ray
+/// tracer's to_object_space, lane by lane), tmax[lane] taken from `tmax`.
+void make_local_packet(const bvh::Instance& instance, const RayPacket& packet, const LaneMask& lanes,
+                       const float* tmax, RayPacket& local) {
+    local.clear();
+    for_each_lane(lanes, [&](int lane) {
+        bvh::Ray ray = bvh::to_object_space(instance, packet.ray(lane));
+        ray.tmax = tmax[lane];
+        local.set_ray(lane, ray);
+    });
+}
+
+/// Scratch of one trace: the bottom-level packets (kept off the caller's hot data).
+struct Scratch {
+    RayPacket local;
+    PacketHits local_hits;
+};
+
+/// Visits the top level front to back: a stack of (node, lanes that reached its parent's test),
+/// every popped node re-tested with the lanes' current tmax (a closer hit found since the push
+/// may rule it out), the child with the nearer entry distance visited first. `visit_leaf`
+/// traces the instances of a leaf for the given lanes. `tmax` is read live (closest hit shrinks
+/// it); `live` returns the lanes still worth tracing (any hit drops occluded lanes).
+template <int W, class Live, class VisitLeaf>
+void traverse_top(const bvh::TwoLevelBvh& tlas, const RayPacket& packet, const float* tmax,
+                  Live&& live, VisitLeaf&& visit_leaf) {
+    const InverseDirs inv(packet);
+    const float pad = packet_pad(tlas, packet);
+    const bvh::BvhNode* nodes = tlas.top.nodes.data();
+    struct Entry {
+        std::uint32_t node;
+        LaneMask lanes;
+    };
+    Entry stack[kStackSize];
+    int top = 0;
+    stack[top++] = Entry{0, packet.active};
+    while (top > 0) {
+        const Entry e = stack[--top];
+        const LaneMask candidates = e.lanes & live();
+        if (!candidates.any()) continue;
+        const bvh::BvhNode& node = nodes[e.node];
+        float tnear;
+        const LaneMask lanes =
+            hit_box_lanes<W>(bvh::grow_box(node.box, pad), packet, inv, tmax, candidates, tnear);
+        if (!lanes.any()) continue;
+        if (node.is_leaf()) {
+            for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
+                visit_leaf(tlas.instances[tlas.top.prim_ids[k]], lanes & live());
+            }
+            continue;
+        }
+        float t_left, t_right;
+        const LaneMask left =
+            hit_box_lanes<W>(bvh::grow_box(nodes[node.first].box, pad), packet, inv, tmax, lanes, t_left);
+        const LaneMask right = hit_box_lanes<W>(bvh::grow_box(nodes[node.first + 1].box, pad), packet,
+                                                inv, tmax, lanes, t_right);
+        // Pushed far first, so the nearer child is popped next.
+        const bool right_first = t_right < t_left;
+        const Entry far{right_first ? node.first : node.first + 1, right_first ? left : right};
+        const Entry near{right_first ? node.first + 1 : node.first, right_first ? right : left};
+        if (far.lanes.any()) stack[top++] = far;
+        if (near.lanes.any()) stack[top++] = near;
+    }
+}
+
+void check_lanes(int lanes) {
+    if (lanes != simd::kNativeLanes && lanes != 1) {
+        throw std::invalid_argument("packet tracer: lanes must be " +
+                                    std::to_string(simd::kNativeLanes) + " or 1, not " +
+                                    std::to_string(lanes));
+    }
+}
+
+template <int W>
+void closest_lanes(const bvh::TwoLevelBvh& tlas, const RayPacket& packet, InstanceHits& out,
+                   const PacketConfig& config, PacketStats* stats) {
+    alignas(64) float best_t[kPacketRays];
+    for (int i = 0; i < kPacketRays; ++i) best_t[i] = packet.tmax[i];
+    bool found_any = false;
+    Scratch scratch;
+    auto visit = [&](const bvh::Instance& instance, const LaneMask& lanes) {
+        if (!lanes.any()) return;
+        // A packet no instance has shortened yet, reaching an identity instance whole, is traced
+        // as it is: the common case of one static object, where copying would be pure cost.
+        const bool as_is = instance.identity && !found_any && lanes == packet.active;
+        if (!as_is) make_local_packet(instance, packet, lanes, best_t, scratch.local);
+        intersect_closest(*instance.blas, as_is ? packet : scratch.local, scratch.local_hits, config,
+                          stats);
+        const PacketHits& h = scratch.local_hits;
+        for_each_lane(lanes, [&](int lane) {
+            if (h.prim[lane] == bvh::kInvalidId) return;
+            // The tie rule of the single-ray tracer: smallest (t, object, prim) wins; before the
+            // first hit object is kInvalidId and best_t the ray's tmax.
+            const float t = h.t[lane];
+            const bool wins =
+                t != best_t[lane]
+                    ? t < best_t[lane]
+                    : (instance.object != out.object[lane] ? instance.object < out.object[lane]
+                                                           : h.prim[lane] < out.hits.prim[lane]);
+            if (!wins) return;
+            out.hits.t[lane] = t;
+            out.hits.u[lane] = h.u[lane];
+            out.hits.v[lane] = h.v[lane];
+            out.hits.prim[lane] = h.prim[lane];
+            out.object[lane] = instance.object;
+            best_t[lane] = t;
+            found_any = true;
+        });
+    };
+    const LaneMask all = packet.active;
+    traverse_top<W>(tlas, packet, best_t, [&] { return all; }, visit);
+}
+
+template <int W>
+void any_lanes(const bvh::TwoLevelBvh& tlas, const RayPacket& packet, LaneMask& occluded,
+               const PacketConfig& config, PacketStats* stats) {
+    Scratch scratch;
+    LaneMask local_occluded;
+    auto visit = [&](const bvh::Instance& instance, const LaneMask& lanes) {
+        if (!lanes.any()) return;
+        const bool as_is = instance.identity && lanes == packet.active;
+        if (!as_is) make_local_packet(instance, packet, lanes, packet.tmax, scratch.local);
+        intersect_any(*instance.blas, as_is ? packet : scratch.local, local_occluded, config, stats);
+        for (int w = 0; w < kPacketRays / 64; ++w) occluded.words[w] |= local_occluded.words[w];
+    };
+    traverse_top<W>(tlas, packet, packet.tmax, [&] { return without(packet.active, occluded); },
+                    visit);
+}
+
+}  // namespace
+
+void intersect_closest(const bvh::TwoLevelBvh& tlas, const RayPacket& packet, InstanceHits& hits,
+                       const PacketConfig& config, PacketStats* stats) {
+    check_lanes(config.lanes);
+    for (int i = 0; i < kPacketRays; ++i) {
+        hits.hits.t[i] = kInf;
+        hits.hits.u[i] = 0.0f;
+        hits.hits.v[i] = 0.0f;
+        hits.hits.prim[i] = bvh::kInvalidId;
+        hits.object[i] = bvh::kInvalidId;
+    }
+    if (tlas.top.empty() || !packet.active.any()) return;
+    if (config.lanes == 1) {
+        closest_lanes<1>(tlas, packet, hits, config, stats);
+    } else {
+        closest_lanes<simd::kNativeLanes>(tlas, packet, hits, config, stats);
+    }
+}
+
+void intersect_any(const bvh::TwoLevelBvh& tlas, const RayPacket& packet, LaneMask& occluded,
+                   const PacketConfig& config, PacketStats* stats) {
+    check_lanes(config.lanes);
+    occluded = LaneMask{};
+    if (tlas.top.empty() || !packet.active.any()) return;
+    if (config.lanes == 1) {
+        any_lanes<1>(tlas, packet, occluded, config, stats);
+    } else {
+        any_lanes<simd::kNativeLanes>(tlas, packet, occluded, config, stats);
+    }
+}
+
+}  // namespace dynrt::packet

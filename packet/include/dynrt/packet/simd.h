@@ -139,6 +139,8 @@ struct Lanes {
 
     /// Conversion toward zero, like a C++ float -> int32 cast (lanes must be in range).
     static I truncate(F v) { return __builtin_convertvector(v, I); }
+    /// int32 -> float, rounded to nearest like a C++ cast.
+    static F to_float(I v) { return __builtin_convertvector(v, F); }
     /// The bits of one type as the other (no conversion).
     static I bits_of(F v) { return I(v); }
     static F float_of(I v) { return F(v); }

@@ -1,0 +1,115 @@
+#include "dynrt/packet/packet_shading.h"
+
+#include "dynrt/packet/simd_pow.h"
+
+#include <bit>
+#include <stdexcept>
+
+namespace dynrt::packet {
+
+namespace {
+
+/// The distinct materials of the hit lanes, in order of first appearance; returns how many.
+/// A tile usually shows one to three, so a linear search beats any set.
+int distinct_materials(const SurfacePacket& surface, std::int32_t (&out)[kPacketRays]) {
+    int count = 0;
+    std::int32_t last = -1;
+    for (int word = 0; word < kPacketRays / 64; ++word) {
+        for (std::uint64_t bits = surface.hit.words[word]; bits != 0; bits &= bits - 1) {
+            const std::int32_t m = surface.material[word * 64 + std::countr_zero(bits)];
+            if (m == last) continue;  // neighbours mostly share a material
+            last = m;
+            bool seen = false;
+            for (int i = 0; i < count && !seen; ++i) seen = out[i] == m;
+            if (!seen) out[count++] = m;
+        }
+    }
+    return count;
+}
+
+template <int W>
+void shade_lanes(const SurfacePacket& surface, std::span<const PhongMaterial> materials,
+                 std::span<const ShadingLight> lights, std::span<const LaneMask> visible,
+                 float ambient, ShadedColors& out) {
+    using L = simd::Lanes<W>;
+    using F = typename L::F;
+    using I = typename L::I;
+    std::int32_t present[kPacketRays];
+    const int material_count = distinct_materials(surface, present);
+    for (int mi = 0; mi < material_count; ++mi) {
+        // ---- One material: its constants splatted once, then every step holding it ----
+        const std::int32_t id = present[mi];
+        const PhongMaterial& material = materials[std::size_t(id)];
+        const F kd[3] = {L::splat(material.diffuse.x), L::splat(material.diffuse.y),
+                         L::splat(material.diffuse.z)};
+        const F ks[3] = {L::splat(material.specular.x), L::splat(material.specular.y),
+                         L::splat(material.specular.z)};
+        const F ambient_kd[3] = {L::splat(ambient) * kd[0], L::splat(ambient) * kd[1],
+                                 L::splat(ambient) * kd[2]};
+        const F shininess = L::splat(material.shininess);
+        for (int base = 0; base < kPacketRays; base += W) {
+            const std::uint32_t hit_bits = surface.hit.extract(base, W);
+            if (hit_bits == 0) continue;
+            const I mine_mask =
+                (L::load(surface.material + base) == L::splat(id)) & L::from_bits(hit_bits);
+            const std::uint32_t mine = L::bits(mine_mask);
+            if (mine == 0) continue;
+            const F p[3] = {L::load(surface.point[0] + base), L::load(surface.point[1] + base),
+                            L::load(surface.point[2] + base)};
+            const F n[3] = {L::load(surface.normal[0] + base), L::load(surface.normal[1] + base),
+                            L::load(surface.normal[2] + base)};
+            const F v[3] = {L::load(surface.view[0] + base), L::load(surface.view[1] + base),
+                            L::load(surface.view[2] + base)};
+            F color[3] = {ambient_kd[0], ambient_kd[1], ambient_kd[2]};
+            for (std::size_t l = 0; l < lights.size(); ++l) {
+                const std::uint32_t lit = visible[l].extract(base, W) & mine;
+                if (lit == 0) continue;
+                // l = normalize(P_L - point), as glm: v * (1 / sqrt((x*x + y*y) + z*z)).
+                F to[3] = {L::splat(lights[l].position.x) - p[0],
+                           L::splat(lights[l].position.y) - p[1],
+                           L::splat(lights[l].position.z) - p[2]};
+                const F inv_len =
+                    L::splat(1.0f) / L::sqrt(to[0] * to[0] + to[1] * to[1] + to[2] * to[2]);
+                for (F& c : to) c = c * inv_len;
+                const F n_dot_l = n[0] * to[0] + n[1] * to[1] + n[2] * to[2];
+                const F twice = L::splat(2.0f) * n_dot_l;
+                const F r_dot_v = (twice * n[0] - to[0]) * v[0] + (twice * n[1] - to[1]) * v[1] +
+                                  (twice * n[2] - to[2]) * v[2];
+                const F specular = simd::pow<W>(
+                    L::select(r_dot_v > L::splat(0.0f), r_dot_v, L::splat(0.0f)), shininess);
+                const F intensity = L::splat(lights[l].intensity);
+                const I lit_mask = L::from_bits(lit);
+                for (int a = 0; a < 3; ++a) {
+                    const F term = intensity * (kd[a] * n_dot_l + ks[a] * specular);
+                    color[a] = L::select(lit_mask, color[a] + term, color[a]);
+                }
+            }
+            for (int a = 0; a < 3; ++a) {
+                // Lanes of other materials keep what their own pass wrote (or will write).
+                const F stored = mine == hit_bits ? color[a]
+                                                  : L::select(mine_mask, color[a],
+                                                              L::load(out.rgb[a] + base));
+                L::store(out.rgb[a] + base, stored);
+            }
+        }
+    }
+}
+
+}  // namespace
+
+void shade(const SurfacePacket& surface, std::span<const PhongMaterial> materials,
+           std::span<const ShadingLight> lights, std::span<const LaneMask> visible,
+           float ambient, ShadedColors& out, int lanes) {
+    if (visible.size() != lights.size()) {
+        throw std::invalid_argument("packet::shade: one visibility mask per light");
+    }
+    if (lanes == simd::kNativeLanes) {
+        shade_lanes<simd::kNativeLanes>(surface, materials, lights, visible, ambient, out);
+    } else if (lanes == 1) {
+        shade_lanes<1>(surface, materials, lights, visible, ambient, out);
+    } else {
+        throw std::invalid_argument("packet::shade: lanes must be simd::kNativeLanes or 1");
+    }
+}
+
+}  // namespace dynrt::packet

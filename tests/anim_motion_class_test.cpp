@@ -243,7 +243,15 @@ TEST(MotionClass, RigidAndStaticObjectsPoseWithoutTheirVertices) {
             EXPECT_EQ(skipped.objects[i].positions.empty(), fixed);
             EXPECT_EQ(skipped.objects[i].transform, all.objects[i].transform);
             EXPECT_EQ(full.object_space_positions(i).empty(), !fixed);
-            if (!fixed) continue;
+            if (!fixed) {
+                std::vector<glm::vec3> world;
+                EXPECT_THROW(skipping.fixed_world_positions(i, skipped, world), std::invalid_argument);
+                continue;
+            }
+            // What a skipping caller computes on demand is exactly what pose() would have.
+            std::vector<glm::vec3> world;
+            skipping.fixed_world_positions(i, skipped, world);
+            EXPECT_EQ(world, all.objects[i].positions);
             const std::span<const glm::vec3> local = full.object_space_positions(i);
             for (std::size_t v = 0; v < local.size(); ++v) {
                 const glm::dvec4 p = all.objects[i].transform * glm::dvec4(glm::dvec3(local[v]), 1.0);

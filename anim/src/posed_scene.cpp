@@ -77,6 +77,19 @@ glm::dvec3 transform_point(const glm::dmat4& m, const glm::dvec3& p) {
     return glm::dvec3(h) / h.w;
 }
 
+/// result[v] = transform * source[v] in double, rounded once; returns the lowest vertex whose
+/// result is not finite, or kNoVertex.
+std::size_t transform_positions(const glm::dmat4& m, std::span<const glm::vec3> source, glm::vec3* result) {
+    return for_vertex_blocks(source.size(), [&](std::size_t first, std::size_t last) {
+        std::size_t bad = kNoVertex;
+        for (std::size_t v = first; v < last; ++v) {
+            result[v] = glm::vec3(transform_point(m, glm::dvec3(source[v])));
+            if (bad == kNoVertex && !is_finite(result[v])) bad = v;
+        }
+        return bad;
+    });
+}
+
 }  // namespace
 
 struct ScenePoser::Impl {
@@ -207,16 +220,7 @@ struct ScenePoser::Impl {
         glm::vec3* const result = posed.positions.data();
 
         if (plan.fixed()) {
-            const std::span<const glm::vec3> source = object_space(i);
-            const glm::dmat4 m = posed.transform;
-            failure.vertex = for_vertex_blocks(source.size(), [&](std::size_t first, std::size_t last) {
-                std::size_t bad = kNoVertex;
-                for (std::size_t v = first; v < last; ++v) {
-                    result[v] = glm::vec3(transform_point(m, glm::dvec3(source[v])));
-                    if (bad == kNoVertex && !is_finite(result[v])) bad = v;
-                }
-                return bad;
-            });
+            failure.vertex = transform_positions(posed.transform, object_space(i), result);
             return failure;
         }
 
@@ -293,16 +297,17 @@ struct ScenePoser::Impl {
             pose_inputs(i, frame, with_motions, out);
             failures[i] = pose_positions(i, frame, with_motions, skip_fixed, out);
         });
-        for (std::size_t i = 0; i < count; ++i) {
-            const std::string where =
-                scene.source + ": object '" + scene.objects[i].name + "', frame " + std::to_string(frame) + ": ";
-            if (failures[i].vertex != kNoVertex) {
-                throw SceneError(where + "vertex " + std::to_string(failures[i].vertex) +
-                                 " has a non-finite position");
-            }
-            if (failures[i].transform) throw SceneError(where + "world transform is not finite");
-        }
+        for (std::size_t i = 0; i < count; ++i) throw_if_failed(i, frame, failures[i]);
         pose_camera(frame, out);
+    }
+
+    void throw_if_failed(std::size_t i, int frame, const Failure& failure) const {
+        const std::string where =
+            scene.source + ": object '" + scene.objects[i].name + "', frame " + std::to_string(frame) + ": ";
+        if (failure.vertex != kNoVertex) {
+            throw SceneError(where + "vertex " + std::to_string(failure.vertex) + " has a non-finite position");
+        }
+        if (failure.transform) throw SceneError(where + "world transform is not finite");
     }
 
     void classify();
@@ -453,6 +458,19 @@ MotionClass ScenePoser::derived_class(std::size_t object) const { return impl_->
 
 std::span<const glm::vec3> ScenePoser::object_space_positions(std::size_t object) const {
     return impl_->object_space(object);
+}
+
+void ScenePoser::fixed_world_positions(std::size_t object, const PosedScene& posed,
+                                       std::vector<glm::vec3>& out) const {
+    if (!impl_->plans.at(object).fixed()) {
+        throw std::invalid_argument("ScenePoser::fixed_world_positions: object '" +
+                                    impl_->scene.objects[object].name + "' is not static or rigid");
+    }
+    const std::span<const glm::vec3> source = impl_->object_space(object);
+    out.resize(source.size());
+    Impl::Failure failure;
+    failure.vertex = transform_positions(posed.objects.at(object).transform, source, out.data());
+    impl_->throw_if_failed(object, posed.frame, failure);
 }
 
 double ScenePoser::time_of(int frame) const { return static_cast<double>(frame) / impl_->settings.fps; }

@@ -140,6 +140,13 @@ public:
     /// exploding objects.
     std::span<const glm::vec3> object_space_positions(std::size_t object) const;
 
+    /// World positions of static or rigid object `object` in `posed` (filled by pose()):
+    /// transform * object_space_positions(object), computed exactly as pose() computes them
+    /// when it does not skip them. Lets a caller that skips fixed positions build a static
+    /// object's tree in world space once. Throws std::invalid_argument for an object that is
+    /// not static or rigid, SceneError naming object, frame and vertex for a non-finite result.
+    void fixed_world_positions(std::size_t object, const PosedScene& posed,
+                               std::vector<glm::vec3>& out) const;
     /// Frame f's time in seconds: f / fps.
     double time_of(int frame) const;
     /// The last key time over the chosen clips (0 without any): frames past

@@ -6,6 +6,8 @@
 
 #include <sstream>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 namespace dynrt {
 namespace {
@@ -46,6 +48,73 @@ TEST(Bench, MalformedSweepsAreErrors) {
         EXPECT_THROW(expand_sweeps({bad}, bvh::BuildConfig{}), std::invalid_argument) << bad;
     }
     EXPECT_THROW(expand_sweeps({"leaf=1", "leaf=2"}, bvh::BuildConfig{}), std::invalid_argument);
+}
+
+TEST(Bench, CullingSweepIsTakenOutOfTheBuildSweeps) {
+    std::vector<std::string> sweeps = {"leaf=2,4", "culling=none,ab,ab+bp,ab+bp+nf,all",
+                                       "cost-ratio=1"};
+    const std::vector<std::string> items = take_culling_sweep(sweeps);
+    EXPECT_EQ(items, (std::vector<std::string>{"none", "ab", "ab+bp", "ab+bp+nf", "all"}));
+    EXPECT_EQ(sweeps, (std::vector<std::string>{"leaf=2,4", "cost-ratio=1"}));
+    EXPECT_EQ(expand_sweeps(sweeps, bvh::BuildConfig{}).size(), 2u);
+
+    using packet::PacketCulling;
+    EXPECT_EQ(parse_culling_item("none"), PacketCulling::none());
+    EXPECT_EQ(parse_culling_item("all"), PacketCulling{});
+    PacketCulling ab_bp_nf = PacketCulling::none();
+    ab_bp_nf.active_bounds = ab_bp_nf.beam_planes = ab_bp_nf.near_far = true;
+    EXPECT_EQ(parse_culling_item("ab+bp+nf"), ab_bp_nf);
+
+    std::vector<std::string> none_swept = {"leaf=2"};
+    EXPECT_TRUE(take_culling_sweep(none_swept).empty());
+    EXPECT_EQ(none_swept.size(), 1u);
+}
+
+TEST(Bench, MalformedCullingSweepsAreErrors) {
+    for (const char* bad : {"culling=", "culling=ab,,nf", "culling=ab+xy", "culling=ab+",
+                            "culling=fast"}) {
+        std::vector<std::string> sweeps = {bad};
+        EXPECT_THROW(take_culling_sweep(sweeps), std::invalid_argument) << bad;
+    }
+    std::vector<std::string> twice = {"culling=ab", "culling=nf"};
+    EXPECT_THROW(take_culling_sweep(twice), std::invalid_argument);
+    // Left in the build sweeps, culling is an unknown build parameter.
+    EXPECT_THROW(expand_sweeps({"culling=ab"}, bvh::BuildConfig{}), std::invalid_argument);
+}
+
+TEST(Bench, RowsCountPacketWorkPerCullingConfiguration) {
+    const Scene scene = load_scene("sphere:2000");
+    const Camera camera = default_camera(scene_bounds(scene));
+    RenderOptions options;
+    options.width = options.height = 48;
+    options.packet.culling = parse_culling_item("none");
+    const BenchRow none = bench_configuration(scene, camera, options, 1, 0);
+    options.packet.culling = parse_culling_item("ab+bp+nf");
+    const BenchRow culled = bench_configuration(scene, camera, options, 1, 0);
+    EXPECT_EQ(none.packet_culling, "none");
+    EXPECT_EQ(culled.packet_culling, "ab+bp+nf");
+    EXPECT_GT(none.ray_triangle_tests, 0u);
+    EXPECT_EQ(none.ray_triangle_culled, 0u);
+    EXPECT_GT(culled.ray_triangle_culled, 0u);
+    EXPECT_LT(culled.ray_triangle_tests, none.ray_triangle_tests);
+
+    options.tracer = Tracer::single;
+    const BenchRow single = bench_configuration(scene, camera, options, 1, 0);
+    EXPECT_EQ(single.packet_culling, "");
+    EXPECT_EQ(single.ray_triangle_tests, 0u);
+
+    const nlohmann::json doc = nlohmann::json::parse(bench_json({none, culled}));
+    EXPECT_EQ(doc["rows"][1]["packet_culling"], "ab+bp+nf");
+    EXPECT_EQ(doc["rows"][1]["ray_triangle_tests"], culled.ray_triangle_tests);
+    EXPECT_EQ(doc["rows"][1]["ray_triangle_culled"], culled.ray_triangle_culled);
+    const std::string csv = bench_csv({none, culled});
+    EXPECT_NE(csv.find(",packet_culling,ray_triangle_tests,ray_triangle_culled\n"),
+              std::string::npos)
+        << csv;
+    EXPECT_NE(csv.find(",ab+bp+nf," + std::to_string(culled.ray_triangle_tests) + "," +
+                       std::to_string(culled.ray_triangle_culled) + "\n"),
+              std::string::npos)
+        << csv;
 }
 
 TEST(Bench, RowsSummariseRepeatedRendersAndSerialise) {

@@ -61,6 +61,52 @@ TEST(Cli, RenderWritesImageAovsAndReport) {
     EXPECT_NE(run.output.find("build"), std::string::npos);  // the printed table
 }
 
+TEST(Cli, RenderWritesOneImagePerFrameAndAReportOfEachUpdate) {
+    const fs::path dir = fresh_dir("sequence");
+    const CliRun run = run_dynrt("render 'plane:2@0,-1,0,3+sphere:200' --anim wave:sphere:200 "
+                                 "--res 24x16 --frames 2-4 --out " + (dir / "f%03d.png").string() +
+                                 " --report " + (dir / "r.json").string());
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+    for (const char* f : {"f002.png", "f003.png", "f004.png"}) EXPECT_TRUE(fs::exists(dir / f)) << f;
+    EXPECT_FALSE(fs::exists(dir / "f001.png"));
+    std::ifstream report(dir / "r.json");
+    const nlohmann::json doc = nlohmann::json::parse(report);
+    ASSERT_EQ(doc["frames"].size(), 3u);
+    EXPECT_EQ(doc["frames"][0]["frame"], 2);
+    EXPECT_EQ(doc["frames"][0]["rebuilds"].size(), 2u);  // both objects' first builds
+    EXPECT_EQ(doc["frames"][1]["static_objects"], 1);
+    EXPECT_EQ(doc["frames"][1]["deformable_objects"], 1);
+    EXPECT_EQ(doc["frames"][1]["objects_skipped"], 1);   // the plane
+    EXPECT_EQ(doc["frames"][1]["objects_refitted"], 1);  // the wave
+    EXPECT_TRUE(doc["summary"]["median"].contains("refit_ms"));
+    EXPECT_NE(run.output.find("refitted"), std::string::npos) << run.output;
+}
+
+TEST(Cli, BenchFramesTimesASequenceAndDrawsItsTimeline) {
+    const fs::path dir = fresh_dir("bench_frames");
+    std::string args = "bench sphere:300 --anim explode --res 32x32 --frames 0-3 --warmup 0 "
+                       "--plot " + (dir / "t.png").string() + " --json " + (dir / "b.json").string();
+#if DYNRT_HAVE_EMBREE
+    args += " --vs embree";
+#endif
+    const CliRun run = run_dynrt(args);
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+    EXPECT_NE(run.output.find("frames 0-3"), std::string::npos) << run.output;
+    EXPECT_TRUE(fs::exists(dir / "t.png"));
+    std::ifstream json(dir / "b.json");
+    const nlohmann::json doc = nlohmann::json::parse(json);
+    EXPECT_EQ(doc["frames"].size(), 4u);
+    EXPECT_EQ(doc["frames"][2]["rebuilds"][0]["reason"], "exploding");
+#if DYNRT_HAVE_EMBREE
+    ASSERT_EQ(doc["sequence"].size(), 3u);
+    EXPECT_EQ(doc["sequence"][1]["tracer"], "embree refit");
+    EXPECT_EQ(doc["sequence"][2]["tracer"], "embree low");
+    // Both see the same exploding frames as dynrt: no pixel may differ in hit or object.
+    EXPECT_EQ(doc["sequence"][1]["hit_object_differs"], 0);
+    EXPECT_EQ(doc["sequence"][2]["hit_object_differs"], 0);
+#endif
+}
+
 TEST(Cli, BenchPrintsOneRowPerConfigurationAndWritesCsv) {
     const fs::path dir = fresh_dir("bench");
     const CliRun run = run_dynrt("bench sphere:300 --res 16x16 --repeat 2 --warmup 0 "
@@ -170,6 +216,17 @@ INSTANTIATE_TEST_SUITE_P(
                     BadCall{"bench sphere:10 --repeat 0", "repeat"},
                     BadCall{"bench sphere:10 --plot chart.svg", "chart.svg"},
                     BadCall{"bench sphere:10 --diff-image d.png", "--vs embree"},
-                    BadCall{"info", "scene"}));
+                    BadCall{"info", "scene"},
+                    BadCall{"render sphere:10 --frames 0-3 --out one.png", "%04d"},
+                    BadCall{"render sphere:10 --frames 3-1", "--frames"},
+                    BadCall{"render sphere:10 --frames 0-1 --out f%s.png", "%d"},
+                    BadCall{"render sphere:10 --anim spin", "spin"},
+                    BadCall{"render sphere:10 --anim wave:nothing", "nothing"},
+                    BadCall{"render sphere:10 --treat sphere:10=wobbly", "wobbly"},
+                    BadCall{"render sphere:10 --clip walk", "walk"},
+                    BadCall{"render sphere:10 --camera gltf", "no camera"},
+                    BadCall{"render sphere:10 --fps 0", "--fps"},
+                    BadCall{"bench sphere:10 --anim wave", "--frames"},
+                    BadCall{"bench sphere:10 --frames 2 --sweep leaf=2,4", "--sweep"}));
 
 }  // namespace

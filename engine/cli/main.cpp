@@ -3,6 +3,7 @@
 #include "dynrt/anim/posed_scene.h"
 #include "dynrt/engine/bench.h"
 #include "dynrt/engine/bench_plot.h"
+#include "dynrt/engine/bench_sequence.h"
 #include "dynrt/engine/hit_agreement.h"
 #include "dynrt/bvh/triangle.h"
 #include "dynrt/engine/camera.h"
@@ -10,6 +11,10 @@
 #include "dynrt/engine/renderer.h"
 #include "dynrt/engine/report.h"
 #include "dynrt/engine/scene_loading.h"
+#include "dynrt/engine/sequence.h"
+#include "dynrt/anim/clip_selection.h"
+#include "dynrt/anim/motion_class.h"
+#include "dynrt/anim/procedural_motion.h"
 #include "dynrt/scene/scene_error.h"
 
 #if DYNRT_HAVE_EMBREE
@@ -21,6 +26,9 @@
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
+#include <unistd.h>
+
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -47,6 +55,14 @@ struct FrameArgs {
     int threads = 0;
     std::string tracer = "packet";
     std::string packet_culling = "all";
+    // Animation: which motions, clips and classes, at what rate, which frames.
+    std::vector<std::string> anims;
+    std::vector<std::string> treats;
+    std::vector<std::string> clips;
+    double fps = dynrt::anim::kDefaultFps;
+    std::string frames;
+    double rebuild_threshold = dynrt::RenderOptions{}.rebuild_threshold;
+    float cost_ratio_exploding = dynrt::RenderOptions{}.cost_ratio_exploding;
 };
 
 struct RenderArgs : FrameArgs {
@@ -56,7 +72,8 @@ struct RenderArgs : FrameArgs {
 };
 
 struct BenchArgs : FrameArgs {
-    int repeat = 5;
+    /// 0: not given; 5 runs of a still frame, 1 run of a sequence (--frames).
+    int repeat = 0;
     int warmup = 1;
     std::vector<std::string> sweeps;
     std::string csv;
@@ -120,41 +137,133 @@ dynrt::RenderOptions render_options(const FrameArgs& args) {
     for (const std::string& light : args.lights) options.lights.push_back(parse_light(light));
     options.tracer = args.tracer == "single" ? dynrt::Tracer::single : dynrt::Tracer::packet;
     options.packet.culling = dynrt::packet::PacketCulling::parse(args.packet_culling);
+    options.pose.fps = args.fps;
+    options.rebuild_threshold = args.rebuild_threshold;
+    options.cost_ratio_exploding = args.cost_ratio_exploding;
     return options;
+}
+
+/// The scene with the user's procedural motions added, and the pose settings that name its
+/// objects and clips (class overrides and clip choices are checked against this scene).
+dynrt::Scene load_animated_scene(const FrameArgs& args, const std::string& source,
+                                 dynrt::RenderOptions& options) {
+    dynrt::Scene scene = dynrt::load_scene(source);
+    dynrt::anim::add_procedural_motions(scene, args.anims);
+    options.pose.class_overrides = dynrt::anim::parse_class_overrides(scene, args.treats);
+    if (!args.clips.empty()) {
+        std::vector<std::size_t> clips;
+        for (const std::string& clip : args.clips) clips.push_back(dynrt::anim::find_clip(scene, clip));
+        options.pose.clips = clips;
+    }
+    return scene;
 }
 
 std::string scene_source(const FrameArgs& args) {
     return args.scene.empty() ? dynrt::default_scene_path().string() : args.scene;
 }
 
+/// `--camera gltf`: the scene's own (animated) camera, evaluated per frame.
+bool uses_scene_camera(const FrameArgs& args) { return args.camera == "gltf"; }
+
 dynrt::Camera camera_for(const dynrt::Scene& scene, const FrameArgs& args) {
+    if (uses_scene_camera(args)) {
+        if (scene.cameras.empty()) {
+            throw std::invalid_argument("--camera gltf: " + scene.source + " has no camera");
+        }
+        dynrt::anim::PosedScene posed;
+        dynrt::anim::pose_scene(scene, 0, posed);
+        return dynrt::camera_from_scene(*posed.camera);
+    }
     const dynrt::Camera camera = dynrt::default_camera(dynrt::scene_bounds(scene));
     return args.camera.empty() ? camera : dynrt::parse_camera(args.camera, camera);
 }
 
+/// A one-line progress bar on stderr, redrawn in place; used only when stderr is a terminal.
+void draw_progress(int done, int total, double ms_per_frame) {
+    constexpr int kWidth = 30;
+    const int filled = total > 0 ? done * kWidth / total : kWidth;
+    std::cerr << "\r[" << std::string(std::size_t(filled), '#')
+              << std::string(std::size_t(kWidth - filled), ' ') << "] " << done << "/" << total
+              << " frames, " << std::fixed << std::setprecision(1) << ms_per_frame
+              << " ms/frame" << std::flush;
+    if (done == total) std::cerr << "\n";
+}
+
+/// "rebuilds: 3 (first build 2, sah degraded 1)", over all frames.
+void print_rebuild_summary(std::ostream& out, const std::vector<dynrt::FrameStats>& frames) {
+    std::vector<std::pair<std::string, int>> reasons;
+    int total = 0;
+    std::size_t skipped = 0, refitted = 0;
+    for (const dynrt::FrameStats& f : frames) {
+        skipped += f.objects_skipped;
+        refitted += f.objects_refitted;
+        for (const dynrt::TreeRebuild& r : f.rebuilds) {
+            ++total;
+            auto it = std::find_if(reasons.begin(), reasons.end(),
+                                   [&](const auto& p) { return p.first == r.reason; });
+            if (it == reasons.end()) reasons.emplace_back(r.reason, 1);
+            else ++it->second;
+        }
+    }
+    out << "object updates over " << frames.size() << " frame(s): " << skipped << " skipped, "
+        << refitted << " refitted, " << total << " rebuilt";
+    for (std::size_t i = 0; i < reasons.size(); ++i) {
+        out << (i == 0 ? " (" : ", ") << reasons[i].first << " " << reasons[i].second;
+    }
+    out << (reasons.empty() ? "\n" : ")\n");
+}
+
 int run_render(const RenderArgs& args) {
-    const dynrt::RenderOptions options = render_options(args);
+    dynrt::RenderOptions options = render_options(args);
     const std::vector<dynrt::Aov> aovs = dynrt::parse_aov_list(args.aov);
-    dynrt::check_image_path(args.out);
+    const dynrt::FrameRange range =
+        args.frames.empty() ? dynrt::FrameRange{} : dynrt::parse_frame_range(args.frames);
+    if (range.count() > 1 && !dynrt::has_frame_number(args.out)) {
+        throw std::invalid_argument("--out '" + args.out + "': several frames need a frame "
+                                    "number in the name, e.g. 'frames/%04d.png'");
+    }
+    const std::filesystem::path first_path = dynrt::frame_path(args.out, range.first);
+    // A sequence goes to a folder of its own ('frames/%04d.png'): make it, as renderers do.
+    if (range.count() > 1 && first_path.has_parent_path()) {
+        std::filesystem::create_directories(first_path.parent_path());
+    }
+    dynrt::check_image_path(first_path);
 
     const std::string source = scene_source(args);
-    const dynrt::Scene scene = dynrt::load_scene(source);
-    const dynrt::Camera camera = camera_for(scene, args);
+    const dynrt::Scene scene = load_animated_scene(args, source, options);
+    const bool scene_camera = uses_scene_camera(args);
+    const dynrt::Camera fixed_camera = camera_for(scene, args);
 
     dynrt::Renderer renderer(options);
     dynrt::RenderedFrame frame;
-    renderer.render(scene, camera, 0, frame);
-    dynrt::write_image(args.out, frame);
-    for (dynrt::Aov aov : aovs) dynrt::write_aov(args.out, aov, frame);
+    std::vector<dynrt::FrameStats> frames;
+    const bool progress = range.count() > 1 && isatty(fileno(stderr));
+    double total_ms = 0.0;
+    for (int f = range.first; f <= range.last; ++f) {
+        renderer.update(scene, f);
+        const dynrt::Camera camera =
+            scene_camera ? dynrt::camera_from_scene(*renderer.posed().camera) : fixed_camera;
+        renderer.trace(camera, frame);
+        const std::string path = dynrt::frame_path(args.out, f);
+        dynrt::write_image(path, frame);
+        for (dynrt::Aov aov : aovs) dynrt::write_aov(path, aov, frame);
+        frames.push_back(frame.stats);
+        total_ms += frame.stats.total_ms;
+        if (progress) draw_progress(f - range.first + 1, range.count(), total_ms / double(frames.size()));
+    }
 
-    const std::vector<dynrt::FrameStats> frames{frame.stats};
     std::cout << "dynrt: " << source << ": " << scene.objects.size() << " objects, "
               << scene.triangle_count() << " triangles ("
-              << frame.stats.degenerate_skipped << " degenerate skipped), "
-              << options.width << "x" << options.height << " -> " << args.out << "\n";
+              << frames.front().degenerate_skipped << " degenerate skipped), "
+              << options.width << "x" << options.height << ", frames " << range.first << "-"
+              << range.last << " -> " << args.out << "\n";
     dynrt::print_frame_header(std::cout);
-    for (const dynrt::FrameStats& f : frames) dynrt::print_frame_row(std::cout, f);
+    // A sequence prints its summary; every frame's figures are in the --report file.
+    if (frames.size() <= 8) {
+        for (const dynrt::FrameStats& f : frames) dynrt::print_frame_row(std::cout, f);
+    }
     dynrt::print_summary(std::cout, frames);
+    print_rebuild_summary(std::cout, frames);
     if (!args.report.empty()) {
         const dynrt::RunInfo run{source, options.width, options.height, options.build.cost_ratio,
                                  options.build.leaf_size_max,
@@ -170,6 +279,45 @@ void write_text(const std::string& path, const std::string& text) {
     std::ofstream file(path);
     file << text;
     if (!file) throw std::runtime_error(path + ": cannot write");
+}
+
+/// `bench --frames`: an animated sequence, with Embree's per-frame options beside it.
+int run_bench_sequence(const BenchArgs& args) {
+    if (!args.sweeps.empty() || !args.csv.empty() || !args.diff_image.empty() ||
+        uses_scene_camera(args)) {
+        throw std::invalid_argument("bench --frames: --sweep, --csv, --diff-image and --camera "
+                                    "gltf are not supported for sequences yet");
+    }
+    dynrt::RenderOptions options = render_options(args);
+    const dynrt::FrameRange range = dynrt::parse_frame_range(args.frames);
+    const int runs = args.repeat > 0 ? args.repeat : 1;
+    const std::string source = scene_source(args);
+    const dynrt::Scene scene = load_animated_scene(args, source, options);
+    const dynrt::Camera camera = camera_for(scene, args);
+    std::vector<std::unique_ptr<dynrt::SequenceTracer>> others;
+#if DYNRT_HAVE_EMBREE
+    if (args.vs == "embree") {
+        for (dynrt::embree::BuildQuality q : {dynrt::embree::BuildQuality::refit, dynrt::embree::BuildQuality::low}) {
+            others.push_back(dynrt::embree::make_sequence_tracer(scene, options, q));
+        }
+    }
+#endif
+    std::cout << "dynrt bench: " << source << ", " << scene.triangle_count() << " triangles, "
+              << options.width << "x" << options.height << ", frames " << range.first << "-"
+              << range.last << ", median (min-max) over " << range.count() * runs
+              << " frames (" << runs << " run(s)) after " << args.warmup << " warm-up\n";
+    const dynrt::SequenceBench bench =
+        dynrt::bench_sequence(scene, camera, options, range, runs, args.warmup, others);
+    dynrt::print_sequence_table(std::cout, bench);
+    print_rebuild_summary(std::cout, bench.frames);
+    if (!args.plot.empty()) {
+        dynrt::plot_timeline(args.plot, bench.frames,
+                             "dynrt per frame: " + source + ", " + std::to_string(options.width) +
+                                 "x" + std::to_string(options.height));
+        std::cout << "plot: " << args.plot << "\n";
+    }
+    if (!args.json.empty()) write_text(args.json, dynrt::sequence_json(bench));
+    return 0;
 }
 
 int run_bench(const BenchArgs& args) {
@@ -193,26 +341,54 @@ int run_bench(const BenchArgs& args) {
     if (!args.plot.empty() && std::filesystem::path(args.plot).extension() != ".png") {
         throw std::invalid_argument("--plot '" + args.plot + "': charts are written as .png");
     }
+    if (!args.frames.empty()) return run_bench_sequence(args);
+    if (!args.anims.empty() || !args.treats.empty() || !args.clips.empty()) {
+        // Refused rather than ignored: a still frame would time something other than asked.
+        throw std::invalid_argument("bench: --anim, --treat and --clip animate a sequence: give "
+                                    "--frames too");
+    }
+    if (uses_scene_camera(args)) {
+        throw std::invalid_argument("bench: --camera gltf is not supported by bench yet; use "
+                                    "render --report");
+    }
+    const int repeat = args.repeat > 0 ? args.repeat : 5;
     const dynrt::RenderOptions base = render_options(args);
-    const std::vector<dynrt::bvh::BuildConfig> configs = dynrt::expand_sweeps(args.sweeps, base.build);
+    // Culling items (if swept) vary slowest, then the build sweeps as expand_sweeps orders them.
+    std::vector<std::string> build_sweeps = args.sweeps;
+    std::vector<std::string> cullings = dynrt::take_culling_sweep(build_sweeps);
+    if (!cullings.empty() && base.tracer != dynrt::Tracer::packet) {
+        throw std::invalid_argument("--sweep culling=...: the culling stages are the packet "
+                                    "tracer's; drop --tracer single");
+    }
+    if (!cullings.empty() && !args.plot.empty()) {
+        throw std::invalid_argument("--plot draws against a build parameter; it does not take "
+                                    "a culling sweep");
+    }
+    const std::vector<dynrt::bvh::BuildConfig> configs = dynrt::expand_sweeps(build_sweeps, base.build);
+    const bool sweeps_culling = !cullings.empty();
+    if (!sweeps_culling) cullings.push_back("");  // the base options' culling
     const std::string source = scene_source(args);
     const dynrt::Scene scene = dynrt::load_scene(source);
     const dynrt::Camera camera = camera_for(scene, args);
     std::cout << "dynrt bench: " << source << ", " << scene.triangle_count() << " triangles, "
-              << base.width << "x" << base.height << ", " << configs.size()
-              << " configuration(s), median (min-max) of " << args.repeat << " runs after "
+              << base.width << "x" << base.height << ", " << configs.size() * cullings.size()
+              << " configuration(s), median (min-max) of " << repeat << " runs after "
               << args.warmup << " warm-up\n";
     std::vector<dynrt::BenchRow> rows;
     // The first configuration's frame, to compare Embree's hits with.
     dynrt::RenderedFrame first_frame;
-    for (const dynrt::bvh::BuildConfig& config : configs) {
-        dynrt::RenderOptions options = base;
-        options.build = config;
-        // One warm-up for the whole sweep: it pays for first-touch costs (thread pool start,
-        // code and page faults) once; later configurations' medians do not need their own.
-        const int warmup = rows.empty() ? args.warmup : 0;
-        rows.push_back(dynrt::bench_configuration(scene, camera, options, args.repeat, warmup,
-                                                  rows.empty() ? &first_frame : nullptr));
+    for (const std::string& culling : cullings) {
+        for (const dynrt::bvh::BuildConfig& config : configs) {
+            dynrt::RenderOptions options = base;
+            options.build = config;
+            if (sweeps_culling) options.packet.culling = dynrt::parse_culling_item(culling);
+            // One warm-up for the whole sweep: it pays for first-touch costs (thread pool
+            // start, code and page faults) once; later configurations' medians do not need
+            // their own.
+            const int warmup = rows.empty() ? args.warmup : 0;
+            rows.push_back(dynrt::bench_configuration(scene, camera, options, repeat, warmup,
+                                                      rows.empty() ? &first_frame : nullptr));
+        }
     }
     dynrt::print_bench_table(std::cout, rows);
     // CSV stays dynrt-only: its one-row-per-configuration layout has no place for Embree rows.
@@ -229,7 +405,7 @@ int run_bench(const BenchArgs& args) {
     if (args.vs == "embree") {
         std::vector<dynrt::PixelAgreement> disagreement;
         const std::vector<dynrt::embree::EmbreeRow> embree_rows = dynrt::embree::bench_embree(
-            scene, camera, base, args.repeat, args.warmup, first_frame,
+            scene, camera, base, repeat, args.warmup, first_frame,
             args.diff_image.empty() ? nullptr : &disagreement);
         std::cout << "\n";
         dynrt::embree::print_embree_table(std::cout, embree_rows, rows.front());
@@ -302,7 +478,7 @@ int main(int argc, char** argv) {
         cmd->add_option("--res", args.res, "Image size WIDTHxHEIGHT")->capture_default_str();
         cmd->add_option("--camera", args.camera,
                         "eye=x,y,z,target=x,y,z,up=x,y,z,fov=deg (any subset; default framing "
-                        "from the scene bounds)");
+                        "from the scene bounds), or gltf: the scene's first camera, animated");
         cmd->add_option("--light", args.lights,
                         "Point light x,y,z[,intensity]; repeatable (default: one light above)")
             ->allow_extra_args(false);
@@ -318,6 +494,29 @@ int main(int argc, char** argv) {
         cmd->add_option("--packet-culling", args.packet_culling,
                         "Packet culling stages: ab,bp,edge,nf (any subset), all or none")
             ->capture_default_str();
+        cmd->add_option("--anim", args.anims,
+                        "Procedural motion MOTION[:OBJECT]: rigid, wave or explode, on every "
+                        "object or the named one; repeatable")
+            ->allow_extra_args(false);
+        cmd->add_option("--treat", args.treats,
+                        "NAME=CLASS: update object NAME as static, rigid, deformable or "
+                        "exploding (only raising the class its animation implies); repeatable")
+            ->allow_extra_args(false);
+        cmd->add_option("--clip", args.clips,
+                        "glTF animation to play, by name or index; repeatable (default: all "
+                        "clips together)")
+            ->allow_extra_args(false);
+        cmd->add_option("--fps", args.fps, "Frames per second: frame f is time f / fps")
+            ->check(CLI::PositiveNumber)->capture_default_str();
+        cmd->add_option("--frames", args.frames,
+                        "A-B (frames A to B) or N (frames 0 to N-1); default frame 0");
+        cmd->add_option("--rebuild-threshold", args.rebuild_threshold,
+                        "Rebuild a deformable object's tree when refitting has raised its SAH "
+                        "cost by more than this fraction of the cost at its last build")
+            ->check(CLI::NonNegativeNumber)->capture_default_str();
+        cmd->add_option("--cost-ratio-exploding", args.cost_ratio_exploding,
+                        "Cost ratio of the per-frame rebuilds of exploding objects")
+            ->check(CLI::PositiveNumber)->capture_default_str();
     };
 
     RenderArgs render;
@@ -333,13 +532,16 @@ int main(int argc, char** argv) {
     CLI::App* bench_cmd = app.add_subcommand(
         "bench", "Time a scene's frame under one or more build configurations");
     add_frame_options(bench_cmd, bench);
-    bench_cmd->add_option("--repeat", bench.repeat, "Timed runs per configuration")
+    bench_cmd->add_option("--repeat", bench.repeat,
+                          "Timed runs per configuration (default 5; with --frames, runs of the "
+                          "whole sequence, default 1)")
         ->check(CLI::Range(1, 1000))->capture_default_str();
     bench_cmd->add_option("--warmup", bench.warmup, "Untimed runs before them")
         ->check(CLI::Range(0, 1000))->capture_default_str();
     bench_cmd->add_option("--sweep", bench.sweeps,
-                          "cost-ratio=V1,V2,... or leaf=N1,N2,...; repeatable, combined as a "
-                          "cross product")
+                          "cost-ratio=V1,V2,..., leaf=N1,N2,... or culling=C1,C2,... (packet "
+                          "culling, '+' joining stages: culling=none,ab,ab+bp,ab+bp+nf); "
+                          "repeatable, combined as a cross product")
         ->allow_extra_args(false);
     bench_cmd->add_option("--csv", bench.csv, "Also write the rows as CSV to this file");
     bench_cmd->add_option("--json", bench.json,

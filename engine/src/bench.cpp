@@ -41,6 +41,9 @@ void for_each_column(const BenchRow& row, Visit&& visit) {
     visit("sah_cost", row.sah_cost);
     visit("leaf_tris_mean", row.leaf_tris_mean);
     visit("depth", row.depth);
+    visit("packet_culling", row.packet_culling);
+    visit("ray_triangle_tests", row.ray_triangle_tests);
+    visit("ray_triangle_culled", row.ray_triangle_culled);
 }
 
 std::vector<std::string> split(const std::string& text, char separator) {
@@ -91,7 +94,8 @@ std::vector<bvh::BuildConfig> expand_sweeps(const std::vector<std::string>& swee
         }
         if (name != "cost-ratio" && name != "leaf") {
             throw std::invalid_argument("--sweep '" + sweep + "': unknown parameter '" + name +
-                                        "' (known: cost-ratio, leaf)");
+                                        "' (known: cost-ratio, leaf; take_culling_sweep "
+                                        "takes culling out first)");
         }
         if (std::find(swept.begin(), swept.end(), name) != swept.end()) {
             throw std::invalid_argument("--sweep: '" + name + "' is swept twice");
@@ -123,6 +127,39 @@ std::vector<bvh::BuildConfig> expand_sweeps(const std::vector<std::string>& swee
     return configs;
 }
 
+std::vector<std::string> take_culling_sweep(std::vector<std::string>& sweeps) {
+    std::vector<std::string> items;
+    bool found = false;
+    for (auto it = sweeps.begin(); it != sweeps.end();) {
+        if (it->rfind("culling=", 0) != 0) {
+            ++it;
+            continue;
+        }
+        if (found) throw std::invalid_argument("--sweep: 'culling' is swept twice");
+        found = true;
+        const std::string sweep = *it;
+        for (const std::string& item : split(sweep.substr(8), ',')) {
+            if (item.empty()) {
+                throw std::invalid_argument("--sweep '" + sweep + "': empty culling item");
+            }
+            try {
+                parse_culling_item(item);
+            } catch (const std::invalid_argument& e) {
+                throw std::invalid_argument("--sweep '" + sweep + "': " + e.what());
+            }
+            items.push_back(item);
+        }
+        it = sweeps.erase(it);
+    }
+    return items;
+}
+
+packet::PacketCulling parse_culling_item(const std::string& item) {
+    std::string list = item;
+    std::replace(list.begin(), list.end(), '+', ',');
+    return packet::PacketCulling::parse(list);
+}
+
 BenchRow bench_configuration(const Scene& scene, const Camera& camera,
                              const RenderOptions& options, int repeat, int warmup,
                              RenderedFrame* last_frame) {
@@ -130,9 +167,15 @@ BenchRow bench_configuration(const Scene& scene, const Camera& camera,
     Renderer renderer(options);
     RenderedFrame local_frame;
     RenderedFrame& frame = last_frame ? *last_frame : local_frame;
-    for (int i = 0; i < warmup; ++i) renderer.render(scene, camera, 0, frame);
+    // Each run times a whole frame from scratch: without reset() the renderer would keep the
+    // trees of the previous run, and a still scene would cost no build at all.
+    for (int i = 0; i < warmup; ++i) {
+        renderer.reset();
+        renderer.render(scene, camera, 0, frame);
+    }
     std::vector<double> build, trace, primary, shadow, shade, total, mrays;
     for (int i = 0; i < repeat; ++i) {
+        renderer.reset();
         renderer.render(scene, camera, 0, frame);
         const FrameStats& s = frame.stats;
         const double trace_ms = s.primary_ms + s.shadow_ms;
@@ -159,6 +202,19 @@ BenchRow bench_configuration(const Scene& scene, const Camera& camera,
     row.sah_cost = frame.stats.sah_cost;
     row.leaf_tris_mean = frame.stats.leaf_tris_mean;
     row.depth = frame.stats.depth;
+    if (options.tracer == Tracer::packet) {
+        std::string culling = options.packet.culling.to_string();
+        std::replace(culling.begin(), culling.end(), ',', '+');
+        row.packet_culling = culling;
+        // Counting costs a little time per packet: a separate render, outside the timings.
+        RenderOptions counting = options;
+        counting.count_packet_work = true;
+        Renderer counter(counting);
+        RenderedFrame counted;
+        counter.render(scene, camera, 0, counted);
+        row.ray_triangle_tests = counted.stats.ray_triangle_tests;
+        row.ray_triangle_culled = counted.stats.ray_triangle_culled;
+    }
     return row;
 }
 
@@ -167,7 +223,8 @@ void print_bench_table(std::ostream& out, const std::vector<BenchRow>& rows) {
         << std::setw(10) << "tris" << std::setw(22) << "build ms" << std::setw(22) << "trace ms"
         << std::setw(22) << "shade ms" << std::setw(22) << "total ms" << std::setw(22)
         << "Mrays/s" << std::setw(9) << "SAH" << std::setw(7) << "leaf" << std::setw(6)
-        << "depth" << '\n';
+        << "depth" << "  " << std::left << std::setw(14) << "culling" << std::right
+        << std::setw(10) << "tests M" << std::setw(10) << "culled M" << '\n';
     for (const BenchRow& r : rows) {
         std::ostringstream cost;
         cost << r.build.cost_ratio;
@@ -178,7 +235,10 @@ void print_bench_table(std::ostream& out, const std::vector<BenchRow>& rows) {
             << format_spread(r.total_ms, 2) << ' ' << std::setw(21) << format_spread(r.mrays_per_s, 2)
             << std::fixed << std::setprecision(1) << std::setw(9) << r.sah_cost
             << std::setprecision(2) << std::setw(7) << r.leaf_tris_mean << std::setw(6)
-            << r.depth << '\n';
+            << r.depth << "  " << std::left << std::setw(14)
+            << (r.packet_culling.empty() ? "-" : r.packet_culling) << std::right
+            << std::setw(10) << double(r.ray_triangle_tests) / 1e6 << std::setw(10)
+            << double(r.ray_triangle_culled) / 1e6 << '\n';
     }
 }
 

@@ -133,12 +133,15 @@ std::string bench_plot_script(const std::vector<BenchRow>& rows, const std::stri
     return out.str();
 }
 
-void plot_bench(const std::filesystem::path& png, const std::vector<BenchRow>& rows,
-                const std::string& title) {
+namespace {
+
+/// Writes `script` next to the image as "<png>.gp" (kept, so the chart can be restyled or
+/// redrawn) and runs gnuplot on it.
+void run_gnuplot(const std::filesystem::path& png, const std::string& script_text) {
     const std::filesystem::path script = png.string() + ".gp";
     {
         std::ofstream file(script);
-        file << bench_plot_script(rows, title, png);
+        file << script_text;
         if (!file) throw std::runtime_error(script.string() + ": cannot write");
     }
     std::error_code ignored;
@@ -160,6 +163,52 @@ void plot_bench(const std::filesystem::path& png, const std::vector<BenchRow>& r
         throw std::runtime_error("--plot: gnuplot failed to draw " + png.string() +
                                  " (script kept in " + script.string() + ")");
     }
+}
+
+}  // namespace
+
+void plot_bench(const std::filesystem::path& png, const std::vector<BenchRow>& rows,
+                const std::string& title) {
+    run_gnuplot(png, bench_plot_script(rows, title, png));
+}
+
+std::string timeline_plot_script(const std::vector<FrameStats>& frames, const std::string& title,
+                                 const std::filesystem::path& png) {
+    if (frames.empty()) throw std::invalid_argument("timeline plot: no frames");
+    std::ostringstream out;
+    out << "set terminal pngcairo size 1000,520 noenhanced font ',11'\n"
+        << "set output " << single_quoted(png.string()) << "\n"
+        << "set title " << single_quoted(title) << "\n"
+        << "set xlabel 'frame'\nset ylabel 'ms'\n"
+        << "set style data histograms\nset style histogram rowstacked\n"
+        << "set style fill solid 0.8 border -1\nset boxwidth 0.8\n"
+        << "set key outside right top\nset yrange [0:*]\n"
+        << "set xtics rotate by -45\n";
+    // Inline data: frame, update, refit, rebuild, top level, primary, shadow, shade.
+    out << "$frames << EOD\n";
+    for (const FrameStats& f : frames) {
+        out << f.frame << ' ' << f.update_ms << ' ' << f.refit_ms << ' ' << f.rebuild_ms << ' '
+            << f.top_level_ms << ' ' << f.primary_ms << ' ' << f.shadow_ms << ' ' << f.shade_ms
+            << '\n';
+    }
+    out << "EOD\n";
+    // Label only every k-th frame so long sequences stay readable.
+    const std::size_t step = std::max<std::size_t>(1, frames.size() / 32);
+    const char* labels[] = {"update (animation)", "refit", "rebuild", "top level",
+                            "primary rays", "shadow rays", "shade"};
+    out << "plot ";
+    for (int c = 0; c < 7; ++c) {
+        out << (c == 0 ? "" : ", ") << "$frames using " << c + 2;
+        if (c == 0) out << ":xtic(int($0) % " << step << " == 0 ? stringcolumn(1) : '')";
+        out << " title " << single_quoted(labels[c]);
+    }
+    out << "\n";
+    return out.str();
+}
+
+void plot_timeline(const std::filesystem::path& png, const std::vector<FrameStats>& frames,
+                   const std::string& title) {
+    run_gnuplot(png, timeline_plot_script(frames, title, png));
 }
 
 }  // namespace dynrt

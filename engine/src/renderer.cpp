@@ -2,11 +2,14 @@
 
 #include "dynrt/anim/posed_scene.h"
 #include "dynrt/bvh/triangle_bvh.h"
+#include "dynrt/packet/packet_shading.h"
 #include "dynrt/packet/packet_traversal.h"
 #include "dynrt/packet/pinhole.h"
 #include "dynrt/packet/ray_packet.h"
 #include "dynrt/packet/simd.h"
 #include "dynrt/packet/tiling.h"
+#include "dynrt/packet/two_level_packet.h"
+#include "scene_accel.h"
 #include "shadow_ray_offset.h"
 #include "stopwatch.h"
 
@@ -20,43 +23,36 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <optional>
+#include <span>
+#include <stdexcept>
 
 namespace dynrt {
 
 struct Renderer::State {
+    /// The scene the trees belong to, its poser (one per sequence: it precomputes what never
+    /// changes) and the lights the frames use.
+    const Scene* scene = nullptr;
+    std::optional<anim::ScenePoser> poser;
+    std::vector<PointLight> lights;
     anim::PosedScene posed;
-    /// World-space triangles of all objects, concatenated in scene order.
-    std::vector<bvh::Triangle> triangles;
-    /// Object i owns triangles [object_first[i], object_first[i + 1]).
-    std::vector<std::uint32_t> object_first;
-    bvh::TriangleBvh accel;
-    std::vector<bvh::Hit> hits;
-    /// visible[pixel * lights + l]: light l reaches the pixel's hit point.
+    SceneAccel accel;
+    /// The last update's figures, and its wall time (part of the frame's total).
+    FrameStats update_stats;
+    double update_wall_ms = 0.0;
+    bool updated = false;
+    std::vector<bvh::InstanceHit> hits;
+    /// visible[pixel * lights + l]: light l reaches the pixel's hit point (single-ray tracer;
+    /// the packet tracer keeps its verdicts per tile).
     std::vector<std::uint8_t> visible;
+    /// The scene's materials as the shading kernel reads them, each object's material index
+    /// and the lights, refreshed per trace (kept to avoid reallocating).
+    std::vector<packet::PhongMaterial> materials;
+    std::vector<std::int32_t> object_material;
+    std::vector<packet::ShadingLight> shading_lights;
 };
 
 namespace {
-
-void gather_triangles(const Scene& scene, const anim::PosedScene& posed,
-                      std::vector<bvh::Triangle>& triangles,
-                      std::vector<std::uint32_t>& object_first) {
-    object_first.resize(scene.objects.size() + 1);
-    std::size_t total = 0;
-    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
-        object_first[i] = std::uint32_t(total);
-        total += scene.objects[i].mesh.triangles.size();
-    }
-    object_first.back() = std::uint32_t(total);
-    triangles.resize(total);
-    tbb::parallel_for(std::size_t(0), scene.objects.size(), [&](std::size_t i) {
-        const std::vector<glm::uvec3>& indices = scene.objects[i].mesh.triangles;
-        const std::vector<glm::vec3>& p = posed.objects[i].positions;
-        bvh::Triangle* out = triangles.data() + object_first[i];
-        for (std::size_t t = 0; t < indices.size(); ++t) {
-            out[t] = bvh::Triangle{p[indices[t].x], p[indices[t].y], p[indices[t].z]};
-        }
-    });
-}
 
 /// Unit geometric normal of `tri`, turned to face against `dir`.
 glm::vec3 facing_normal(const bvh::Triangle& tri, const glm::vec3& dir) {
@@ -119,19 +115,22 @@ struct ShadowOrigin {
     }
 };
 
-/// The shadow-ray origins of one tile's hits for the packet tracer, lane by lane in SIMD:
-/// facing normal, hit point and offset origin by exactly the operations of facing_normal,
-/// hit_point and offset_along_normal (glm's cross, normalize = v * (1 / sqrt(dot)), dot =
-/// (x*x + y*y) + z*z), so the shadow rays are bit-identical to the single-ray tracer's.
+/// One tile's hits as shading and shadow rays need them, lane by lane in SIMD: facing normal,
+/// hit point and offset origin by exactly the operations of facing_normal, hit_point and
+/// offset_along_normal (glm's cross, normalize = v * (1 / sqrt(dot)), dot = (x*x + y*y) +
+/// z*z), so the shadow rays are bit-identical to the single-ray tracer's; plus the view
+/// vector and material per lane, so the shading kernel reads the same arrays while they are
+/// hot.
 struct TileShadowOrigins {
-    packet::LaneMask hit;
-    alignas(64) float n[3][packet::kPacketRays];
-    alignas(64) float point[3][packet::kPacketRays];
+    packet::SurfacePacket surface;  ///< hit mask, point, normal, view, material
     alignas(64) float origin[3][packet::kPacketRays];
 
-    /// `primary` holds the tile's camera rays (lane tile_lane(tile, x, y)).
-    void compute(const std::vector<bvh::Triangle>& triangles, const std::vector<bvh::Hit>& hits,
-                 int width, const packet::Tile& tile, const packet::RayPacket& primary) {
+    /// `primary` holds the tile's camera rays (lane tile_lane(tile, x, y)); object i has
+    /// material object_material[i].
+    void compute(const SceneAccel& accel, const std::vector<bvh::InstanceHit>& hits, int width,
+                 const packet::Tile& tile, const packet::RayPacket& primary,
+                 const std::vector<std::int32_t>& object_material) {
+        packet::LaneMask& hit = surface.hit;
         using L = packet::simd::Lanes<packet::simd::kNativeLanes>;
         using F = L::F;
         using I = L::I;
@@ -141,13 +140,13 @@ struct TileShadowOrigins {
         alignas(64) float v[9][packet::kPacketRays];
         alignas(64) float bary[2][packet::kPacketRays];
         constexpr float kHarmless[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
-        // The hit triangles are scattered through a large array: request them all before
+        // The hit triangles are scattered through large arrays: request them all before
         // reading any, so the cache misses overlap.
         for (int y = tile.y0; y < tile.y1; ++y) {
             for (int x = tile.x0; x < tile.x1; ++x) {
-                const bvh::Hit& h = hits[std::size_t(y) * width + x];
+                const bvh::InstanceHit& h = hits[std::size_t(y) * width + x];
                 if (!h.is_hit()) continue;
-                const char* t = reinterpret_cast<const char*>(&triangles[h.prim]);
+                const char* t = reinterpret_cast<const char*>(accel.triangle_address(h.object, h.hit.prim));
                 __builtin_prefetch(t);
                 __builtin_prefetch(t + sizeof(bvh::Triangle) - 1);
             }
@@ -155,11 +154,15 @@ struct TileShadowOrigins {
         hit = packet::LaneMask{};
         for (int lane = 0; lane < packet::kPacketRays; ++lane) {
             const packet::LanePixel px = packet::tile_pixel(tile, lane);
-            const bvh::Hit* h = px.inside ? &hits[std::size_t(px.y) * width + px.x] : nullptr;
+            const bvh::Hit* h = nullptr;
             float coords[9];
-            if (h && h->is_hit()) {
+            if (px.inside && hits[std::size_t(px.y) * width + px.x].is_hit()) {
+                const bvh::InstanceHit& ih = hits[std::size_t(px.y) * width + px.x];
+                h = &ih.hit;
                 hit.set(lane);
-                std::memcpy(coords, &triangles[h->prim], sizeof coords);
+                const bvh::Triangle tri = accel.world_triangle(ih.object, ih.hit.prim);
+                std::memcpy(coords, &tri, sizeof coords);
+                surface.material[lane] = object_material[ih.object];
             } else {
                 std::memcpy(coords, kHarmless, sizeof coords);
             }
@@ -186,7 +189,10 @@ struct TileShadowOrigins {
             const F d[3] = {L::load(dir_in[0] + base), L::load(dir_in[1] + base),
                             L::load(dir_in[2] + base)};
             const I flip = (nv[0] * d[0] + nv[1] * d[1] + nv[2] * d[2]) > L::splat(0.0f);
-            for (int a = 0; a < 3; ++a) nv[a] = L::select(flip, -nv[a], nv[a]);
+            for (int a = 0; a < 3; ++a) {
+                nv[a] = L::select(flip, -nv[a], nv[a]);
+                L::store(surface.view[a] + base, -d[a]);
+            }
             // hit_point: (1 - u - v) v0 + u v1 + v v2.
             const F u = L::load(bary[0] + base), w = L::load(bary[1] + base);
             const F b0 = L::splat(1.0f) - u - w;
@@ -198,8 +204,8 @@ struct TileShadowOrigins {
                 const I bits = L::bits_of(p);
                 const F moved = L::float_of(bits + L::select(p < L::splat(0.0f), -ulps, ulps));
                 const F near_origin = p + L::splat(1.0f / 65536.0f) * nv[a];
-                L::store(n[a] + base, nv[a]);
-                L::store(point[a] + base, p);
+                L::store(surface.normal[a] + base, nv[a]);
+                L::store(surface.point[a] + base, p);
                 L::store(origin[a] + base,
                          L::select(L::abs(p) < L::splat(1.0f / 32.0f), near_origin, moved));
             }
@@ -216,11 +222,13 @@ struct TileShadowOrigins {
         const F lx = L::splat(light.position.x), ly = L::splat(light.position.y),
                 lz = L::splat(light.position.z);
         for (int base = 0; base < packet::kPacketRays; base += W) {
-            const std::uint32_t lanes = hit.extract(base, W);
+            const std::uint32_t lanes = surface.hit.extract(base, W);
             if (lanes == 0) continue;
-            const F to_x = lx - L::load(point[0] + base), to_y = ly - L::load(point[1] + base),
-                    to_z = lz - L::load(point[2] + base);
-            const F nx = L::load(n[0] + base), ny = L::load(n[1] + base), nz = L::load(n[2] + base);
+            const F to_x = lx - L::load(surface.point[0] + base),
+                    to_y = ly - L::load(surface.point[1] + base),
+                    to_z = lz - L::load(surface.point[2] + base);
+            const F nx = L::load(surface.normal[0] + base), ny = L::load(surface.normal[1] + base),
+                    nz = L::load(surface.normal[2] + base);
             const std::uint32_t lit =
                 L::bits((nx * to_x + ny * to_y + nz * to_z) > L::splat(0.0f)) & lanes;
             if (lit == 0) continue;
@@ -238,6 +246,50 @@ struct TileShadowOrigins {
         }
     }
 };
+
+/// What shading a tile needs besides the tile's own data; fixed for a frame.
+struct TileShading {
+    std::span<const packet::PhongMaterial> materials;
+    std::span<const packet::ShadingLight> lights;
+    float ambient;
+    glm::vec3 background;
+    int lanes;  ///< PacketConfig::lanes: the kernel's SIMD width (same bits either way)
+};
+
+/// Shades one tile's hits (packet::shade; `visible[l]`: the lanes light l reaches) and writes
+/// every pixel of the tile into `out`, whose buffers are already sized: colour, depth, object,
+/// prim and normal, or the background and the miss values. `colors` is scratch.
+void shade_tile(const TileShading& shading, const packet::Tile& tile,
+                const TileShadowOrigins& origins, std::span<const packet::LaneMask> visible,
+                const std::vector<bvh::InstanceHit>& hits, packet::ShadedColors& colors,
+                RenderedFrame& out) {
+    const packet::SurfacePacket& surface = origins.surface;
+    if (surface.hit.any()) {
+        packet::shade(surface, shading.materials, shading.lights, visible, shading.ambient, colors,
+                      shading.lanes);
+    }
+    for (int y = tile.y0; y < tile.y1; ++y) {
+        for (int x = tile.x0; x < tile.x1; ++x) {
+            const std::size_t p = std::size_t(y) * std::size_t(out.width) + std::size_t(x);
+            const int lane = packet::tile_lane(tile, x, y);
+            if (!surface.hit.test(lane)) {
+                out.color[p] = shading.background;
+                out.depth[p] = std::numeric_limits<float>::infinity();
+                out.object[p] = -1;
+                out.prim[p] = -1;
+                out.normal[p] = glm::vec3(0.0f);
+                continue;
+            }
+            const bvh::InstanceHit& hit = hits[p];
+            out.color[p] = {colors.rgb[0][lane], colors.rgb[1][lane], colors.rgb[2][lane]};
+            out.depth[p] = hit.hit.t;
+            out.object[p] = std::int32_t(hit.object);
+            out.prim[p] = std::int32_t(hit.hit.prim);
+            out.normal[p] = {surface.normal[0][lane], surface.normal[1][lane],
+                             surface.normal[2][lane]};
+        }
+    }
+}
 
 PointLight default_light(const bvh::Aabb& bounds) {
     const float r = 0.5f * glm::length(bounds.extent());
@@ -264,41 +316,83 @@ Renderer::Renderer(RenderOptions options)
 
 Renderer::~Renderer() = default;
 
-void Renderer::render(const Scene& scene, const Camera& camera, int frame, RenderedFrame& out) {
+void Renderer::reset() {
     State& s = *state_;
-    const Stopwatch frame_clock;
+    s.accel.clear();
+    s.poser.reset();
+    s.scene = nullptr;
+    s.updated = false;
+}
+
+const anim::PosedScene& Renderer::posed() const {
+    if (!state_->updated) throw std::logic_error("Renderer::posed before any update");
+    return state_->posed;
+}
+
+void Renderer::render(const Scene& scene, const Camera& camera, int frame, RenderedFrame& out) {
+    update(scene, frame);
+    trace(camera, out);
+}
+
+void Renderer::update(const Scene& scene, int frame) {
+    State& s = *state_;
+    if (s.scene != &scene || !s.poser) {
+        // A new scene: a poser for it (settings checked here), set up once per sequence.
+        reset();
+        anim::PoseSettings settings = options_.pose;
+        settings.skip_fixed_positions = true;
+        s.poser.emplace(scene, std::move(settings));
+        s.lights.clear();
+        s.scene = &scene;
+    }
+    s.updated = false;
+    const Stopwatch update_clock;
+    FrameStats& stats = s.update_stats;
+    stats = FrameStats{};
+    stats.frame = frame;
+
+    // ---- Update: evaluate the animation, then bring every object's tree to this frame ----
+    Stopwatch clock;
+    s.poser->pose(frame, s.posed);
+    stats.update_ms = clock.lap_ms();
+    UpdatePolicy policy;
+    policy.build = options_.build;
+    policy.exploding_cost_ratio = options_.cost_ratio_exploding;
+    policy.rebuild_threshold = options_.rebuild_threshold;
+    s.accel.update(scene, *s.poser, s.posed, policy, stats);
+    s.update_wall_ms = update_clock.elapsed_ms();
+    // The lights, once per sequence and untimed. After the update, so that bad geometry is
+    // reported at the frame asked for (the default light is placed from frame 0's bounds).
+    if (s.lights.empty()) s.lights = effective_lights(scene, options_);
+    s.updated = true;
+}
+
+void Renderer::trace(const Camera& camera, RenderedFrame& out) {
+    State& s = *state_;
+    if (!s.updated) throw std::logic_error("Renderer::trace before any update");
+    const Scene& scene = *s.scene;
+    const std::vector<PointLight>& lights = s.lights;
     const int width = options_.width, height = options_.height;
     const CameraRays rays(camera, width, height);
     const std::size_t pixels = std::size_t(width) * std::size_t(height);
     FrameStats& stats = out.stats;
-    stats = FrameStats{};
-    stats.frame = frame;
-
-    // ---- Update: the scene at this frame, flattened into world-space triangles ----
+    stats = s.update_stats;
+    const bvh::TwoLevelBvh& accel = s.accel.top_level();
+    // The shading kernel's view of materials and lights (bookkeeping, outside the stage clocks).
+    s.materials.clear();
+    for (const Material& m : scene.materials) {
+        s.materials.push_back(packet::PhongMaterial{m.diffuse, m.specular, m.shininess});
+    }
+    s.object_material.clear();
+    for (const Object& object : scene.objects) {
+        s.object_material.push_back(std::int32_t(object.material));
+    }
+    s.shading_lights.clear();
+    for (const PointLight& light : lights) {
+        s.shading_lights.push_back(packet::ShadingLight{light.position, light.intensity});
+    }
+    const Stopwatch trace_clock;
     Stopwatch clock;
-    anim::pose_scene(scene, frame, s.posed);
-    gather_triangles(scene, s.posed, s.triangles, s.object_first);
-    // The default light is placed from the bounds at frame 0; when this is frame 0 they come
-    // from the geometry just posed instead of posing it a second time.
-    const std::vector<PointLight> lights =
-        frame == 0 && options_.lights.empty() && scene.lights.empty()
-            ? std::vector<PointLight>{default_light(bounds_of(s.posed))}
-            : effective_lights(scene, options_);
-    stats.update_ms = clock.lap_ms();
-    stats.triangles = s.triangles.size();
-
-    // ---- Build ----
-    s.accel = bvh::build_triangle_bvh(s.triangles, options_.build);
-    stats.build_ms = clock.lap_ms();
-    const bvh::BvhStats shape = bvh::compute_stats(s.accel.bvh);
-    stats.degenerate_skipped = s.accel.degenerate_skipped;
-    stats.sah_cost = bvh::sah_cost(s.accel.bvh, options_.build.sah_costs());
-    stats.nodes = shape.nodes;
-    stats.leaves = shape.leaves;
-    stats.leaf_tris_mean = shape.leaf_prims_mean;
-    stats.leaf_tris_max = shape.leaf_prims_max;
-    stats.depth = shape.depth;
-    clock.lap_ms();  // the statistics are reporting, not building: keep them out of both
 
     // ---- Primary rays, one 16x16 tile per task ----
     s.hits.resize(pixels);
@@ -309,9 +403,9 @@ void Renderer::render(const Scene& scene, const Camera& camera, int frame, Rende
                                           width, height);
         for_each_tile(width, height, [&](const packet::Tile& tile) {
             packet::RayPacket packet_rays;
-            packet::PacketHits packet_hits;
+            packet::InstanceHits packet_hits;
             pinhole.fill_tile(tile, packet_rays);
-            packet::intersect_closest(s.accel, packet_rays, packet_hits, options_.packet,
+            packet::intersect_closest(accel, packet_rays, packet_hits, options_.packet,
                                       count ? &work.local() : nullptr);
             for (int y = tile.y0; y < tile.y1; ++y) {
                 for (int x = tile.x0; x < tile.x1; ++x) {
@@ -321,59 +415,115 @@ void Renderer::render(const Scene& scene, const Camera& camera, int frame, Rende
         });
     } else {
         for_each_pixel_in_tiles(width, height, [&](int x, int y, std::size_t p) {
-            s.hits[p] = bvh::intersect_closest(s.accel, rays.ray(x, y));
+            s.hits[p] = bvh::intersect_closest(accel, rays.ray(x, y));
         });
     }
     stats.primary_ms = clock.lap_ms();
     stats.primary_rays = pixels;
 
-    // ---- Shadow rays: one per hit and light on the lit side ----
-    s.visible.assign(pixels * lights.size(), 0);
+    // ---- Shadow rays (one per hit and light on the lit side), then shading ----
+    out.width = width;
+    out.height = height;
+    out.color.resize(pixels);
+    out.depth.resize(pixels);
+    out.object.resize(pixels);
+    out.prim.resize(pixels);
+    out.normal.resize(pixels);
+    const TileShading shading{s.materials, s.shading_lights, options_.ambient,
+                              options_.background, options_.packet.lanes};
+    const packet::PinholeRays pinhole(camera.eye, camera.target, camera.up, camera.fov_y_deg,
+                                      width, height);
+    const packet::Tiling tiling(width, height);
     tbb::combinable<std::size_t> shadow_rays([] { return std::size_t(0); });
     if (options_.tracer == Tracer::packet) {
-        // One packet per tile and light: the tile's hit points toward the light.
-        const packet::PinholeRays pinhole(camera.eye, camera.target, camera.up, camera.fov_y_deg,
-                                          width, height);
-        for_each_tile(width, height, [&](const packet::Tile& tile) {
+        // One shadow packet per tile and light (the tile's hit points toward the light), then
+        // the tile is shaded in the same task, on the normals and hit points the shadow rays
+        // were made from while they are still in cache. Both stages thus share one parallel
+        // loop and one wall-clock interval: each task times its shadow part (origins and
+        // shadow packets) and its shading part (kernel and output writes) on its own thread,
+        // and the interval is split between shadow_ms and shade_ms in proportion to the two
+        // summed thread times, i.e. by the share of the workers' time each stage took.
+        struct StageThreadMs {
+            double shadow = 0.0, shade = 0.0;
+        };
+        tbb::combinable<StageThreadMs> thread_ms;
+        tbb::combinable<std::vector<packet::LaneMask>> visible_buffers;
+        tbb::parallel_for(0, tiling.count(), [&](int i) {
+            Stopwatch task_clock;
+            const packet::Tile tile = tiling.tile(i);
             packet::RayPacket packet_rays;
             pinhole.fill_tile(tile, packet_rays);  // the camera rays, for the facing normals
             TileShadowOrigins origins;
-            origins.compute(s.triangles, s.hits, width, tile, packet_rays);
-            if (!origins.hit.any()) return;
+            origins.compute(s.accel, s.hits, width, tile, packet_rays, s.object_material);
+            std::vector<packet::LaneMask>& visible = visible_buffers.local();
+            visible.assign(lights.size(), packet::LaneMask{});
             std::size_t traced = 0;
-            for (std::size_t l = 0; l < lights.size(); ++l) {
+            for (std::size_t l = 0; l < lights.size() && origins.surface.hit.any(); ++l) {
                 origins.rays_to(lights[l], packet_rays);
                 if (!packet_rays.active.any()) continue;
                 traced += std::size_t(packet_rays.active.count());
                 packet::LaneMask occluded;
-                packet::intersect_any(s.accel, packet_rays, occluded, options_.packet,
+                packet::intersect_any(accel, packet_rays, occluded, options_.packet,
                                       count ? &work.local() : nullptr);
-                for (int y = tile.y0; y < tile.y1; ++y) {
-                    for (int x = tile.x0; x < tile.x1; ++x) {
-                        const int lane = packet::tile_lane(tile, x, y);
-                        if (!packet_rays.active.test(lane)) continue;
-                        s.visible[(std::size_t(y) * width + x) * lights.size() + l] =
-                            !occluded.test(lane);
-                    }
+                for (int w = 0; w < packet::kPacketRays / 64; ++w) {
+                    visible[l].words[w] = packet_rays.active.words[w] & ~occluded.words[w];
                 }
             }
             shadow_rays.local() += traced;
+            StageThreadMs& ms = thread_ms.local();
+            ms.shadow += task_clock.lap_ms();
+            packet::ShadedColors colors;
+            shade_tile(shading, tile, origins, visible, s.hits, colors, out);
+            ms.shade += task_clock.lap_ms();
         });
+        const double wall_ms = clock.lap_ms();
+        const StageThreadMs sum = thread_ms.combine([](StageThreadMs a, const StageThreadMs& b) {
+            return StageThreadMs{a.shadow + b.shadow, a.shade + b.shade};
+        });
+        const double thread_total = sum.shadow + sum.shade;
+        stats.shadow_ms = thread_total > 0.0 ? wall_ms * (sum.shadow / thread_total) : wall_ms;
+        stats.shade_ms = wall_ms - stats.shadow_ms;
     } else {
+        s.visible.assign(pixels * lights.size(), 0);
         for_each_pixel_in_tiles(width, height, [&](int x, int y, std::size_t p) {
-            const bvh::Hit& hit = s.hits[p];
+            const bvh::InstanceHit& hit = s.hits[p];
             if (!hit.is_hit()) return;
-            const ShadowOrigin origin(s.triangles[hit.prim], hit, rays.ray(x, y).dir);
+            const ShadowOrigin origin(s.accel.world_triangle(hit.object, hit.hit.prim), hit.hit,
+                                      rays.ray(x, y).dir);
             std::size_t traced = 0;
             for (std::size_t l = 0; l < lights.size(); ++l) {
                 if (!origin.faces(lights[l])) continue;
                 ++traced;
-                s.visible[p * lights.size() + l] = !bvh::intersect_any(s.accel, origin.ray_to(lights[l]));
+                s.visible[p * lights.size() + l] = !bvh::intersect_any(accel, origin.ray_to(lights[l]));
             }
             shadow_rays.local() += traced;
         });
+        stats.shadow_ms = clock.lap_ms();
+        // The same shading kernel as the packet tracer, so both render the same bits; the
+        // normals and hit points are recomputed per tile (as the shadow stage computed them).
+        tbb::combinable<std::vector<packet::LaneMask>> visible_buffers;
+        tbb::parallel_for(0, tiling.count(), [&](int i) {
+            const packet::Tile tile = tiling.tile(i);
+            packet::RayPacket camera_rays;
+            pinhole.fill_tile(tile, camera_rays);
+            TileShadowOrigins origins;
+            origins.compute(s.accel, s.hits, width, tile, camera_rays, s.object_material);
+            std::vector<packet::LaneMask>& visible = visible_buffers.local();
+            visible.assign(lights.size(), packet::LaneMask{});
+            for (int y = tile.y0; y < tile.y1; ++y) {
+                for (int x = tile.x0; x < tile.x1; ++x) {
+                    const std::size_t p = std::size_t(y) * width + x;
+                    const int lane = packet::tile_lane(tile, x, y);
+                    for (std::size_t l = 0; l < lights.size(); ++l) {
+                        if (s.visible[p * lights.size() + l]) visible[l].set(lane);
+                    }
+                }
+            }
+            packet::ShadedColors colors;
+            shade_tile(shading, tile, origins, visible, s.hits, colors, out);
+        });
+        stats.shade_ms = clock.lap_ms();
     }
-    stats.shadow_ms = clock.lap_ms();
     stats.shadow_rays = shadow_rays.combine(std::plus<>());
     if (count) {
         const packet::PacketStats total =
@@ -383,51 +533,8 @@ void Renderer::render(const Scene& scene, const Camera& camera, int frame, Rende
                                     total.culled_triangle_edges + total.culled_near_far;
     }
 
-    // ---- Shade, and fill the per-pixel outputs ----
-    out.width = width;
-    out.height = height;
-    out.color.resize(pixels);
-    out.depth.resize(pixels);
-    out.object.resize(pixels);
-    out.prim.resize(pixels);
-    out.normal.resize(pixels);
-    for_each_pixel_in_tiles(width, height, [&](int x, int y, std::size_t p) {
-        const bvh::Hit& hit = s.hits[p];
-        if (!hit.is_hit()) {
-            out.color[p] = options_.background;
-            out.depth[p] = std::numeric_limits<float>::infinity();
-            out.object[p] = -1;
-            out.prim[p] = -1;
-            out.normal[p] = glm::vec3(0.0f);
-            return;
-        }
-        const bvh::Ray primary = rays.ray(x, y);
-        const bvh::Triangle& tri = s.triangles[hit.prim];
-        const std::size_t object = std::size_t(
-            std::upper_bound(s.object_first.begin(), s.object_first.end(), hit.prim) -
-            s.object_first.begin() - 1);
-        const Material& material = scene.materials[scene.objects[object].material];
-        const glm::vec3 n = facing_normal(tri, primary.dir);
-        const glm::vec3 point = hit_point(tri, hit);
-        const glm::vec3 v = -primary.dir;
-        glm::vec3 color = options_.ambient * material.diffuse;
-        for (std::size_t l = 0; l < lights.size(); ++l) {
-            if (!s.visible[p * lights.size() + l]) continue;
-            const glm::vec3 to_light = glm::normalize(lights[l].position - point);
-            const float n_dot_l = glm::dot(n, to_light);
-            const glm::vec3 r = 2.0f * n_dot_l * n - to_light;
-            const float specular = std::pow(std::max(0.0f, glm::dot(r, v)), material.shininess);
-            color += lights[l].intensity * (material.diffuse * n_dot_l + material.specular * specular);
-        }
-        out.color[p] = color;
-        out.depth[p] = hit.t;
-        out.object[p] = std::int32_t(object);
-        out.prim[p] = std::int32_t(hit.prim - s.object_first[object]);
-        out.normal[p] = n;
-    });
-    stats.shade_ms = clock.lap_ms();
 
-    stats.total_ms = frame_clock.elapsed_ms();
+    stats.total_ms = s.update_wall_ms + trace_clock.elapsed_ms();
     const auto mrays_per_s = [](std::size_t rays_traced, double ms) {
         return ms > 0.0 ? double(rays_traced) / (ms * 1e3) : 0.0;
     };

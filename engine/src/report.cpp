@@ -35,11 +35,37 @@ void for_each_field(const FrameStats& s, Visit&& visit) {
     visit("leaf_tris_mean", s.leaf_tris_mean);
     visit("leaf_tris_max", s.leaf_tris_max);
     visit("depth", s.depth);
+    visit("refit_ms", s.refit_ms);
+    visit("rebuild_ms", s.rebuild_ms);
+    visit("top_level_ms", s.top_level_ms);
+    visit("static_objects", s.static_objects);
+    visit("static_triangles", s.static_triangles);
+    visit("rigid_objects", s.rigid_objects);
+    visit("rigid_triangles", s.rigid_triangles);
+    visit("deformable_objects", s.deformable_objects);
+    visit("deformable_triangles", s.deformable_triangles);
+    visit("exploding_objects", s.exploding_objects);
+    visit("exploding_triangles", s.exploding_triangles);
+    visit("objects_skipped", s.objects_skipped);
+    visit("objects_refitted", s.objects_refitted);
+    visit("objects_rebuilt", s.objects_rebuilt);
+    visit("triangles_refitted", s.triangles_refitted);
+    visit("triangles_rebuilt", s.triangles_rebuilt);
 }
 
 nlohmann::ordered_json frame_json(const FrameStats& s) {
     nlohmann::ordered_json j;
     for_each_field(s, [&](const char* key, auto value) { j[key] = value; });
+    // Not a column (no median of reasons): the list of this frame's tree builds.
+    j["rebuilds"] = nlohmann::ordered_json::array();
+    for (const TreeRebuild& r : s.rebuilds) {
+        nlohmann::ordered_json event = {{"object", r.object}, {"name", r.name}, {"reason", r.reason}};
+        if (r.reason == "sah degraded") {
+            event["sah_refitted"] = r.sah_refitted;
+            event["sah_at_last_build"] = r.sah_at_last_build;
+        }
+        j["rebuilds"].push_back(event);
+    }
     return j;
 }
 

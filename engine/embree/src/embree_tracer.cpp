@@ -10,6 +10,7 @@
 
 #include <embree3/rtcore.h>
 #include <nlohmann/json.hpp>
+#include <tbb/blocked_range.h>
 #include <tbb/combinable.h>
 #include <tbb/parallel_for.h>
 
@@ -32,6 +33,7 @@ static_assert(packet::kTileSize == kLanes, "one packet is one tile row");
 
 RTCBuildQuality rtc_quality(BuildQuality quality) {
     switch (quality) {
+        case BuildQuality::refit: return RTC_BUILD_QUALITY_REFIT;
         case BuildQuality::low: return RTC_BUILD_QUALITY_LOW;
         case BuildQuality::medium: return RTC_BUILD_QUALITY_MEDIUM;
         case BuildQuality::high: return RTC_BUILD_QUALITY_HIGH;
@@ -83,6 +85,7 @@ std::string format_ratio(double num, double den) {
 
 const char* quality_name(BuildQuality quality) {
     switch (quality) {
+        case BuildQuality::refit: return "refit";
         case BuildQuality::low: return "low";
         case BuildQuality::medium: return "medium";
         case BuildQuality::high: return "high";
@@ -93,21 +96,44 @@ const char* quality_name(BuildQuality quality) {
 struct EmbreeTracer::State {
     RTCDevice device = nullptr;
     RTCScene scene = nullptr;
-    /// Frame 0 of the scene last built: positions per object and each object's triangles.
-    anim::PosedScene posed;
+    /// The frame build() posed (frame 0); load_frame borrows the caller's instead.
+    anim::PosedScene own_posed;
+    /// The frame in the scene: positions per object. Each object's triangles.
+    const anim::PosedScene* posed = nullptr;
     std::vector<std::vector<glm::uvec3>> indices;
+    /// Per object, its geometry's vertex buffer (null for an empty object), to update.
+    std::vector<float*> vertex_buffers;
+    BuildQuality quality = BuildQuality::low;
 
     void release_scene() {
         if (scene) rtcReleaseScene(scene);
         scene = nullptr;
+        vertex_buffers.clear();
     }
     /// The world-space triangle `prim` of `object`.
     bvh::Triangle triangle(std::int32_t object, std::int32_t prim) const {
         const glm::uvec3& t = indices[std::size_t(object)][std::size_t(prim)];
-        const std::vector<glm::vec3>& p = posed.objects[std::size_t(object)].positions;
+        const std::vector<glm::vec3>& p = posed->objects[std::size_t(object)].positions;
         return bvh::Triangle{p[t.x], p[t.y], p[t.z]};
     }
+    /// A new scene holding `frame`'s triangles, not committed.
+    void create(const Scene& scene, const anim::PosedScene& frame, BuildQuality quality);
 };
+
+namespace {
+
+void copy_positions(const std::vector<glm::vec3>& p, float* vertices) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, p.size(), 16384),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                          for (std::size_t v = range.begin(); v < range.end(); ++v) {
+                              vertices[3 * v] = p[v].x;
+                              vertices[3 * v + 1] = p[v].y;
+                              vertices[3 * v + 2] = p[v].z;
+                          }
+                      });
+}
+
+}  // namespace
 
 EmbreeTracer::EmbreeTracer() : state_(std::make_unique<State>()) {
     state_->device = rtcNewDevice(nullptr);
@@ -119,53 +145,84 @@ EmbreeTracer::~EmbreeTracer() {
     rtcReleaseDevice(state_->device);
 }
 
-double EmbreeTracer::build(const Scene& scene, BuildQuality quality) {
-    State& s = *state_;
-    s.release_scene();
-    anim::pose_scene(scene, 0, s.posed);
-    s.indices.resize(scene.objects.size());
-
-    // ---- Buffers: created and filled outside the timed part ----
-    s.scene = rtcNewScene(s.device);
-    check(s.device, "rtcNewScene");
-    rtcSetSceneBuildQuality(s.scene, rtc_quality(quality));
-    rtcSetSceneFlags(s.scene, quality == BuildQuality::low ? RTC_SCENE_FLAG_DYNAMIC
-                                                            : RTC_SCENE_FLAG_NONE);
-    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
-        const std::vector<glm::uvec3>& tris = scene.objects[i].mesh.triangles;
-        const std::vector<glm::vec3>& p = s.posed.objects[i].positions;
-        s.indices[i] = tris;
+void EmbreeTracer::State::create(const Scene& source, const anim::PosedScene& frame,
+                                 BuildQuality build_quality) {
+    release_scene();
+    posed = &frame;
+    quality = build_quality;
+    indices.resize(source.objects.size());
+    vertex_buffers.assign(source.objects.size(), nullptr);
+    scene = rtcNewScene(device);
+    check(device, "rtcNewScene");
+    // Refit and low are Embree's options for animated scenes: both with the dynamic flag.
+    const bool dynamic = build_quality == BuildQuality::low || build_quality == BuildQuality::refit;
+    rtcSetSceneBuildQuality(scene, build_quality == BuildQuality::refit
+                                       ? RTC_BUILD_QUALITY_LOW
+                                       : rtc_quality(build_quality));
+    rtcSetSceneFlags(scene, dynamic ? RTC_SCENE_FLAG_DYNAMIC : RTC_SCENE_FLAG_NONE);
+    for (std::size_t i = 0; i < source.objects.size(); ++i) {
+        const std::vector<glm::uvec3>& tris = source.objects[i].mesh.triangles;
+        const std::vector<glm::vec3>& p = frame.objects[i].positions;
+        indices[i] = tris;
         if (tris.empty() || p.empty()) continue;  // an empty geometry is an Embree error
-        RTCGeometry geom = rtcNewGeometry(s.device, RTC_GEOMETRY_TYPE_TRIANGLE);
-        rtcSetGeometryBuildQuality(geom, rtc_quality(quality));
+        RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        rtcSetGeometryBuildQuality(geom, rtc_quality(build_quality));
         // Own (not shared) buffers: Embree pads them for its 16-byte vertex loads.
         auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
             geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), p.size()));
         auto* index = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
             geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), tris.size()));
-        check(s.device, "rtcSetNewGeometryBuffer");
-        for (std::size_t v = 0; v < p.size(); ++v) {
-            vertices[3 * v] = p[v].x;
-            vertices[3 * v + 1] = p[v].y;
-            vertices[3 * v + 2] = p[v].z;
-        }
+        check(device, "rtcSetNewGeometryBuffer");
+        copy_positions(p, vertices);
         for (std::size_t t = 0; t < tris.size(); ++t) {
             index[3 * t] = tris[t].x;
             index[3 * t + 1] = tris[t].y;
             index[3 * t + 2] = tris[t].z;
         }
         rtcCommitGeometry(geom);
-        rtcAttachGeometryByID(s.scene, geom, unsigned(i));
+        rtcAttachGeometryByID(scene, geom, unsigned(i));
+        vertex_buffers[i] = vertices;
         rtcReleaseGeometry(geom);
-        check(s.device, "creating a triangle geometry");
+        check(device, "creating a triangle geometry");
     }
+}
 
+double EmbreeTracer::build(const Scene& scene, BuildQuality quality) {
+    State& s = *state_;
+    anim::pose_scene(scene, 0, s.own_posed);
+    // ---- Buffers: created and filled outside the timed part ----
+    s.create(scene, s.own_posed, quality);
     // ---- Build: the commit alone is timed ----
     const Stopwatch clock;
     rtcCommitScene(s.scene);
     const double ms = clock.elapsed_ms();
     check(s.device, "rtcCommitScene");
     return ms;
+}
+
+FrameLoad EmbreeTracer::load_frame(const Scene& scene, const anim::PosedScene& posed,
+                                   BuildQuality quality) {
+    State& s = *state_;
+    FrameLoad load;
+    Stopwatch clock;
+    if (!s.scene || s.quality != quality || s.indices.size() != scene.objects.size()) {
+        s.create(scene, posed, quality);
+    } else {
+        s.posed = &posed;
+        for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+            if (!s.vertex_buffers[i] || !posed.objects[i].changed) continue;
+            copy_positions(posed.objects[i].positions, s.vertex_buffers[i]);
+            RTCGeometry geom = rtcGetGeometry(s.scene, unsigned(i));
+            rtcUpdateGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0);
+            rtcCommitGeometry(geom);
+        }
+        check(s.device, "updating vertex buffers");
+    }
+    load.upload_ms = clock.lap_ms();
+    rtcCommitScene(s.scene);
+    load.commit_ms = clock.lap_ms();
+    check(s.device, "rtcCommitScene");
+    return load;
 }
 
 double EmbreeTracer::intersect1(const Camera& camera, int width, int height, PixelHits& out) {
@@ -390,6 +447,56 @@ void print_embree_table(std::ostream& out, const std::vector<EmbreeRow>& rows,
             << " only in primitive; intersect16 vs intersect1: " << r.packet_vs_single_differs
             << " differ\n";
     }
+}
+
+namespace {
+
+class EmbreeSequenceTracer : public SequenceTracer {
+public:
+    EmbreeSequenceTracer(const Scene& scene, const RenderOptions& options, BuildQuality quality)
+        : scene_(scene), width_(options.width), height_(options.height),
+          lights_(effective_lights(scene, options)), quality_(quality),
+          poser_(scene, full_pose(options.pose)) {}
+
+    std::string name() const override { return std::string("embree ") + quality_name(quality_); }
+
+    SequenceFrameTimes frame(int frame, const Camera& camera,
+                             const RenderedFrame& dynrt_frame) override {
+        SequenceFrameTimes times;
+        Stopwatch clock;
+        poser_.pose(frame, posed_);
+        times.update_ms = clock.lap_ms();
+        const FrameLoad load = tracer_.load_frame(scene_, posed_, quality_);
+        times.build_ms = load.upload_ms + load.commit_ms;
+        times.primary_ms = tracer_.intersect16(camera, width_, height_, hits_);
+        std::size_t rays = 0;
+        times.shadow_ms = tracer_.occluded16(camera, width_, height_, lights_, hits_, rays);
+        times.vs_dynrt = compare_hits(dynrt_frame.object, dynrt_frame.prim, hits_.object, hits_.prim);
+        return times;
+    }
+
+private:
+    /// Embree needs every object's world positions each frame.
+    static anim::PoseSettings full_pose(anim::PoseSettings settings) {
+        settings.skip_fixed_positions = false;
+        return settings;
+    }
+
+    const Scene& scene_;
+    int width_, height_;
+    std::vector<PointLight> lights_;
+    BuildQuality quality_;
+    anim::ScenePoser poser_;
+    anim::PosedScene posed_;
+    EmbreeTracer tracer_;
+    PixelHits hits_;
+};
+
+}  // namespace
+
+std::unique_ptr<SequenceTracer> make_sequence_tracer(const Scene& scene, const RenderOptions& options,
+                                                     BuildQuality quality) {
+    return std::make_unique<EmbreeSequenceTracer>(scene, options, quality);
 }
 
 std::string embree_json(const std::vector<EmbreeRow>& rows) {

@@ -39,6 +39,14 @@ struct BenchRow {
     double sah_cost = 0;
     double leaf_tris_mean = 0;
     std::uint32_t depth = 0;
+    /// The packet tracer's culling stages, as a culling sweep item ("ab+bp+nf", "none", "all";
+    /// "" for the single-ray tracer).
+    std::string packet_culling;
+    /// Primary and shadow ray/triangle pairs the packet tracer tested, and pairs its culling
+    /// stages removed (FrameStats), from one extra untimed render with counting on, so the
+    /// timed runs are not perturbed. 0 for the single-ray tracer.
+    std::uint64_t ray_triangle_tests = 0;
+    std::uint64_t ray_triangle_culled = 0;
 };
 
 /// Expands sweep specs such as "cost-ratio=0.1,1" and "leaf=4,8" into the cross product of
@@ -48,9 +56,21 @@ struct BenchRow {
 std::vector<bvh::BuildConfig> expand_sweeps(const std::vector<std::string>& sweeps,
                                             const bvh::BuildConfig& base);
 
+/// Takes the culling sweep, if any, out of `sweeps` (leaving the build sweeps for
+/// expand_sweeps) and returns its items in order: "culling=none,ab,ab+bp,ab+bp+nf", where
+/// commas separate configurations and '+' joins the stages of one. Each item is checked with
+/// packet::PacketCulling::parse (its '+' read as ','). No culling sweep gives {}. Throws
+/// std::invalid_argument for an empty list or item, an unknown stage, or culling swept twice.
+std::vector<std::string> take_culling_sweep(std::vector<std::string>& sweeps);
+
+/// A culling sweep item as packet::PacketCulling reads it ('+' -> ',').
+packet::PacketCulling parse_culling_item(const std::string& item);
+
 /// Renders frame 0 of `scene` `warmup` times untimed, then `repeat` times (>= 1) timed, with
-/// `options` (whose build config is the configuration measured). If `last_frame` is not null,
-/// the last timed render is left in it (for comparing hits with another tracer).
+/// `options` (whose build config and packet culling are the configuration measured), then,
+/// with the packet tracer, once more untimed with count_packet_work on, for the row's
+/// ray/triangle counters. If `last_frame` is not null, the last timed render is left in it (for
+/// comparing hits with another tracer).
 BenchRow bench_configuration(const Scene& scene, const Camera& camera,
                              const RenderOptions& options, int repeat, int warmup,
                              RenderedFrame* last_frame = nullptr);

@@ -3,6 +3,7 @@
 // scripts/install-deps.sh) so that nobody has to read a table to see a trend.
 
 #include "dynrt/engine/bench.h"
+#include "dynrt/engine/frame_stats.h"
 
 #include <filesystem>
 #include <string>
@@ -27,5 +28,15 @@ std::string bench_plot_script(const std::vector<BenchRow>& rows, const std::stri
 /// installed, fails, or does not produce the image.
 void plot_bench(const std::filesystem::path& png, const std::vector<BenchRow>& rows,
                 const std::string& title);
+
+/// A gnuplot script drawing the per-frame stacked timeline of an animated run into `png`: per
+/// frame, one bar split into update (animation), refit, rebuild, top level, primary rays,
+/// shadow rays and shade ms. Throws std::invalid_argument if `frames` is empty.
+std::string timeline_plot_script(const std::vector<FrameStats>& frames, const std::string& title,
+                                 const std::filesystem::path& png);
+
+/// Writes timeline_plot_script as "<png>.gp" and runs gnuplot, as plot_bench does.
+void plot_timeline(const std::filesystem::path& png, const std::vector<FrameStats>& frames,
+                   const std::string& title);
 
 }  // namespace dynrt

@@ -4,8 +4,23 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <string>
+#include <vector>
 
 namespace dynrt {
+
+/// One bottom-level tree built this frame, and why.
+struct TreeRebuild {
+    std::size_t object = 0;  ///< index in scene order
+    std::string name;        ///< the object's name
+    /// "first build", "exploding" (rebuilt every frame it moves), "sah degraded" (the refit's
+    /// SAH cost passed the threshold) or "degenerate triangle gained area" (a refit could not
+    /// keep the tree correct).
+    std::string reason;
+    /// For "sah degraded": the refitted tree's SAH cost and the cost at the previous build.
+    double sah_refitted = 0;
+    double sah_at_last_build = 0;
+};
 
 struct FrameStats {
     int frame = 0;
@@ -32,6 +47,29 @@ struct FrameStats {
     /// tests the culling stages avoided (packet::PacketStats has the breakdown).
     std::uint64_t ray_triangle_tests = 0;
     std::uint64_t ray_triangle_culled = 0;
+
+    // ---- The per-frame update: build_ms = refit_ms + rebuild_ms + top_level_ms ----
+    double refit_ms = 0;      ///< refitting deformable objects' trees
+    double rebuild_ms = 0;    ///< building bottom-level trees (first builds included)
+    double top_level_ms = 0;  ///< rebuilding the top level over the objects
+    /// Objects and their triangles per motion class.
+    std::size_t static_objects = 0;
+    std::size_t static_triangles = 0;
+    std::size_t rigid_objects = 0;
+    std::size_t rigid_triangles = 0;
+    std::size_t deformable_objects = 0;
+    std::size_t deformable_triangles = 0;
+    std::size_t exploding_objects = 0;
+    std::size_t exploding_triangles = 0;
+    /// Objects whose bottom-level tree was not touched: static ones after their first build,
+    /// rigid ones (only their instance moved) and unchanged ones.
+    std::size_t objects_skipped = 0;
+    std::size_t objects_refitted = 0;
+    std::size_t objects_rebuilt = 0;
+    std::size_t triangles_refitted = 0;
+    std::size_t triangles_rebuilt = 0;
+    /// Every bottom-level build of this frame, and why (JSON report only).
+    std::vector<TreeRebuild> rebuilds;
 };
 
 }  // namespace dynrt

@@ -8,6 +8,10 @@
 //           intensity_L * (kd * (n.l) + ks * max(0, r.v)^shininess),  r = 2 (n.l) n - l,
 // l the unit vector to the light. No distance falloff. A miss is the background colour.
 // A shadow ray is traced only for lights with n.l > 0; shadow_rays counts them.
+// Shading runs per 16x16 tile in SIMD for both tracers (packet::shade, packet/), in float, with
+// max(0, r.v)^shininess from packet/include/dynrt/packet/simd_pow.h (absolute error below
+// 6 * 2^-24 per light): the reference renderer's double-precision colours are matched within
+// tests/reference's colour tolerance, not bit for bit.
 //
 // Two tracers give identical frames (hits, shadows, hence every output buffer, bit for bit):
 // the packet tracer (the default), which traces each 16x16 tile as one 256-ray packet and its
@@ -15,6 +19,7 @@
 // (bvh::intersect_closest and bvh::intersect_any per pixel), kept as the reference and for
 // comparison.
 
+#include "dynrt/anim/posed_scene.h"
 #include "dynrt/bvh/binned_sah_builder.h"
 #include "dynrt/engine/camera.h"
 #include "dynrt/engine/frame_stats.h"
@@ -38,7 +43,17 @@ enum class Tracer {
 struct RenderOptions {
     int width = 1024;
     int height = 1024;
+    /// Builds of every object's tree (the cost ratio of exploding objects aside).
     bvh::BuildConfig build;
+    /// How the scene is animated: frame rate, clips, forced motion classes
+    /// (skip_fixed_positions is ignored: the renderer never poses static or rigid vertices
+    /// after their one build).
+    anim::PoseSettings pose;
+    /// Rebuild a deformable object's tree when refitting has raised its SAH cost above
+    /// (1 + rebuild_threshold) times the cost at its last build; otherwise refit.
+    double rebuild_threshold = 0.3;
+    /// Cost ratio of the per-frame rebuilds of exploding objects.
+    float cost_ratio_exploding = 1.0f;
     Tracer tracer = Tracer::packet;
     /// The packet tracer's culling stages and SIMD width (ignored by the single-ray tracer).
     packet::PacketConfig packet;
@@ -65,9 +80,14 @@ struct RenderedFrame {
     FrameStats stats;
 };
 
-/// Keeps the per-frame structures (posed geometry, triangle arrays, hit buffers) alive across
-/// frames so rendering a sequence does not reallocate. Not thread-safe: one render at a time;
-/// each render runs in parallel on the caller's oneTBB arena.
+/// Renders the frames of a scene. Keeps each object's tree from frame to frame and gives it the
+/// cheapest correct update its motion class allows (static: never touched again; rigid: only
+/// its instance moves; deformable: refit, rebuilt when the refit's SAH cost has degraded past
+/// RenderOptions::rebuild_threshold; exploding: rebuilt), then traces primary and shadow rays
+/// through the two-level structure. The trees belong to one scene: rendering another Scene
+/// object starts afresh, and a caller that edits a scene in place between frames must call
+/// reset(). Not thread-safe: one call at a time; each runs in parallel on the caller's oneTBB
+/// arena.
 class Renderer {
 public:
     explicit Renderer(RenderOptions options);
@@ -77,10 +97,28 @@ public:
 
     const RenderOptions& options() const { return options_; }
 
-    /// Renders `scene` at `frame` seen by `camera` into `out` (its buffers are reused).
+    /// Renders `scene` at `frame` seen by `camera` into `out` (its buffers are reused):
+    /// update(scene, frame), then trace(camera, out).
     /// Throws SceneError for non-finite posed geometry (naming object and frame) and
-    /// std::invalid_argument for a degenerate camera.
+    /// std::invalid_argument for a degenerate camera or bad pose settings.
     void render(const Scene& scene, const Camera& camera, int frame, RenderedFrame& out);
+
+    /// Evaluates `scene` at `frame` and brings the trees up to date. `scene` must stay alive
+    /// and unchanged until the next update, reset or destruction.
+    void update(const Scene& scene, int frame);
+
+    /// Traces and shades the frame of the last update as seen by `camera`. Its stats hold the
+    /// update's figures too. Throws std::logic_error before any update.
+    void trace(const Camera& camera, RenderedFrame& out);
+
+    /// The scene as evaluated by the last update (its camera, transforms, motion classes).
+    /// Static and rigid objects' positions are left empty. Throws std::logic_error before any
+    /// update.
+    const anim::PosedScene& posed() const;
+
+    /// Forgets the trees: the next update builds every object afresh. Needed after editing a
+    /// scene in place; benchmarks use it to time a full build per frame.
+    void reset();
 
 private:
     struct State;

@@ -3,7 +3,9 @@
 // camera and shadow rays as dynrt's renderer, traced by Embree, timed, and compared hit by hit
 // with a dynrt frame. Embree's types stay in the .cpp; this header needs no Embree include.
 
+#include "dynrt/anim/posed_scene.h"
 #include "dynrt/engine/bench.h"
+#include "dynrt/engine/bench_sequence.h"
 #include "dynrt/engine/camera.h"
 #include "dynrt/engine/hit_agreement.h"
 #include "dynrt/engine/renderer.h"
@@ -19,10 +21,20 @@
 namespace dynrt::embree {
 
 /// Embree's BVH build qualities; `low` also sets RTC_SCENE_FLAG_DYNAMIC (its refit-friendly
-/// builder, the one meant for animated scenes).
-enum class BuildQuality { low, medium, high };
+/// builder, the one meant for animated scenes). `refit` (RTC_BUILD_QUALITY_REFIT, dynamic
+/// flag) builds like `low` at the first commit and refits the geometries at later ones: only
+/// meaningful for load_frame sequences.
+enum class BuildQuality { low, medium, high, refit };
 
-/// "low", "medium", "high".
+/// What one load_frame cost.
+struct FrameLoad {
+    /// Copying the new positions into Embree's vertex buffers and marking them updated.
+    double upload_ms = 0;
+    /// rtcCommitScene: Embree's rebuild or refit.
+    double commit_ms = 0;
+};
+
+/// "low", "medium", "high", "refit".
 const char* quality_name(BuildQuality quality);
 
 /// Per-pixel closest hits, row-major like RenderedFrame: object index in scene order and
@@ -52,6 +64,13 @@ public:
     /// ms: the BVH build alone, comparable to dynrt's build_ms. Throws std::runtime_error on
     /// an Embree error.
     double build(const Scene& scene, BuildQuality quality);
+
+    /// One frame of a sequence: `posed` (a full pose of `scene`: every object's world
+    /// positions; borrowed until the next load or build) goes into the scene, then the scene
+    /// is committed. The first call, or one with another quality, creates the geometries;
+    /// later calls copy the positions of changed objects into the existing vertex buffers,
+    /// which Embree answers at the commit by refitting (refit) or rebuilding (the others).
+    FrameLoad load_frame(const Scene& scene, const anim::PosedScene& posed, BuildQuality quality);
 
     /// Primary rays of `camera` at width x height (CameraRays), one rtcIntersect1 per pixel.
     /// Fills `out` and returns the time in ms. Requires a build.
@@ -104,6 +123,14 @@ std::vector<EmbreeRow> bench_embree(const Scene& scene, const Camera& camera,
 /// then a "hit agreement" line per quality.
 void print_embree_table(std::ostream& out, const std::vector<EmbreeRow>& rows,
                         const BenchRow& dynrt_row);
+
+/// Embree stepping through an animated sequence beside dynrt (`bench --frames --vs embree`):
+/// per frame it poses the scene in full (every object's world positions), loads the frame
+/// (load_frame with `quality`: refit or low, Embree's two per-frame options), traces the
+/// camera rays with rtcIntersect16 and the shadow rays with rtcOccluded16, and compares its
+/// hits with dynrt's. Borrows `scene`.
+std::unique_ptr<SequenceTracer> make_sequence_tracer(const Scene& scene, const RenderOptions& options,
+                                                     BuildQuality quality);
 
 /// The rows as a JSON array (Spreads as {"median", "min", "max"} objects).
 std::string embree_json(const std::vector<EmbreeRow>& rows);

@@ -1,0 +1,38 @@
+#pragma once
+// Rendering a sequence of frames: which frames (--frames), where each one's image goes (--out
+// 'frames/%04d.png') and the camera a glTF scene animates (--camera gltf).
+
+#include "dynrt/anim/posed_scene.h"
+#include "dynrt/engine/camera.h"
+
+#include <string>
+#include <string_view>
+
+namespace dynrt {
+
+/// Frames first..last, both included.
+struct FrameRange {
+    int first = 0;
+    int last = 0;
+    int count() const { return last - first + 1; }
+};
+
+/// "A-B" (frames A to B, both included, 0 <= A <= B) or "N" (N frames: 0 to N-1, N >= 1).
+/// Throws std::invalid_argument naming the text.
+FrameRange parse_frame_range(std::string_view text);
+
+/// True when `pattern` holds a printf-style integer conversion for the frame number (%d, with
+/// optional flags and width, as in "frames/%04d.png"); "%%" is a literal percent sign.
+/// Throws std::invalid_argument for a pattern with any other conversion or with several.
+bool has_frame_number(std::string_view pattern);
+
+/// `pattern` with its frame conversion replaced by `frame` ("frames/%04d.png", 7 ->
+/// "frames/0007.png"); a pattern without one is returned as it is (with "%%" unescaped).
+std::string frame_path(std::string_view pattern, int frame);
+
+/// The pinhole camera of a glTF camera posed at some frame: eye, a target one unit along its
+/// view direction, its up vector and vertical field of view. (The image's own aspect ratio is
+/// used, as for every dynrt camera, not the file's.)
+Camera camera_from_scene(const anim::PosedCamera& posed);
+
+}  // namespace dynrt

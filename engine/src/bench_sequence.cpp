@@ -1,0 +1,127 @@
+#include "dynrt/engine/bench_sequence.h"
+
+#include "dynrt/engine/report.h"
+
+#include <nlohmann/json.hpp>
+
+#include <iomanip>
+#include <ostream>
+#include <sstream>
+#include <stdexcept>
+
+namespace dynrt {
+
+namespace {
+
+/// Per-frame samples of one tracer.
+struct Samples {
+    std::vector<double> update, build, trace, frame;
+    HitAgreement agreement;
+
+    void add(const SequenceFrameTimes& t) {
+        update.push_back(t.update_ms);
+        build.push_back(t.build_ms);
+        trace.push_back(t.primary_ms + t.shadow_ms);
+        frame.push_back(t.update_ms + t.build_ms + t.primary_ms + t.shadow_ms);
+        agreement.object_differs += t.vs_dynrt.object_differs;
+        agreement.prim_only_differs += t.vs_dynrt.prim_only_differs;
+    }
+
+    SequenceRow row(std::string tracer) const {
+        SequenceRow r;
+        r.tracer = std::move(tracer);
+        r.update_ms = spread_of(update);
+        r.build_ms = spread_of(build);
+        r.trace_ms = spread_of(trace);
+        r.frame_ms = spread_of(frame);
+        r.vs_dynrt = agreement;
+        return r;
+    }
+};
+
+std::string format_spread(const Spread& s) {
+    std::ostringstream out;
+    out << std::fixed << std::setprecision(2) << s.median << " (" << s.min << "-" << s.max << ")";
+    return out.str();
+}
+
+}  // namespace
+
+SequenceBench bench_sequence(const Scene& scene, const Camera& camera,
+                             const RenderOptions& options, FrameRange range, int runs, int warmup,
+                             const std::vector<std::unique_ptr<SequenceTracer>>& others) {
+    if (runs < 1) throw std::invalid_argument("bench: repeat must be at least 1");
+    Renderer renderer(options);
+    RenderedFrame frame;
+    for (int i = 0; i < warmup; ++i) {
+        renderer.reset();
+        renderer.render(scene, camera, range.first, frame);
+    }
+    Samples dynrt;
+    std::vector<Samples> other(others.size());
+    SequenceBench bench;
+    for (int run = 0; run < runs; ++run) {
+        // A new sequence: empty trees, so frame `first` pays its builds as it would in an
+        // application. (Other tracers are created per bench and also start empty once.)
+        renderer.reset();
+        bench.frames.clear();
+        for (int f = range.first; f <= range.last; ++f) {
+            renderer.render(scene, camera, f, frame);
+            const FrameStats& s = frame.stats;
+            dynrt.add(SequenceFrameTimes{s.update_ms, s.build_ms, s.primary_ms, s.shadow_ms, {}});
+            bench.frames.push_back(s);
+            for (std::size_t k = 0; k < others.size(); ++k) other[k].add(others[k]->frame(f, camera, frame));
+        }
+    }
+    bench.rows.push_back(dynrt.row("dynrt"));
+    for (std::size_t k = 0; k < others.size(); ++k) bench.rows.push_back(other[k].row(others[k]->name()));
+    return bench;
+}
+
+void print_sequence_table(std::ostream& out, const SequenceBench& bench) {
+    out << std::left << std::setw(14) << "tracer" << std::right << std::setw(24) << "update ms"
+        << std::setw(24) << "build/refit ms" << std::setw(24) << "trace ms" << std::setw(26)
+        << "frame ms (no shading)" << std::setw(12) << "dynrt/this" << '\n';
+    const double dynrt_frame = bench.rows.empty() ? 0.0 : bench.rows.front().frame_ms.median;
+    for (const SequenceRow& r : bench.rows) {
+        std::ostringstream ratio;
+        ratio << std::fixed << std::setprecision(2);
+        if (r.frame_ms.median > 0.0) ratio << dynrt_frame / r.frame_ms.median;
+        else ratio << "-";
+        out << std::left << std::setw(14) << r.tracer << std::right << std::setw(24)
+            << format_spread(r.update_ms) << std::setw(24) << format_spread(r.build_ms)
+            << std::setw(24) << format_spread(r.trace_ms) << std::setw(26)
+            << format_spread(r.frame_ms) << std::setw(12) << ratio.str() << '\n';
+    }
+    for (std::size_t k = 1; k < bench.rows.size(); ++k) {
+        const SequenceRow& r = bench.rows[k];
+        out << "hit agreement (" << r.tracer << ", all frames): " << r.vs_dynrt.object_differs
+            << " pixels differ in hit/object, " << r.vs_dynrt.prim_only_differs
+            << " only in primitive\n";
+    }
+}
+
+std::string sequence_json(const SequenceBench& bench) {
+    nlohmann::ordered_json doc;
+    const auto spread = [](const Spread& s) {
+        return nlohmann::ordered_json{{"median", s.median}, {"min", s.min}, {"max", s.max}};
+    };
+    doc["sequence"] = nlohmann::ordered_json::array();
+    for (const SequenceRow& r : bench.rows) {
+        doc["sequence"].push_back(nlohmann::ordered_json{
+            {"tracer", r.tracer},
+            {"update_ms", spread(r.update_ms)},
+            {"build_ms", spread(r.build_ms)},
+            {"trace_ms", spread(r.trace_ms)},
+            {"frame_ms", spread(r.frame_ms)},
+            {"hit_object_differs", r.vs_dynrt.object_differs},
+            {"hit_prim_only_differs", r.vs_dynrt.prim_only_differs}});
+    }
+    // dynrt's per-frame records, in the --report schema.
+    const nlohmann::ordered_json report = nlohmann::ordered_json::parse(report_json(RunInfo{}, bench.frames));
+    doc["frames"] = report["frames"];
+    doc["summary"] = report["summary"];
+    return doc.dump(2) + "\n";
+}
+
+}  // namespace dynrt

@@ -1,0 +1,250 @@
+#include "scene_accel.h"
+
+#include "dynrt/bvh/refit.h"
+#include "stopwatch.h"
+
+#include <tbb/parallel_for.h>
+
+#include <glm/mat4x4.hpp>
+#include <glm/matrix.hpp>
+
+#include <atomic>
+#include <span>
+
+namespace dynrt {
+
+namespace {
+
+bool same(const bvh::Triangle& a, const bvh::Triangle& b) {
+    return a.v0 == b.v0 && a.v1 == b.v1 && a.v2 == b.v2;
+}
+
+/// triangles[t] = the mesh's triangle t over `positions`. Returns whether any triangle differs
+/// from what `triangles` held (true when its size changes): the fallback that catches frames
+/// whose animation data changed but whose vertices did not, at the price of a compare in the
+/// pass that writes them anyway.
+bool assemble(const Mesh& mesh, std::span<const glm::vec3> positions,
+              std::vector<bvh::Triangle>& triangles) {
+    const bool resized = triangles.size() != mesh.triangles.size();
+    triangles.resize(mesh.triangles.size());
+    std::atomic<bool> changed{resized};
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, triangles.size(), 4096),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                          bool differs = false;
+                          for (std::size_t t = range.begin(); t < range.end(); ++t) {
+                              const glm::uvec3& i = mesh.triangles[t];
+                              const bvh::Triangle tri{positions[i.x], positions[i.y], positions[i.z]};
+                              differs |= !same(tri, triangles[t]);
+                              triangles[t] = tri;
+                          }
+                          if (differs) changed.store(true, std::memory_order_relaxed);
+                      });
+    return changed.load();
+}
+
+void count_class(anim::MotionClass motion_class, std::size_t triangles, FrameStats& stats) {
+    switch (motion_class) {
+        case anim::MotionClass::static_:
+            ++stats.static_objects;
+            stats.static_triangles += triangles;
+            break;
+        case anim::MotionClass::rigid:
+            ++stats.rigid_objects;
+            stats.rigid_triangles += triangles;
+            break;
+        case anim::MotionClass::deformable:
+            ++stats.deformable_objects;
+            stats.deformable_triangles += triangles;
+            break;
+        case anim::MotionClass::exploding:
+            ++stats.exploding_objects;
+            stats.exploding_triangles += triangles;
+            break;
+    }
+}
+
+glm::vec3 transform_point(const glm::mat4& m, const glm::vec3& p) {
+    return glm::vec3(m * glm::vec4(p, 1.0f));
+}
+
+}  // namespace
+
+void SceneAccel::clear() {
+    objects_.clear();
+    top_ = bvh::TwoLevelBvh{};
+}
+
+void SceneAccel::build(ObjectTree& object, const bvh::BuildConfig& config) {
+    object.tree = bvh::build_triangle_bvh(object.triangles, config);
+    object.built_sah = object.sah = bvh::sah_cost(object.tree.bvh, config.sah_costs());
+    object.shape = bvh::compute_stats(object.tree.bvh);
+    object.built = true;
+}
+
+void SceneAccel::update(const Scene& scene, const anim::ScenePoser& poser,
+                        const anim::PosedScene& posed, const UpdatePolicy& policy,
+                        FrameStats& stats) {
+    const std::size_t count = scene.objects.size();
+    if (objects_.size() != count) {
+        objects_.clear();
+        objects_.resize(count);
+    }
+    bvh::BuildConfig exploding_build = policy.build;
+    exploding_build.cost_ratio = policy.exploding_cost_ratio;
+    const bvh::SahCosts costs = policy.build.sah_costs();
+
+    Stopwatch clock;
+    for (std::size_t i = 0; i < count; ++i) {
+        ObjectTree& object = objects_[i];
+        const anim::PosedObject& pose = posed.objects[i];
+        const Mesh& mesh = scene.objects[i].mesh;
+        object.motion_class = pose.motion_class;
+        count_class(pose.motion_class, mesh.triangles.size(), stats);
+        const auto record = [&](const char* reason, double refitted_sah = 0.0) {
+            stats.rebuilds.push_back(TreeRebuild{i, scene.objects[i].name, reason, refitted_sah,
+                                                 object.built_sah});
+            ++stats.objects_rebuilt;
+            stats.triangles_rebuilt += mesh.triangles.size();
+        };
+
+        switch (pose.motion_class) {
+            case anim::MotionClass::static_:
+            case anim::MotionClass::rigid: {
+                const bool rigid = pose.motion_class == anim::MotionClass::rigid;
+                if (rigid) {
+                    // The transform is composed in double; its inverse too, so the ray
+                    // transform is as exact as float storage allows.
+                    object.object_to_world = glm::mat4(pose.transform);
+                    object.world_to_object = glm::mat4(glm::inverse(pose.transform));
+                }
+                if (object.built) {
+                    ++stats.objects_skipped;
+                    break;
+                }
+                clock.lap_ms();
+                if (rigid) {
+                    assemble(mesh, poser.object_space_positions(i), object.triangles);
+                } else if (!pose.positions.empty()) {
+                    assemble(mesh, pose.positions, object.triangles);
+                } else {
+                    poser.fixed_world_positions(i, posed, positions_);
+                    assemble(mesh, positions_, object.triangles);
+                }
+                build(object, policy.build);
+                record("first build");
+                stats.rebuild_ms += clock.lap_ms();
+                break;
+            }
+            case anim::MotionClass::deformable:
+            case anim::MotionClass::exploding: {
+                const bool exploding = pose.motion_class == anim::MotionClass::exploding;
+                const bvh::BuildConfig& config = exploding ? exploding_build : policy.build;
+                if (object.built && !pose.changed) {
+                    ++stats.objects_skipped;
+                    break;
+                }
+                clock.lap_ms();
+                const bool moved = assemble(mesh, pose.positions, object.triangles);
+                if (object.built && !moved) {
+                    // The animation said it changed; its vertices say otherwise.
+                    ++stats.objects_skipped;
+                    (exploding ? stats.rebuild_ms : stats.refit_ms) += clock.lap_ms();
+                    break;
+                }
+                if (!object.built || exploding) {
+                    record(object.built ? "exploding" : "first build");
+                    // Until the build completes the tree does not match the triangles just
+                    // stored: should it throw, the next update must rebuild, not compare.
+                    object.built = false;
+                    build(object, config);
+                    stats.rebuild_ms += clock.lap_ms();
+                    break;
+                }
+                object.built = false;  // as above, until the refit completes
+                const bvh::RefitResult refit = bvh::refit(object.tree, object.triangles, costs);
+                object.built = !refit.needs_rebuild();
+                stats.refit_ms += clock.lap_ms();
+                ++stats.objects_refitted;
+                stats.triangles_refitted += mesh.triangles.size();
+                if (refit.needs_rebuild()) {
+                    record("degenerate triangle gained area");
+                    build(object, config);
+                    stats.rebuild_ms += clock.lap_ms();
+                } else if (refit.sah_cost > (1.0 + policy.rebuild_threshold) * object.built_sah) {
+                    record("sah degraded", refit.sah_cost);
+                    build(object, config);
+                    stats.rebuild_ms += clock.lap_ms();
+                } else {
+                    object.sah = refit.sah_cost;
+                }
+                break;
+            }
+        }
+    }
+
+    // ---- Top level: one instance per object, rebuilt every frame ----
+    clock.lap_ms();
+    std::vector<bvh::Instance> instances(count);
+    for (std::size_t i = 0; i < count; ++i) {
+        const ObjectTree& object = objects_[i];
+        bvh::Instance& instance = instances[i];
+        instance.blas = &object.tree;
+        instance.identity = object.motion_class != anim::MotionClass::rigid;
+        instance.object_to_world = object.object_to_world;
+        instance.world_to_object = object.world_to_object;
+        instance.object = std::uint32_t(i);
+    }
+    bvh::build_top_level(top_, std::move(instances));
+    stats.top_level_ms = clock.lap_ms();
+    stats.build_ms = stats.refit_ms + stats.rebuild_ms + stats.top_level_ms;
+
+    // ---- Shape of the whole structure (reporting only) ----
+    // SAH cost of the two levels as one tree: the top level's inner nodes, then each object's
+    // own cost (relative to its root) weighted by the chance of reaching its world box.
+    const bvh::Aabb bounds = world_bounds();
+    const double root_area = bounds.is_empty() ? 0.0 : double(bounds.half_area());
+    double sah = bvh::sah_cost(top_.top, bvh::SahCosts{1.0f, 0.0f});
+    std::size_t triangles = 0, nodes = top_.top.nodes.size(), leaves = 0;
+    std::uint32_t leaf_max = 0, depth = 0;
+    for (std::size_t i = 0; i < count; ++i) {
+        const ObjectTree& object = objects_[i];
+        triangles += object.triangles.size();
+        stats.degenerate_skipped += object.tree.degenerate_skipped;
+        const bvh::Aabb& box = top_.world_boxes[i];
+        if (root_area > 0.0 && !box.is_empty()) sah += double(box.half_area()) / root_area * object.sah;
+        nodes += object.shape.nodes;
+        leaves += object.shape.leaves;
+        leaf_max = std::max(leaf_max, object.shape.leaf_prims_max);
+        depth = std::max(depth, object.shape.depth);
+    }
+    const bvh::BvhStats top_shape = bvh::compute_stats(top_.top);
+    stats.triangles = triangles;
+    stats.sah_cost = sah;
+    stats.nodes = nodes;
+    stats.leaves = leaves;
+    stats.leaf_tris_mean =
+        leaves > 0 ? double(triangles - stats.degenerate_skipped) / double(leaves) : 0.0;
+    stats.leaf_tris_max = leaf_max;
+    // Top-level depth (its leaves are the objects) plus the deepest object tree: an upper bound
+    // on the longest path, exact for one object.
+    stats.depth = depth + (top_shape.depth > 0 ? top_shape.depth - 1 : 0);
+}
+
+bvh::Triangle SceneAccel::world_triangle(std::size_t object, std::uint32_t prim) const {
+    const ObjectTree& o = objects_[object];
+    const bvh::Triangle& t = o.triangles[prim];
+    if (o.motion_class != anim::MotionClass::rigid) return t;
+    return bvh::Triangle{transform_point(o.object_to_world, t.v0),
+                         transform_point(o.object_to_world, t.v1),
+                         transform_point(o.object_to_world, t.v2)};
+}
+
+bvh::Aabb SceneAccel::world_bounds() const {
+    bvh::Aabb bounds;
+    for (const bvh::Aabb& box : top_.world_boxes) {
+        if (!box.is_empty()) bounds.extend(box);
+    }
+    return bounds;
+}
+
+}  // namespace dynrt

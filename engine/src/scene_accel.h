@@ -1,0 +1,101 @@
+#pragma once
+// The acceleration structure of a scene over the frames of a sequence: one bottom-level tree
+// per object, kept from frame to frame and brought up to date by the cheapest action that keeps
+// it correct, and a top level over the objects, rebuilt every frame (it holds a handful of
+// boxes). Per motion class:
+//
+//   static      built once, in world space; never touched again.
+//   rigid       built once, in object space; each frame only its instance transform moves.
+//   deformable  refitted when it changed. Rebuilt when the refitted tree's SAH cost exceeds
+//               the cost at its last build by more than UpdatePolicy::rebuild_threshold (a
+//               refit keeps the topology chosen for the old shape, so quality decays), or
+//               when a refit cannot keep the tree correct (a triangle left out as degenerate
+//               at the build has gained area).
+//   exploding   rebuilt whenever it changed, with a cost ratio of its own.
+//
+// An object whose PosedObject::changed is false costs nothing, so a frame that repeats the
+// previous one does no update work at all. Hits report the object index (scene order) and the
+// triangle index within the object.
+
+#include "dynrt/anim/posed_scene.h"
+#include "dynrt/bvh/binned_sah_builder.h"
+#include "dynrt/bvh/triangle.h"
+#include "dynrt/bvh/triangle_bvh.h"
+#include "dynrt/bvh/two_level_bvh.h"
+#include "dynrt/engine/frame_stats.h"
+#include "dynrt/scene/scene.h"
+
+#include <glm/mat4x4.hpp>
+
+#include <cstddef>
+#include <vector>
+
+namespace dynrt {
+
+/// How SceneAccel updates objects (RenderOptions carries it).
+struct UpdatePolicy {
+    /// Builds of static, rigid and deformable objects.
+    bvh::BuildConfig build;
+    /// Cost ratio of the per-frame rebuilds of exploding objects: a tree built every frame and
+    /// traced once pays its build in every frame, which favours shallower trees than the ratio
+    /// that minimises trace time alone.
+    float exploding_cost_ratio = 1.0f;
+    /// Rebuild a deformable object when its refitted SAH cost exceeds (1 + threshold) times
+    /// the cost at its last build. 0 rebuilds on any degradation; +inf never.
+    double rebuild_threshold = 0.3;
+};
+
+class SceneAccel {
+public:
+    /// Brings every object's tree to `posed`, which `poser` has just evaluated (with
+    /// skip_fixed_positions set or not), rebuilds the top level and records the work in
+    /// `stats` (class counts, refit / rebuild / top-level ms, skipped objects, rebuilds and
+    /// why, tree shape). The first call after construction or clear() builds every tree.
+    /// Throws SceneError naming object and frame for non-finite geometry (from the poser).
+    void update(const Scene& scene, const anim::ScenePoser& poser, const anim::PosedScene& posed,
+                const UpdatePolicy& policy, FrameStats& stats);
+
+    /// Forgets every tree: the next update builds from scratch (another scene, or the same
+    /// scene after its objects were edited).
+    void clear();
+
+    const bvh::TwoLevelBvh& top_level() const { return top_; }
+
+    /// World-space triangle `prim` of `object` at the last update (for shading hits):
+    /// transformed from object space for rigid objects, in float, the same for every caller.
+    bvh::Triangle world_triangle(std::size_t object, std::uint32_t prim) const;
+
+    /// Where triangle `prim` of `object` is stored (in the space of its tree), to prefetch it.
+    const bvh::Triangle* triangle_address(std::size_t object, std::uint32_t prim) const {
+        return &objects_[object].triangles[prim];
+    }
+
+    /// World-space bounds of the whole scene at the last update.
+    bvh::Aabb world_bounds() const;
+
+private:
+    struct ObjectTree {
+        /// The triangles the tree was built or refitted from, in the mesh's order: world space
+        /// for static, deformable and exploding objects, object space for rigid ones.
+        std::vector<bvh::Triangle> triangles;
+        bvh::TriangleBvh tree;
+        anim::MotionClass motion_class = anim::MotionClass::static_;
+        /// Rigid objects: object to world this frame, and its inverse (the identity otherwise).
+        glm::mat4 object_to_world{1.0f};
+        glm::mat4 world_to_object{1.0f};
+        /// SAH cost at the last build, and now (after refits).
+        double built_sah = 0.0;
+        double sah = 0.0;
+        bvh::BvhStats shape;
+        bool built = false;
+    };
+
+    void build(ObjectTree& object, const bvh::BuildConfig& config);
+
+    std::vector<ObjectTree> objects_;
+    bvh::TwoLevelBvh top_;
+    /// Scratch for the vertex positions of static objects at their one build.
+    std::vector<glm::vec3> positions_;
+};
+
+}  // namespace dynrt

@@ -1,0 +1,108 @@
+#include "dynrt/engine/sequence.h"
+
+#include <charconv>
+#include <cstdio>
+#include <stdexcept>
+#include <string>
+
+namespace dynrt {
+
+namespace {
+
+bool parse_int(std::string_view text, int& value) {
+    const char* first = text.data();
+    const char* last = text.data() + text.size();
+    const auto [ptr, ec] = std::from_chars(first, last, value);
+    return !text.empty() && ec == std::errc() && ptr == last;
+}
+
+/// The one integer conversion of a pattern: where it starts and ends, and its spec ("%04d").
+struct Conversion {
+    std::size_t begin = std::string_view::npos;
+    std::size_t end = 0;
+};
+
+Conversion find_conversion(std::string_view pattern) {
+    Conversion found;
+    for (std::size_t i = 0; i < pattern.size(); ++i) {
+        if (pattern[i] != '%') continue;
+        if (i + 1 < pattern.size() && pattern[i + 1] == '%') {
+            ++i;
+            continue;
+        }
+        // Flags and width only: anything else (precision, length, another letter) is refused,
+        // so the frame number is the only thing a pattern can format.
+        std::size_t j = i + 1;
+        while (j < pattern.size() && std::string_view("0-+ ").find(pattern[j]) != std::string_view::npos) ++j;
+        while (j < pattern.size() && pattern[j] >= '0' && pattern[j] <= '9') ++j;
+        if (j >= pattern.size() || pattern[j] != 'd') {
+            throw std::invalid_argument("--out '" + std::string(pattern) +
+                                        "': only %d (with flags and width, e.g. %04d) may "
+                                        "format the frame number; write %% for a percent sign");
+        }
+        if (found.begin != std::string_view::npos) {
+            throw std::invalid_argument("--out '" + std::string(pattern) +
+                                        "': more than one %d for the frame number");
+        }
+        found.begin = i;
+        found.end = j + 1;
+        i = j;
+    }
+    return found;
+}
+
+/// `text` with "%%" turned into "%".
+std::string unescape(std::string_view text) {
+    std::string out;
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        out += text[i];
+        if (text[i] == '%' && i + 1 < text.size() && text[i + 1] == '%') ++i;
+    }
+    return out;
+}
+
+}  // namespace
+
+FrameRange parse_frame_range(std::string_view text) {
+    const std::string message = "--frames '" + std::string(text) +
+                                "': expected A-B (frames A to B, 0 <= A <= B) or N (frames 0 "
+                                "to N-1, N >= 1)";
+    const std::size_t dash = text.find('-');
+    FrameRange range;
+    if (dash == std::string_view::npos) {
+        int n = 0;
+        if (!parse_int(text, n) || n < 1) throw std::invalid_argument(message);
+        range.last = n - 1;
+        return range;
+    }
+    if (!parse_int(text.substr(0, dash), range.first) ||
+        !parse_int(text.substr(dash + 1), range.last) || range.first < 0 ||
+        range.last < range.first) {
+        throw std::invalid_argument(message);
+    }
+    return range;
+}
+
+bool has_frame_number(std::string_view pattern) {
+    return find_conversion(pattern).begin != std::string_view::npos;
+}
+
+std::string frame_path(std::string_view pattern, int frame) {
+    const Conversion c = find_conversion(pattern);
+    if (c.begin == std::string_view::npos) return unescape(pattern);
+    const std::string spec(pattern.substr(c.begin, c.end - c.begin));
+    char number[64];
+    std::snprintf(number, sizeof number, spec.c_str(), frame);
+    return unescape(pattern.substr(0, c.begin)) + number + unescape(pattern.substr(c.end));
+}
+
+Camera camera_from_scene(const anim::PosedCamera& posed) {
+    Camera camera;
+    camera.eye = glm::vec3(posed.eye);
+    camera.target = glm::vec3(posed.eye + posed.forward);
+    camera.up = glm::vec3(posed.up);
+    camera.fov_y_deg = float(posed.yfov_rad * (180.0 / 3.14159265358979323846));
+    return camera;
+}
+
+}  // namespace dynrt

@@ -1,0 +1,97 @@
+// `dynrt bench --frames`: per-frame samples of dynrt and of tracers stepping beside it, and the
+// timeline chart of an animated run.
+
+#include "dynrt/anim/procedural_motion.h"
+#include "dynrt/engine/bench_plot.h"
+#include "dynrt/engine/bench_sequence.h"
+#include "dynrt/engine/scene_loading.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace dynrt {
+namespace {
+
+/// A tracer that reports fixed times and remembers which frames it was asked for.
+class FakeTracer : public SequenceTracer {
+public:
+    explicit FakeTracer(std::vector<int>& seen) : seen_(seen) {}
+    std::string name() const override { return "fake"; }
+    SequenceFrameTimes frame(int frame, const Camera&, const RenderedFrame& dynrt_frame) override {
+        seen_.push_back(frame);
+        EXPECT_EQ(dynrt_frame.stats.frame, frame);  // dynrt rendered this very frame first
+        SequenceFrameTimes t;
+        t.update_ms = 1.0;
+        t.build_ms = 2.0 * frame;
+        t.primary_ms = 3.0;
+        t.shadow_ms = 4.0;
+        t.vs_dynrt.prim_only_differs = 1;
+        return t;
+    }
+
+private:
+    std::vector<int>& seen_;
+};
+
+TEST(BenchSequence, EveryFrameOfEveryRunIsOneSample) {
+    Scene scene = load_scene("sphere:300");
+    const std::vector<std::string> motions{"wave"};
+    anim::add_procedural_motions(scene, motions);
+    RenderOptions options;
+    options.width = 16;
+    options.height = 16;
+    std::vector<int> seen;
+    std::vector<std::unique_ptr<SequenceTracer>> others;
+    others.push_back(std::make_unique<FakeTracer>(seen));
+    const SequenceBench bench = bench_sequence(scene, default_camera(scene_bounds(scene)), options,
+                                               FrameRange{2, 5}, 2, 0, others);
+    EXPECT_EQ(seen, (std::vector<int>{2, 3, 4, 5, 2, 3, 4, 5}));
+    ASSERT_EQ(bench.rows.size(), 2u);
+    EXPECT_EQ(bench.rows[0].tracer, "dynrt");
+    EXPECT_EQ(bench.rows[1].tracer, "fake");
+    // Fake frames cost 1 + 2f + 3 + 4: over f = 2, 3, 4, 5 twice the lower median is f = 3.
+    EXPECT_EQ(bench.rows[1].frame_ms.median, 14.0);
+    EXPECT_EQ(bench.rows[1].frame_ms.min, 12.0);
+    EXPECT_EQ(bench.rows[1].frame_ms.max, 18.0);
+    EXPECT_EQ(bench.rows[1].vs_dynrt.prim_only_differs, 8u);
+    // dynrt's report is the last run's: each run starts from empty trees.
+    ASSERT_EQ(bench.frames.size(), 4u);
+    EXPECT_EQ(bench.frames[0].frame, 2);
+    EXPECT_EQ(bench.frames[0].objects_rebuilt, 1u);
+    EXPECT_EQ(bench.frames[1].objects_refitted, 1u);
+
+    std::ostringstream table;
+    print_sequence_table(table, bench);
+    EXPECT_NE(table.str().find("fake"), std::string::npos) << table.str();
+    const nlohmann::json doc = nlohmann::json::parse(sequence_json(bench));
+    EXPECT_EQ(doc["sequence"].size(), 2u);
+    EXPECT_EQ(doc["frames"].size(), 4u);
+    EXPECT_TRUE(doc["summary"]["median"].contains("refit_ms"));
+}
+
+TEST(BenchSequence, TimelineStacksEveryStagePerFrame) {
+    std::vector<FrameStats> frames(3);
+    for (int f = 0; f < 3; ++f) {
+        frames[f].frame = 10 + f;
+        frames[f].update_ms = 1.5;
+        frames[f].refit_ms = 2.5;
+        frames[f].shade_ms = 7.25;
+    }
+    const std::string s = timeline_plot_script(frames, "t", "out/tl.png");
+    EXPECT_NE(s.find("rowstacked"), std::string::npos);
+    EXPECT_NE(s.find("set output 'out/tl.png'"), std::string::npos);
+    EXPECT_NE(s.find("11 1.5 2.5 0 0 0 0 7.25\n"), std::string::npos) << s;
+    for (const char* stage : {"'update (animation)'", "'refit'", "'rebuild'", "'top level'",
+                              "'primary rays'", "'shadow rays'", "'shade'"}) {
+        EXPECT_NE(s.find(stage), std::string::npos) << stage;
+    }
+    EXPECT_THROW(timeline_plot_script({}, "t", "x.png"), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace dynrt

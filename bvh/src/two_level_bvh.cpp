@@ -323,13 +323,25 @@ Aabb grow_box(const Aabb& box, float pad) {
     return out;
 }
 
+const Instance* sole_identity_instance(const TwoLevelBvh& tlas) {
+    if (tlas.top.nodes.size() != 1 || tlas.top.prim_ids.size() != 1) return nullptr;
+    const Instance& instance = tlas.instances[tlas.top.prim_ids[0]];
+    return instance.identity ? &instance : nullptr;
+}
+
 InstanceHit intersect_closest(const TwoLevelBvh& tlas, const Ray& ray) {
     InstanceHit best;
+    if (const Instance* sole = sole_identity_instance(tlas)) {
+        best.hit = intersect_closest(*sole->blas, ray);
+        if (best.hit.is_hit()) best.object = sole->object;
+        return best;
+    }
     traverse_top_octant<false>(tlas, ray, best);
     return best;
 }
 
 bool intersect_any(const TwoLevelBvh& tlas, const Ray& ray) {
+    if (const Instance* sole = sole_identity_instance(tlas)) return intersect_any(*sole->blas, ray);
     InstanceHit unused;
     return traverse_top_octant<true>(tlas, ray, unused);
 }

@@ -409,13 +409,16 @@ void Renderer::trace(const Camera& camera, RenderedFrame& out) {
                                       count ? &work.local() : nullptr);
             for (int y = tile.y0; y < tile.y1; ++y) {
                 for (int x = tile.x0; x < tile.x1; ++x) {
-                    s.hits[std::size_t(y) * width + x] = packet_hits.hit(packet::tile_lane(tile, x, y));
+                    bvh::InstanceHit& hit = s.hits[std::size_t(y) * width + x];
+                    hit = packet_hits.hit(packet::tile_lane(tile, x, y));
+                    s.accel.resolve(hit);
                 }
             }
         });
     } else {
         for_each_pixel_in_tiles(width, height, [&](int x, int y, std::size_t p) {
             s.hits[p] = bvh::intersect_closest(accel, rays.ray(x, y));
+            s.accel.resolve(s.hits[p]);
         });
     }
     stats.primary_ms = clock.lap_ms();

@@ -8,6 +8,7 @@
 #include <glm/mat4x4.hpp>
 #include <glm/matrix.hpp>
 
+#include <algorithm>
 #include <atomic>
 #include <span>
 
@@ -71,13 +72,17 @@ glm::vec3 transform_point(const glm::mat4& m, const glm::vec3& p) {
 
 void SceneAccel::clear() {
     objects_.clear();
+    static_group_ = ObjectTree{};
+    static_first_.clear();
+    static_objects_.clear();
+    static_slot_of_.clear();
     top_ = bvh::TwoLevelBvh{};
 }
 
 void SceneAccel::build(ObjectTree& object, const bvh::BuildConfig& config) {
     object.tree = bvh::build_triangle_bvh(object.triangles, config);
-    object.built_sah = object.sah = bvh::sah_cost(object.tree.bvh, config.sah_costs());
-    object.shape = bvh::compute_stats(object.tree.bvh);
+    // Its SAH cost and shape are measured after the timed work (see update).
+    object.measured = false;
     object.built = true;
 }
 
@@ -86,7 +91,7 @@ void SceneAccel::update(const Scene& scene, const anim::ScenePoser& poser,
                         FrameStats& stats) {
     const std::size_t count = scene.objects.size();
     if (objects_.size() != count) {
-        objects_.clear();
+        clear();
         objects_.resize(count);
     }
     bvh::BuildConfig exploding_build = policy.build;
@@ -94,6 +99,7 @@ void SceneAccel::update(const Scene& scene, const anim::ScenePoser& poser,
     const bvh::SahCosts costs = policy.build.sah_costs();
 
     Stopwatch clock;
+    if (!static_group_.built) build_static_group(scene, poser, posed, policy.build, stats);
     for (std::size_t i = 0; i < count; ++i) {
         ObjectTree& object = objects_[i];
         const anim::PosedObject& pose = posed.objects[i];
@@ -109,27 +115,22 @@ void SceneAccel::update(const Scene& scene, const anim::ScenePoser& poser,
 
         switch (pose.motion_class) {
             case anim::MotionClass::static_:
+                // In the static group, built above once for all.
+                if (!object.first_frame) ++stats.objects_skipped;
+                object.first_frame = false;
+                break;
             case anim::MotionClass::rigid: {
-                const bool rigid = pose.motion_class == anim::MotionClass::rigid;
-                if (rigid) {
-                    // The transform is composed in double; its inverse too, so the ray
-                    // transform is as exact as float storage allows.
-                    object.object_to_world = glm::mat4(pose.transform);
-                    object.world_to_object = glm::mat4(glm::inverse(pose.transform));
-                }
+                // The transform is composed in double; its inverse too, so the ray transform
+                // is as exact as float storage allows.
+                object.object_to_world = glm::mat4(pose.transform);
+                object.world_to_object = glm::mat4(glm::inverse(pose.transform));
                 if (object.built) {
                     ++stats.objects_skipped;
                     break;
                 }
                 clock.lap_ms();
-                if (rigid) {
-                    assemble(mesh, poser.object_space_positions(i), object.triangles);
-                } else if (!pose.positions.empty()) {
-                    assemble(mesh, pose.positions, object.triangles);
-                } else {
-                    poser.fixed_world_positions(i, posed, positions_);
-                    assemble(mesh, positions_, object.triangles);
-                }
+                assemble(mesh, poser.object_space_positions(i), object.triangles);
+                stats.update_ms += clock.lap_ms();
                 build(object, policy.build);
                 record("first build");
                 stats.rebuild_ms += clock.lap_ms();
@@ -145,10 +146,10 @@ void SceneAccel::update(const Scene& scene, const anim::ScenePoser& poser,
                 }
                 clock.lap_ms();
                 const bool moved = assemble(mesh, pose.positions, object.triangles);
+                stats.update_ms += clock.lap_ms();
                 if (object.built && !moved) {
                     // The animation said it changed; its vertices say otherwise.
                     ++stats.objects_skipped;
-                    (exploding ? stats.rebuild_ms : stats.refit_ms) += clock.lap_ms();
                     break;
                 }
                 if (!object.built || exploding) {
@@ -182,23 +183,43 @@ void SceneAccel::update(const Scene& scene, const anim::ScenePoser& poser,
         }
     }
 
-    // ---- Top level: one instance per object, rebuilt every frame ----
+    // ---- Top level: the static group and one instance per other object, every frame ----
     clock.lap_ms();
-    std::vector<bvh::Instance> instances(count);
+    std::vector<bvh::Instance> instances;
+    instance_trees_.clear();
+    if (!static_objects_.empty()) {
+        bvh::Instance group;
+        group.blas = &static_group_.tree;
+        group.object = static_group_id();
+        instances.push_back(group);
+        instance_trees_.push_back(&static_group_);
+    }
     for (std::size_t i = 0; i < count; ++i) {
-        const ObjectTree& object = objects_[i];
-        bvh::Instance& instance = instances[i];
+        ObjectTree& object = objects_[i];
+        if (object.motion_class == anim::MotionClass::static_) continue;
+        bvh::Instance instance;
         instance.blas = &object.tree;
         instance.identity = object.motion_class != anim::MotionClass::rigid;
         instance.object_to_world = object.object_to_world;
         instance.world_to_object = object.world_to_object;
         instance.object = std::uint32_t(i);
+        instances.push_back(instance);
+        instance_trees_.push_back(&object);
     }
     bvh::build_top_level(top_, std::move(instances));
     stats.top_level_ms = clock.lap_ms();
     stats.build_ms = stats.refit_ms + stats.rebuild_ms + stats.top_level_ms;
 
     // ---- Shape of the whole structure (reporting only) ----
+    // Trees built this frame are measured here, outside the timed stages: their SAH cost is
+    // what later refits are compared with, their shape is only reported.
+    for (ObjectTree* tree : instance_trees_) {
+        ObjectTree& object = *tree;
+        if (object.measured) continue;
+        object.built_sah = object.sah = bvh::sah_cost(object.tree.bvh, costs);
+        object.shape = bvh::compute_stats(object.tree.bvh);
+        object.measured = true;
+    }
     // SAH cost of the two levels as one tree: the top level's inner nodes, then each object's
     // own cost (relative to its root) weighted by the chance of reaching its world box.
     const bvh::Aabb bounds = world_bounds();
@@ -206,11 +227,11 @@ void SceneAccel::update(const Scene& scene, const anim::ScenePoser& poser,
     double sah = bvh::sah_cost(top_.top, bvh::SahCosts{1.0f, 0.0f});
     std::size_t triangles = 0, nodes = top_.top.nodes.size(), leaves = 0;
     std::uint32_t leaf_max = 0, depth = 0;
-    for (std::size_t i = 0; i < count; ++i) {
-        const ObjectTree& object = objects_[i];
+    for (std::size_t k = 0; k < instance_trees_.size(); ++k) {
+        const ObjectTree& object = *instance_trees_[k];
         triangles += object.triangles.size();
         stats.degenerate_skipped += object.tree.degenerate_skipped;
-        const bvh::Aabb& box = top_.world_boxes[i];
+        const bvh::Aabb& box = top_.world_boxes[k];
         if (root_area > 0.0 && !box.is_empty()) sah += double(box.half_area()) / root_area * object.sah;
         nodes += object.shape.nodes;
         leaves += object.shape.leaves;
@@ -230,9 +251,57 @@ void SceneAccel::update(const Scene& scene, const anim::ScenePoser& poser,
     stats.depth = depth + (top_shape.depth > 0 ? top_shape.depth - 1 : 0);
 }
 
+void SceneAccel::build_static_group(const Scene& scene, const anim::ScenePoser& poser,
+                                    const anim::PosedScene& posed, const bvh::BuildConfig& config,
+                                    FrameStats& stats) {
+    // Static objects never move, so one tree over all of them in world space serves them
+    // best: it splits across objects (per-object trees overlap, and rays pay for every
+    // overlapping one) and costs the top level a single instance. A scene of static objects
+    // thus traces exactly the one tree of their concatenated triangles.
+    static_objects_.clear();
+    static_first_.clear();
+    static_slot_of_.clear();
+    std::vector<bvh::Triangle>& all = static_group_.triangles;
+    all.clear();
+    std::vector<bvh::Triangle> object_triangles;
+    Stopwatch clock;
+    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+        const anim::PosedObject& pose = posed.objects[i];
+        if (pose.motion_class != anim::MotionClass::static_) continue;
+        const Mesh& mesh = scene.objects[i].mesh;
+        if (!pose.positions.empty()) {
+            assemble(mesh, pose.positions, object_triangles);
+        } else {
+            poser.fixed_world_positions(i, posed, positions_);
+            assemble(mesh, positions_, object_triangles);
+        }
+        static_objects_.push_back(std::uint32_t(i));
+        static_first_.push_back(std::uint32_t(all.size()));
+        static_slot_of_.insert(static_slot_of_.end(), object_triangles.size(),
+                               std::uint32_t(static_objects_.size() - 1));
+        objects_[i].group_first = std::uint32_t(all.size());
+        all.insert(all.end(), object_triangles.begin(), object_triangles.end());
+        stats.rebuilds.push_back(TreeRebuild{i, scene.objects[i].name, "first build", 0.0, 0.0});
+        ++stats.objects_rebuilt;
+        stats.triangles_rebuilt += mesh.triangles.size();
+    }
+    stats.update_ms += clock.lap_ms();
+    static_group_.motion_class = anim::MotionClass::static_;
+    build(static_group_, config);
+    stats.rebuild_ms += clock.lap_ms();
+}
+
+const bvh::Triangle* SceneAccel::triangle_address(std::size_t object, std::uint32_t prim) const {
+    const ObjectTree& o = objects_[object];
+    if (o.motion_class == anim::MotionClass::static_) {
+        return &static_group_.triangles[o.group_first + prim];
+    }
+    return &o.triangles[prim];
+}
+
 bvh::Triangle SceneAccel::world_triangle(std::size_t object, std::uint32_t prim) const {
     const ObjectTree& o = objects_[object];
-    const bvh::Triangle& t = o.triangles[prim];
+    const bvh::Triangle& t = *triangle_address(object, prim);
     if (o.motion_class != anim::MotionClass::rigid) return t;
     return bvh::Triangle{transform_point(o.object_to_world, t.v0),
                          transform_point(o.object_to_world, t.v1),

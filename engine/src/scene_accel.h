@@ -13,6 +13,9 @@
 //               at the build has gained area).
 //   exploding   rebuilt whenever it changed, with a cost ratio of its own.
 //
+// Static objects share one tree (the static group), built in world space at the first
+// update, so a scene of static objects traces exactly one tree over all its triangles.
+//
 // An object whose PosedObject::changed is false costs nothing, so a frame that repeats the
 // previous one does no update work at all. Hits report the object index (scene order) and the
 // triangle index within the object.
@@ -50,7 +53,8 @@ public:
     /// Brings every object's tree to `posed`, which `poser` has just evaluated (with
     /// skip_fixed_positions set or not), rebuilds the top level and records the work in
     /// `stats` (class counts, refit / rebuild / top-level ms, skipped objects, rebuilds and
-    /// why, tree shape). The first call after construction or clear() builds every tree.
+    /// why, tree shape). Gathering the triangles from the posed vertices is added to
+    /// update_ms (it is evaluating the scene, as posing is), not to the tree's times. The first call after construction or clear() builds every tree.
     /// Throws SceneError naming object and frame for non-finite geometry (from the poser).
     void update(const Scene& scene, const anim::ScenePoser& poser, const anim::PosedScene& posed,
                 const UpdatePolicy& policy, FrameStats& stats);
@@ -65,10 +69,18 @@ public:
     /// transformed from object space for rigid objects, in float, the same for every caller.
     bvh::Triangle world_triangle(std::size_t object, std::uint32_t prim) const;
 
-    /// Where triangle `prim` of `object` is stored (in the space of its tree), to prefetch it.
-    const bvh::Triangle* triangle_address(std::size_t object, std::uint32_t prim) const {
-        return &objects_[object].triangles[prim];
+    /// Turns a hit on the static group (see below) into the object and triangle it hit; any
+    /// other hit is left as it is. Every hit from top_level() goes through it before use.
+    void resolve(bvh::InstanceHit& hit) const {
+        if (hit.object != static_group_id()) return;
+        // Once per pixel: a table lookup rather than a search over the objects.
+        const std::uint32_t k = static_slot_of_[hit.hit.prim];
+        hit.object = static_objects_[k];
+        hit.hit.prim -= static_first_[k];
     }
+
+    /// Where triangle `prim` of `object` is stored (in the space of its tree), to prefetch it.
+    const bvh::Triangle* triangle_address(std::size_t object, std::uint32_t prim) const;
 
     /// World-space bounds of the whole scene at the last update.
     bvh::Aabb world_bounds() const;
@@ -88,11 +100,33 @@ private:
         double sah = 0.0;
         bvh::BvhStats shape;
         bool built = false;
+        /// built_sah, sah and shape describe the current tree (false right after a build).
+        bool measured = false;
+        /// Static objects: where their triangles start in the static group, and whether the
+        /// next update is their first (which builds, and so does not skip them).
+        std::uint32_t group_first = 0;
+        bool first_frame = true;
     };
 
     void build(ObjectTree& object, const bvh::BuildConfig& config);
+    void build_static_group(const Scene& scene, const anim::ScenePoser& poser,
+                            const anim::PosedScene& posed, const bvh::BuildConfig& config,
+                            FrameStats& stats);
+    /// The instance id of the static group: one past the last object index, so it collides
+    /// with no object (ties between instances go to the lower id).
+    std::uint32_t static_group_id() const { return std::uint32_t(objects_.size()); }
 
+    /// Per object (scene order); static objects keep no tree of their own.
     std::vector<ObjectTree> objects_;
+    /// All static objects in one world-space tree, built at the first update: their
+    /// triangles concatenated in scene order, static_objects_[k]'s from static_first_[k].
+    ObjectTree static_group_;
+    std::vector<std::uint32_t> static_first_;
+    std::vector<std::uint32_t> static_objects_;
+    /// Per triangle of the static group, its k in static_objects_.
+    std::vector<std::uint32_t> static_slot_of_;
+    /// The tree behind each instance of the top level, in instance order.
+    std::vector<ObjectTree*> instance_trees_;
     bvh::TwoLevelBvh top_;
     /// Scratch for the vertex positions of static objects at their one build.
     std::vector<glm::vec3> positions_;

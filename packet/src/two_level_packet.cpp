@@ -263,6 +263,14 @@ void any_lanes(const bvh::TwoLevelBvh& tlas, const RayPacket& packet, LaneMask& 
 void intersect_closest(const bvh::TwoLevelBvh& tlas, const RayPacket& packet, InstanceHits& hits,
                        const PacketConfig& config, PacketStats* stats) {
     check_lanes(config.lanes);
+    if (const bvh::Instance* sole = bvh::sole_identity_instance(tlas)) {
+        // No top level to walk and no lanes to copy (see sole_identity_instance).
+        intersect_closest(*sole->blas, packet, hits.hits, config, stats);
+        for (int i = 0; i < kPacketRays; ++i) {
+            hits.object[i] = hits.hits.prim[i] != bvh::kInvalidId ? sole->object : bvh::kInvalidId;
+        }
+        return;
+    }
     for (int i = 0; i < kPacketRays; ++i) {
         hits.hits.t[i] = kInf;
         hits.hits.u[i] = 0.0f;
@@ -281,6 +289,10 @@ void intersect_closest(const bvh::TwoLevelBvh& tlas, const RayPacket& packet, In
 void intersect_any(const bvh::TwoLevelBvh& tlas, const RayPacket& packet, LaneMask& occluded,
                    const PacketConfig& config, PacketStats* stats) {
     check_lanes(config.lanes);
+    if (const bvh::Instance* sole = bvh::sole_identity_instance(tlas)) {
+        intersect_any(*sole->blas, packet, occluded, config, stats);
+        return;
+    }
     occluded = LaneMask{};
     if (tlas.top.empty() || !packet.active.any()) return;
     if (config.lanes == 1) {

@@ -89,6 +89,12 @@ float top_level_pad(const TwoLevelBvh& tlas, const glm::vec3& org);
 /// so a pad below half an ulp of a bound still moves it). `box` itself when pad is 0.
 Aabb grow_box(const Aabb& box, float pad);
 
+/// The one instance of a top level that holds exactly one, an identity one (a scene of static
+/// objects, or one deformable object); else null. Tracers then use its tree directly: with a
+/// single instance there is nothing to order or tie-break, and its world box is its root box,
+/// so the results are the same and the top level costs nothing.
+const Instance* sole_identity_instance(const TwoLevelBvh& tlas);
+
 /// Closest hit along `ray` within [ray.tmin, ray.tmax] over all instances: the lexicographic
 /// minimum of (t, object, prim). Thread-safe on a shared `tlas`.
 InstanceHit intersect_closest(const TwoLevelBvh& tlas, const Ray& ray);

@@ -42,7 +42,7 @@ struct UpdatePolicy {
     /// Cost ratio of the per-frame rebuilds of exploding objects: a tree built every frame and
     /// traced once pays its build in every frame, which favours shallower trees than the ratio
     /// that minimises trace time alone.
-    float exploding_cost_ratio = 1.0f;
+    float exploding_cost_ratio = 0.3f;
     /// Rebuild a deformable object when its refitted SAH cost exceeds (1 + threshold) times
     /// the cost at its last build. 0 rebuilds on any degradation; +inf never.
     double rebuild_threshold = 0.3;

@@ -53,7 +53,7 @@ struct RenderOptions {
     /// (1 + rebuild_threshold) times the cost at its last build; otherwise refit.
     double rebuild_threshold = 0.3;
     /// Cost ratio of the per-frame rebuilds of exploding objects.
-    float cost_ratio_exploding = 1.0f;
+    float cost_ratio_exploding = 0.3f;
     Tracer tracer = Tracer::packet;
     /// The packet tracer's culling stages and SIMD width (ignored by the single-ray tracer).
     packet::PacketConfig packet;

@@ -4,6 +4,7 @@
 
 #include "dynrt/bvh/aabb.h"
 #include "dynrt/bvh/ray.h"
+#include "dynrt/packet/pinhole.h"
 
 #include <glm/vec3.hpp>
 
@@ -37,9 +38,7 @@ public:
     bvh::Ray ray(int x, int y) const;
 
 private:
-    glm::vec3 eye_, fwd_, right_, up_;
-    float tan_half_fov_, aspect_;
-    int width_, height_;
+    packet::PinholeRays pinhole_;
 };
 
 }  // namespace dynrt

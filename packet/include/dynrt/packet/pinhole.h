@@ -1,10 +1,9 @@
 #pragma once
-// Primary rays of a pinhole camera, generated a whole tile packet at a time in SIMD. They are
-// exactly the rays of the camera convention (README.md, "Camera convention") as
-// dynrt::CameraRays computes them in engine/src/camera.cpp, bit for bit: the same operations in
-// the same order, lane by lane (tests/packet_pinhole_test.cpp checks every pixel against
-// CameraRays). The packet module cannot see the engine's camera type, hence the copy of the
-// convention here; keep the two in step.
+// Primary rays of a pinhole camera: the camera convention (README.md, "Camera convention")
+// for one pixel (ray; dynrt::CameraRays checks a camera and then delegates to it, so the
+// convention's arithmetic exists once) and for a whole tile packet in SIMD (fill_tile), with
+// the same operations in the same order lane by lane, so both give the same bits
+// (tests/packet_pinhole_test.cpp checks every pixel).
 
 #include "dynrt/bvh/ray.h"
 #include "dynrt/packet/ray_packet.h"

@@ -1,4 +1,5 @@
 #include "dynrt/engine/renderer.h"
+#include "dynrt/engine/scene_loading.h"
 #include "dynrt/scene/scene_error.h"
 
 #include <gtest/gtest.h>
@@ -98,6 +99,35 @@ TEST(Renderer, OutputsAgreeWithEachOtherAndTheReport) {
     EXPECT_EQ(frame.stats.shadow_rays, hits);
     EXPECT_EQ(frame.stats.triangles, 2u);
     EXPECT_GE(frame.stats.total_ms, frame.stats.build_ms + frame.stats.primary_ms);
+}
+
+TEST(Renderer, WithoutHitBuffersTheColourIsTheSame) {
+    // The bundled scene has several objects, materials and shadows; 37x19 leaves partial tiles.
+    const Scene scene = load_scene(default_scene_path().string());
+    const Camera camera = default_camera(scene_bounds(scene));
+    RenderOptions options;
+    options.width = 37;
+    options.height = 19;
+    for (const Tracer tracer : {Tracer::packet, Tracer::single}) {
+        options.tracer = tracer;
+        options.hit_buffers = true;
+        RenderedFrame full;
+        Renderer(options).render(scene, camera, 0, full);
+        options.hit_buffers = false;
+        RenderedFrame colour_only;
+        // Reused buffers must shrink, not keep a previous frame's hits.
+        colour_only = full;
+        Renderer(options).render(scene, camera, 0, colour_only);
+        EXPECT_TRUE(colour_only.depth.empty());
+        EXPECT_TRUE(colour_only.object.empty());
+        EXPECT_TRUE(colour_only.prim.empty());
+        EXPECT_TRUE(colour_only.normal.empty());
+        ASSERT_EQ(colour_only.color.size(), full.color.size());
+        for (std::size_t p = 0; p < full.color.size(); ++p) {
+            ASSERT_EQ(colour_only.color[p], full.color[p]) << "pixel " << p;
+        }
+        EXPECT_EQ(colour_only.stats.shadow_rays, full.stats.shadow_rays);
+    }
 }
 
 TEST(Renderer, LightBehindTheSurfaceCastsNoShadowRays) {

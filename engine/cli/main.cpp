@@ -81,6 +81,7 @@ struct BenchArgs : FrameArgs {
     std::string vs;
     std::string plot;
     std::string diff_image;
+    bool hit_buffers = false;
 };
 
 /// Splits "a,b,c" into finite floats; `what` names the flag in errors.
@@ -216,6 +217,7 @@ void print_rebuild_summary(std::ostream& out, const std::vector<dynrt::FrameStat
 int run_render(const RenderArgs& args) {
     dynrt::RenderOptions options = render_options(args);
     const std::vector<dynrt::Aov> aovs = dynrt::parse_aov_list(args.aov);
+    options.hit_buffers = !aovs.empty();
     const dynrt::FrameRange range =
         args.frames.empty() ? dynrt::FrameRange{} : dynrt::parse_frame_range(args.frames);
     if (range.count() > 1 && !dynrt::has_frame_number(args.out)) {
@@ -352,7 +354,8 @@ int run_bench(const BenchArgs& args) {
                                     "render --report");
     }
     const int repeat = args.repeat > 0 ? args.repeat : 5;
-    const dynrt::RenderOptions base = render_options(args);
+    dynrt::RenderOptions base = render_options(args);
+    base.hit_buffers = args.hit_buffers;
     // Culling items (if swept) vary slowest, then the build sweeps as expand_sweeps orders them.
     std::vector<std::string> build_sweeps = args.sweeps;
     std::vector<std::string> cullings = dynrt::take_culling_sweep(build_sweeps);
@@ -556,6 +559,10 @@ int main(int argc, char** argv) {
     bench_cmd->add_option("--vs", bench.vs,
                           "Also bench another tracer on the same rays: embree (Embree 3 builds "
                           "low/medium/high, rtcIntersect1/16, rtcOccluded16, hit agreement)");
+    bench_cmd->add_flag("--hit-buffers", bench.hit_buffers,
+                        "Time frames that also fill the per-pixel depth, object, primitive and "
+                        "normal buffers, as render --aov does (default: the colour only, as "
+                        "render without --aov)");
 
     std::string info_scene;
     CLI::App* info_cmd = app.add_subcommand("info", "Describe a scene: objects, triangles, bounds");

@@ -188,6 +188,12 @@ BenchRow bench_configuration(const Scene& scene, const Camera& camera,
         mrays.push_back(trace_ms > 0 ? double(s.primary_rays + s.shadow_rays) / (trace_ms * 1e3)
                                      : 0.0);
     }
+    if (last_frame && !options.hit_buffers) {
+        // The caller compares hits: one more frame, untimed, with the hit buffers filled.
+        RenderOptions with_hits = options;
+        with_hits.hit_buffers = true;
+        Renderer(with_hits).render(scene, camera, 0, *last_frame);
+    }
     BenchRow row;
     row.build = options.build;
     row.triangles = frame.stats.triangles;

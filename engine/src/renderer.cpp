@@ -268,23 +268,27 @@ void shade_tile(const TileShading& shading, const packet::Tile& tile,
         packet::shade(surface, shading.materials, shading.lights, visible, shading.ambient, colors,
                       shading.lanes);
     }
+    const bool hit_buffers = !out.depth.empty();
     for (int y = tile.y0; y < tile.y1; ++y) {
         for (int x = tile.x0; x < tile.x1; ++x) {
             const std::size_t p = std::size_t(y) * std::size_t(out.width) + std::size_t(x);
             const int lane = packet::tile_lane(tile, x, y);
-            if (!surface.hit.test(lane)) {
-                out.color[p] = shading.background;
+            const bool hit = surface.hit.test(lane);
+            out.color[p] = hit ? glm::vec3(colors.rgb[0][lane], colors.rgb[1][lane],
+                                           colors.rgb[2][lane])
+                               : shading.background;
+            if (!hit_buffers) continue;
+            if (!hit) {
                 out.depth[p] = std::numeric_limits<float>::infinity();
                 out.object[p] = -1;
                 out.prim[p] = -1;
                 out.normal[p] = glm::vec3(0.0f);
                 continue;
             }
-            const bvh::InstanceHit& hit = hits[p];
-            out.color[p] = {colors.rgb[0][lane], colors.rgb[1][lane], colors.rgb[2][lane]};
-            out.depth[p] = hit.hit.t;
-            out.object[p] = std::int32_t(hit.object);
-            out.prim[p] = std::int32_t(hit.hit.prim);
+            const bvh::InstanceHit& h = hits[p];
+            out.depth[p] = h.hit.t;
+            out.object[p] = std::int32_t(h.object);
+            out.prim[p] = std::int32_t(h.hit.prim);
             out.normal[p] = {surface.normal[0][lane], surface.normal[1][lane],
                              surface.normal[2][lane]};
         }
@@ -428,10 +432,11 @@ void Renderer::trace(const Camera& camera, RenderedFrame& out) {
     out.width = width;
     out.height = height;
     out.color.resize(pixels);
-    out.depth.resize(pixels);
-    out.object.resize(pixels);
-    out.prim.resize(pixels);
-    out.normal.resize(pixels);
+    const std::size_t hit_pixels = options_.hit_buffers ? pixels : 0;
+    out.depth.resize(hit_pixels);
+    out.object.resize(hit_pixels);
+    out.prim.resize(hit_pixels);
+    out.normal.resize(hit_pixels);
     const TileShading shading{s.materials, s.shading_lights, options_.ambient,
                               options_.background, options_.packet.lanes};
     const packet::PinholeRays pinhole(camera.eye, camera.target, camera.up, camera.fov_y_deg,

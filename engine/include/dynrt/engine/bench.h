@@ -69,8 +69,9 @@ packet::PacketCulling parse_culling_item(const std::string& item);
 /// Renders frame 0 of `scene` `warmup` times untimed, then `repeat` times (>= 1) timed, with
 /// `options` (whose build config and packet culling are the configuration measured), then,
 /// with the packet tracer, once more untimed with count_packet_work on, for the row's
-/// ray/triangle counters. If `last_frame` is not null, the last timed render is left in it (for
-/// comparing hits with another tracer).
+/// ray/triangle counters. If `last_frame` is not null, it receives a frame of the same
+/// configuration with its hit buffers filled (the last timed render, or one more untimed when
+/// `options.hit_buffers` is off), for comparing hits with another tracer.
 BenchRow bench_configuration(const Scene& scene, const Camera& camera,
                              const RenderOptions& options, int repeat, int warmup,
                              RenderedFrame* last_frame = nullptr);

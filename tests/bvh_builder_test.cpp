@@ -159,6 +159,40 @@ TEST(BvhBuilder, BuildsAreDeterministic) {
     EXPECT_EQ(a.bvh.nodes.size(), b.bvh.nodes.size());
 }
 
+TEST(BvhBuilder, BuildingIntoARecycledTreeGivesTheSameTree) {
+    // Large (parallel paths) and small inputs, with degenerates, an empty one and an only-
+    // degenerate one, each built into the previous result: every size change in both directions
+    // and leftovers from a previous tree (skipped ids, triangles, nodes) that must not survive.
+    std::vector<Triangle> with_degenerates = random_soup(21, 3000);
+    for (int i = 0; i < 40; ++i) {
+        const glm::vec3 a(static_cast<float>(i), 0.5f, 0.25f);
+        with_degenerates.insert(with_degenerates.begin() + 7 * i, Triangle{a, a, a});
+    }
+    const std::vector<std::vector<Triangle>> inputs = {
+        random_soup(20, 60000, 1.0f, 0.02f), with_degenerates, {},
+        std::vector<Triangle>(5, Triangle{glm::vec3(1), glm::vec3(1), glm::vec3(2)}),
+        random_soup(22, 60000, 1.0f, 0.02f), random_soup(23, 1)};
+    TriangleBvh recycled;
+    for (std::size_t k = 0; k < inputs.size(); ++k) {
+        const std::vector<Triangle>& tris = inputs[k];
+        const TriangleBvh fresh = build_triangle_bvh(tris, config_with(4));
+        recycled = build_triangle_bvh(tris, config_with(4), std::move(recycled));
+        SCOPED_TRACE("input " + std::to_string(k));
+        EXPECT_EQ(validate(recycled, tris, 4), "");
+        EXPECT_EQ(recycled.bvh.prim_ids, fresh.bvh.prim_ids);
+        EXPECT_EQ(recycled.bvh.nodes.size(), fresh.bvh.nodes.size());
+        EXPECT_EQ(sah_cost(recycled.bvh, SahCosts{}), sah_cost(fresh.bvh, SahCosts{}));
+        EXPECT_EQ(recycled.skipped_ids, fresh.skipped_ids);
+        EXPECT_EQ(recycled.degenerate_skipped, fresh.degenerate_skipped);
+        ASSERT_EQ(recycled.tris.size(), fresh.tris.size());
+        for (std::size_t i = 0; i < fresh.tris.size(); ++i) {
+            ASSERT_TRUE(recycled.tris[i].v0 == fresh.tris[i].v0 && recycled.tris[i].v1 == fresh.tris[i].v1 &&
+                        recycled.tris[i].v2 == fresh.tris[i].v2)
+                << "triangle " << i;
+        }
+    }
+}
+
 TEST(BvhBuilder, IdenticalTrianglesFallBackToMedianSplits) {
     const Triangle t{{0.1f, 0.2f, 0.3f}, {1.1f, 0.2f, 0.3f}, {0.1f, 1.2f, 0.3f}};
     const std::vector<Triangle> tris(1000, t);

@@ -324,7 +324,7 @@ public:
           bin_count_max_(std::min(config.bin_count, kMaxBins)) {}
 
     Bvh build(std::size_t count, const Aabb& root_box, const Aabb& root_center_box,
-              const std::function<void()>& alongside_output) {
+              const std::function<void()>& alongside_output, Bvh&& recycled) {
         build_node(0, ChildRange{0, count, Box4::from(root_box), Box4::from(root_center_box)}, 1);
 
         // Final layout: the top nodes at their slots, then each serial subtree's nodes (all but
@@ -336,7 +336,9 @@ public:
             offset[slot] = static_cast<std::uint32_t>(total);
             if (!subtrees_[slot].empty()) total += subtrees_[slot].size() - 1;
         }
-        Bvh bvh;
+        Bvh bvh = std::move(recycled);
+        bvh.nodes.clear();
+        bvh.prim_ids.clear();
         // Filling a fresh vector is one serial pass (the kernel faults its pages in as it goes);
         // the node array, the primitive ids and the caller's own output (the triangle gather)
         // each get one, side by side.
@@ -675,17 +677,17 @@ std::size_t partition_node(BoxCenterRef* refs, std::size_t count, const BinnedSp
 template <class Ref>
 Bvh build_from_prim_refs(Ref* refs, std::size_t count, const Aabb& root_box,
                          const Aabb& root_center_box, const BuildConfig& config,
-                         const std::function<void()>& alongside_output) {
+                         const std::function<void()>& alongside_output, Bvh&& recycled) {
     Builder<Ref> builder(refs, count, config);
-    return builder.build(count, root_box, root_center_box, alongside_output);
+    return builder.build(count, root_box, root_center_box, alongside_output, std::move(recycled));
 }
 
 template Bvh build_from_prim_refs<BoxCenterRef>(BoxCenterRef*, std::size_t, const Aabb&,
                                                 const Aabb&, const BuildConfig&,
-                                                const std::function<void()>&);
+                                                const std::function<void()>&, Bvh&&);
 template Bvh build_from_prim_refs<ExplicitCenterRef>(ExplicitCenterRef*, std::size_t, const Aabb&,
                                                      const Aabb&, const BuildConfig&,
-                                                     const std::function<void()>&);
+                                                     const std::function<void()>&, Bvh&&);
 
 }  // namespace detail
 

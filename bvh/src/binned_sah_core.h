@@ -18,11 +18,12 @@ namespace dynrt::bvh::detail {
 /// calling thread's oneTBB arena. `alongside_output`, when set, runs once the refs are in their
 /// final order, concurrently with the filling of the result's vectors (the caller's own
 /// per-primitive output, such as triangles in leaf order, can overlap with it).
-/// Instantiated for BoxCenterRef and ExplicitCenterRef.
+/// The result's vectors reuse the storage of `recycled` (a tree no longer needed) where it is
+/// large enough. Instantiated for BoxCenterRef and ExplicitCenterRef.
 template <class Ref>
 Bvh build_from_prim_refs(Ref* refs, std::size_t count, const Aabb& root_box,
                          const Aabb& root_center_box, const BuildConfig& config,
-                         const std::function<void()>& alongside_output);
+                         const std::function<void()>& alongside_output, Bvh&& recycled = {});
 
 /// Throws std::invalid_argument unless cost_ratio > 0, leaf_size_max >= 1 and bin_count >= 2.
 void check_config(const BuildConfig& config);

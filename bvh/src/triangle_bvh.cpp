@@ -190,8 +190,19 @@ bool traverse_octant(const TriangleBvh& accel, const Ray& ray, Hit& hit, Travers
 }  // namespace
 
 TriangleBvh build_triangle_bvh(std::span<const Triangle> tris, const BuildConfig& config) {
+    return build_triangle_bvh(tris, config, TriangleBvh{});
+}
+
+TriangleBvh build_triangle_bvh(std::span<const Triangle> tris, const BuildConfig& config,
+                               TriangleBvh&& recycled) {
     detail::check_config(config);
-    TriangleBvh accel;
+    // The result takes over the recycled vectors, emptied: their capacity is what is reused.
+    TriangleBvh accel = std::move(recycled);
+    accel.tris.clear();
+    accel.skipped_ids.clear();
+    accel.degenerate_skipped = 0;
+    Bvh recycled_tree = std::move(accel.bvh);
+    accel.bvh = Bvh{};
     const std::size_t n = tris.size();
     if (n == 0) return accel;
     if (n >= (std::size_t{1} << 31)) {
@@ -266,7 +277,7 @@ TriangleBvh build_triangle_bvh(std::span<const Triangle> tris, const BuildConfig
                                   accel.tris[i] = tris[leaf_order[i].id];
                               }
                           });
-    });
+    }, std::move(recycled_tree));
     return accel;
 }
 

@@ -80,7 +80,7 @@ void SceneAccel::clear() {
 }
 
 void SceneAccel::build(ObjectTree& object, const bvh::BuildConfig& config) {
-    object.tree = bvh::build_triangle_bvh(object.triangles, config);
+    object.tree = bvh::build_triangle_bvh(object.triangles, config, std::move(object.tree));
     // Its SAH cost and shape are measured after the timed work (see update).
     object.measured = false;
     object.built = true;

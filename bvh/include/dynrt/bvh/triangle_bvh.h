@@ -33,6 +33,13 @@ struct TriangleBvh {
 /// an error before building). Runs in parallel on the calling thread's oneTBB arena.
 TriangleBvh build_triangle_bvh(std::span<const Triangle> tris, const BuildConfig& config);
 
+/// The same tree, built into the storage of `recycled`, a tree no longer needed (such as the
+/// previous frame's tree of a mesh rebuilt every frame) wherever it is large enough. A fresh
+/// allocation of a million-triangle tree's 80 MB is faulted in and zeroed by the kernel page by
+/// page while the build fills it; reused storage skips that.
+TriangleBvh build_triangle_bvh(std::span<const Triangle> tris, const BuildConfig& config,
+                               TriangleBvh&& recycled);
+
 /// Closest hit along `ray` within [ray.tmin, ray.tmax], or a miss. Thread-safe on a shared
 /// tree. Box tests are conservative (Ize 2013, "Robust BVH Ray Traversal"), so no triangle that
 /// the watertight test would hit is culled by rounding in a box test.

@@ -59,6 +59,8 @@ TEST(BenchSequence, EveryFrameOfEveryRunIsOneSample) {
     EXPECT_EQ(bench.rows[1].frame_ms.min, 12.0);
     EXPECT_EQ(bench.rows[1].frame_ms.max, 18.0);
     EXPECT_EQ(bench.rows[1].vs_dynrt.prim_only_differs, 8u);
+    EXPECT_EQ(bench.rows[1].primary_ms.median, 3.0);
+    EXPECT_EQ(bench.rows[1].shadow_ms.max, 4.0);
     // dynrt's report is the last run's: each run starts from empty trees.
     ASSERT_EQ(bench.frames.size(), 4u);
     EXPECT_EQ(bench.frames[0].frame, 2);
@@ -70,6 +72,7 @@ TEST(BenchSequence, EveryFrameOfEveryRunIsOneSample) {
     EXPECT_NE(table.str().find("fake"), std::string::npos) << table.str();
     const nlohmann::json doc = nlohmann::json::parse(sequence_json(bench));
     EXPECT_EQ(doc["sequence"].size(), 2u);
+    EXPECT_EQ(doc["sequence"][1]["shadow_ms"]["median"], 4.0);
     EXPECT_EQ(doc["frames"].size(), 4u);
     EXPECT_TRUE(doc["summary"]["median"].contains("refit_ms"));
 }

@@ -15,12 +15,14 @@ namespace {
 
 /// Per-frame samples of one tracer.
 struct Samples {
-    std::vector<double> update, build, trace, frame;
+    std::vector<double> update, build, primary, shadow, trace, frame;
     HitAgreement agreement;
 
     void add(const SequenceFrameTimes& t) {
         update.push_back(t.update_ms);
         build.push_back(t.build_ms);
+        primary.push_back(t.primary_ms);
+        shadow.push_back(t.shadow_ms);
         trace.push_back(t.primary_ms + t.shadow_ms);
         frame.push_back(t.update_ms + t.build_ms + t.primary_ms + t.shadow_ms);
         agreement.object_differs += t.vs_dynrt.object_differs;
@@ -33,6 +35,8 @@ struct Samples {
         r.update_ms = spread_of(update);
         r.build_ms = spread_of(build);
         r.trace_ms = spread_of(trace);
+        r.primary_ms = spread_of(primary);
+        r.shadow_ms = spread_of(shadow);
         r.frame_ms = spread_of(frame);
         r.vs_dynrt = agreement;
         return r;
@@ -113,6 +117,8 @@ std::string sequence_json(const SequenceBench& bench) {
             {"update_ms", spread(r.update_ms)},
             {"build_ms", spread(r.build_ms)},
             {"trace_ms", spread(r.trace_ms)},
+            {"primary_ms", spread(r.primary_ms)},
+            {"shadow_ms", spread(r.shadow_ms)},
             {"frame_ms", spread(r.frame_ms)},
             {"hit_object_differs", r.vs_dynrt.object_differs},
             {"hit_prim_only_differs", r.vs_dynrt.prim_only_differs}});

@@ -47,6 +47,8 @@ struct SequenceRow {
     Spread update_ms;
     Spread build_ms;
     Spread trace_ms;  ///< primary + shadow
+    Spread primary_ms;
+    Spread shadow_ms;
     /// update + build + trace: what a frame costs before shading, the figure compared.
     Spread frame_ms;
     /// Summed over the frames (other tracers only).

@@ -104,11 +104,14 @@ struct ShadowOrigin {
     /// The light is on the lit side of the surface, so a shadow ray is traced.
     bool faces(const PointLight& light) const { return glm::dot(n, light.position - point) > 0.0f; }
 
-    /// dir spans origin -> light, so t in [0, 1) is exactly the segment before the light.
+    /// The shadow ray runs from the light to the offset origin: t in [0, 1] is exactly the
+    /// segment between them. From the light, all the shadow rays of a tile share one origin,
+    /// which gives packets a tight beam (culling, cheaper box tests); see packet/README.md,
+    /// "Shadow ray direction", for what it gained.
     bvh::Ray ray_to(const PointLight& light) const {
         bvh::Ray shadow;
-        shadow.org = origin;
-        shadow.dir = light.position - origin;
+        shadow.org = light.position;
+        shadow.dir = origin - light.position;
         shadow.tmin = 0.0f;
         shadow.tmax = 1.0f;
         return shadow;
@@ -234,12 +237,12 @@ struct TileShadowOrigins {
             if (lit == 0) continue;
             const F ox = L::load(origin[0] + base), oy = L::load(origin[1] + base),
                     oz = L::load(origin[2] + base);
-            L::store(out.org_x + base, ox);
-            L::store(out.org_y + base, oy);
-            L::store(out.org_z + base, oz);
-            L::store(out.dir_x + base, lx - ox);
-            L::store(out.dir_y + base, ly - oy);
-            L::store(out.dir_z + base, lz - oz);
+            L::store(out.org_x + base, lx);
+            L::store(out.org_y + base, ly);
+            L::store(out.org_z + base, lz);
+            L::store(out.dir_x + base, ox - lx);
+            L::store(out.dir_y + base, oy - ly);
+            L::store(out.dir_z + base, oz - lz);
             L::store(out.tmin + base, L::splat(0.0f));
             L::store(out.tmax + base, L::splat(1.0f));
             out.active.words[base >> 6] |= std::uint64_t(lit) << (base & 63);

@@ -762,8 +762,9 @@ private:
         }
         // Culling a triangle costs about as much as testing a few chunks, so it only runs
         // when there are enough chunks to test for it to pay. Packets without a common origin
-        // (shadow rays from many points, incoherent rays) skip it: their beam is wide and the
-        // stages cull next to nothing (measured: none at all for sphere:1000000's shadow rays).
+        // (incoherent rays) skip it: their beam is wide and the stages cull next to nothing
+        // (measured: none at all for sphere:1000000's shadow rays when they started at the hit
+        // points).
         const bool leaf_culling =
             n >= config_.cull_min_steps && beam.common_origin && beam.common_perm &&
             (culling_.beam_planes || culling_.triangle_edges || culling_.near_far);

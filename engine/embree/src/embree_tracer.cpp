@@ -335,8 +335,9 @@ double EmbreeTracer::occluded16(const Camera& camera, int width, int height,
                                      glm::dot(normal[lane], light.position - point[lane]) > 0.0f;
                     valid[lane] = lit ? -1 : 0;
                     active += lit;
-                    const glm::vec3 org = lit ? origin[lane] : glm::vec3(0.0f);
-                    const glm::vec3 dir = lit ? light.position - org : glm::vec3(0, 0, 1);
+                    // The renderer's shadow rays: from the light to the offset origin.
+                    const glm::vec3 org = lit ? light.position : glm::vec3(0.0f);
+                    const glm::vec3 dir = lit ? origin[lane] - light.position : glm::vec3(0, 0, 1);
                     ray.org_x[lane] = org.x;
                     ray.org_y[lane] = org.y;
                     ray.org_z[lane] = org.z;

@@ -82,9 +82,9 @@ public:
 
     /// dynrt's shadow rays for the hits `hits` (from intersect1/16 with the same camera, so
     /// with Embree's barycentrics, not dynrt's): per hit and light on the lit side, from the
-    /// barycentric hit point offset along the facing
-    /// normal (offset_along_normal) towards the light, t in [0, 1], traced with
-    /// rtcOccluded16 in the same row packets. Counts the rays in `rays` and returns ms.
+    /// light to the barycentric hit point offset along the facing normal
+    /// (offset_along_normal), t in [0, 1], traced with rtcOccluded16 in the same row packets.
+    /// Counts the rays in `rays` and returns ms.
     double occluded16(const Camera& camera, int width, int height,
                       const std::vector<PointLight>& lights, const PixelHits& hits,
                       std::size_t& rays);

@@ -142,7 +142,7 @@ TEST(ProceduralMotion, ExplodeUnsharesTrianglesAndMovesThemAlongFrame0Normals) {
     EXPECT_EQ(scene.objects[1].mesh.positions.size(), 5u);    // the other object keeps its mesh
 
     const ScenePoser poser(scene, {});
-    EXPECT_EQ(poser.motion_class(0), MotionClass::exploding);
+    EXPECT_EQ(poser.motion_class(0), MotionClass::deformable);  // same triangles, moved
     EXPECT_EQ(poser.motion_class(1), MotionClass::static_);
     const double r = std::sqrt(3.0) / 2.0;  // box [0,1]^3
     const glm::dvec3 normals[3] = {{0, 0, 1}, {1, 0, 0}, {0, 0, 0}};  // the last one is degenerate

@@ -27,7 +27,8 @@ namespace dynrt::reference {
 namespace {
 
 // A static ground plane, a sphere turning about its centre (rigid), a sphere in a wave
-// (deformable) and a soup flying apart (exploding).
+// (deformable) and a soup flying apart (deformable too: the same triangles, moved; the
+// variants and the report test force it to exploding, where it is rebuilt every frame).
 const std::string kPlane = "plane:8@0,-1,0,4#808080";
 const std::string kRigid = "sphere:600@-0.8,-0.4,0.3,0.6#e04020";
 const std::string kWave = "sphere:300@1.2,-0.5,-0.6,0.5#2050e0";
@@ -86,10 +87,13 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(
         Variant{"packet_default", Tracer::packet, 0.3, {}},
         Variant{"single_default", Tracer::single, 0.3, {}},
+        Variant{"packet_explode_exploding", Tracer::packet, 0.3, {kExplode + "=exploding"}},
+        Variant{"single_explode_exploding", Tracer::single, 0.3, {kExplode + "=exploding"}},
         Variant{"packet_always_rebuild", Tracer::packet, 0.0, {}},
         Variant{"packet_never_rebuild", Tracer::packet, std::numeric_limits<double>::infinity(), {}},
         Variant{"packet_all_exploding", Tracer::packet, 0.3,
-                {kPlane + "=exploding", kRigid + "=exploding", kWave + "=exploding"}},
+                {kPlane + "=exploding", kRigid + "=exploding", kWave + "=exploding",
+                 kExplode + "=exploding"}},
         Variant{"single_raised", Tracer::single, 0.3,
                 {kPlane + "=rigid", kRigid + "=deformable"}}),
     [](const ::testing::TestParamInfo<Variant>& info) { return info.param.name; });
@@ -99,6 +103,9 @@ TEST(AnimatedRender, ReportSaysWhatEachObjectCost) {
     RenderOptions options;
     options.width = 32;
     options.height = 32;
+    // One object of each class: the soup's explode alone would make it deformable.
+    options.pose.class_overrides =
+        anim::parse_class_overrides(scene, std::vector<std::string>{kExplode + "=exploding"});
     options.rebuild_threshold = std::numeric_limits<double>::infinity();
     const Camera camera = default_camera(scene_bounds(scene));
     Renderer renderer(options);

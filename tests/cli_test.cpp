@@ -84,7 +84,8 @@ TEST(Cli, RenderWritesOneImagePerFrameAndAReportOfEachUpdate) {
 
 TEST(Cli, BenchFramesTimesASequenceAndDrawsItsTimeline) {
     const fs::path dir = fresh_dir("bench_frames");
-    std::string args = "bench sphere:300 --anim explode --res 32x32 --frames 0-3 --warmup 0 "
+    std::string args = "bench sphere:300 --anim explode --treat sphere:300=exploding --res 32x32 "
+                       "--frames 0-3 --warmup 0 "
                        "--plot " + (dir / "t.png").string() + " --json " + (dir / "b.json").string();
 #if DYNRT_HAVE_EMBREE
     args += " --vs embree";

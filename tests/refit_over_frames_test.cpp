@@ -1,7 +1,7 @@
 // A deformable object refitted frame after frame keeps a valid tree: after every refit each
 // node contains its children and its triangles, over many frames of the procedural wave and
-// explode motions (explode is refitted here on purpose, as --treat could not do: its boxes
-// grow fastest).
+// explode motions (both deformable, so the renderer refits them too; explode's boxes grow
+// fastest).
 
 #include "dynrt/anim/posed_scene.h"
 #include "dynrt/anim/procedural_motion.h"

@@ -406,8 +406,7 @@ void Renderer::trace(const Camera& camera, RenderedFrame& out) {
     const bool count = options_.tracer == Tracer::packet && options_.count_packet_work;
     tbb::combinable<packet::PacketStats> work;
     if (options_.tracer == Tracer::packet) {
-        const packet::PinholeRays pinhole(camera.eye, camera.target, camera.up, camera.fov_y_deg,
-                                          width, height);
+        const packet::PinholeRays& pinhole = rays.pinhole();
         for_each_tile(width, height, [&](const packet::Tile& tile) {
             packet::RayPacket packet_rays;
             packet::InstanceHits packet_hits;
@@ -442,8 +441,7 @@ void Renderer::trace(const Camera& camera, RenderedFrame& out) {
     out.normal.resize(hit_pixels);
     const TileShading shading{s.materials, s.shading_lights, options_.ambient,
                               options_.background, options_.packet.lanes};
-    const packet::PinholeRays pinhole(camera.eye, camera.target, camera.up, camera.fov_y_deg,
-                                      width, height);
+    const packet::PinholeRays& pinhole = rays.pinhole();
     const packet::Tiling tiling(width, height);
     tbb::combinable<std::size_t> shadow_rays([] { return std::size_t(0); });
     if (options_.tracer == Tracer::packet) {

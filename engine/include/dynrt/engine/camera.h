@@ -36,6 +36,8 @@ public:
     /// view direction, fov outside (0, 180)) or an empty image.
     CameraRays(const Camera& camera, int width, int height);
     bvh::Ray ray(int x, int y) const;
+    /// The same rays a whole 16x16 tile at a time (for the packet tracer).
+    const packet::PinholeRays& pinhole() const { return pinhole_; }
 
 private:
     packet::PinholeRays pinhole_;

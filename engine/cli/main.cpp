@@ -55,6 +55,7 @@ struct FrameArgs {
     int threads = 0;
     std::string tracer = "packet";
     std::string packet_culling = "all";
+    float adaptive = 0.0f;
     // Animation: which motions, clips and classes, at what rate, which frames.
     std::vector<std::string> anims;
     std::vector<std::string> treats;
@@ -138,6 +139,7 @@ dynrt::RenderOptions render_options(const FrameArgs& args) {
     for (const std::string& light : args.lights) options.lights.push_back(parse_light(light));
     options.tracer = args.tracer == "single" ? dynrt::Tracer::single : dynrt::Tracer::packet;
     options.packet.culling = dynrt::packet::PacketCulling::parse(args.packet_culling);
+    options.adaptive_tolerance = args.adaptive;
     options.pose.fps = args.fps;
     options.rebuild_threshold = args.rebuild_threshold;
     options.cost_ratio_exploding = args.cost_ratio_exploding;
@@ -497,6 +499,10 @@ int main(int argc, char** argv) {
         cmd->add_option("--packet-culling", args.packet_culling,
                         "Packet culling stages: ab,bp,edge,nf (any subset), all or none")
             ->capture_default_str();
+        cmd->add_option("--adaptive", args.adaptive,
+                        "Approximate: trace each tile on a sparse grid and interpolate cells "
+                        "whose samples agree within this tolerance (packet tracer; 0: exact)")
+            ->check(CLI::NonNegativeNumber)->capture_default_str();
         cmd->add_option("--anim", args.anims,
                         "Procedural motion MOTION[:OBJECT]: rigid, wave or explode, on every "
                         "object or the named one; repeatable")

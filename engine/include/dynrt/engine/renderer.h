@@ -55,6 +55,15 @@ struct RenderOptions {
     /// Cost ratio of the per-frame rebuilds of exploding objects.
     float cost_ratio_exploding = 0.3f;
     Tracer tracer = Tracer::packet;
+    /// Adaptive sampling (approximate; packet tracer only): 0, the default, traces every
+    /// pixel. Above 0 each 16x16 tile is first traced on a sparse grid (every 4th pixel and its
+    /// last row and column); a cell between four samples is filled by bilinear interpolation
+    /// when the samples agree (all miss, or all hit one object with the same shadows, normals
+    /// within 1 - dot <= tolerance and colours within tolerance per channel) and no other
+    /// object's box reaches into the cell's view frustum; every other cell is traced in full.
+    /// Larger is faster and less exact. What can still go wrong is in README "Approximate
+    /// rendering".
+    float adaptive_tolerance = 0.0f;
     /// The packet tracer's culling stages and SIMD width (ignored by the single-ray tracer).
     packet::PacketConfig packet;
     /// Count the packet tracer's work into FrameStats (ray_triangle_tests and

@@ -16,6 +16,7 @@ TEST(Report, JsonHasTheDocumentedSchema) {
     ASSERT_EQ(doc["frames"].size(), 1u);
     for (const char* key : {"frame", "triangles", "update_ms", "build_ms", "primary_ms",
                             "shadow_ms", "shade_ms", "total_ms", "primary_rays", "shadow_rays",
+                            "interpolated_pixels",
                             "primary_mrays_per_s", "shadow_mrays_per_s", "sah_cost", "nodes",
                             "leaves", "leaf_tris_mean", "leaf_tris_max", "depth"}) {
         EXPECT_TRUE(doc["frames"][0].contains(key)) << key;

@@ -9,9 +9,11 @@
 #include "dynrt/packet/simd.h"
 #include "dynrt/packet/tiling.h"
 #include "dynrt/packet/two_level_packet.h"
+#include "adaptive_tile.h"
 #include "scene_accel.h"
 #include "shadow_ray_offset.h"
 #include "stopwatch.h"
+#include "tile_shading.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/combinable.h>
@@ -26,6 +28,7 @@
 #include <optional>
 #include <span>
 #include <stdexcept>
+#include <string>
 
 namespace dynrt {
 
@@ -54,17 +57,10 @@ struct Renderer::State {
 
 namespace {
 
-/// Unit geometric normal of `tri`, turned to face against `dir`.
-glm::vec3 facing_normal(const bvh::Triangle& tri, const glm::vec3& dir) {
-    const glm::vec3 n = glm::normalize(glm::cross(tri.v1 - tri.v0, tri.v2 - tri.v0));
-    return glm::dot(n, dir) > 0.0f ? -n : n;
-}
-
-/// The hit point from barycentrics: unlike org + t * dir, its error does not grow with the
-/// distance travelled, so the small shadow-ray offset is enough to clear the surface.
-glm::vec3 hit_point(const bvh::Triangle& tri, const bvh::Hit& hit) {
-    return (1.0f - hit.u - hit.v) * tri.v0 + hit.u * tri.v1 + hit.v * tri.v2;
-}
+using detail::ShadowOrigin;
+using detail::shade_tile;
+using detail::TileShading;
+using detail::TileShadowOrigins;
 
 template <typename PerPixel>
 void for_each_pixel_in_tiles(int width, int height, PerPixel&& per_pixel) {
@@ -92,216 +88,52 @@ void for_each_tile(int width, int height, PerTile&& per_tile) {
     tbb::parallel_for(0, tiling.count(), [&](int i) { per_tile(tiling.tile(i)); });
 }
 
-/// Where a pixel's shadow rays start and what they need to know: the facing normal and the
-/// hit point, exactly as both tracers compute them.
-struct ShadowOrigin {
-    glm::vec3 n, point, origin;
-
-    ShadowOrigin(const bvh::Triangle& tri, const bvh::Hit& hit, const glm::vec3& primary_dir)
-        : n(facing_normal(tri, primary_dir)), point(hit_point(tri, hit)),
-          origin(offset_along_normal(point, n)) {}
-
-    /// The light is on the lit side of the surface, so a shadow ray is traced.
-    bool faces(const PointLight& light) const { return glm::dot(n, light.position - point) > 0.0f; }
-
-    /// The shadow ray runs from the light to the offset origin: t in [0, 1] is exactly the
-    /// segment between them. From the light, all the shadow rays of a tile share one origin,
-    /// which gives packets a tight beam (culling, cheaper box tests); see packet/README.md,
-    /// "Shadow ray direction", for what it gained.
-    bvh::Ray ray_to(const PointLight& light) const {
-        bvh::Ray shadow;
-        shadow.org = light.position;
-        shadow.dir = origin - light.position;
-        shadow.tmin = 0.0f;
-        shadow.tmax = 1.0f;
-        return shadow;
-    }
-};
-
-/// One tile's hits as shading and shadow rays need them, lane by lane in SIMD: facing normal,
-/// hit point and offset origin by exactly the operations of facing_normal, hit_point and
-/// offset_along_normal (glm's cross, normalize = v * (1 / sqrt(dot)), dot = (x*x + y*y) +
-/// z*z), so the shadow rays are bit-identical to the single-ray tracer's; plus the view
-/// vector and material per lane, so the shading kernel reads the same arrays while they are
-/// hot.
-struct TileShadowOrigins {
-    packet::SurfacePacket surface;  ///< hit mask, point, normal, view, material
-    alignas(64) float origin[3][packet::kPacketRays];
-
-    /// `primary` holds the tile's camera rays (lane tile_lane(tile, x, y)); object i has
-    /// material object_material[i].
-    void compute(const SceneAccel& accel, const std::vector<bvh::InstanceHit>& hits, int width,
-                 const packet::Tile& tile, const packet::RayPacket& primary,
-                 const std::vector<std::int32_t>& object_material) {
-        packet::LaneMask& hit = surface.hit;
-        using L = packet::simd::Lanes<packet::simd::kNativeLanes>;
-        using F = L::F;
-        using I = L::I;
-        constexpr int W = packet::simd::kNativeLanes;
-        // Gather each hit's triangle and barycentrics into lanes; lanes without a hit get a
-        // harmless triangle and are never used.
-        alignas(64) float v[9][packet::kPacketRays];
-        alignas(64) float bary[2][packet::kPacketRays];
-        constexpr float kHarmless[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
-        // The hit triangles are scattered through large arrays: request them all before
-        // reading any, so the cache misses overlap.
-        for (int y = tile.y0; y < tile.y1; ++y) {
-            for (int x = tile.x0; x < tile.x1; ++x) {
-                const bvh::InstanceHit& h = hits[std::size_t(y) * width + x];
-                if (!h.is_hit()) continue;
-                const char* t = reinterpret_cast<const char*>(accel.triangle_address(h.object, h.hit.prim));
-                __builtin_prefetch(t);
-                __builtin_prefetch(t + sizeof(bvh::Triangle) - 1);
-            }
-        }
-        hit = packet::LaneMask{};
-        for (int lane = 0; lane < packet::kPacketRays; ++lane) {
-            const packet::LanePixel px = packet::tile_pixel(tile, lane);
-            const bvh::Hit* h = nullptr;
-            float coords[9];
-            if (px.inside && hits[std::size_t(px.y) * width + px.x].is_hit()) {
-                const bvh::InstanceHit& ih = hits[std::size_t(px.y) * width + px.x];
-                h = &ih.hit;
-                hit.set(lane);
-                const bvh::Triangle tri = accel.world_triangle(ih.object, ih.hit.prim);
-                std::memcpy(coords, &tri, sizeof coords);
-                surface.material[lane] = object_material[ih.object];
-            } else {
-                std::memcpy(coords, kHarmless, sizeof coords);
-            }
-            for (int k = 0; k < 9; ++k) v[k][lane] = coords[k];
-            bary[0][lane] = h ? h->u : 0.0f;
-            bary[1][lane] = h ? h->v : 0.0f;
-        }
-        const float* dir_in[3] = {primary.dir_x, primary.dir_y, primary.dir_z};
-        for (int base = 0; base < packet::kPacketRays; base += W) {
-            if (hit.extract(base, W) == 0) continue;
-            F v0[3], v1[3], v2[3], e1[3], e2[3];
-            for (int a = 0; a < 3; ++a) {
-                v0[a] = L::load(v[a] + base);
-                v1[a] = L::load(v[3 + a] + base);
-                v2[a] = L::load(v[6 + a] + base);
-                e1[a] = v1[a] - v0[a];
-                e2[a] = v2[a] - v0[a];
-            }
-            // facing_normal: normalize(cross(e1, e2)), negated where it faces along the ray.
-            const F c[3] = {e1[1] * e2[2] - e2[1] * e1[2], e1[2] * e2[0] - e2[2] * e1[0],
-                            e1[0] * e2[1] - e2[0] * e1[1]};
-            const F inv_len = L::splat(1.0f) / L::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
-            F nv[3] = {c[0] * inv_len, c[1] * inv_len, c[2] * inv_len};
-            const F d[3] = {L::load(dir_in[0] + base), L::load(dir_in[1] + base),
-                            L::load(dir_in[2] + base)};
-            const I flip = (nv[0] * d[0] + nv[1] * d[1] + nv[2] * d[2]) > L::splat(0.0f);
-            for (int a = 0; a < 3; ++a) {
-                nv[a] = L::select(flip, -nv[a], nv[a]);
-                L::store(surface.view[a] + base, -d[a]);
-            }
-            // hit_point: (1 - u - v) v0 + u v1 + v v2.
-            const F u = L::load(bary[0] + base), w = L::load(bary[1] + base);
-            const F b0 = L::splat(1.0f) - u - w;
-            for (int a = 0; a < 3; ++a) {
-                const F p = b0 * v0[a] + u * v1[a] + w * v2[a];
-                // offset_along_normal, with its constants (256 ulps per unit of normal,
-                // 2^-16 absolute below 1/32); packet_renderer_test catches any drift.
-                const I ulps = L::truncate(L::splat(256.0f) * nv[a]);
-                const I bits = L::bits_of(p);
-                const F moved = L::float_of(bits + L::select(p < L::splat(0.0f), -ulps, ulps));
-                const F near_origin = p + L::splat(1.0f / 65536.0f) * nv[a];
-                L::store(surface.normal[a] + base, nv[a]);
-                L::store(surface.point[a] + base, p);
-                L::store(origin[a] + base,
-                         L::select(L::abs(p) < L::splat(1.0f / 32.0f), near_origin, moved));
-            }
-        }
-    }
-
-    /// Fills `out` with the shadow rays toward `light` of the hit lanes on its lit side
-    /// (ShadowOrigin::faces and ray_to, lane by lane).
-    void rays_to(const PointLight& light, packet::RayPacket& out) const {
-        using L = packet::simd::Lanes<packet::simd::kNativeLanes>;
-        using F = L::F;
-        constexpr int W = packet::simd::kNativeLanes;
-        out.clear();
-        const F lx = L::splat(light.position.x), ly = L::splat(light.position.y),
-                lz = L::splat(light.position.z);
-        for (int base = 0; base < packet::kPacketRays; base += W) {
-            const std::uint32_t lanes = surface.hit.extract(base, W);
-            if (lanes == 0) continue;
-            const F to_x = lx - L::load(surface.point[0] + base),
-                    to_y = ly - L::load(surface.point[1] + base),
-                    to_z = lz - L::load(surface.point[2] + base);
-            const F nx = L::load(surface.normal[0] + base), ny = L::load(surface.normal[1] + base),
-                    nz = L::load(surface.normal[2] + base);
-            const std::uint32_t lit =
-                L::bits((nx * to_x + ny * to_y + nz * to_z) > L::splat(0.0f)) & lanes;
-            if (lit == 0) continue;
-            const F ox = L::load(origin[0] + base), oy = L::load(origin[1] + base),
-                    oz = L::load(origin[2] + base);
-            L::store(out.org_x + base, lx);
-            L::store(out.org_y + base, ly);
-            L::store(out.org_z + base, lz);
-            L::store(out.dir_x + base, ox - lx);
-            L::store(out.dir_y + base, oy - ly);
-            L::store(out.dir_z + base, oz - lz);
-            L::store(out.tmin + base, L::splat(0.0f));
-            L::store(out.tmax + base, L::splat(1.0f));
-            out.active.words[base >> 6] |= std::uint64_t(lit) << (base & 63);
-        }
-    }
-};
-
-/// What shading a tile needs besides the tile's own data; fixed for a frame.
-struct TileShading {
-    std::span<const packet::PhongMaterial> materials;
-    std::span<const packet::ShadingLight> lights;
-    float ambient;
-    glm::vec3 background;
-    int lanes;  ///< PacketConfig::lanes: the kernel's SIMD width (same bits either way)
-};
-
-/// Shades one tile's hits (packet::shade; `visible[l]`: the lanes light l reaches) and writes
-/// every pixel of the tile into `out`, whose buffers are already sized: colour, depth, object,
-/// prim and normal, or the background and the miss values. `colors` is scratch.
-void shade_tile(const TileShading& shading, const packet::Tile& tile,
-                const TileShadowOrigins& origins, std::span<const packet::LaneMask> visible,
-                const std::vector<bvh::InstanceHit>& hits, packet::ShadedColors& colors,
-                RenderedFrame& out) {
-    const packet::SurfacePacket& surface = origins.surface;
-    if (surface.hit.any()) {
-        packet::shade(surface, shading.materials, shading.lights, visible, shading.ambient, colors,
-                      shading.lanes);
-    }
-    const bool hit_buffers = !out.depth.empty();
-    for (int y = tile.y0; y < tile.y1; ++y) {
-        for (int x = tile.x0; x < tile.x1; ++x) {
-            const std::size_t p = std::size_t(y) * std::size_t(out.width) + std::size_t(x);
-            const int lane = packet::tile_lane(tile, x, y);
-            const bool hit = surface.hit.test(lane);
-            out.color[p] = hit ? glm::vec3(colors.rgb[0][lane], colors.rgb[1][lane],
-                                           colors.rgb[2][lane])
-                               : shading.background;
-            if (!hit_buffers) continue;
-            if (!hit) {
-                out.depth[p] = std::numeric_limits<float>::infinity();
-                out.object[p] = -1;
-                out.prim[p] = -1;
-                out.normal[p] = glm::vec3(0.0f);
-                continue;
-            }
-            const bvh::InstanceHit& h = hits[p];
-            out.depth[p] = h.hit.t;
-            out.object[p] = std::int32_t(h.object);
-            out.prim[p] = std::int32_t(h.hit.prim);
-            out.normal[p] = {surface.normal[0][lane], surface.normal[1][lane],
-                             surface.normal[2][lane]};
-        }
-    }
-}
-
 PointLight default_light(const bvh::Aabb& bounds) {
     const float r = 0.5f * glm::length(bounds.extent());
     return PointLight{bounds.center() + 4.0f * r * glm::normalize(glm::vec3(-0.5f, 1.0f, 0.8f)),
                       1.0f};
+}
+
+/// The adaptive path (RenderOptions::adaptive_tolerance > 0): each tile traced, shadowed and
+/// shaded by trace_tile_adaptive in one task; the stage times split the loop's wall time in
+/// proportion to the workers' time in each stage, as the exact packet path does for its
+/// shadow and shading stages.
+void trace_adaptive(const detail::AdaptiveFrame& frame, std::vector<bvh::InstanceHit>& hits,
+                    bool count, RenderedFrame& out) {
+    FrameStats& stats = out.stats;
+    tbb::combinable<detail::AdaptiveTileWork> work;
+    tbb::combinable<packet::PacketStats> packet_work;
+    const Stopwatch clock;
+    for_each_tile(out.width, out.height, [&](const packet::Tile& tile) {
+        detail::trace_tile_adaptive(frame, tile, hits, out, work.local(),
+                                    count ? &packet_work.local() : nullptr);
+    });
+    const double wall_ms = clock.elapsed_ms();
+    const detail::AdaptiveTileWork sum = work.combine([](detail::AdaptiveTileWork a,
+                                                         const detail::AdaptiveTileWork& b) {
+        a.primary_ms += b.primary_ms;
+        a.shadow_ms += b.shadow_ms;
+        a.shade_ms += b.shade_ms;
+        a.primary_rays += b.primary_rays;
+        a.shadow_rays += b.shadow_rays;
+        a.interpolated += b.interpolated;
+        return a;
+    });
+    const double thread_total = sum.primary_ms + sum.shadow_ms + sum.shade_ms;
+    const double scale = thread_total > 0.0 ? wall_ms / thread_total : 0.0;
+    stats.primary_ms = sum.primary_ms * scale;
+    stats.shadow_ms = sum.shadow_ms * scale;
+    stats.shade_ms = wall_ms - stats.primary_ms - stats.shadow_ms;
+    stats.primary_rays = sum.primary_rays;
+    stats.shadow_rays = sum.shadow_rays;
+    stats.interpolated_pixels = sum.interpolated;
+    if (count) {
+        const packet::PacketStats total = packet_work.combine(
+            [](packet::PacketStats a, const packet::PacketStats& b) { return a += b; });
+        stats.ray_triangle_tests = total.ray_triangle_tests;
+        stats.ray_triangle_culled = total.culled_active_bounds + total.culled_beam_planes +
+                                    total.culled_triangle_edges + total.culled_near_far;
+    }
 }
 
 }  // namespace
@@ -319,7 +151,17 @@ std::vector<PointLight> effective_lights(const Scene& scene, const RenderOptions
 }
 
 Renderer::Renderer(RenderOptions options)
-    : options_(std::move(options)), state_(std::make_unique<State>()) {}
+    : options_(std::move(options)), state_(std::make_unique<State>()) {
+    const float tol = options_.adaptive_tolerance;
+    if (!std::isfinite(tol) || tol < 0.0f) {
+        throw std::invalid_argument("adaptive tolerance " + std::to_string(tol) +
+                                    ": must be finite and >= 0 (0: exact)");
+    }
+    if (tol > 0.0f && options_.tracer != Tracer::packet) {
+        throw std::invalid_argument("adaptive sampling traces 16x16 packets: it needs the packet "
+                                    "tracer, not the single-ray one");
+    }
+}
 
 Renderer::~Renderer() = default;
 
@@ -400,6 +242,34 @@ void Renderer::trace(const Camera& camera, RenderedFrame& out) {
     }
     const Stopwatch trace_clock;
     Stopwatch clock;
+    const auto finish = [&] {
+        stats.total_ms = s.update_wall_ms + trace_clock.elapsed_ms();
+        const auto mrays_per_s = [](std::size_t rays_traced, double ms) {
+            return ms > 0.0 ? double(rays_traced) / (ms * 1e3) : 0.0;
+        };
+        stats.primary_mrays_per_s = mrays_per_s(stats.primary_rays, stats.primary_ms);
+        stats.shadow_mrays_per_s = mrays_per_s(stats.shadow_rays, stats.shadow_ms);
+    };
+    const TileShading shading{s.materials, s.shading_lights, options_.ambient,
+                              options_.background, options_.packet.lanes};
+    out.width = width;
+    out.height = height;
+    out.color.resize(pixels);
+    const std::size_t hit_pixels = options_.hit_buffers ? pixels : 0;
+    out.depth.resize(hit_pixels);
+    out.object.resize(hit_pixels);
+    out.prim.resize(hit_pixels);
+    out.normal.resize(hit_pixels);
+
+    if (options_.adaptive_tolerance > 0.0f) {
+        s.hits.resize(pixels);
+        const detail::AdaptiveFrame frame{s.accel, rays.pinhole(), lights, shading,
+                                          s.object_material, options_.packet,
+                                          options_.adaptive_tolerance, width};
+        trace_adaptive(frame, s.hits, options_.count_packet_work, out);
+        finish();
+        return;
+    }
 
     // ---- Primary rays, one 16x16 tile per task ----
     s.hits.resize(pixels);
@@ -431,16 +301,6 @@ void Renderer::trace(const Camera& camera, RenderedFrame& out) {
     stats.primary_rays = pixels;
 
     // ---- Shadow rays (one per hit and light on the lit side), then shading ----
-    out.width = width;
-    out.height = height;
-    out.color.resize(pixels);
-    const std::size_t hit_pixels = options_.hit_buffers ? pixels : 0;
-    out.depth.resize(hit_pixels);
-    out.object.resize(hit_pixels);
-    out.prim.resize(hit_pixels);
-    out.normal.resize(hit_pixels);
-    const TileShading shading{s.materials, s.shading_lights, options_.ambient,
-                              options_.background, options_.packet.lanes};
     const packet::PinholeRays& pinhole = rays.pinhole();
     const packet::Tiling tiling(width, height);
     tbb::combinable<std::size_t> shadow_rays([] { return std::size_t(0); });
@@ -543,12 +403,7 @@ void Renderer::trace(const Camera& camera, RenderedFrame& out) {
     }
 
 
-    stats.total_ms = s.update_wall_ms + trace_clock.elapsed_ms();
-    const auto mrays_per_s = [](std::size_t rays_traced, double ms) {
-        return ms > 0.0 ? double(rays_traced) / (ms * 1e3) : 0.0;
-    };
-    stats.primary_mrays_per_s = mrays_per_s(stats.primary_rays, stats.primary_ms);
-    stats.shadow_mrays_per_s = mrays_per_s(stats.shadow_rays, stats.shadow_ms);
+    finish();
 }
 
 }  // namespace dynrt

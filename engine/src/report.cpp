@@ -27,6 +27,7 @@ void for_each_field(const FrameStats& s, Visit&& visit) {
     visit("total_ms", s.total_ms);
     visit("primary_rays", s.primary_rays);
     visit("shadow_rays", s.shadow_rays);
+    visit("interpolated_pixels", s.interpolated_pixels);
     visit("primary_mrays_per_s", s.primary_mrays_per_s);
     visit("shadow_mrays_per_s", s.shadow_mrays_per_s);
     visit("sah_cost", s.sah_cost);

@@ -77,6 +77,7 @@ void SceneAccel::clear() {
     static_objects_.clear();
     static_slot_of_.clear();
     top_ = bvh::TwoLevelBvh{};
+    object_boxes_.clear();
 }
 
 void SceneAccel::build(ObjectTree& object, const bvh::BuildConfig& config) {
@@ -93,6 +94,7 @@ void SceneAccel::update(const Scene& scene, const anim::ScenePoser& poser,
     if (objects_.size() != count) {
         clear();
         objects_.resize(count);
+        object_boxes_.resize(count);
     }
     bvh::BuildConfig exploding_build = policy.build;
     exploding_build.cost_ratio = policy.exploding_cost_ratio;
@@ -208,6 +210,10 @@ void SceneAccel::update(const Scene& scene, const anim::ScenePoser& poser,
     }
     bvh::build_top_level(top_, std::move(instances));
     stats.top_level_ms = clock.lap_ms();
+    for (std::size_t k = 0; k < top_.instances.size(); ++k) {
+        const std::uint32_t id = top_.instances[k].object;
+        if (id != static_group_id()) object_boxes_[id] = top_.world_boxes[k];
+    }
     stats.build_ms = stats.refit_ms + stats.rebuild_ms + stats.top_level_ms;
 
     // ---- Shape of the whole structure (reporting only) ----
@@ -280,6 +286,13 @@ void SceneAccel::build_static_group(const Scene& scene, const anim::ScenePoser& 
         static_slot_of_.insert(static_slot_of_.end(), object_triangles.size(),
                                std::uint32_t(static_objects_.size() - 1));
         objects_[i].group_first = std::uint32_t(all.size());
+        bvh::Aabb box;
+        for (const bvh::Triangle& t : object_triangles) {
+            box.extend(t.v0);
+            box.extend(t.v1);
+            box.extend(t.v2);
+        }
+        object_boxes_[i] = box;
         all.insert(all.end(), object_triangles.begin(), object_triangles.end());
         stats.rebuilds.push_back(TreeRebuild{i, scene.objects[i].name, "first build", 0.0, 0.0});
         ++stats.objects_rebuilt;

@@ -85,6 +85,12 @@ public:
     /// World-space bounds of the whole scene at the last update.
     bvh::Aabb world_bounds() const;
 
+    /// Per object (scene order), a world-space box around its triangles at the last update
+    /// (padded like the top level's boxes for moving objects; empty for an object without
+    /// triangles). Static objects share one tree, so this is the only per-object extent of
+    /// theirs; adaptive sampling uses it to tell which objects can reach into a cell.
+    const std::vector<bvh::Aabb>& object_world_boxes() const { return object_boxes_; }
+
 private:
     struct ObjectTree {
         /// The triangles the tree was built or refitted from, in the mesh's order: world space
@@ -128,6 +134,7 @@ private:
     /// The tree behind each instance of the top level, in instance order.
     std::vector<ObjectTree*> instance_trees_;
     bvh::TwoLevelBvh top_;
+    std::vector<bvh::Aabb> object_boxes_;
     /// Scratch for the vertex positions of static objects at their one build.
     std::vector<glm::vec3> positions_;
 };

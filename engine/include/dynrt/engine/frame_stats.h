@@ -34,6 +34,8 @@ struct FrameStats {
     double total_ms = 0;                 ///< the whole frame, wall clock
     std::size_t primary_rays = 0;
     std::size_t shadow_rays = 0;
+    /// Pixels filled by interpolation instead of traced (RenderOptions::adaptive_tolerance).
+    std::size_t interpolated_pixels = 0;
     double primary_mrays_per_s = 0;
     double shadow_mrays_per_s = 0;
     double sah_cost = 0;                 ///< SAH cost of the tree (bvh::sah_cost)

@@ -1,0 +1,59 @@
+#pragma once
+// Adaptive image-space sampling of one 16x16 tile (RenderOptions::adaptive_tolerance > 0), the
+// renderer's opt-in approximate mode: trace a sparse grid, fill the cells between samples that
+// agree by bilinear interpolation, trace the rest in full.
+//
+// Grid: tile columns and rows 0, 4, 8, 12 and the tile's last (15 for a full tile), so a full
+// tile has 25 samples and 4 x 4 cells. A cell is interpolated when
+//   * its four corner samples all miss, or all hit the same object with the same shadow
+//     verdict for every light, normals within 1 - dot <= tolerance of the first corner's and
+//     colours within the tolerance per channel, and
+//   * no object but that one (no object at all, for a cell of misses) has a world box reaching
+//     into the cell's frustum, the pyramid from the eye through the four corner rays, which
+//     holds every pixel ray of the cell.
+// So no other object can hide between the samples, at any tolerance. What interpolation can
+// still get wrong: a fold of the same object between the samples (the normal and colour tests
+// catch most), and a shadow edge that crosses a cell without changing any corner's verdict.
+
+#include "dynrt/engine/renderer.h"
+#include "dynrt/packet/packet_traversal.h"
+#include "dynrt/packet/pinhole.h"
+#include "dynrt/packet/tiling.h"
+#include "scene_accel.h"
+#include "tile_shading.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace dynrt::detail {
+
+/// What adaptive sampling needs besides the tile; fixed for a frame.
+struct AdaptiveFrame {
+    const SceneAccel& accel;
+    const packet::PinholeRays& pinhole;
+    std::span<const PointLight> lights;
+    const TileShading& shading;
+    const std::vector<std::int32_t>& object_material;
+    const packet::PacketConfig& packet;
+    float tolerance;  ///< > 0
+    int width;
+};
+
+/// One tile's work, for the frame's stage times and counters.
+struct AdaptiveTileWork {
+    double primary_ms = 0.0, shadow_ms = 0.0, shade_ms = 0.0;  ///< this thread's time
+    std::size_t primary_rays = 0;  ///< samples and refined pixels traced
+    std::size_t shadow_rays = 0;
+    std::size_t interpolated = 0;  ///< pixels filled by interpolation
+};
+
+/// Renders `tile` adaptively into `out` (buffers already sized) and `hits` (the traced pixels'
+/// hits; interpolated pixels get a miss), adding its work to `work` and, when not null, the
+/// packet tracer's counters to `stats`.
+void trace_tile_adaptive(const AdaptiveFrame& frame, const packet::Tile& tile,
+                         std::vector<bvh::InstanceHit>& hits, RenderedFrame& out,
+                         AdaptiveTileWork& work, packet::PacketStats* stats);
+
+}  // namespace dynrt::detail

@@ -1,0 +1,243 @@
+#pragma once
+// A tile's hits made ready for shadow rays and shading, shared by the renderer's exact and
+// adaptive paths: where each hit's shadow rays start (bit-identical between the packet and
+// single-ray tracers), the tile's shadow packets toward a light, and the Phong shading and
+// output writes of a whole tile.
+
+#include "dynrt/bvh/triangle.h"
+#include "dynrt/bvh/two_level_bvh.h"
+#include "dynrt/engine/renderer.h"
+#include "dynrt/packet/packet_shading.h"
+#include "dynrt/packet/ray_packet.h"
+#include "dynrt/packet/tiling.h"
+#include "scene_accel.h"
+#include "shadow_ray_offset.h"
+
+#include <glm/geometric.hpp>
+#include <glm/vec3.hpp>
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace dynrt::detail {
+
+/// Unit geometric normal of `tri`, turned to face against `dir`.
+inline glm::vec3 facing_normal(const bvh::Triangle& tri, const glm::vec3& dir) {
+    const glm::vec3 n = glm::normalize(glm::cross(tri.v1 - tri.v0, tri.v2 - tri.v0));
+    return glm::dot(n, dir) > 0.0f ? -n : n;
+}
+
+/// The hit point from barycentrics: unlike org + t * dir, its error does not grow with the
+/// distance travelled, so the small shadow-ray offset is enough to clear the surface.
+inline glm::vec3 hit_point(const bvh::Triangle& tri, const bvh::Hit& hit) {
+    return (1.0f - hit.u - hit.v) * tri.v0 + hit.u * tri.v1 + hit.v * tri.v2;
+}
+
+/// Where a pixel's shadow rays start and what they need to know: the facing normal and the
+/// hit point, exactly as both tracers compute them.
+struct ShadowOrigin {
+    glm::vec3 n, point, origin;
+
+    ShadowOrigin(const bvh::Triangle& tri, const bvh::Hit& hit, const glm::vec3& primary_dir)
+        : n(facing_normal(tri, primary_dir)), point(hit_point(tri, hit)),
+          origin(offset_along_normal(point, n)) {}
+
+    /// The light is on the lit side of the surface, so a shadow ray is traced.
+    bool faces(const PointLight& light) const { return glm::dot(n, light.position - point) > 0.0f; }
+
+    /// The shadow ray runs from the light to the offset origin: t in [0, 1] is exactly the
+    /// segment between them. From the light, all the shadow rays of a tile share one origin,
+    /// which gives packets a tight beam (culling, cheaper box tests); see packet/README.md,
+    /// "Shadow ray direction", for what it gained.
+    bvh::Ray ray_to(const PointLight& light) const {
+        bvh::Ray shadow;
+        shadow.org = light.position;
+        shadow.dir = origin - light.position;
+        shadow.tmin = 0.0f;
+        shadow.tmax = 1.0f;
+        return shadow;
+    }
+};
+
+/// One tile's hits as shading and shadow rays need them, lane by lane in SIMD: facing normal,
+/// hit point and offset origin by exactly the operations of facing_normal, hit_point and
+/// offset_along_normal (glm's cross, normalize = v * (1 / sqrt(dot)), dot = (x*x + y*y) +
+/// z*z), so the shadow rays are bit-identical to the single-ray tracer's; plus the view
+/// vector and material per lane, so the shading kernel reads the same arrays while they are
+/// hot.
+struct TileShadowOrigins {
+    packet::SurfacePacket surface;  ///< hit mask, point, normal, view, material
+    alignas(64) float origin[3][packet::kPacketRays];
+
+    /// `primary` holds the tile's camera rays (lane tile_lane(tile, x, y)); object i has
+    /// material object_material[i].
+    void compute(const SceneAccel& accel, const std::vector<bvh::InstanceHit>& hits, int width,
+                 const packet::Tile& tile, const packet::RayPacket& primary,
+                 const std::vector<std::int32_t>& object_material) {
+        packet::LaneMask& hit = surface.hit;
+        using L = packet::simd::Lanes<packet::simd::kNativeLanes>;
+        using F = L::F;
+        using I = L::I;
+        constexpr int W = packet::simd::kNativeLanes;
+        // Gather each hit's triangle and barycentrics into lanes; lanes without a hit get a
+        // harmless triangle and are never used.
+        alignas(64) float v[9][packet::kPacketRays];
+        alignas(64) float bary[2][packet::kPacketRays];
+        constexpr float kHarmless[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+        // The hit triangles are scattered through large arrays: request them all before
+        // reading any, so the cache misses overlap.
+        for (int y = tile.y0; y < tile.y1; ++y) {
+            for (int x = tile.x0; x < tile.x1; ++x) {
+                const bvh::InstanceHit& h = hits[std::size_t(y) * width + x];
+                if (!h.is_hit()) continue;
+                const char* t = reinterpret_cast<const char*>(accel.triangle_address(h.object, h.hit.prim));
+                __builtin_prefetch(t);
+                __builtin_prefetch(t + sizeof(bvh::Triangle) - 1);
+            }
+        }
+        hit = packet::LaneMask{};
+        for (int lane = 0; lane < packet::kPacketRays; ++lane) {
+            const packet::LanePixel px = packet::tile_pixel(tile, lane);
+            const bvh::Hit* h = nullptr;
+            float coords[9];
+            if (px.inside && hits[std::size_t(px.y) * width + px.x].is_hit()) {
+                const bvh::InstanceHit& ih = hits[std::size_t(px.y) * width + px.x];
+                h = &ih.hit;
+                hit.set(lane);
+                const bvh::Triangle tri = accel.world_triangle(ih.object, ih.hit.prim);
+                std::memcpy(coords, &tri, sizeof coords);
+                surface.material[lane] = object_material[ih.object];
+            } else {
+                std::memcpy(coords, kHarmless, sizeof coords);
+            }
+            for (int k = 0; k < 9; ++k) v[k][lane] = coords[k];
+            bary[0][lane] = h ? h->u : 0.0f;
+            bary[1][lane] = h ? h->v : 0.0f;
+        }
+        const float* dir_in[3] = {primary.dir_x, primary.dir_y, primary.dir_z};
+        for (int base = 0; base < packet::kPacketRays; base += W) {
+            if (hit.extract(base, W) == 0) continue;
+            F v0[3], v1[3], v2[3], e1[3], e2[3];
+            for (int a = 0; a < 3; ++a) {
+                v0[a] = L::load(v[a] + base);
+                v1[a] = L::load(v[3 + a] + base);
+                v2[a] = L::load(v[6 + a] + base);
+                e1[a] = v1[a] - v0[a];
+                e2[a] = v2[a] - v0[a];
+            }
+            // facing_normal: normalize(cross(e1, e2)), negated where it faces along the ray.
+            const F c[3] = {e1[1] * e2[2] - e2[1] * e1[2], e1[2] * e2[0] - e2[2] * e1[0],
+                            e1[0] * e2[1] - e2[0] * e1[1]};
+            const F inv_len = L::splat(1.0f) / L::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+            F nv[3] = {c[0] * inv_len, c[1] * inv_len, c[2] * inv_len};
+            const F d[3] = {L::load(dir_in[0] + base), L::load(dir_in[1] + base),
+                            L::load(dir_in[2] + base)};
+            const I flip = (nv[0] * d[0] + nv[1] * d[1] + nv[2] * d[2]) > L::splat(0.0f);
+            for (int a = 0; a < 3; ++a) {
+                nv[a] = L::select(flip, -nv[a], nv[a]);
+                L::store(surface.view[a] + base, -d[a]);
+            }
+            // hit_point: (1 - u - v) v0 + u v1 + v v2.
+            const F u = L::load(bary[0] + base), w = L::load(bary[1] + base);
+            const F b0 = L::splat(1.0f) - u - w;
+            for (int a = 0; a < 3; ++a) {
+                const F p = b0 * v0[a] + u * v1[a] + w * v2[a];
+                // offset_along_normal, with its constants (256 ulps per unit of normal,
+                // 2^-16 absolute below 1/32); packet_renderer_test catches any drift.
+                const I ulps = L::truncate(L::splat(256.0f) * nv[a]);
+                const I bits = L::bits_of(p);
+                const F moved = L::float_of(bits + L::select(p < L::splat(0.0f), -ulps, ulps));
+                const F near_origin = p + L::splat(1.0f / 65536.0f) * nv[a];
+                L::store(surface.normal[a] + base, nv[a]);
+                L::store(surface.point[a] + base, p);
+                L::store(origin[a] + base,
+                         L::select(L::abs(p) < L::splat(1.0f / 32.0f), near_origin, moved));
+            }
+        }
+    }
+
+    /// Fills `out` with the shadow rays toward `light` of the hit lanes on its lit side
+    /// (ShadowOrigin::faces and ray_to, lane by lane).
+    void rays_to(const PointLight& light, packet::RayPacket& out) const {
+        using L = packet::simd::Lanes<packet::simd::kNativeLanes>;
+        using F = L::F;
+        constexpr int W = packet::simd::kNativeLanes;
+        out.clear();
+        const F lx = L::splat(light.position.x), ly = L::splat(light.position.y),
+                lz = L::splat(light.position.z);
+        for (int base = 0; base < packet::kPacketRays; base += W) {
+            const std::uint32_t lanes = surface.hit.extract(base, W);
+            if (lanes == 0) continue;
+            const F to_x = lx - L::load(surface.point[0] + base),
+                    to_y = ly - L::load(surface.point[1] + base),
+                    to_z = lz - L::load(surface.point[2] + base);
+            const F nx = L::load(surface.normal[0] + base), ny = L::load(surface.normal[1] + base),
+                    nz = L::load(surface.normal[2] + base);
+            const std::uint32_t lit =
+                L::bits((nx * to_x + ny * to_y + nz * to_z) > L::splat(0.0f)) & lanes;
+            if (lit == 0) continue;
+            const F ox = L::load(origin[0] + base), oy = L::load(origin[1] + base),
+                    oz = L::load(origin[2] + base);
+            L::store(out.org_x + base, lx);
+            L::store(out.org_y + base, ly);
+            L::store(out.org_z + base, lz);
+            L::store(out.dir_x + base, ox - lx);
+            L::store(out.dir_y + base, oy - ly);
+            L::store(out.dir_z + base, oz - lz);
+            L::store(out.tmin + base, L::splat(0.0f));
+            L::store(out.tmax + base, L::splat(1.0f));
+            out.active.words[base >> 6] |= std::uint64_t(lit) << (base & 63);
+        }
+    }
+};
+
+/// What shading a tile needs besides the tile's own data; fixed for a frame.
+struct TileShading {
+    std::span<const packet::PhongMaterial> materials;
+    std::span<const packet::ShadingLight> lights;
+    float ambient;
+    glm::vec3 background;
+    int lanes;  ///< PacketConfig::lanes: the kernel's SIMD width (same bits either way)
+};
+
+/// Shades one tile's hits (packet::shade; `visible[l]`: the lanes light l reaches) and writes
+/// every pixel of the tile into `out`, whose buffers are already sized: colour, depth, object,
+/// prim and normal, or the background and the miss values. `colors` is scratch.
+inline void shade_tile(const TileShading& shading, const packet::Tile& tile,
+                const TileShadowOrigins& origins, std::span<const packet::LaneMask> visible,
+                const std::vector<bvh::InstanceHit>& hits, packet::ShadedColors& colors,
+                RenderedFrame& out) {
+    const packet::SurfacePacket& surface = origins.surface;
+    if (surface.hit.any()) {
+        packet::shade(surface, shading.materials, shading.lights, visible, shading.ambient, colors,
+                      shading.lanes);
+    }
+    const bool hit_buffers = !out.depth.empty();
+    for (int y = tile.y0; y < tile.y1; ++y) {
+        for (int x = tile.x0; x < tile.x1; ++x) {
+            const std::size_t p = std::size_t(y) * std::size_t(out.width) + std::size_t(x);
+            const int lane = packet::tile_lane(tile, x, y);
+            const bool hit = surface.hit.test(lane);
+            out.color[p] = hit ? glm::vec3(colors.rgb[0][lane], colors.rgb[1][lane],
+                                           colors.rgb[2][lane])
+                               : shading.background;
+            if (!hit_buffers) continue;
+            if (!hit) {
+                out.depth[p] = std::numeric_limits<float>::infinity();
+                out.object[p] = -1;
+                out.prim[p] = -1;
+                out.normal[p] = glm::vec3(0.0f);
+                continue;
+            }
+            const bvh::InstanceHit& h = hits[p];
+            out.depth[p] = h.hit.t;
+            out.object[p] = std::int32_t(h.object);
+            out.prim[p] = std::int32_t(h.hit.prim);
+            out.normal[p] = {surface.normal[0][lane], surface.normal[1][lane],
+                             surface.normal[2][lane]};
+        }
+    }
+}
+
+}  // namespace dynrt::detail

@@ -14,9 +14,14 @@
 namespace dynrt::detail {
 namespace {
 
-/// Samples every kSpacing pixels (and on the tile's last row and column).
-constexpr int kSpacing = 4;
+/// Samples every kSpacing pixels (and on the tile's last row and column). Measured on the
+/// bundled scene: with 4 (25 samples, 16 cells per tile) the samples and the bookkeeping cost
+/// more than the interpolated pixels save, since a packet traces a whole tile for little
+/// more than a few scattered rays cost.
+constexpr int kSpacing = 8;
 constexpr int kMaxGrid = packet::kTileSize / kSpacing + 1;
+/// Up to this many rays of a tile (the 9 samples of a full tile, say) are traced one by one.
+constexpr int kSingleRaysMax = 32;
 
 /// The sample offsets along a tile side of `n` pixels: 0, 4, 8, ... and n - 1. Returns how many.
 int grid_of(int n, int out[kMaxGrid]) {
@@ -26,11 +31,20 @@ int grid_of(int n, int out[kMaxGrid]) {
     return count;
 }
 
-/// The cell (index of its first grid line) that offset `d` falls in, given `n` >= 2 lines.
-int cell_of(const int grid[kMaxGrid], int n, int d) {
-    int i = 0;
-    while (i + 1 < n - 1 && grid[i + 1] <= d) ++i;
-    return i;
+/// The last offset along one side that belongs to cell i (of n grid lines): a pixel on a grid
+/// line inside the tile belongs to the cell that starts there, one on the last line to the last
+/// cell.
+int cell_end(const int grid[kMaxGrid], int n, int i) {
+    return i + 2 == n ? grid[i + 1] : grid[i + 1] - 1;
+}
+
+/// Calls visit(dx, dy) for the tile offsets of the pixels of cell (i, j), samples included.
+template <typename Visit>
+void for_each_pixel_of_cell(const int gx[kMaxGrid], int nx, const int gy[kMaxGrid], int ny, int i,
+                            int j, Visit&& visit) {
+    for (int dy = gy[j]; dy <= cell_end(gy, ny, j); ++dy) {
+        for (int dx = gx[i]; dx <= cell_end(gx, nx, i); ++dx) visit(dx, dy);
+    }
 }
 
 /// The pyramid from the eye through four corner rays (in order around the quad), in double.
@@ -88,190 +102,203 @@ void trace_tile_adaptive(const AdaptiveFrame& f, const packet::Tile& tile,
     int gx[kMaxGrid], gy[kMaxGrid];
     const int nx = grid_of(tile.x1 - tile.x0, gx), ny = grid_of(tile.y1 - tile.y0, gy);
     const auto lane_at = [&](int dx, int dy) { return packet::tile_lane(tile, tile.x0 + dx, tile.y0 + dy); };
-
-    // ---- Pass 1: the samples ----
-    packet::RayPacket rays;
-    f.pinhole.fill_tile(tile, rays);
-    const packet::LaneMask all = rays.active;
-    packet::LaneMask samples;
-    for (int j = 0; j < ny; ++j) {
-        for (int i = 0; i < nx; ++i) samples.set(lane_at(gx[i], gy[j]));
-    }
-    packet::InstanceHits packet_hits;
-    const auto trace_primary = [&](const packet::LaneMask& lanes) {
-        rays.active = lanes;
-        packet::intersect_closest(top, rays, packet_hits, f.packet, stats);
-        for (int lane = 0; lane < packet::kPacketRays; ++lane) {
-            if (!lanes.test(lane)) continue;
-            bvh::InstanceHit& hit = hits[pixel_of(lane)];
-            hit = packet_hits.hit(lane);
-            f.accel.resolve(hit);
-        }
-        work.primary_rays += std::size_t(lanes.count());
-    };
-    for (int lane = 0; lane < packet::kPacketRays; ++lane) {
-        if (all.test(lane)) hits[pixel_of(lane)] = bvh::InstanceHit{};
-    }
-    trace_primary(samples);
-    work.primary_ms += clock.lap_ms();
-
-    TileShadowOrigins origins;
-    origins.compute(f.accel, hits, f.width, tile, rays, f.object_material);
-    std::vector<packet::LaneMask> visible(f.lights.size());
-    packet::RayPacket shadow;
-    const auto trace_shadows = [&](const packet::LaneMask& lanes) {
-        for (std::size_t l = 0; l < f.lights.size() && origins.surface.hit.any(); ++l) {
-            origins.rays_to(f.lights[l], shadow);
-            for (int k = 0; k < packet::kPacketRays / 64; ++k) shadow.active.words[k] &= lanes.words[k];
-            if (!shadow.active.any()) continue;
-            work.shadow_rays += std::size_t(shadow.active.count());
-            packet::LaneMask occluded;
-            packet::intersect_any(top, shadow, occluded, f.packet, stats);
-            for (int k = 0; k < packet::kPacketRays / 64; ++k) {
-                visible[l].words[k] |= shadow.active.words[k] & ~occluded.words[k];
-            }
-        }
-    };
-    trace_shadows(samples);
-    work.shadow_ms += clock.lap_ms();
-
-    // ---- Which cells the samples describe well enough ----
-    const packet::SurfacePacket& surface = origins.surface;
-    packet::ShadedColors corner_colors;
-    if (surface.hit.any()) {
-        packet::shade(surface, f.shading.materials, f.shading.lights, visible, f.shading.ambient,
-                      corner_colors, f.shading.lanes);
-    }
-    const auto color_of = [&](const packet::ShadedColors& c, int lane) {
-        return surface.hit.test(lane) ? glm::vec3(c.rgb[0][lane], c.rgb[1][lane], c.rgb[2][lane])
-                                      : f.shading.background;
-    };
-    const auto normal_of = [&](int lane) {
-        return glm::vec3(surface.normal[0][lane], surface.normal[1][lane], surface.normal[2][lane]);
-    };
     // Corner lanes of cell (i, j), around the quad: top left, top right, bottom right, bottom left.
     const auto corners_of = [&](int i, int j) {
         return std::array<int, 4>{lane_at(gx[i], gy[j]), lane_at(gx[i + 1], gy[j]),
                                   lane_at(gx[i + 1], gy[j + 1]), lane_at(gx[i], gy[j + 1])};
     };
-    bool smooth[kMaxGrid][kMaxGrid] = {};
-    if (nx >= 2 && ny >= 2) {
-        const glm::dvec3 eye(rays.org_x[0], rays.org_y[0], rays.org_z[0]);
-        const auto frustum_of = [&](const std::array<int, 4>& lanes) {
-            std::array<glm::dvec3, 4> d;
-            for (int k = 0; k < 4; ++k) {
-                d[k] = glm::dvec3(rays.dir_x[lanes[k]], rays.dir_y[lanes[k]], rays.dir_z[lanes[k]]);
-            }
-            return Frustum(eye, d);
-        };
-        // The objects that reach into the tile at all; each cell checks only these.
-        const std::vector<bvh::Aabb>& boxes = f.accel.object_world_boxes();
-        const int w = tile.x1 - tile.x0 - 1, h = tile.y1 - tile.y0 - 1;
-        const Frustum tile_frustum =
-            frustum_of({lane_at(0, 0), lane_at(w, 0), lane_at(w, h), lane_at(0, h)});
-        std::vector<std::uint32_t> reaching;
-        for (std::size_t k = 0; k < boxes.size(); ++k) {
-            if (tile_frustum.reaches(boxes[k])) reaching.push_back(std::uint32_t(k));
+
+    packet::RayPacket rays;
+    f.pinhole.fill_tile(tile, rays);
+    const packet::LaneMask all = rays.active;
+    packet::InstanceHits packet_hits;
+    TileShadowOrigins origins;
+    std::vector<packet::LaneMask> visible(f.lights.size());
+    packet::RayPacket shadow;
+    packet::ShadedColors colors;
+    // A few scattered rays cost less one by one than as a packet, whose traversal cost is
+    // mostly per node, not per ray; both give the same hits.
+    const auto one_by_one = [](const packet::LaneMask& lanes) {
+        return lanes.count() <= kSingleRaysMax;
+    };
+    const auto trace_primary = [&](const packet::LaneMask& lanes) {
+        const bool single = one_by_one(lanes);
+        if (!single) {
+            rays.active = lanes;
+            packet::intersect_closest(top, rays, packet_hits, f.packet, stats);
         }
-        const float tol = f.tolerance;
-        for (int j = 0; j + 1 < ny; ++j) {
-            for (int i = 0; i + 1 < nx; ++i) {
-                const std::array<int, 4> c = corners_of(i, j);
-                const bool hit = surface.hit.test(c[0]);
-                std::uint32_t object = bvh::kInvalidId;
-                bool agree = true;
-                if (hit) object = hits[pixel_of(c[0])].object;
-                for (int k = 1; k < 4 && agree; ++k) {
-                    if (surface.hit.test(c[k]) != hit) {
-                        agree = false;
-                    } else if (hit) {
-                        agree = hits[pixel_of(c[k])].object == object &&
-                                glm::dot(normal_of(c[k]), normal_of(c[0])) >= 1.0f - tol;
-                        for (std::size_t l = 0; l < visible.size() && agree; ++l) {
-                            agree = visible[l].test(c[k]) == visible[l].test(c[0]);
-                        }
-                        const glm::vec3 diff = glm::abs(color_of(corner_colors, c[k]) -
-                                                        color_of(corner_colors, c[0]));
-                        agree = agree && std::max(std::max(diff.x, diff.y), diff.z) <= tol;
+        for (int lane = 0; lane < packet::kPacketRays; ++lane) {
+            if (!lanes.test(lane)) continue;
+            bvh::InstanceHit& hit = hits[pixel_of(lane)];
+            hit = single ? bvh::intersect_closest(top, rays.ray(lane)) : packet_hits.hit(lane);
+            f.accel.resolve(hit);
+        }
+        work.primary_rays += std::size_t(lanes.count());
+    };
+    const auto trace_shadows = [&] {
+        for (packet::LaneMask& v : visible) v = packet::LaneMask{};
+        for (std::size_t l = 0; l < f.lights.size() && origins.surface.hit.any(); ++l) {
+            origins.rays_to(f.lights[l], shadow);
+            if (!shadow.active.any()) continue;
+            work.shadow_rays += std::size_t(shadow.active.count());
+            packet::LaneMask occluded;
+            if (one_by_one(shadow.active)) {
+                for (int lane = 0; lane < packet::kPacketRays; ++lane) {
+                    if (shadow.active.test(lane) && bvh::intersect_any(top, shadow.ray(lane))) {
+                        occluded.set(lane);
                     }
                 }
-                if (agree) {
-                    // Another object can show in the cell only where it reaches into the
-                    // frustum; for a cell on one object, only in front of that object's
-                    // farthest corner hit (the rays are unit, so t is distance). Behind it,
-                    // only a fold of the object itself could uncover it: the approximation.
-                    double farthest = std::numeric_limits<double>::infinity();
-                    if (hit) {
-                        farthest = 0.0;
-                        for (int k = 0; k < 4; ++k) {
-                            farthest = std::max(farthest, double(hits[pixel_of(c[k])].hit.t));
-                        }
-                        farthest *= 1.0 + 1e-5;
-                    }
-                    const Frustum cell = frustum_of(c);
-                    for (std::uint32_t k : reaching) {
-                        if (k != object && cell.distance_to(boxes[k]) <= farthest &&
-                            cell.reaches(boxes[k])) {
-                            agree = false;
-                            break;
-                        }
-                    }
-                }
-                smooth[j][i] = agree;
-
+            } else {
+                packet::intersect_any(top, shadow, occluded, f.packet, stats);
+            }
+            for (int k = 0; k < packet::kPacketRays / 64; ++k) {
+                visible[l].words[k] = shadow.active.words[k] & ~occluded.words[k];
             }
         }
-    }
-    // Every pixel that is not a sample and not in a smooth cell is traced.
-    packet::LaneMask refine;
-    for (int lane = 0; lane < packet::kPacketRays; ++lane) {
-        if (!all.test(lane) || samples.test(lane)) continue;
-        const packet::LanePixel px = packet::tile_pixel(tile, lane);
-        const bool in_smooth_cell = nx >= 2 && ny >= 2 &&
-                                    smooth[cell_of(gy, ny, px.y - tile.y0)][cell_of(gx, nx, px.x - tile.x0)];
-        if (!in_smooth_cell) refine.set(lane);
-    }
-    work.shade_ms += clock.lap_ms();
-
-    // ---- Pass 2: the cells the samples do not describe ----
-    if (refine.any()) {
-        trace_primary(refine);
+    };
+    // The exact path for the whole tile, as the renderer's packet tracer does it.
+    const auto trace_whole_tile = [&] {
+        trace_primary(all);
         work.primary_ms += clock.lap_ms();
         origins.compute(f.accel, hits, f.width, tile, rays, f.object_material);
-        trace_shadows(refine);
+        trace_shadows();
         work.shadow_ms += clock.lap_ms();
+        shade_tile(f.shading, tile, origins, visible, hits, colors, out);
+        work.shade_ms += clock.lap_ms();
+    };
+    if (nx < 2 || ny < 2) {  // a tile one pixel wide or high: no cells
+        trace_whole_tile();
+        return;
     }
 
-    // ---- Shading: traced pixels as in the exact path, then the interpolated ones ----
-    packet::ShadedColors colors;
-    shade_tile(f.shading, tile, origins, visible, hits, colors, out);
-    const bool hit_buffers = !out.depth.empty();
-    for (int lane = 0; lane < packet::kPacketRays; ++lane) {
-        if (!all.test(lane) || samples.test(lane) || refine.test(lane)) continue;
-        const packet::LanePixel px = packet::tile_pixel(tile, lane);
-        const int i = cell_of(gx, nx, px.x - tile.x0), j = cell_of(gy, ny, px.y - tile.y0);
-        const std::array<int, 4> c = corners_of(i, j);
-        const float fx = float(px.x - tile.x0 - gx[i]) / float(gx[i + 1] - gx[i]);
-        const float fy = float(px.y - tile.y0 - gy[j]) / float(gy[j + 1] - gy[j]);
-        const float weight[4] = {(1.0f - fx) * (1.0f - fy), fx * (1.0f - fy), fx * fy,
-                                 (1.0f - fx) * fy};
-        const std::size_t p = std::size_t(px.y) * std::size_t(f.width) + std::size_t(px.x);
-        glm::vec3 color(0.0f);
-        for (int k = 0; k < 4; ++k) color += weight[k] * color_of(corner_colors, c[k]);
-        out.color[p] = color;
-        ++work.interpolated;
-        if (!hit_buffers || !surface.hit.test(c[0])) continue;  // a miss is already written
-        float depth = 0.0f;
-        glm::vec3 normal(0.0f);
+    // ---- The samples, and what their hits alone say about each cell ----
+    packet::LaneMask samples;
+    for (int j = 0; j < ny; ++j) {
+        for (int i = 0; i < nx; ++i) samples.set(lane_at(gx[i], gy[j]));
+    }
+    trace_primary(samples);
+    work.primary_ms += clock.lap_ms();
+    const auto hit_at = [&](int lane) -> const bvh::InstanceHit& { return hits[pixel_of(lane)]; };
+    const glm::dvec3 eye(rays.org_x[0], rays.org_y[0], rays.org_z[0]);
+    const auto frustum_of = [&](const std::array<int, 4>& lanes) {
+        std::array<glm::dvec3, 4> d;
         for (int k = 0; k < 4; ++k) {
-            depth += weight[k] * hits[pixel_of(c[k])].hit.t;
-            normal += weight[k] * normal_of(c[k]);
+            d[k] = glm::dvec3(rays.dir_x[lanes[k]], rays.dir_y[lanes[k]], rays.dir_z[lanes[k]]);
         }
-        const bvh::InstanceHit& first = hits[pixel_of(c[0])];
-        out.depth[p] = depth;
-        out.object[p] = std::int32_t(first.object);
-        out.prim[p] = std::int32_t(first.hit.prim);
-        out.normal[p] = glm::normalize(normal);
+        return Frustum(eye, d);
+    };
+    const std::vector<bvh::Aabb>& boxes = f.accel.object_world_boxes();
+    bool smooth = true;  // the whole tile, cell by cell
+    for (int j = 0; j + 1 < ny && smooth; ++j) {
+        for (int i = 0; i + 1 < nx && smooth; ++i) {
+            const std::array<int, 4> c = corners_of(i, j);
+            const std::uint32_t object = hit_at(c[0]).object;  // kInvalidId for a miss
+            for (int k = 1; k < 4; ++k) smooth = smooth && hit_at(c[k]).object == object;
+            if (!smooth) break;
+            // Another object can show in the cell only where it reaches into the frustum;
+            // for a cell on one object, only in front of that object's farthest corner hit
+            // (the rays are unit, so t is distance). Behind it, only a fold of the object
+            // itself could uncover it: the approximation.
+            double farthest = std::numeric_limits<double>::infinity();
+            if (object != bvh::kInvalidId) {
+                farthest = 0.0;
+                for (int k = 0; k < 4; ++k) farthest = std::max(farthest, double(hit_at(c[k]).hit.t));
+                farthest *= 1.0 + 1e-5;
+            }
+            const Frustum cell = frustum_of(c);
+            for (std::size_t k = 0; k < boxes.size() && smooth; ++k) {
+                if (k == object) continue;
+                smooth = !(cell.distance_to(boxes[k]) <= farthest && cell.reaches(boxes[k]));
+            }
+        }
+    }
+    work.shade_ms += clock.lap_ms();
+    // A tile is interpolated whole or traced whole: tracing part of a tile costs about as much
+    // as tracing all of it (a packet's cost is mostly per node, not per ray).
+    if (!smooth) {
+        trace_whole_tile();
+        return;
+    }
+
+    // ---- The samples' shadows and colours ----
+    origins.compute(f.accel, hits, f.width, tile, rays, f.object_material);
+    trace_shadows();
+    work.shadow_ms += clock.lap_ms();
+    const packet::SurfacePacket& surface = origins.surface;
+    if (surface.hit.any()) {
+        packet::shade(surface, f.shading.materials, f.shading.lights, visible, f.shading.ambient,
+                      colors, f.shading.lanes);
+    }
+    const auto color_of = [&](int lane) {
+        return surface.hit.test(lane)
+                   ? glm::vec3(colors.rgb[0][lane], colors.rgb[1][lane], colors.rgb[2][lane])
+                   : f.shading.background;
+    };
+    const auto normal_of = [&](int lane) {
+        return glm::vec3(surface.normal[0][lane], surface.normal[1][lane], surface.normal[2][lane]);
+    };
+    const float tol = f.tolerance;
+    for (int j = 0; j + 1 < ny && smooth; ++j) {
+        for (int i = 0; i + 1 < nx && smooth; ++i) {
+            const std::array<int, 4> c = corners_of(i, j);
+            if (!surface.hit.test(c[0])) continue;  // all four miss
+            for (int k = 1; k < 4 && smooth; ++k) {
+                for (const packet::LaneMask& v : visible) smooth = smooth && v.test(c[k]) == v.test(c[0]);
+                const glm::vec3 diff = glm::abs(color_of(c[k]) - color_of(c[0]));
+                smooth = smooth && glm::dot(normal_of(c[k]), normal_of(c[0])) >= 1.0f - tol &&
+                         std::max(std::max(diff.x, diff.y), diff.z) <= tol;
+            }
+        }
+    }
+    work.shade_ms += clock.lap_ms();
+    if (!smooth) {
+        trace_whole_tile();
+        return;
+    }
+
+    // ---- Every other pixel from its cell's corners ----
+    const bool hit_buffers = !out.depth.empty();
+    for (int j = 0; j + 1 < ny; ++j) {
+        for (int i = 0; i + 1 < nx; ++i) {
+            const std::array<int, 4> c = corners_of(i, j);
+            const bool hit = surface.hit.test(c[0]);
+            glm::vec3 color[4], normal[4];
+            float depth[4];
+            for (int k = 0; k < 4; ++k) {
+                color[k] = color_of(c[k]);
+                normal[k] = hit ? normal_of(c[k]) : glm::vec3(0.0f);
+                depth[k] = hit_at(c[k]).hit.t;
+            }
+            const bvh::InstanceHit& first = hit_at(c[0]);
+            const float width = float(gx[i + 1] - gx[i]), height = float(gy[j + 1] - gy[j]);
+            for_each_pixel_of_cell(gx, nx, gy, ny, i, j, [&](int dx, int dy) {
+                const bool sample = samples.test(lane_at(dx, dy));
+                const float fx = float(dx - gx[i]) / width, fy = float(dy - gy[j]) / height;
+                const float weight[4] = {(1.0f - fx) * (1.0f - fy), fx * (1.0f - fy), fx * fy,
+                                         (1.0f - fx) * fy};
+                const std::size_t p = std::size_t(tile.y0 + dy) * std::size_t(f.width) +
+                                      std::size_t(tile.x0 + dx);
+                // Samples take their own values: the weights of a corner are exactly 1 and 0.
+                out.color[p] = weight[0] * color[0] + weight[1] * color[1] +
+                               weight[2] * color[2] + weight[3] * color[3];
+                if (!sample) ++work.interpolated;
+                if (!hit_buffers) return;
+                if (!hit) {
+                    out.depth[p] = std::numeric_limits<float>::infinity();
+                    out.object[p] = -1;
+                    out.prim[p] = -1;
+                    out.normal[p] = glm::vec3(0.0f);
+                    return;
+                }
+                const bvh::InstanceHit& own = sample ? hit_at(lane_at(dx, dy)) : first;
+                out.depth[p] = weight[0] * depth[0] + weight[1] * depth[1] +
+                               weight[2] * depth[2] + weight[3] * depth[3];
+                out.object[p] = std::int32_t(own.object);
+                out.prim[p] = std::int32_t(own.hit.prim);
+                out.normal[p] = glm::normalize(weight[0] * normal[0] + weight[1] * normal[1] +
+                                               weight[2] * normal[2] + weight[3] * normal[3]);
+            });
+        }
     }
     work.shade_ms += clock.lap_ms();
 }

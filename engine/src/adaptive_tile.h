@@ -1,19 +1,23 @@
 #pragma once
 // Adaptive image-space sampling of one 16x16 tile (RenderOptions::adaptive_tolerance > 0), the
-// renderer's opt-in approximate mode: trace a sparse grid, fill the cells between samples that
-// agree by bilinear interpolation, trace the rest in full.
+// renderer's opt-in approximate mode: trace a sparse grid, and fill the tile by bilinear
+// interpolation when the samples agree, else trace the tile exactly.
 //
-// Grid: tile columns and rows 0, 4, 8, 12 and the tile's last (15 for a full tile), so a full
-// tile has 25 samples and 4 x 4 cells. A cell is interpolated when
-//   * its four corner samples all miss, or all hit the same object with the same shadow
+// Grid: tile columns and rows 0, 8 and the tile's last (15 for a full tile): 9 samples, traced
+// one by one (cheaper than a packet for so few rays), and 4 cells. The tile is interpolated
+// when in every cell
+//   * the four corner samples all miss, or all hit the same object with the same shadow
 //     verdict for every light, normals within 1 - dot <= tolerance of the first corner's and
 //     colours within the tolerance per channel, and
 //   * no object but that one (no object at all, for a cell of misses) has a world box reaching
 //     into the cell's frustum, the pyramid from the eye through the four corner rays, which
-//     holds every pixel ray of the cell.
+//     holds every pixel ray of the cell (for a cell on an object, only in front of its
+//     farthest corner hit counts).
 // So no other object can hide between the samples, at any tolerance. What interpolation can
 // still get wrong: a fold of the same object between the samples (the normal and colour tests
 // catch most), and a shadow edge that crosses a cell without changing any corner's verdict.
+// Otherwise the tile is traced exactly: part of a tile costs a packet about as much as all of
+// it.
 
 #include "dynrt/engine/renderer.h"
 #include "dynrt/packet/packet_traversal.h"

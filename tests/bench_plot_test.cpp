@@ -69,5 +69,38 @@ TEST(BenchPlot, NoRowsIsAnError) {
     EXPECT_THROW(bench_plot_script({}, "t", "a.png"), std::invalid_argument);
 }
 
+TEST(ErrorPlot, TheParetoFrontIsThePointsNoOtherBeatsOnBoth) {
+    const auto point = [](const char* label, double ms, double error) {
+        return ErrorPoint{label, Spread{ms, ms, ms}, error};
+    };
+    const std::vector<ErrorPoint> points = {
+        point("exact", 10, 1e-7),  point("slow exact", 12, 1e-7), point("fast", 4, 1e-2),
+        point("worse", 5, 2e-2),   point("middle", 6, 1e-3),      point("tie", 10, 1e-7)};
+    // "slow exact" and "worse" are beaten; the two equal "exact" rows beat neither each other.
+    EXPECT_EQ(pareto_front(points), (std::vector<std::size_t>{0, 2, 4, 5}));
+
+    const std::string s = error_plot_script(points, "t", "e.png");
+    EXPECT_TRUE(contains(s, "set logscale x 10"));
+    EXPECT_TRUE(contains(s, "0.01 4 4 4 \"fast\""));
+    EXPECT_TRUE(contains(s, "Pareto front"));
+    EXPECT_TRUE(contains(s, "with labels"));
+    // The front's block is sorted by error.
+    const std::size_t front = s.find("$front << EOD");
+    ASSERT_NE(front, std::string::npos);
+    EXPECT_LT(s.find("1e-07 10", front), s.find("0.001 6", front));
+    EXPECT_LT(s.find("0.001 6", front), s.find("0.01 4", front));
+}
+
+TEST(ErrorPlot, ZeroErrorSitsADecadeBelowOnALogAxisAndNarrowRangesStayLinear) {
+    const std::vector<ErrorPoint> spread = {{"a", {1, 1, 1}, 0.0}, {"b", {2, 2, 2}, 1e-4},
+                                            {"c", {3, 3, 3}, 1e-2}};
+    const std::string s = error_plot_script(spread, "t", "e.png");
+    EXPECT_TRUE(contains(s, "set logscale x"));
+    EXPECT_TRUE(contains(s, "1e-05 1 1 1 \"a (0)\""));
+    const std::vector<ErrorPoint> narrow = {{"a", {1, 1, 1}, 1e-3}, {"b", {2, 2, 2}, 2e-3}};
+    EXPECT_FALSE(contains(error_plot_script(narrow, "t", "e.png"), "logscale"));
+    EXPECT_THROW(error_plot_script({}, "t", "e.png"), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace dynrt

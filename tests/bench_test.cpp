@@ -1,3 +1,4 @@
+#include "dynrt/anim/procedural_motion.h"
 #include "dynrt/engine/bench.h"
 #include "dynrt/engine/scene_loading.h"
 
@@ -161,6 +162,49 @@ TEST(Bench, RowsSummariseRepeatedRendersAndSerialise) {
     std::ostringstream table;
     print_bench_table(table, rows);
     EXPECT_NE(table.str().find("trace ms"), std::string::npos);
+}
+
+TEST(Bench, AdaptiveAndUpdateSweepsAreTakenOutOfTheBuildSweeps) {
+    std::vector<std::string> sweeps = {"cost-ratio=1,2", "adaptive=0,0.01,0.5",
+                                       "update=rebuild,refit"};
+    EXPECT_EQ(take_adaptive_sweep(sweeps), (std::vector<float>{0.0f, 0.01f, 0.5f}));
+    EXPECT_EQ(take_update_sweep(sweeps),
+              (std::vector<BenchUpdate>{BenchUpdate::rebuild, BenchUpdate::refit}));
+    EXPECT_EQ(sweeps, (std::vector<std::string>{"cost-ratio=1,2"}));
+    EXPECT_TRUE(take_adaptive_sweep(sweeps).empty());
+    EXPECT_TRUE(take_update_sweep(sweeps).empty());
+    EXPECT_STREQ(to_string(BenchUpdate::refit), "refit");
+
+    for (const char* bad : {"adaptive=-0.1", "adaptive=inf", "adaptive=1e39", "adaptive=x",
+                            "adaptive=0,,1", "adaptive="}) {
+        std::vector<std::string> s = {bad};
+        EXPECT_THROW(take_adaptive_sweep(s), std::invalid_argument) << bad;
+    }
+    std::vector<std::string> twice = {"adaptive=0", "adaptive=1"};
+    EXPECT_THROW(take_adaptive_sweep(twice), std::invalid_argument);
+    std::vector<std::string> unknown = {"update=rebuild,morph"};
+    EXPECT_THROW(take_update_sweep(unknown), std::invalid_argument);
+}
+
+TEST(Bench, RefitTimesTheMeasuredFrameAfterUpdatingTheFramesBefore) {
+    Scene scene = load_scene("sphere:500");
+    const std::vector<std::string> wave = {"wave"};
+    anim::add_procedural_motions(scene, wave);
+    RenderOptions options;
+    options.width = 32;
+    options.height = 32;
+    options.adaptive_tolerance = 0.0f;
+    const Camera camera = default_camera(scene_bounds(scene));
+    RenderedFrame refitted, rebuilt;
+    const BenchRow refit =
+        bench_configuration(scene, camera, options, 1, 0, &refitted, 5, BenchUpdate::refit);
+    bench_configuration(scene, camera, options, 1, 0, &rebuilt, 5, BenchUpdate::rebuild);
+    EXPECT_EQ(refitted.stats.frame, 5);
+    EXPECT_EQ(rebuilt.stats.frame, 5);
+    EXPECT_EQ(refit.adaptive_tolerance, 0.0f);
+    EXPECT_EQ(refitted.object, rebuilt.object);
+    EXPECT_THROW(bench_configuration(scene, camera, options, 1, 0, nullptr, -1),
+                 std::invalid_argument);
 }
 
 }  // namespace

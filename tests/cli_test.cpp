@@ -159,6 +159,49 @@ TEST(Cli, BenchPlotDrawsAChartAndKeepsItsScript) {
     EXPECT_TRUE(fs::exists(dir / "sweep.png.gp"));
 }
 
+TEST(Cli, BenchErrorPrintsTimeAgainstErrorPerConfiguration) {
+    const fs::path dir = fresh_dir("error");
+    const CliRun run = run_dynrt("bench sphere:2000 --res 64x64 --error --repeat 1 --sweep "
+                                 "culling=none,all --json " + (dir / "e.json").string() +
+                                 " --csv " + (dir / "e.csv").string());
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+    EXPECT_NE(run.output.find("reference: frame 0, 64 sampled pixels (one per 8x8 block)"),
+              std::string::npos)
+        << run.output;
+    for (const char* column : {"total ms", "hit differs %", "ambig", "RMSE", "PSNR dB"}) {
+        EXPECT_NE(run.output.find(column), std::string::npos) << column << "\n" << run.output;
+    }
+    std::ifstream json(dir / "e.json");
+    const nlohmann::json doc = nlohmann::json::parse(json);
+    ASSERT_EQ(doc["rows"].size(), 2u);
+    for (const nlohmann::json& row : doc["rows"]) {
+        EXPECT_EQ(row["samples"], 64);
+        EXPECT_EQ(row["determined_differs"], 0);  // culling is exact
+    }
+    EXPECT_EQ(doc["reference"]["samples"], 64);
+    std::ifstream csv(dir / "e.csv");
+    std::string header;
+    std::getline(csv, header);
+    EXPECT_NE(header.find(",rmse,psnr_db"), std::string::npos) << header;
+}
+
+TEST(Cli, BenchErrorOnAWavingMeshComparesRefitWithRebuild) {
+    const fs::path dir = fresh_dir("error_anim");
+    std::string args = "bench sphere:500 --anim wave --res 32x32 --error --error-block 2 "
+                       "--error-frame 6 --repeat 1 --sweep update=rebuild,refit";
+    if (std::system("command -v gnuplot >/dev/null 2>&1") == 0) {
+        args += " --plot " + (dir / "error.png").string();
+    }
+    const CliRun run = run_dynrt(args);
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+    EXPECT_NE(run.output.find("frame 6"), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find("refit"), std::string::npos) << run.output;
+    if (args.find("--plot") != std::string::npos) {
+        EXPECT_GT(fs::file_size(dir / "error.png"), 1000u);
+        EXPECT_TRUE(fs::exists(dir / "error.png.gp"));
+    }
+}
+
 TEST(Cli, BenchVsAnUnknownTracerIsAnError) {
     const CliRun run = run_dynrt("bench sphere:10 --res 16x16 --repeat 1 --vs optix");
     EXPECT_EQ(run.exit_code, 1) << run.output;
@@ -228,6 +271,20 @@ INSTANTIATE_TEST_SUITE_P(
                     BadCall{"render sphere:10 --camera gltf", "no camera"},
                     BadCall{"render sphere:10 --fps 0", "--fps"},
                     BadCall{"bench sphere:10 --anim wave", "--frames"},
-                    BadCall{"bench sphere:10 --frames 2 --sweep leaf=2,4", "--sweep"}));
+                    BadCall{"bench sphere:10 --frames 2 --sweep leaf=2,4", "--sweep"},
+                    BadCall{"bench sphere:10 --error-block 4", "--error"},
+                    BadCall{"bench sphere:10 --error-frame 3", "--error"},
+                    BadCall{"bench sphere:10 --error --error-block 0", "--error-block"},
+                    BadCall{"bench sphere:10 --error --frames 3", "--error-frame"},
+                    BadCall{"bench sphere:10 --error --vs embree", "--vs"},
+                    BadCall{"bench sphere:10 --sweep update=rebuild,refit", "--error"},
+                    BadCall{"bench sphere:10 --error --sweep update=refit,morph", "morph"},
+                    BadCall{"bench sphere:10 --error --sweep adaptive=0,-1", "adaptive"},
+                    BadCall{"bench sphere:10 --error --sweep adaptive=0,nan", "nan"},
+                    BadCall{"bench sphere:10 --error --sweep adaptive=", "adaptive"},
+                    BadCall{"bench sphere:10 --error --tracer single --sweep adaptive=0.1",
+                            "--tracer single"},
+                    BadCall{"bench sphere:10 --tracer single --adaptive 0.1", "--tracer single"},
+                    BadCall{"bench sphere:10 --sweep adaptive=0,0.1 --plot a.png", "adaptive"}));
 
 }  // namespace

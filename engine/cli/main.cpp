@@ -17,6 +17,8 @@
 #include "dynrt/anim/procedural_motion.h"
 #include "dynrt/scene/scene_error.h"
 
+#include "error_bench.h"
+
 #if DYNRT_HAVE_EMBREE
 #include "dynrt/embree/embree_tracer.h"
 #endif
@@ -83,6 +85,11 @@ struct BenchArgs : FrameArgs {
     std::string plot;
     std::string diff_image;
     bool hit_buffers = false;
+    /// --error: each configuration's error against the exact reference beside its time.
+    bool error = false;
+    int error_block = 8;
+    /// -1: not given; 24 when the scene moves, else 0.
+    int error_frame = -1;
 };
 
 /// Splits "a,b,c" into finite floats; `what` names the flag in errors.
@@ -324,6 +331,120 @@ int run_bench_sequence(const BenchArgs& args) {
     return 0;
 }
 
+/// The configurations a bench measures, from the base options and the sweeps: culling items
+/// vary slowest, then update, then adaptive tolerances, then the build sweeps as expand_sweeps
+/// orders them. Without an update sweep every configuration rebuilds.
+std::vector<dynrt::reference::ErrorConfiguration> bench_configurations(
+    const BenchArgs& args, const dynrt::RenderOptions& base) {
+    std::vector<std::string> build_sweeps = args.sweeps;
+    const std::vector<std::string> cullings = dynrt::take_culling_sweep(build_sweeps);
+    std::vector<float> adaptives = dynrt::take_adaptive_sweep(build_sweeps);
+    std::vector<dynrt::BenchUpdate> updates = dynrt::take_update_sweep(build_sweeps);
+    if (!cullings.empty() && base.tracer != dynrt::Tracer::packet) {
+        throw std::invalid_argument("--sweep culling=...: the culling stages are the packet "
+                                    "tracer's; drop --tracer single");
+    }
+    if (!updates.empty() && !args.error) {
+        throw std::invalid_argument("--sweep update=...: compares how a frame's trees came "
+                                    "about by its error, so it needs --error");
+    }
+    if (adaptives.empty()) adaptives.push_back(base.adaptive_tolerance);
+    if (updates.empty()) updates.push_back(dynrt::BenchUpdate::rebuild);
+    for (float adaptive : adaptives) {
+        if (adaptive > 0.0f && base.tracer != dynrt::Tracer::packet) {
+            throw std::invalid_argument("adaptive sampling (--adaptive, --sweep adaptive=...) "
+                                        "is the packet tracer's; drop --tracer single");
+        }
+    }
+    const std::vector<dynrt::bvh::BuildConfig> builds =
+        dynrt::expand_sweeps(build_sweeps, base.build);
+    std::vector<dynrt::reference::ErrorConfiguration> configs;
+    const std::vector<std::string> culling_items =
+        cullings.empty() ? std::vector<std::string>{""} : cullings;
+    for (const std::string& culling : culling_items) {
+        for (dynrt::BenchUpdate update : updates) {
+            for (float adaptive : adaptives) {
+                for (const dynrt::bvh::BuildConfig& build : builds) {
+                    dynrt::reference::ErrorConfiguration config{base, update};
+                    config.options.build = build;
+                    config.options.adaptive_tolerance = adaptive;
+                    if (!culling.empty()) {
+                        config.options.packet.culling = dynrt::parse_culling_item(culling);
+                    }
+                    configs.push_back(config);
+                }
+            }
+        }
+    }
+    return configs;
+}
+
+/// Whether the sweeps name `parameter` ("culling", "adaptive", ...).
+bool sweeps_parameter(const BenchArgs& args, const std::string& parameter) {
+    return std::any_of(args.sweeps.begin(), args.sweeps.end(), [&](const std::string& s) {
+        return s.rfind(parameter + "=", 0) == 0;
+    });
+}
+
+/// `bench --error`: every configuration's time beside its error against the exact reference
+/// of one frame, sampled on one pixel per --error-block square.
+int run_bench_error(const BenchArgs& args) {
+    if (!args.vs.empty() || !args.frames.empty()) {
+        throw std::invalid_argument("bench --error measures one frame against the exact "
+                                    "reference: drop --vs and --frames (pick the frame with "
+                                    "--error-frame)");
+    }
+    if (uses_scene_camera(args)) {
+        throw std::invalid_argument("bench: --camera gltf is not supported by bench yet; use "
+                                    "render --report");
+    }
+    const int repeat = args.repeat > 0 ? args.repeat : 5;
+    dynrt::RenderOptions base = render_options(args);
+    base.hit_buffers = args.hit_buffers;
+    const std::vector<dynrt::reference::ErrorConfiguration> configs =
+        bench_configurations(args, base);
+    const std::string source = scene_source(args);
+    const dynrt::Scene scene = load_animated_scene(args, source, base);
+    // The pose settings (class overrides, clips) came with the scene: give them to every row.
+    std::vector<dynrt::reference::ErrorConfiguration> posed_configs = configs;
+    for (auto& config : posed_configs) config.options.pose = base.pose;
+    const dynrt::Camera camera = camera_for(scene, args);
+    const bool moves = !scene.motions.empty() || !scene.clips.empty();
+    const int frame = args.error_frame >= 0 ? args.error_frame : (moves ? 24 : 0);
+    std::cout << "dynrt bench --error: " << source << ", " << scene.triangle_count()
+              << " triangles, " << base.width << "x" << base.height << ", frame " << frame
+              << ", " << posed_configs.size() << " configuration(s), median (min-max) of "
+              << repeat << " runs after " << args.warmup << " warm-up\n"
+              << std::flush;
+    const dynrt::reference::SampledReference reference =
+        dynrt::reference::sample_reference(scene, camera, base, frame, args.error_block);
+    dynrt::reference::print_reference_line(std::cout, reference);
+    std::vector<dynrt::reference::ErrorRow> rows;
+    for (const dynrt::reference::ErrorConfiguration& config : posed_configs) {
+        // One warm-up for the whole sweep, as run_bench does.
+        const int warmup = rows.empty() ? args.warmup : 0;
+        rows.push_back(
+            dynrt::reference::bench_error_row(scene, camera, config, repeat, warmup, reference));
+    }
+    dynrt::reference::print_error_table(std::cout, rows);
+    if (!args.csv.empty()) write_text(args.csv, dynrt::reference::error_csv(rows));
+    if (!args.json.empty()) write_text(args.json, dynrt::reference::error_json(rows, reference));
+    if (!args.plot.empty()) {
+        const std::vector<std::string> labels = dynrt::reference::error_row_labels(rows);
+        std::vector<dynrt::ErrorPoint> points;
+        for (std::size_t i = 0; i < rows.size(); ++i) {
+            points.push_back({labels[i], rows[i].timing.total_ms, rows[i].error.rmse});
+        }
+        std::ostringstream title;
+        title << "dynrt bench --error: " << source << ", " << scene.triangle_count()
+              << " triangles, " << base.width << "x" << base.height << ", frame " << frame
+              << ", " << reference.pixels.size() << " sampled pixels";
+        dynrt::plot_error(args.plot, points, title.str());
+        std::cout << "plot: " << args.plot << "\n";
+    }
+    return 0;
+}
+
 int run_bench(const BenchArgs& args) {
     if (!args.vs.empty() && args.vs != "embree") {
         throw std::invalid_argument("--vs '" + args.vs + "': the only tracer to compare with is "
@@ -345,6 +466,7 @@ int run_bench(const BenchArgs& args) {
     if (!args.plot.empty() && std::filesystem::path(args.plot).extension() != ".png") {
         throw std::invalid_argument("--plot '" + args.plot + "': charts are written as .png");
     }
+    if (args.error) return run_bench_error(args);
     if (!args.frames.empty()) return run_bench_sequence(args);
     if (!args.anims.empty() || !args.treats.empty() || !args.clips.empty()) {
         // Refused rather than ignored: a still frame would time something other than asked.
@@ -359,41 +481,31 @@ int run_bench(const BenchArgs& args) {
     dynrt::RenderOptions base = render_options(args);
     base.hit_buffers = args.hit_buffers;
     // Culling items (if swept) vary slowest, then the build sweeps as expand_sweeps orders them.
-    std::vector<std::string> build_sweeps = args.sweeps;
-    std::vector<std::string> cullings = dynrt::take_culling_sweep(build_sweeps);
-    if (!cullings.empty() && base.tracer != dynrt::Tracer::packet) {
-        throw std::invalid_argument("--sweep culling=...: the culling stages are the packet "
-                                    "tracer's; drop --tracer single");
-    }
-    if (!cullings.empty() && !args.plot.empty()) {
+    const std::vector<dynrt::reference::ErrorConfiguration> configs =
+        bench_configurations(args, base);
+    if (!args.plot.empty() && (sweeps_parameter(args, "culling") ||
+                               sweeps_parameter(args, "adaptive"))) {
         throw std::invalid_argument("--plot draws against a build parameter; it does not take "
-                                    "a culling sweep");
+                                    "a culling or adaptive sweep (with --error it draws time "
+                                    "against error for any sweep)");
     }
-    const std::vector<dynrt::bvh::BuildConfig> configs = dynrt::expand_sweeps(build_sweeps, base.build);
-    const bool sweeps_culling = !cullings.empty();
-    if (!sweeps_culling) cullings.push_back("");  // the base options' culling
     const std::string source = scene_source(args);
     const dynrt::Scene scene = dynrt::load_scene(source);
     const dynrt::Camera camera = camera_for(scene, args);
     std::cout << "dynrt bench: " << source << ", " << scene.triangle_count() << " triangles, "
-              << base.width << "x" << base.height << ", " << configs.size() * cullings.size()
+              << base.width << "x" << base.height << ", " << configs.size()
               << " configuration(s), median (min-max) of " << repeat << " runs after "
               << args.warmup << " warm-up\n";
     std::vector<dynrt::BenchRow> rows;
     // The first configuration's frame, to compare Embree's hits with.
     dynrt::RenderedFrame first_frame;
-    for (const std::string& culling : cullings) {
-        for (const dynrt::bvh::BuildConfig& config : configs) {
-            dynrt::RenderOptions options = base;
-            options.build = config;
-            if (sweeps_culling) options.packet.culling = dynrt::parse_culling_item(culling);
-            // One warm-up for the whole sweep: it pays for first-touch costs (thread pool
-            // start, code and page faults) once; later configurations' medians do not need
-            // their own.
-            const int warmup = rows.empty() ? args.warmup : 0;
-            rows.push_back(dynrt::bench_configuration(scene, camera, options, repeat, warmup,
-                                                      rows.empty() ? &first_frame : nullptr));
-        }
+    for (const dynrt::reference::ErrorConfiguration& config : configs) {
+        // One warm-up for the whole sweep: it pays for first-touch costs (thread pool
+        // start, code and page faults) once; later configurations' medians do not need
+        // their own.
+        const int warmup = rows.empty() ? args.warmup : 0;
+        rows.push_back(dynrt::bench_configuration(scene, camera, config.options, repeat, warmup,
+                                                  rows.empty() ? &first_frame : nullptr));
     }
     dynrt::print_bench_table(std::cout, rows);
     // CSV stays dynrt-only: its one-row-per-configuration layout has no place for Embree rows.
@@ -548,9 +660,10 @@ int main(int argc, char** argv) {
     bench_cmd->add_option("--warmup", bench.warmup, "Untimed runs before them")
         ->check(CLI::Range(0, 1000))->capture_default_str();
     bench_cmd->add_option("--sweep", bench.sweeps,
-                          "cost-ratio=V1,V2,..., leaf=N1,N2,... or culling=C1,C2,... (packet "
-                          "culling, '+' joining stages: culling=none,ab,ab+bp,ab+bp+nf); "
-                          "repeatable, combined as a cross product")
+                          "cost-ratio=V1,V2,..., leaf=N1,N2,..., culling=C1,C2,... (packet "
+                          "culling, '+' joining stages: culling=none,ab,ab+bp,ab+bp+nf), "
+                          "adaptive=T1,T2,... (tolerances, packet tracer) or, with --error, "
+                          "update=rebuild,refit; repeatable, combined as a cross product")
         ->allow_extra_args(false);
     bench_cmd->add_option("--csv", bench.csv, "Also write the rows as CSV to this file");
     bench_cmd->add_option("--json", bench.json,
@@ -569,6 +682,21 @@ int main(int argc, char** argv) {
                         "Time frames that also fill the per-pixel depth, object, primitive and "
                         "normal buffers, as render --aov does (default: the colour only, as "
                         "render without --aov)");
+    CLI::Option* error_flag = bench_cmd->add_flag(
+        "--error", bench.error,
+        "Also measure each configuration's error against the exact reference image of the "
+        "same frame (on sampled pixels): share of hits that differ, RMSE and PSNR; --plot then "
+        "draws total ms against RMSE with the Pareto front. Allows --anim, --treat and --clip "
+        "without --frames");
+    bench_cmd->add_option("--error-block", bench.error_block,
+                          "With --error: one sampled pixel, chosen at random, per BxB block "
+                          "(1: every pixel)")
+        ->check(CLI::Range(1, 1024))->capture_default_str()->needs(error_flag);
+    bench_cmd->add_option("--error-frame", bench.error_frame,
+                          "With --error: the frame measured (default 24 when the scene moves, "
+                          "else 0); with --sweep update=refit the frames before it are updated "
+                          "first")
+        ->check(CLI::Range(0, 100000))->needs(error_flag);
 
     std::string info_scene;
     CLI::App* info_cmd = app.add_subcommand("info", "Describe a scene: objects, triangles, bounds");

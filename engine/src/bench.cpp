@@ -41,6 +41,7 @@ void for_each_column(const BenchRow& row, Visit&& visit) {
     visit("sah_cost", row.sah_cost);
     visit("leaf_tris_mean", row.leaf_tris_mean);
     visit("depth", row.depth);
+    visit("adaptive_tolerance", shortest_decimal(row.adaptive_tolerance));
     visit("packet_culling", row.packet_culling);
     visit("ray_triangle_tests", row.ray_triangle_tests);
     visit("ray_triangle_culled", row.ray_triangle_culled);
@@ -94,8 +95,8 @@ std::vector<bvh::BuildConfig> expand_sweeps(const std::vector<std::string>& swee
         }
         if (name != "cost-ratio" && name != "leaf") {
             throw std::invalid_argument("--sweep '" + sweep + "': unknown parameter '" + name +
-                                        "' (known: cost-ratio, leaf; take_culling_sweep "
-                                        "takes culling out first)");
+                                        "' (known: cost-ratio, leaf, culling, adaptive, "
+                                        "update)");
         }
         if (std::find(swept.begin(), swept.end(), name) != swept.end()) {
             throw std::invalid_argument("--sweep: '" + name + "' is swept twice");
@@ -160,24 +161,92 @@ packet::PacketCulling parse_culling_item(const std::string& item) {
     return packet::PacketCulling::parse(list);
 }
 
+namespace {
+
+/// Removes the sweep "NAME=..." from `sweeps` and returns its comma-separated items (each
+/// non-empty); {} when there is none.
+std::vector<std::string> take_sweep(std::vector<std::string>& sweeps, const std::string& name) {
+    std::vector<std::string> items;
+    bool found = false;
+    const std::string prefix = name + "=";
+    for (auto it = sweeps.begin(); it != sweeps.end();) {
+        if (it->rfind(prefix, 0) != 0) {
+            ++it;
+            continue;
+        }
+        if (found) throw std::invalid_argument("--sweep: '" + name + "' is swept twice");
+        found = true;
+        const std::string sweep = *it;
+        for (const std::string& item : split(sweep.substr(prefix.size()), ',')) {
+            if (item.empty()) {
+                throw std::invalid_argument("--sweep '" + sweep + "': empty " + name + " item");
+            }
+            items.push_back(item);
+        }
+        it = sweeps.erase(it);
+    }
+    return items;
+}
+
+}  // namespace
+
+std::vector<float> take_adaptive_sweep(std::vector<std::string>& sweeps) {
+    std::vector<float> values;
+    for (const std::string& item : take_sweep(sweeps, "adaptive")) {
+        const std::string sweep = "adaptive=" + item;
+        const double value = parse_number(item, sweep);
+        if (!(value >= 0.0) || !std::isfinite(float(value))) {
+            throw std::invalid_argument("--sweep '" + sweep + "': adaptive tolerances are "
+                                        "finite numbers >= 0");
+        }
+        values.push_back(float(value));
+    }
+    return values;
+}
+
+const char* to_string(BenchUpdate update) {
+    return update == BenchUpdate::refit ? "refit" : "rebuild";
+}
+
+std::vector<BenchUpdate> take_update_sweep(std::vector<std::string>& sweeps) {
+    std::vector<BenchUpdate> updates;
+    for (const std::string& item : take_sweep(sweeps, "update")) {
+        if (item == "rebuild") {
+            updates.push_back(BenchUpdate::rebuild);
+        } else if (item == "refit") {
+            updates.push_back(BenchUpdate::refit);
+        } else {
+            throw std::invalid_argument("--sweep 'update=" + item + "': '" + item +
+                                        "' is not an update (rebuild, refit)");
+        }
+    }
+    return updates;
+}
+
 BenchRow bench_configuration(const Scene& scene, const Camera& camera,
                              const RenderOptions& options, int repeat, int warmup,
-                             RenderedFrame* last_frame) {
+                             RenderedFrame* last_frame, int frame, BenchUpdate update) {
     if (repeat < 1) throw std::invalid_argument("bench: repeat must be at least 1");
+    if (frame < 0) throw std::invalid_argument("bench: the frame must be >= 0");
+    // Each run times a whole frame from scratch: without reset() the renderer would keep the
+    // trees of the previous run, and a still scene would cost no build at all. With refit, the
+    // frames before bring the trees to the state a sequence would have; their updates are
+    // outside the frame's stats, so outside its timings.
+    const auto render_frame = [&](Renderer& renderer, RenderedFrame& out) {
+        renderer.reset();
+        if (update == BenchUpdate::refit) {
+            for (int f = 0; f < frame; ++f) renderer.update(scene, f);
+        }
+        renderer.render(scene, camera, frame, out);
+    };
     Renderer renderer(options);
     RenderedFrame local_frame;
-    RenderedFrame& frame = last_frame ? *last_frame : local_frame;
-    // Each run times a whole frame from scratch: without reset() the renderer would keep the
-    // trees of the previous run, and a still scene would cost no build at all.
-    for (int i = 0; i < warmup; ++i) {
-        renderer.reset();
-        renderer.render(scene, camera, 0, frame);
-    }
+    RenderedFrame& out = last_frame ? *last_frame : local_frame;
+    for (int i = 0; i < warmup; ++i) render_frame(renderer, out);
     std::vector<double> build, trace, primary, shadow, shade, total, mrays;
     for (int i = 0; i < repeat; ++i) {
-        renderer.reset();
-        renderer.render(scene, camera, 0, frame);
-        const FrameStats& s = frame.stats;
+        render_frame(renderer, out);
+        const FrameStats& s = out.stats;
         const double trace_ms = s.primary_ms + s.shadow_ms;
         build.push_back(s.build_ms);
         trace.push_back(trace_ms);
@@ -188,15 +257,10 @@ BenchRow bench_configuration(const Scene& scene, const Camera& camera,
         mrays.push_back(trace_ms > 0 ? double(s.primary_rays + s.shadow_rays) / (trace_ms * 1e3)
                                      : 0.0);
     }
-    if (last_frame && !options.hit_buffers) {
-        // The caller compares hits: one more frame, untimed, with the hit buffers filled.
-        RenderOptions with_hits = options;
-        with_hits.hit_buffers = true;
-        Renderer(with_hits).render(scene, camera, 0, *last_frame);
-    }
     BenchRow row;
     row.build = options.build;
-    row.triangles = frame.stats.triangles;
+    row.adaptive_tolerance = options.adaptive_tolerance;
+    row.triangles = out.stats.triangles;
     row.build_ms = spread_of(build);
     row.trace_ms = spread_of(trace);
     row.primary_ms = spread_of(primary);
@@ -205,9 +269,16 @@ BenchRow bench_configuration(const Scene& scene, const Camera& camera,
     row.total_ms = spread_of(total);
     row.mrays_per_s = spread_of(mrays);
     // The tree is the same on every repeat (the builder is deterministic in shape).
-    row.sah_cost = frame.stats.sah_cost;
-    row.leaf_tris_mean = frame.stats.leaf_tris_mean;
-    row.depth = frame.stats.depth;
+    row.sah_cost = out.stats.sah_cost;
+    row.leaf_tris_mean = out.stats.leaf_tris_mean;
+    row.depth = out.stats.depth;
+    if (last_frame && !options.hit_buffers) {
+        // The caller compares hits: one more frame, untimed, with the hit buffers filled.
+        RenderOptions with_hits = options;
+        with_hits.hit_buffers = true;
+        Renderer hits(with_hits);
+        render_frame(hits, *last_frame);
+    }
     if (options.tracer == Tracer::packet) {
         std::string culling = options.packet.culling.to_string();
         std::replace(culling.begin(), culling.end(), ',', '+');
@@ -217,7 +288,7 @@ BenchRow bench_configuration(const Scene& scene, const Camera& camera,
         counting.count_packet_work = true;
         Renderer counter(counting);
         RenderedFrame counted;
-        counter.render(scene, camera, 0, counted);
+        render_frame(counter, counted);
         row.ray_triangle_tests = counted.stats.ray_triangle_tests;
         row.ray_triangle_culled = counted.stats.ray_triangle_culled;
     }
@@ -229,7 +300,7 @@ void print_bench_table(std::ostream& out, const std::vector<BenchRow>& rows) {
         << std::setw(10) << "tris" << std::setw(22) << "build ms" << std::setw(22) << "trace ms"
         << std::setw(22) << "shade ms" << std::setw(22) << "total ms" << std::setw(22)
         << "Mrays/s" << std::setw(9) << "SAH" << std::setw(7) << "leaf" << std::setw(6)
-        << "depth" << "  " << std::left << std::setw(14) << "culling" << std::right
+        << "depth" << std::setw(7) << "adapt" << "  " << std::left << std::setw(14) << "culling" << std::right
         << std::setw(10) << "tests M" << std::setw(10) << "culled M" << '\n';
     for (const BenchRow& r : rows) {
         std::ostringstream cost;
@@ -241,7 +312,7 @@ void print_bench_table(std::ostream& out, const std::vector<BenchRow>& rows) {
             << format_spread(r.total_ms, 2) << ' ' << std::setw(21) << format_spread(r.mrays_per_s, 2)
             << std::fixed << std::setprecision(1) << std::setw(9) << r.sah_cost
             << std::setprecision(2) << std::setw(7) << r.leaf_tris_mean << std::setw(6)
-            << r.depth << "  " << std::left << std::setw(14)
+            << r.depth << std::setw(7) << r.adaptive_tolerance << "  " << std::left << std::setw(14)
             << (r.packet_culling.empty() ? "-" : r.packet_culling) << std::right
             << std::setw(10) << double(r.ray_triangle_tests) / 1e6 << std::setw(10)
             << double(r.ray_triangle_culled) / 1e6 << '\n';

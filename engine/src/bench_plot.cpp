@@ -172,6 +172,85 @@ void plot_bench(const std::filesystem::path& png, const std::vector<BenchRow>& r
     run_gnuplot(png, bench_plot_script(rows, title, png));
 }
 
+std::vector<std::size_t> pareto_front(const std::vector<ErrorPoint>& points) {
+    std::vector<std::size_t> front;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        const ErrorPoint& p = points[i];
+        const bool beaten = std::any_of(points.begin(), points.end(), [&](const ErrorPoint& q) {
+            return q.total_ms.median <= p.total_ms.median && q.error <= p.error &&
+                   (q.total_ms.median < p.total_ms.median || q.error < p.error);
+        });
+        if (!beaten) front.push_back(i);
+    }
+    return front;
+}
+
+std::string error_plot_script(const std::vector<ErrorPoint>& points, const std::string& title,
+                              const std::filesystem::path& png) {
+    if (points.empty()) throw std::invalid_argument("error plot: no points to plot");
+    double smallest = 0.0, largest = 0.0;
+    for (const ErrorPoint& p : points) {
+        if (p.error > 0.0 && (smallest == 0.0 || p.error < smallest)) smallest = p.error;
+        largest = std::max(largest, p.error);
+    }
+    const bool log_x = smallest > 0.0 && largest >= 8.0 * smallest;
+    // On a log axis 0 has no place: such points sit a decade below the rest, marked "(0)".
+    const auto x_of = [&](const ErrorPoint& p) {
+        return log_x && p.error == 0.0 ? smallest / 10.0 : p.error;
+    };
+    const auto label_of = [&](const ErrorPoint& p) {
+        std::string label = p.label + (log_x && p.error == 0.0 ? " (0)" : "");
+        std::replace(label.begin(), label.end(), '"', '\'');
+        return label;
+    };
+    std::ostringstream out;
+    out.precision(9);
+    out << "# dynrt bench --error chart; redraw with: gnuplot "
+        << single_quoted(png.string() + ".gp")
+        << "\nset terminal pngcairo size 1000,620 noenhanced font ',11'\nset output "
+        << single_quoted(png.string()) << "\nset title " << single_quoted(title)
+        << "\nset grid\nset key top right\n"
+           "set xlabel 'RMSE against the exact reference (linear RGB, sampled pixels)'\n"
+           "set ylabel 'total ms per frame (median, bars min-max)'\nset yrange [0:*]\n"
+           "set offsets graph 0.05, graph 0.25, graph 0.05, graph 0.02\n";
+    if (log_x) {
+        out << "set logscale x 10\nset format x '%.0e'\n";
+    } else {
+        out << "set format x '%.2g'\n";
+        const bool all_equal = std::all_of(points.begin(), points.end(), [&](const ErrorPoint& p) {
+            return p.error == points.front().error;
+        });
+        if (all_equal) {
+            // Every point at one error (all exact settings, say): give the axis a width.
+            out << "set xrange [" << (largest > 0.0 ? 0.5 * largest : -1e-3) << ":"
+                << (largest > 0.0 ? 1.5 * largest : 1e-3) << "]\n";
+        }
+    }
+    out << "$points << EOD\n# error total_median total_min total_max label\n";
+    for (const ErrorPoint& p : points) {
+        out << x_of(p) << ' ' << p.total_ms.median << ' ' << p.total_ms.min << ' '
+            << p.total_ms.max << " \"" << label_of(p) << "\"\n";
+    }
+    out << "EOD\n";
+    std::vector<std::size_t> front = pareto_front(points);
+    std::sort(front.begin(), front.end(),
+              [&](std::size_t a, std::size_t b) { return x_of(points[a]) < x_of(points[b]); });
+    out << "$front << EOD\n# error total_median\n";
+    for (std::size_t i : front) out << x_of(points[i]) << ' ' << points[i].total_ms.median << '\n';
+    out << "EOD\n"
+        << "plot $front using 1:2 with linespoints lw 2 pt 6 ps 2.2 lc rgb '#d62728' "
+           "title 'Pareto front', "
+        << "$points using 1:2:3:4 with yerrorbars pt 7 ps 1.2 lc rgb '#1f77b4' "
+           "title 'configuration', "
+        << "$points using 1:2:5 with labels left offset 0.8,0.6 font ',9' notitle\n";
+    return out.str();
+}
+
+void plot_error(const std::filesystem::path& png, const std::vector<ErrorPoint>& points,
+                const std::string& title) {
+    run_gnuplot(png, error_plot_script(points, title, png));
+}
+
 std::string timeline_plot_script(const std::vector<FrameStats>& frames, const std::string& title,
                                  const std::filesystem::path& png) {
     if (frames.empty()) throw std::invalid_argument("timeline plot: no frames");

@@ -11,6 +11,7 @@
 
 #include <glm/vec3.hpp>
 
+#include <span>
 #include <vector>
 
 namespace dynrt::reference {
@@ -58,5 +59,23 @@ struct ReferenceFrame {
 ReferenceFrame render_reference(const Scene& scene, const ReferenceTracer& tracer,
                                 const Camera& camera, int width, int height,
                                 const ReferenceShading& shading, const Tolerances& tol = {});
+
+/// A pixel of an image, x to the right, y = 0 the top row.
+struct PixelCoord {
+    int x = 0;
+    int y = 0;
+};
+
+/// The reference for the listed pixels of a `width` x `height` image only, one ReferencePixel
+/// per entry of `pixels` in the same order, each exactly as render_reference computes it (same
+/// rays, same shading). For images too large to render in full by brute force. Pixels run in
+/// parallel on the caller's oneTBB arena. Throws as render_reference does, and
+/// std::out_of_range for a pixel outside the image.
+std::vector<ReferencePixel> render_reference_pixels(const Scene& scene,
+                                                    const ReferenceTracer& tracer,
+                                                    const Camera& camera, int width, int height,
+                                                    std::span<const PixelCoord> pixels,
+                                                    const ReferenceShading& shading,
+                                                    const Tolerances& tol = {});
 
 }  // namespace dynrt::reference

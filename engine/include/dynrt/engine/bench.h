@@ -42,6 +42,8 @@ struct BenchRow {
     /// The packet tracer's culling stages, as a culling sweep item ("ab+bp+nf", "none", "all";
     /// "" for the single-ray tracer).
     std::string packet_culling;
+    /// RenderOptions::adaptive_tolerance of the configuration (0: exact).
+    float adaptive_tolerance = 0.0f;
     /// Primary and shadow ray/triangle pairs the packet tracer tested, and pairs its culling
     /// stages removed (FrameStats), from one extra untimed render with counting on, so the
     /// timed runs are not perturbed. 0 for the single-ray tracer.
@@ -66,15 +68,41 @@ std::vector<std::string> take_culling_sweep(std::vector<std::string>& sweeps);
 /// A culling sweep item as packet::PacketCulling reads it ('+' -> ',').
 packet::PacketCulling parse_culling_item(const std::string& item);
 
-/// Renders frame 0 of `scene` `warmup` times untimed, then `repeat` times (>= 1) timed, with
-/// `options` (whose build config and packet culling are the configuration measured), then,
-/// with the packet tracer, once more untimed with count_packet_work on, for the row's
-/// ray/triangle counters. If `last_frame` is not null, it receives a frame of the same
-/// configuration with its hit buffers filled (the last timed render, or one more untimed when
-/// `options.hit_buffers` is off), for comparing hits with another tracer.
+/// Takes the adaptive sweep, if any, out of `sweeps`: "adaptive=0,0.01,0.05" gives the
+/// RenderOptions::adaptive_tolerance values in order. No adaptive sweep gives {}. Throws
+/// std::invalid_argument for an empty list, a value that is not a finite number >= 0, or
+/// adaptive swept twice.
+std::vector<float> take_adaptive_sweep(std::vector<std::string>& sweeps);
+
+/// How the trees of the measured frame come about.
+enum class BenchUpdate {
+    /// Renderer::reset() before the frame: every tree is built from scratch.
+    rebuild,
+    /// The frames before it are updated first (untimed), as a sequence would be: the frame's
+    /// trees are what the renderer's update plan makes of them (deformable objects refitted).
+    refit,
+};
+
+const char* to_string(BenchUpdate update);
+
+/// Takes the update sweep, if any, out of `sweeps`: "update=rebuild,refit" in order. No update
+/// sweep gives {}. Throws std::invalid_argument for an empty list, a name other than rebuild
+/// and refit, or update swept twice.
+std::vector<BenchUpdate> take_update_sweep(std::vector<std::string>& sweeps);
+
+/// Renders frame `frame` (>= 0) of `scene` `warmup` times untimed, then `repeat` times (>= 1)
+/// timed, with `options` (whose build config, packet culling and adaptive tolerance are the
+/// configuration measured), then, with the packet tracer, once more untimed with
+/// count_packet_work on, for the row's ray/triangle counters. Each render starts from a reset
+/// renderer; with BenchUpdate::refit, frames 0 to frame - 1 are then updated (not traced, not
+/// timed) before the frame is rendered, so only the frame's own update and trace are timed. If
+/// `last_frame` is not null, it receives a frame of the same configuration with its hit
+/// buffers filled (the last timed render, or one more untimed when `options.hit_buffers` is
+/// off), for comparing hits with another tracer or the reference.
 BenchRow bench_configuration(const Scene& scene, const Camera& camera,
                              const RenderOptions& options, int repeat, int warmup,
-                             RenderedFrame* last_frame = nullptr);
+                             RenderedFrame* last_frame = nullptr, int frame = 0,
+                             BenchUpdate update = BenchUpdate::rebuild);
 
 /// The table for people: one row per configuration, "median (min-max)" per timed figure.
 void print_bench_table(std::ostream& out, const std::vector<BenchRow>& rows);

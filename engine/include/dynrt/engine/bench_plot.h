@@ -29,6 +29,29 @@ std::string bench_plot_script(const std::vector<BenchRow>& rows, const std::stri
 void plot_bench(const std::filesystem::path& png, const std::vector<BenchRow>& rows,
                 const std::string& title);
 
+/// One configuration on the chart of run time against error.
+struct ErrorPoint {
+    std::string label;  ///< what distinguishes the configuration, written beside its point
+    Spread total_ms;
+    double error = 0.0;  ///< RMSE against the exact reference, >= 0
+};
+
+/// Indices (ascending) of the points on the Pareto front: those no other point beats, that is,
+/// no other is at most as slow and at most as wrong and strictly better in one of the two.
+std::vector<std::size_t> pareto_front(const std::vector<ErrorPoint>& points);
+
+/// A gnuplot script, data inline, drawing each point's median total ms (min-max as error
+/// bars; y) against its error (x) into `png`, every point labelled, and the Pareto front
+/// joined by a line. The x axis is logarithmic when the non-zero errors span a factor of 8 or
+/// more; points with error 0 are then drawn at a tenth of the smallest non-zero error, their
+/// label saying "(0)". Throws std::invalid_argument if `points` is empty.
+std::string error_plot_script(const std::vector<ErrorPoint>& points, const std::string& title,
+                              const std::filesystem::path& png);
+
+/// Writes error_plot_script as "<png>.gp" and runs gnuplot, as plot_bench does.
+void plot_error(const std::filesystem::path& png, const std::vector<ErrorPoint>& points,
+                const std::string& title);
+
 /// A gnuplot script drawing the per-frame stacked timeline of an animated run into `png`: per
 /// frame, one bar split into update (animation), refit, rebuild, top level, primary rays,
 /// shadow rays and shade ms. Throws std::invalid_argument if `frames` is empty.

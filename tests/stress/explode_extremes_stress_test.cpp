@@ -18,7 +18,6 @@
 
 #include <gtest/gtest.h>
 
-#include <bit>
 #include <cstdio>
 #include <random>
 #include <string>
@@ -26,12 +25,6 @@
 
 namespace dynrt::stress {
 namespace {
-
-bool same_hit(const bvh::Hit& a, const bvh::Hit& b) {
-    return a.prim == b.prim && std::bit_cast<std::uint32_t>(a.t) == std::bit_cast<std::uint32_t>(b.t) &&
-           std::bit_cast<std::uint32_t>(a.u) == std::bit_cast<std::uint32_t>(b.u) &&
-           std::bit_cast<std::uint32_t>(a.v) == std::bit_cast<std::uint32_t>(b.v);
-}
 
 /// Rays toward the centroids of random triangles (so the far-flung fragments are found) and
 /// random points of the box, from outside it.

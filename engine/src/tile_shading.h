@@ -41,7 +41,7 @@ struct ShadowOrigin {
 
     ShadowOrigin(const bvh::Triangle& tri, const bvh::Hit& hit, const glm::vec3& primary_dir)
         : n(facing_normal(tri, primary_dir)), point(hit_point(tri, hit)),
-          origin(offset_along_normal(point, n)) {}
+          origin(offset_along_normal(point, n, triangle_magnitude(tri.v0, tri.v1, tri.v2))) {}
 
     /// The light is on the lit side of the surface, so a shadow ray is traced.
     bool faces(const PointLight& light) const { return glm::dot(n, light.position - point) > 0.0f; }
@@ -53,7 +53,7 @@ struct ShadowOrigin {
     bvh::Ray ray_to(const PointLight& light) const {
         bvh::Ray shadow;
         shadow.org = light.position;
-        shadow.dir = origin - light.position;
+        shadow.dir = shadow_ray_end(origin, n, light.position) - light.position;
         shadow.tmin = 0.0f;
         shadow.tmax = 1.0f;
         return shadow;
@@ -141,18 +141,27 @@ struct TileShadowOrigins {
             // hit_point: (1 - u - v) v0 + u v1 + v v2.
             const F u = L::load(bary[0] + base), w = L::load(bary[1] + base);
             const F b0 = L::splat(1.0f) - u - w;
+            // triangle_magnitude: the largest |coordinate| of the three vertices.
+            F magnitude = L::splat(0.0f);
+            for (const F* vertex : {v0, v1, v2}) {
+                for (int a = 0; a < 3; ++a) {
+                    const F m = L::abs(vertex[a]);
+                    magnitude = L::select(m > magnitude, m, magnitude);
+                }
+            }
             for (int a = 0; a < 3; ++a) {
                 const F p = b0 * v0[a] + u * v1[a] + w * v2[a];
                 // offset_along_normal, with its constants (256 ulps per unit of normal,
-                // 2^-16 absolute below 1/32); packet_renderer_test catches any drift.
-                const I ulps = L::truncate(L::splat(256.0f) * nv[a]);
+                // 2^-16 of the magnitude below 1/32 of it); packet_renderer_test catches any
+                // drift.
+                const I ulps = L::truncate(L::splat(kShadowIntScale) * nv[a]);
                 const I bits = L::bits_of(p);
                 const F moved = L::float_of(bits + L::select(p < L::splat(0.0f), -ulps, ulps));
-                const F near_origin = p + L::splat(1.0f / 65536.0f) * nv[a];
+                const F near_origin = p + L::splat(kShadowFloatScale) * magnitude * nv[a];
                 L::store(surface.normal[a] + base, nv[a]);
                 L::store(surface.point[a] + base, p);
                 L::store(origin[a] + base,
-                         L::select(L::abs(p) < L::splat(1.0f / 32.0f), near_origin, moved));
+                         L::select(L::abs(p) < L::splat(kShadowOrigin) * magnitude, near_origin, moved));
             }
         }
     }
@@ -179,12 +188,19 @@ struct TileShadowOrigins {
             if (lit == 0) continue;
             const F ox = L::load(origin[0] + base), oy = L::load(origin[1] + base),
                     oz = L::load(origin[2] + base);
+            // shadow_ray_end: push kShadowLightScale * D further along the normal.
+            const F dx = L::abs(lx - ox), dy = L::abs(ly - oy), dz = L::abs(lz - oz);
+            F d = dx;
+            d = L::select(dy > d, dy, d);
+            d = L::select(dz > d, dz, d);
+            const F push = L::splat(kShadowLightScale) * d;
+            const F ex = ox + push * nx, ey = oy + push * ny, ez = oz + push * nz;
             L::store(out.org_x + base, lx);
             L::store(out.org_y + base, ly);
             L::store(out.org_z + base, lz);
-            L::store(out.dir_x + base, ox - lx);
-            L::store(out.dir_y + base, oy - ly);
-            L::store(out.dir_z + base, oz - lz);
+            L::store(out.dir_x + base, ex - lx);
+            L::store(out.dir_y + base, ey - ly);
+            L::store(out.dir_z + base, ez - lz);
             L::store(out.tmin + base, L::splat(0.0f));
             L::store(out.tmax + base, L::splat(1.0f));
             out.active.words[base >> 6] |= std::uint64_t(lit) << (base & 63);

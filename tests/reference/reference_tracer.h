@@ -72,7 +72,9 @@ struct Tolerances {
     /// starts its shadow ray from its own float hit point, pushed off the surface to avoid
     /// self-intersection; both the point's rounding and the push are a number of ulps of its
     /// coordinates, so they grow with |origin| as well as with the scene. dynrt pushes by 256
-    /// ulps per coordinate (Wächter and Binder 2019), at most 256 * 2^-23 |p| = 3.05e-5 |p|.
+    /// ulps per coordinate (Wächter and Binder 2019), at most 256 * 2^-23 |p| = 3.05e-5 |p|,
+    /// plus 16 * 2^-23 = 1.9e-6 of the light's distance (a few ulps of it are how precisely a
+    /// ray from the light finds the surface): 1e-5 of the scene for lights 5 scene radii away.
     /// The reference starts from the exact hit point, so an occluder edge within this distance
     /// of the shadow ray, or an occluder this close to the origin, may legitimately change the
     /// answer. Both segments end at the light, so the lateral tolerance shrinks linearly to

@@ -324,7 +324,8 @@ double EmbreeTracer::occluded16(const Camera& camera, int width, int height,
                 normal[lane] = glm::dot(n, dir) > 0.0f ? -n : n;
                 point[lane] = (1.0f - hits.u[p] - hits.v[p]) * tri.v0 + hits.u[p] * tri.v1 +
                               hits.v[p] * tri.v2;
-                origin[lane] = offset_along_normal(point[lane], normal[lane]);
+                origin[lane] = offset_along_normal(point[lane], normal[lane],
+                                                   triangle_magnitude(tri.v0, tri.v1, tri.v2));
             }
             for (const PointLight& light : lights) {
                 alignas(64) int valid[kLanes];
@@ -335,9 +336,12 @@ double EmbreeTracer::occluded16(const Camera& camera, int width, int height,
                                      glm::dot(normal[lane], light.position - point[lane]) > 0.0f;
                     valid[lane] = lit ? -1 : 0;
                     active += lit;
-                    // The renderer's shadow rays: from the light to the offset origin.
+                    // The renderer's shadow rays: from the light to the offset origin,
+                    // pushed further for the light's distance.
                     const glm::vec3 org = lit ? light.position : glm::vec3(0.0f);
-                    const glm::vec3 dir = lit ? origin[lane] - light.position : glm::vec3(0, 0, 1);
+                    const glm::vec3 dir =
+                        lit ? shadow_ray_end(origin[lane], normal[lane], light.position) - light.position
+                            : glm::vec3(0, 0, 1);
                     ray.org_x[lane] = org.x;
                     ray.org_y[lane] = org.y;
                     ray.org_z[lane] = org.z;

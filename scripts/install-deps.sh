@@ -7,11 +7,14 @@ required=(build-essential cmake ninja-build pkg-config
           libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libtbb-dev
           libopenimageio-dev libbenchmark-dev libgtest-dev libcli11-dev
           gnuplot-nox)  # gnuplot draws the charts of `dynrt bench --plot`
+# The fuzz targets (scripts/fuzz.sh, run by scripts/test.sh) need clang and libFuzzer's runtime,
+# which Debian ships in libclang-rt-dev; older archives have it in a dependency of clang itself.
+fuzz=(clang libclang-rt-dev)
 # Embree is only a comparison backend and test oracle: install it when the archive has it.
 optional=(libembree-dev)
 
 missing=()
-for p in "${required[@]}" "${optional[@]}"; do
+for p in "${required[@]}" "${fuzz[@]}" "${optional[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
 [ ${#missing[@]} -eq 0 ] && exit 0
@@ -25,5 +28,7 @@ export DEBIAN_FRONTEND=noninteractive
 echo "install-deps: installing ${missing[*]}"
 $sudo apt-get update -qq
 $sudo apt-get install -y -qq --no-install-recommends "${required[@]}" >/dev/null
+$sudo apt-get install -y -qq --no-install-recommends "${fuzz[@]}" >/dev/null \
+  || $sudo apt-get install -y -qq --no-install-recommends clang >/dev/null
 $sudo apt-get install -y -qq --no-install-recommends "${optional[@]}" >/dev/null \
   || echo "install-deps: optional ${optional[*]} not available; Embree comparisons are skipped"

@@ -10,13 +10,16 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <iterator>
 #include <limits>
+#include <span>
 #include <string>
 #include <unistd.h>
 #include <vector>
@@ -453,6 +456,68 @@ TEST_F(GltfLoaderTest, TruncatedAndCorruptGlb) {
     // Text where a GLB should be.
     std::ofstream(path("text.glb")) << "{ \"asset\": { \"version\": \"2.0\" } }";
     expect_error(path("text.glb"), {"not a GLB"});
+}
+
+// ---- Documents in memory ---------------------------------------------------------------------
+
+TEST_F(GltfLoaderTest, FromMemoryLoadsLikeTheFile) {
+    GltfBuilder b = quad_builder(kUnsignedByte);
+    const std::vector<unsigned char> glb = b.glb_bytes();
+    b.write_glb(path("quad.glb"));
+    const Scene from_file = load_gltf(path("quad.glb"));
+    const Scene from_memory = load_gltf_from_memory(glb, GltfFormat::binary, "in memory");
+    EXPECT_EQ(from_memory.source, "in memory");
+    ASSERT_EQ(from_memory.objects.size(), from_file.objects.size());
+    EXPECT_EQ(from_memory.objects[0].name, from_file.objects[0].name);
+    EXPECT_EQ(from_memory.objects[0].mesh.positions, from_file.objects[0].mesh.positions);
+    EXPECT_EQ(from_memory.objects[0].mesh.triangles, from_file.objects[0].mesh.triangles);
+
+    // The same document as JSON, its buffer embedded as a data: URI.
+    json doc = b.doc();
+    const std::vector<unsigned char>& bin = b.bin();
+    static const char* const alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string base64;
+    for (std::size_t i = 0; i < bin.size(); i += 3) {
+        const std::size_t n = std::min<std::size_t>(3, bin.size() - i);
+        std::uint32_t triple = 0;
+        for (std::size_t k = 0; k < 3; ++k) triple = triple << 8 | (k < n ? bin[i + k] : 0u);
+        for (std::size_t k = 0; k < 4; ++k) base64 += k <= n ? alphabet[triple >> (18 - 6 * k) & 63] : '=';
+    }
+    doc["buffers"] = json::array(
+        {json{{"byteLength", bin.size()}, {"uri", "data:application/octet-stream;base64," + base64}}});
+    const std::string text = doc.dump();
+    const Scene from_json = load_gltf_from_memory(std::span(reinterpret_cast<const unsigned char*>(text.data()),
+                                                            text.size()),
+                                                  GltfFormat::json, "in memory");
+    EXPECT_EQ(from_json.objects[0].mesh.triangles, from_file.objects[0].mesh.triangles);
+}
+
+TEST_F(GltfLoaderTest, FromMemoryNeverReadsFiles) {
+    // scene.bin exists next to the working directory's idea of the document, but a document in
+    // memory has no directory: only data: URIs are read.
+    GltfBuilder b = quad_builder();
+    b.write_gltf(path("scene.gltf"));
+    std::ifstream in(path("scene.gltf"), std::ios::binary);
+    const std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const fs::path previous = fs::current_path();
+    fs::current_path(dir_);
+    try {
+        load_gltf_from_memory(bytes, GltfFormat::json, "doc.gltf");
+        ADD_FAILURE() << "an external buffer was read";
+    } catch (const SceneError& e) {
+        const std::string what = e.what();
+        EXPECT_EQ(what.rfind("doc.gltf: invalid glTF: ", 0), 0u) << what;
+        EXPECT_NE(what.find("only data: URIs"), std::string::npos) << what;
+        EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+    }
+    fs::current_path(previous);
+
+    try {
+        load_gltf_from_memory(std::span(bytes.data(), 10), GltfFormat::binary, "doc.glb");
+        ADD_FAILURE() << "no error for a truncated GLB";
+    } catch (const SceneError& e) {
+        EXPECT_EQ(std::string(e.what()).rfind("doc.glb: truncated GLB", 0), 0u) << e.what();
+    }
 }
 
 TEST_F(GltfLoaderTest, MissingBinFile) {

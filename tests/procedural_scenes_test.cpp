@@ -325,6 +325,19 @@ TEST(ProceduralComposition, MalformedSpecsNameTheSpecAndThePart) {
     }
 }
 
+TEST(ProceduralScene, ACallerCanLowerTheTriangleLimit) {
+    // sphere:100 makes 120 triangles; the fuzz target lowers the limit the same way.
+    EXPECT_EQ(make_procedural_scene("sphere:100", 120).triangle_count(), 120u);
+    try {
+        make_procedural_scene("sphere:100", 119);
+        ADD_FAILURE() << "no error above the limit";
+    } catch (const SceneError& e) {
+        EXPECT_NE(std::string(e.what()).find("makes 120 triangles, more than the limit of 119"), std::string::npos)
+            << e.what();
+    }
+    EXPECT_THROW(make_procedural_scene("plane:5+plane:5", 99), SceneError);  // 50 + 50 in total
+}
+
 // ---- load_scene dispatch -------------------------------------------------------------------
 
 TEST(LoadScene, SpecsAreProceduralAndGltfExtensionsAreFiles) {

@@ -15,6 +15,7 @@
 #include <fstream>
 #include <iostream>
 #include <iterator>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -27,8 +28,8 @@ constexpr std::uint32_t kChunkJson = 0x4E4F534A;  // "JSON"
 constexpr std::size_t kGlbHeaderSize = 12;
 constexpr std::size_t kChunkHeaderSize = 8;
 
-[[noreturn]] void fail(const std::filesystem::path& path, const std::string& what) {
-    throw SceneError(cat(path.string(), ": ", what));
+[[noreturn]] void fail(const std::string& name, const std::string& what) {
+    throw SceneError(cat(name, ": ", what));
 }
 
 std::string lowercase_extension(const std::filesystem::path& path) {
@@ -62,7 +63,7 @@ bool ignore_image(tinygltf::Image*, const int, std::string*, std::string*, int, 
     return true;
 }
 
-void print_warnings(const std::filesystem::path& path, const std::string& warnings) {
+void print_warnings(const std::string& name, const std::string& warnings) {
     std::size_t start = 0;
     while (start < warnings.size()) {
         std::size_t end = warnings.find('\n', start);
@@ -76,7 +77,7 @@ void print_warnings(const std::filesystem::path& path, const std::string& warnin
         // optional (identity), and the loader supplies that.
         const bool about_optional = line.find("'inverseBindMatrices' property is missing") != std::string::npos;
         if (!line.empty() && !about_image && !about_optional) {
-            std::cerr << "dynrt: warning: " << path.string() << ": " << line << '\n';
+            std::cerr << "dynrt: warning: " << name << ": " << line << '\n';
         }
         start = end + 1;
     }
@@ -84,20 +85,20 @@ void print_warnings(const std::filesystem::path& path, const std::string& warnin
 
 std::vector<unsigned char> read_bytes(const std::filesystem::path& path) {
     std::ifstream in(path, std::ios::binary);
-    if (!in) fail(path, "cannot open file");
+    if (!in) fail(path.string(), "cannot open file");
     std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (in.bad()) fail(path, "cannot read file");
+    if (in.bad()) fail(path.string(), "cannot read file");
     return bytes;
 }
 
-std::uint32_t read_u32(const std::vector<unsigned char>& bytes, std::size_t offset) {
+std::uint32_t read_u32(std::span<const unsigned char> bytes, std::size_t offset) {
     return static_cast<std::uint32_t>(bytes[offset]) | static_cast<std::uint32_t>(bytes[offset + 1]) << 8 |
            static_cast<std::uint32_t>(bytes[offset + 2]) << 16 |
            static_cast<std::uint32_t>(bytes[offset + 3]) << 24;
 }
 
 /// Checks the GLB header and that every chunk lies within the declared length; returns it.
-std::size_t check_glb_container(const std::filesystem::path& path, const std::vector<unsigned char>& bytes) {
+std::size_t check_glb_container(const std::string& path, std::span<const unsigned char> bytes) {
     if (bytes.size() < kGlbHeaderSize) {
         fail(path, cat("truncated GLB: ", bytes.size(), " bytes, shorter than the 12-byte header"));
     }
@@ -126,6 +127,64 @@ std::size_t check_glb_container(const std::filesystem::path& path, const std::ve
     return length;
 }
 
+/// Runs `load` (a tinygltf call) and turns its result into a model or one SceneError line.
+template <class Load>
+tinygltf::Model run_tinygltf(tinygltf::TinyGLTF& loader, const std::string& name, const Load& load) {
+    loader.SetImageLoader(&ignore_image, nullptr);
+    tinygltf::Model model;
+    std::string error, warnings;
+    bool ok = false;
+    // tinygltf reports through its return value, but its JSON library and some container
+    // accesses can still throw on hostile input.
+    try {
+        ok = load(model, error, warnings);
+    } catch (const SceneError&) {
+        throw;
+    } catch (const std::exception& e) {
+        fail(name, cat("invalid glTF: ", e.what()));
+    }
+    if (!ok) {
+        const std::string reason = one_line(error);
+        fail(name, cat("invalid glTF: ", reason.empty() ? std::string("tinygltf gave no reason") : reason));
+    }
+    // tinygltf also appends non-fatal problems to `error` while succeeding.
+    print_warnings(name, warnings + "\n" + error);
+    return model;
+}
+
+/// Parses a whole document held in `bytes`; external files are looked up under `base_dir`
+/// through the loader's filesystem callbacks.
+tinygltf::Model parse_model(tinygltf::TinyGLTF& loader, std::span<const unsigned char> bytes, GltfFormat format,
+                            const std::string& name, const std::string& base_dir) {
+    if (format == GltfFormat::binary) {
+        // The checked length comes from the 32-bit header field, so the cast is lossless.
+        const std::size_t length = check_glb_container(name, bytes);
+        return run_tinygltf(loader, name, [&](tinygltf::Model& model, std::string& error, std::string& warnings) {
+            return loader.LoadBinaryFromMemory(&model, &error, &warnings, bytes.data(),
+                                               static_cast<unsigned int>(length), base_dir);
+        });
+    }
+    if (bytes.size() > UINT32_MAX) fail(name, cat("a ", bytes.size(), "-byte glTF is larger than 4 GiB"));
+    return run_tinygltf(loader, name, [&](tinygltf::Model& model, std::string& error, std::string& warnings) {
+        return loader.LoadASCIIFromString(&model, &error, &warnings, reinterpret_cast<const char*>(bytes.data()),
+                                          static_cast<unsigned int>(bytes.size()), base_dir);
+    });
+}
+
+// Filesystem callbacks for a document loaded from memory. Every file "exists" but cannot be
+// read, so tinygltf names the URI in its "File read error" (an error for a buffer, a dropped
+// warning for an image) and never touches the disk.
+bool claim_file_exists(const std::string&, void*) { return true; }
+std::string keep_file_path(const std::string& path, void*) { return path; }
+bool refuse_file_read(std::vector<unsigned char>*, std::string* error, const std::string&, void*) {
+    if (error != nullptr) *error = "only data: URIs can be read in a glTF loaded from memory";
+    return false;
+}
+bool refuse_file_write(std::string* error, const std::string&, const std::vector<unsigned char>&, void*) {
+    if (error != nullptr) *error = "a glTF loaded from memory writes no files";
+    return false;
+}
+
 }  // namespace
 
 bool is_gltf_path(const std::filesystem::path& path) {
@@ -135,38 +194,29 @@ bool is_gltf_path(const std::filesystem::path& path) {
 
 tinygltf::Model read_gltf_model(const std::filesystem::path& path) {
     std::error_code ec;
-    if (!std::filesystem::exists(path, ec)) fail(path, "no such file");
-    if (std::filesystem::is_directory(path, ec)) fail(path, "is a directory, not a glTF file");
+    if (!std::filesystem::exists(path, ec)) fail(path.string(), "no such file");
+    if (std::filesystem::is_directory(path, ec)) fail(path.string(), "is a directory, not a glTF file");
 
     tinygltf::TinyGLTF loader;
-    loader.SetImageLoader(&ignore_image, nullptr);
-    tinygltf::Model model;
-    std::string error, warnings;
-    bool ok = false;
-    // tinygltf reports through its return value, but its JSON library and some container
-    // accesses can still throw on hostile input.
-    try {
-        if (lowercase_extension(path) == ".glb") {
-            const std::vector<unsigned char> bytes = read_bytes(path);
-            // The checked length comes from the 32-bit header field, so the cast is lossless.
-            const std::size_t length = check_glb_container(path, bytes);
-            ok = loader.LoadBinaryFromMemory(&model, &error, &warnings, bytes.data(),
-                                             static_cast<unsigned int>(length), path.parent_path().string());
-        } else {
-            ok = loader.LoadASCIIFromFile(&model, &error, &warnings, path.string());
-        }
-    } catch (const SceneError&) {
-        throw;
-    } catch (const std::exception& e) {
-        fail(path, cat("invalid glTF: ", e.what()));
+    if (lowercase_extension(path) == ".glb") {
+        const std::vector<unsigned char> bytes = read_bytes(path);
+        return parse_model(loader, bytes, GltfFormat::binary, path.string(), path.parent_path().string());
     }
-    if (!ok) {
-        const std::string reason = one_line(error);
-        fail(path, cat("invalid glTF: ", reason.empty() ? std::string("tinygltf gave no reason") : reason));
-    }
-    // tinygltf also appends non-fatal problems to `error` while succeeding.
-    print_warnings(path, warnings + "\n" + error);
-    return model;
+    return run_tinygltf(loader, path.string(), [&](tinygltf::Model& model, std::string& error, std::string& warnings) {
+        return loader.LoadASCIIFromFile(&model, &error, &warnings, path.string());
+    });
+}
+
+tinygltf::Model read_gltf_model_from_memory(std::span<const unsigned char> bytes, GltfFormat format,
+                                            const std::string& name) {
+    tinygltf::TinyGLTF loader;
+    tinygltf::FsCallbacks no_filesystem{.FileExists = &claim_file_exists,
+                                        .ExpandFilePath = &keep_file_path,
+                                        .ReadWholeFile = &refuse_file_read,
+                                        .WriteWholeFile = &refuse_file_write,
+                                        .user_data = nullptr};
+    loader.SetFsCallbacks(no_filesystem);
+    return parse_model(loader, bytes, format, name, "");
 }
 
 }  // namespace dynrt

@@ -3,9 +3,13 @@
 // (missing file, malformed JSON, truncated or corrupt GLB, missing .bin) becomes one SceneError
 // line naming the file; the model's contents are validated later, where they are used.
 
+#include "dynrt/engine/scene_loading.h"
+
 #include <tiny_gltf.h>
 
 #include <filesystem>
+#include <span>
+#include <string>
 
 namespace dynrt {
 
@@ -16,5 +20,10 @@ bool is_gltf_path(const std::filesystem::path& path);
 /// are neither decoded nor required (dynrt uses no textures); tinygltf's other warnings go to
 /// stderr. The GLB container is validated here before tinygltf sees it. Throws SceneError.
 tinygltf::Model read_gltf_model(const std::filesystem::path& path);
+
+/// The same for a document in memory, named `name` in errors. Buffers and images given by a
+/// URI other than data: are never looked up on the filesystem: such a buffer is a SceneError.
+tinygltf::Model read_gltf_model_from_memory(std::span<const unsigned char> bytes, GltfFormat format,
+                                            const std::string& name);
 
 }  // namespace dynrt

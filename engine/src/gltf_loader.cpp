@@ -99,12 +99,12 @@ std::optional<TriangleTopology> topology_of(int mode) {
 /// Turns the primitives of one glTF file into Objects, naming problems by file and object.
 class GltfSceneBuilder {
 public:
-    GltfSceneBuilder(const std::filesystem::path& path, const tinygltf::Model& model)
-        : path_(path), model_(model) {}
+    /// `name` is the file's path, or the name of a document loaded from memory.
+    GltfSceneBuilder(const std::string& name, const tinygltf::Model& model) : name_(name), model_(model) {}
 
     Scene build() {
         Scene scene;
-        scene.source = path_.string();
+        scene.source = name_;
         scene.materials.push_back(Material{.name = "default", .diffuse = glm::vec3(kDefaultGrey)});
         for (std::size_t i = 0; i < model_.materials.size(); ++i) {
             scene.materials.push_back(convert_material(model_.materials[i], i));
@@ -147,7 +147,7 @@ public:
 
 private:
     [[noreturn]] void fail(const std::string& what) const {
-        throw SceneError(cat(path_.string(), ": ", what));
+        throw SceneError(cat(name_, ": ", what));
     }
 
     [[noreturn]] void fail_object(const std::string& object, const std::string& what) const {
@@ -155,7 +155,7 @@ private:
     }
 
     void warn(const std::string& what) const {
-        std::cerr << "dynrt: warning: " << path_.string() << ": " << what << '\n';
+        std::cerr << "dynrt: warning: " << name_ << ": " << what << '\n';
     }
 
     void warn_object(const std::string& object, const std::string& what) {
@@ -272,7 +272,7 @@ private:
         }
     }
 
-    const std::filesystem::path& path_;
+    std::string name_;
     const tinygltf::Model& model_;
     std::size_t skipped_ = 0;
 };
@@ -281,7 +281,12 @@ private:
 
 Scene load_gltf(const std::filesystem::path& path) {
     const tinygltf::Model model = read_gltf_model(path);
-    return GltfSceneBuilder(path, model).build();
+    return GltfSceneBuilder(path.string(), model).build();
+}
+
+Scene load_gltf_from_memory(std::span<const unsigned char> bytes, GltfFormat format, const std::string& name) {
+    const tinygltf::Model model = read_gltf_model_from_memory(bytes, format, name);
+    return GltfSceneBuilder(name, model).build();
 }
 
 }  // namespace dynrt

@@ -18,10 +18,6 @@ namespace dynrt {
 
 namespace {
 
-/// Largest triangle count one spec may produce (per part and in total): 100M triangles already
-/// need about 2.4 GB of vertices and indices.
-constexpr std::uint64_t kMaxTriangles = 100'000'000;
-
 enum class MeshKind { sphere, soup, plane };
 
 struct Placement {
@@ -119,7 +115,7 @@ Placement parse_placement(std::string_view spec, std::string_view part, std::str
     return Placement{values[0], values[1], values[2], values[3]};
 }
 
-PartSpec parse_part(std::string_view spec, std::string_view text) {
+PartSpec parse_part(std::string_view spec, std::string_view text, std::uint64_t max_triangles) {
     if (text.empty()) fail(spec, "", "empty part (a '+' with nothing on one side)");
     PartSpec part;
     part.text = text;
@@ -177,8 +173,8 @@ PartSpec parse_part(std::string_view spec, std::string_view text) {
             part.triangles = plane_triangle_count(part.count);
             break;
     }
-    if (part.triangles > kMaxTriangles) {
-        fail(spec, text, cat("makes ", part.triangles, " triangles, more than the limit of ", kMaxTriangles));
+    if (part.triangles > max_triangles) {
+        fail(spec, text, cat("makes ", part.triangles, " triangles, more than the limit of ", max_triangles));
     }
     return part;
 }
@@ -204,17 +200,17 @@ glm::mat4 placement_matrix(const Placement& p) {
 
 }  // namespace
 
-Scene make_procedural_scene(const std::string& spec) {
+Scene make_procedural_scene(const std::string& spec, std::uint64_t max_triangles) {
     if (spec.empty()) fail(spec, "", "empty spec");
 
     // Parse everything first so a bad last part fails before any mesh is built.
     std::vector<PartSpec> parts;
     std::uint64_t total_triangles = 0;
     for (const std::string_view text : split(spec, '+')) {
-        parts.push_back(parse_part(spec, text));
+        parts.push_back(parse_part(spec, text, max_triangles));
         total_triangles += parts.back().triangles;
-        if (total_triangles > kMaxTriangles) {
-            fail(spec, "", cat("makes more than the limit of ", kMaxTriangles, " triangles"));
+        if (total_triangles > max_triangles) {
+            fail(spec, "", cat("makes more than the limit of ", max_triangles, " triangles"));
         }
     }
 

@@ -3,7 +3,9 @@
 
 #include "dynrt/scene/scene.h"
 
+#include <cstdint>
 #include <filesystem>
+#include <span>
 #include <string>
 
 namespace dynrt {
@@ -26,11 +28,27 @@ Scene load_scene(const std::string& source);
 /// naming the file and the element ("animation 'Walk' channel 3: ...").
 Scene load_gltf(const std::filesystem::path& path);
 
+/// The two encodings of a glTF 2.0 document.
+enum class GltfFormat { json, binary };
+
+/// Reads a glTF 2.0 document held in memory (`bytes`, borrowed for the call), as load_gltf
+/// does, with `name` standing for the file in errors and as Scene::source. The document must be
+/// self-contained: buffers come from data: URIs or the GLB BIN chunk, and a buffer given by any
+/// other URI is a SceneError; the filesystem is never touched. Same result and errors as
+/// load_gltf otherwise. Lets the fuzz targets and other embedders load untrusted bytes.
+Scene load_gltf_from_memory(std::span<const unsigned char> bytes, GltfFormat format, const std::string& name);
+
+/// The most triangles a procedural spec may make, per part and in total: 100M triangles already
+/// need about 2.4 GB of vertices and indices.
+inline constexpr std::uint64_t kMaxProceduralTriangles = 100'000'000;
+
 /// Builds a procedural scene from its spec (grammar in README.md, "Procedural scenes"):
 /// `sphere:N`, `soup:N`, `plane:N`, joined with '+', each optionally placed with
 /// `@x,y,z[,scale]` and coloured with `#rrggbb`. Exact definitions so other tools can build the
-/// same triangles. Throws SceneError for a malformed spec.
-Scene make_procedural_scene(const std::string& spec);
+/// same triangles. Throws SceneError for a malformed spec, or for one making more than
+/// `max_triangles` triangles (per part or in total), before any mesh is built. A lower limit
+/// keeps a caller feeding arbitrary specs (the fuzz target) from building huge meshes.
+Scene make_procedural_scene(const std::string& spec, std::uint64_t max_triangles = kMaxProceduralTriangles);
 
 /// Throws SceneError when `scene` has no triangles, an index out of range or a non-finite
 /// position, naming the object. Loaders call it; callers building scenes by hand may too.

@@ -386,6 +386,18 @@ bool sweeps_parameter(const BenchArgs& args, const std::string& parameter) {
     });
 }
 
+/// The render options of a still-frame bench (plain or --error), after refusing a camera it
+/// cannot follow.
+dynrt::RenderOptions still_frame_options(const BenchArgs& args) {
+    if (uses_scene_camera(args)) {
+        throw std::invalid_argument("bench: --camera gltf is not supported by bench yet; use "
+                                    "render --report");
+    }
+    dynrt::RenderOptions options = render_options(args);
+    options.hit_buffers = args.hit_buffers;
+    return options;
+}
+
 /// `bench --error`: every configuration's time beside its error against the exact reference
 /// of one frame, sampled on one pixel per --error-block square.
 int run_bench_error(const BenchArgs& args) {
@@ -394,13 +406,8 @@ int run_bench_error(const BenchArgs& args) {
                                     "reference: drop --vs and --frames (pick the frame with "
                                     "--error-frame)");
     }
-    if (uses_scene_camera(args)) {
-        throw std::invalid_argument("bench: --camera gltf is not supported by bench yet; use "
-                                    "render --report");
-    }
     const int repeat = args.repeat > 0 ? args.repeat : 5;
-    dynrt::RenderOptions base = render_options(args);
-    base.hit_buffers = args.hit_buffers;
+    dynrt::RenderOptions base = still_frame_options(args);
     const std::vector<dynrt::reference::ErrorConfiguration> configs =
         bench_configurations(args, base);
     const std::string source = scene_source(args);
@@ -473,13 +480,8 @@ int run_bench(const BenchArgs& args) {
         throw std::invalid_argument("bench: --anim, --treat and --clip animate a sequence: give "
                                     "--frames too");
     }
-    if (uses_scene_camera(args)) {
-        throw std::invalid_argument("bench: --camera gltf is not supported by bench yet; use "
-                                    "render --report");
-    }
     const int repeat = args.repeat > 0 ? args.repeat : 5;
-    dynrt::RenderOptions base = render_options(args);
-    base.hit_buffers = args.hit_buffers;
+    dynrt::RenderOptions base = still_frame_options(args);
     // Culling items (if swept) vary slowest, then the build sweeps as expand_sweeps orders them.
     const std::vector<dynrt::reference::ErrorConfiguration> configs =
         bench_configurations(args, base);

@@ -284,10 +284,7 @@ void trace_tile_adaptive(const AdaptiveFrame& f, const packet::Tile& tile,
                 if (!sample) ++work.interpolated;
                 if (!hit_buffers) return;
                 if (!hit) {
-                    out.depth[p] = std::numeric_limits<float>::infinity();
-                    out.object[p] = -1;
-                    out.prim[p] = -1;
-                    out.normal[p] = glm::vec3(0.0f);
+                    write_miss(out, p);
                     return;
                 }
                 const bvh::InstanceHit& own = sample ? hit_at(lane_at(dx, dy)) : first;

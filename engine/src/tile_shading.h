@@ -16,7 +16,9 @@
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
+#include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -217,6 +219,14 @@ struct TileShading {
     int lanes;  ///< PacketConfig::lanes: the kernel's SIMD width (same bits either way)
 };
 
+/// The hit buffers' values for a pixel whose ray misses everything.
+inline void write_miss(RenderedFrame& out, std::size_t p) {
+    out.depth[p] = std::numeric_limits<float>::infinity();
+    out.object[p] = -1;
+    out.prim[p] = -1;
+    out.normal[p] = glm::vec3(0.0f);
+}
+
 /// Shades one tile's hits (packet::shade; `visible[l]`: the lanes light l reaches) and writes
 /// every pixel of the tile into `out`, whose buffers are already sized: colour, depth, object,
 /// prim and normal, or the background and the miss values. `colors` is scratch.
@@ -240,10 +250,7 @@ inline void shade_tile(const TileShading& shading, const packet::Tile& tile,
                                : shading.background;
             if (!hit_buffers) continue;
             if (!hit) {
-                out.depth[p] = std::numeric_limits<float>::infinity();
-                out.object[p] = -1;
-                out.prim[p] = -1;
-                out.normal[p] = glm::vec3(0.0f);
+                write_miss(out, p);
                 continue;
             }
             const bvh::InstanceHit& h = hits[p];

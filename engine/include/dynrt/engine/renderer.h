@@ -56,11 +56,11 @@ struct RenderOptions {
     float cost_ratio_exploding = 0.3f;
     Tracer tracer = Tracer::packet;
     /// Adaptive sampling (approximate; packet tracer only): 0, the default, traces every
-    /// pixel. Above 0 each 16x16 tile is first traced on a sparse grid (every 4th pixel and its
-    /// last row and column); a cell between four samples is filled by bilinear interpolation
-    /// when the samples agree (all miss, or all hit one object with the same shadows, normals
-    /// within 1 - dot <= tolerance and colours within tolerance per channel) and no other
-    /// object's box reaches into the cell's view frustum; every other cell is traced in full.
+    /// pixel. Above 0 each 16x16 tile is first traced at 9 samples (columns and rows 0, 8 and
+    /// its last); the tile is filled by bilinear interpolation when in each of its 4 cells the
+    /// samples agree (all miss, or all hit one object with the same shadows, normals within
+    /// 1 - dot <= tolerance and colours within tolerance per channel) and no other object's
+    /// box reaches into the cell's view frustum; otherwise the whole tile is traced exactly.
     /// Larger is faster and less exact. What can still go wrong is in README "Approximate
     /// rendering".
     float adaptive_tolerance = 0.0f;

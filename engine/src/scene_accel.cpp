@@ -87,24 +87,86 @@ void SceneAccel::build(ObjectTree& object, const bvh::BuildConfig& config) {
     object.built = true;
 }
 
+namespace {
+
+/// A posed frame's static and rigid vertices, from the poser that evaluated it.
+class PoserPositions final : public FixedPositions {
+public:
+    PoserPositions(const anim::ScenePoser& poser, const anim::PosedScene& posed)
+        : poser_(poser), posed_(posed) {}
+    std::span<const glm::vec3> object_space(std::size_t object) const override {
+        return poser_.object_space_positions(object);
+    }
+    std::span<const glm::vec3> world(std::size_t object,
+                                     std::vector<glm::vec3>& scratch) const override {
+        const std::vector<glm::vec3>& posed = posed_.objects[object].positions;
+        if (!posed.empty()) return posed;
+        poser_.fixed_world_positions(object, posed_, scratch);
+        return scratch;
+    }
+
+private:
+    const anim::ScenePoser& poser_;
+    const anim::PosedScene& posed_;
+};
+
+}  // namespace
+
 void SceneAccel::update(const Scene& scene, const anim::ScenePoser& poser,
                         const anim::PosedScene& posed, const UpdatePolicy& policy,
                         FrameStats& stats) {
+    states_.resize(posed.objects.size());
+    for (std::size_t i = 0; i < states_.size(); ++i) {
+        const anim::PosedObject& pose = posed.objects[i];
+        states_[i] = ObjectState{pose.motion_class, pose.changed, pose.transform, pose.positions};
+    }
+    update(scene, states_, PoserPositions(poser, posed), policy, stats);
+}
+
+void SceneAccel::invalidate(std::size_t object) {
+    if (object >= objects_.size()) return;  // not built yet: the next update builds it anyway
+    ObjectTree& tree = objects_[object];
+    tree.built = false;
+    if (tree.known && tree.motion_class == anim::MotionClass::static_) static_group_.built = false;
+}
+
+void SceneAccel::update(const Scene& scene, std::span<const ObjectState> states,
+                        const FixedPositions& fixed, const UpdatePolicy& policy,
+                        FrameStats& stats) {
     const std::size_t count = scene.objects.size();
-    if (objects_.size() != count) {
-        clear();
+    if (objects_.size() > count) clear();
+    if (objects_.size() < count) {
+        // Objects added at the end: built below, and the static group with them if static.
         objects_.resize(count);
         object_boxes_.resize(count);
+    }
+    // An object that changed class is built afresh in the space of its new class; the static
+    // group is rebuilt whenever an object joins or leaves it.
+    for (std::size_t i = 0; i < count; ++i) {
+        ObjectTree& object = objects_[i];
+        const anim::MotionClass now = states[i].motion_class;
+        if (object.known && object.motion_class == now) continue;
+        if (object.known) {
+            object.built = false;
+            object.measured = false;
+        }
+        if ((object.known && object.motion_class == anim::MotionClass::static_) ||
+            now == anim::MotionClass::static_) {
+            static_group_.built = false;
+        }
+        if (now != anim::MotionClass::static_) object.first_frame = true;
+        object.motion_class = now;
+        object.known = true;
     }
     bvh::BuildConfig exploding_build = policy.build;
     exploding_build.cost_ratio = policy.exploding_cost_ratio;
     const bvh::SahCosts costs = policy.build.sah_costs();
 
     Stopwatch clock;
-    if (!static_group_.built) build_static_group(scene, poser, posed, policy.build, stats);
+    if (!static_group_.built) build_static_group(scene, states, fixed, policy.build, stats);
     for (std::size_t i = 0; i < count; ++i) {
         ObjectTree& object = objects_[i];
-        const anim::PosedObject& pose = posed.objects[i];
+        const ObjectState& pose = states[i];
         const Mesh& mesh = scene.objects[i].mesh;
         object.motion_class = pose.motion_class;
         count_class(pose.motion_class, mesh.triangles.size(), stats);
@@ -131,7 +193,7 @@ void SceneAccel::update(const Scene& scene, const anim::ScenePoser& poser,
                     break;
                 }
                 clock.lap_ms();
-                assemble(mesh, poser.object_space_positions(i), object.triangles);
+                assemble(mesh, fixed.object_space(i), object.triangles);
                 stats.update_ms += clock.lap_ms();
                 build(object, policy.build);
                 record("first build");
@@ -147,7 +209,7 @@ void SceneAccel::update(const Scene& scene, const anim::ScenePoser& poser,
                     break;
                 }
                 clock.lap_ms();
-                const bool moved = assemble(mesh, pose.positions, object.triangles);
+                const bool moved = assemble(mesh, pose.world_positions, object.triangles);
                 stats.update_ms += clock.lap_ms();
                 if (object.built && !moved) {
                     // The animation said it changed; its vertices say otherwise.
@@ -257,8 +319,8 @@ void SceneAccel::update(const Scene& scene, const anim::ScenePoser& poser,
     stats.depth = depth + (top_shape.depth > 0 ? top_shape.depth - 1 : 0);
 }
 
-void SceneAccel::build_static_group(const Scene& scene, const anim::ScenePoser& poser,
-                                    const anim::PosedScene& posed, const bvh::BuildConfig& config,
+void SceneAccel::build_static_group(const Scene& scene, std::span<const ObjectState> states,
+                                    const FixedPositions& fixed, const bvh::BuildConfig& config,
                                     FrameStats& stats) {
     // Static objects never move, so one tree over all of them in world space serves them
     // best: it splits across objects (per-object trees overlap, and rays pay for every
@@ -271,21 +333,18 @@ void SceneAccel::build_static_group(const Scene& scene, const anim::ScenePoser& 
     all.clear();
     std::vector<bvh::Triangle> object_triangles;
     Stopwatch clock;
+    const char* reason = static_group_.known ? "static group changed" : "first build";
+    static_group_.known = true;
     for (std::size_t i = 0; i < scene.objects.size(); ++i) {
-        const anim::PosedObject& pose = posed.objects[i];
-        if (pose.motion_class != anim::MotionClass::static_) continue;
+        if (states[i].motion_class != anim::MotionClass::static_) continue;
         const Mesh& mesh = scene.objects[i].mesh;
-        if (!pose.positions.empty()) {
-            assemble(mesh, pose.positions, object_triangles);
-        } else {
-            poser.fixed_world_positions(i, posed, positions_);
-            assemble(mesh, positions_, object_triangles);
-        }
+        assemble(mesh, fixed.world(i, positions_), object_triangles);
         static_objects_.push_back(std::uint32_t(i));
         static_first_.push_back(std::uint32_t(all.size()));
         static_slot_of_.insert(static_slot_of_.end(), object_triangles.size(),
                                std::uint32_t(static_objects_.size() - 1));
         objects_[i].group_first = std::uint32_t(all.size());
+        objects_[i].first_frame = true;  // built this update, so not counted as skipped
         bvh::Aabb box;
         for (const bvh::Triangle& t : object_triangles) {
             box.extend(t.v0);
@@ -294,7 +353,7 @@ void SceneAccel::build_static_group(const Scene& scene, const anim::ScenePoser& 
         }
         object_boxes_[i] = box;
         all.insert(all.end(), object_triangles.begin(), object_triangles.end());
-        stats.rebuilds.push_back(TreeRebuild{i, scene.objects[i].name, "first build", 0.0, 0.0});
+        stats.rebuilds.push_back(TreeRebuild{i, scene.objects[i].name, reason, 0.0, 0.0});
         ++stats.objects_rebuilt;
         stats.triangles_rebuilt += mesh.triangles.size();
     }

@@ -14,9 +14,11 @@
 //   exploding   rebuilt whenever it changed, with a cost ratio of its own.
 //
 // Static objects share one tree (the static group), built in world space at the first
-// update, so a scene of static objects traces exactly one tree over all its triangles.
+// update, so a scene of static objects traces exactly one tree over all its triangles. It is
+// rebuilt only when an object joins or leaves it (the library API raises a mesh's class when
+// its caller starts moving it).
 //
-// An object whose PosedObject::changed is false costs nothing, so a frame that repeats the
+// An object whose ObjectState::changed is false costs nothing, so a frame that repeats the
 // previous one does no update work at all. Hits report the object index (scene order) and the
 // triangle index within the object.
 
@@ -31,6 +33,7 @@
 #include <glm/mat4x4.hpp>
 
 #include <cstddef>
+#include <span>
 #include <vector>
 
 namespace dynrt {
@@ -48,20 +51,58 @@ struct UpdatePolicy {
     double rebuild_threshold = 0.3;
 };
 
+/// One object at one update, as SceneAccel reads it: what a PosedScene says of it, or what the
+/// library API (dynrt/dynrt.h) gathered from its caller.
+struct ObjectState {
+    anim::MotionClass motion_class = anim::MotionClass::static_;
+    /// False when nothing about the object changed since the previous update: it is then
+    /// skipped without reading its vertices (unless its tree must be built).
+    bool changed = true;
+    /// Rigid objects: object to world at this update, in double (ignored for other classes).
+    glm::dmat4 transform{1.0};
+    /// Deformable and exploding objects: world-space positions at this update, indexed as the
+    /// mesh's positions (borrowed for the call; ignored for static and rigid objects).
+    std::span<const glm::vec3> world_positions;
+};
+
+/// The vertices of static and rigid objects, read only when their trees are built.
+class FixedPositions {
+public:
+    virtual ~FixedPositions() = default;
+    /// A rigid object's object-space positions: world = ObjectState::transform * these.
+    virtual std::span<const glm::vec3> object_space(std::size_t object) const = 0;
+    /// A static object's world-space positions: a span into storage of its own, or into
+    /// `scratch`, which it may fill.
+    virtual std::span<const glm::vec3> world(std::size_t object,
+                                             std::vector<glm::vec3>& scratch) const = 0;
+};
+
 class SceneAccel {
 public:
-    /// Brings every object's tree to `posed`, which `poser` has just evaluated (with
-    /// skip_fixed_positions set or not), rebuilds the top level and records the work in
-    /// `stats` (class counts, refit / rebuild / top-level ms, skipped objects, rebuilds and
-    /// why, tree shape). Gathering the triangles from the posed vertices is added to
-    /// update_ms (it is evaluating the scene, as posing is), not to the tree's times. The first call after construction or clear() builds every tree.
-    /// Throws SceneError naming object and frame for non-finite geometry (from the poser).
+    /// Brings every object's tree to `objects` (one per scene object, scene order), rebuilds
+    /// the top level and records the work in `stats` (class counts, refit / rebuild /
+    /// top-level ms, skipped objects, rebuilds and why, tree shape). Gathering the triangles
+    /// from the vertices is added to update_ms (it is evaluating the scene, as posing is), not
+    /// to the tree's times. The first call after construction or clear() builds every tree;
+    /// objects added to the end of the scene since the last call are built, and an object
+    /// whose class differs from the last call's is built afresh (and the static group with it
+    /// when it joins or leaves it).
+    /// Throws SceneError for non-finite static positions (from `fixed`).
+    void update(const Scene& scene, std::span<const ObjectState> objects,
+                const FixedPositions& fixed, const UpdatePolicy& policy, FrameStats& stats);
+
+    /// The same for a frame `poser` has just evaluated into `posed` (with skip_fixed_positions
+    /// set or not). Throws SceneError naming object and frame for non-finite geometry.
     void update(const Scene& scene, const anim::ScenePoser& poser, const anim::PosedScene& posed,
                 const UpdatePolicy& policy, FrameStats& stats);
 
     /// Forgets every tree: the next update builds from scratch (another scene, or the same
     /// scene after its objects were edited).
     void clear();
+
+    /// Forgets one object's tree (its mesh's triangles were replaced): the next update builds
+    /// it afresh, or the static group when the object is static.
+    void invalidate(std::size_t object);
 
     const bvh::TwoLevelBvh& top_level() const { return top_; }
 
@@ -112,11 +153,13 @@ private:
         /// next update is their first (which builds, and so does not skip them).
         std::uint32_t group_first = 0;
         bool first_frame = true;
+        /// Whether an update has seen the object (so motion_class is the last update's).
+        bool known = false;
     };
 
     void build(ObjectTree& object, const bvh::BuildConfig& config);
-    void build_static_group(const Scene& scene, const anim::ScenePoser& poser,
-                            const anim::PosedScene& posed, const bvh::BuildConfig& config,
+    void build_static_group(const Scene& scene, std::span<const ObjectState> objects,
+                            const FixedPositions& fixed, const bvh::BuildConfig& config,
                             FrameStats& stats);
     /// The instance id of the static group: one past the last object index, so it collides
     /// with no object (ties between instances go to the lower id).
@@ -137,6 +180,8 @@ private:
     std::vector<bvh::Aabb> object_boxes_;
     /// Scratch for the vertex positions of static objects at their one build.
     std::vector<glm::vec3> positions_;
+    /// Scratch of the PosedScene form of update.
+    std::vector<ObjectState> states_;
 };
 
 }  // namespace dynrt

@@ -140,6 +140,10 @@ private:
     std::unique_ptr<State> state_;
 };
 
+/// The light a scene without lights gets: c + 4 R normalize(-0.5, 1.0, 0.8) for the box's
+/// centre c and half-diagonal R.
+PointLight default_light(const bvh::Aabb& scene_bounds);
+
 /// World-space bounds of `scene` at frame 0 (for the default camera and light).
 bvh::Aabb scene_bounds(const Scene& scene);
 

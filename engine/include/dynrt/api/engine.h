@@ -1,0 +1,216 @@
+#pragma once
+// dynrt::Engine, the library API for programs that move geometry themselves: a physics or
+// robotics simulation adds its meshes once, changes vertices or transforms every step, calls
+// update(), then renders a view or traces a batch of rays. README "Library API" has a complete
+// example; engine/examples/ has two more (a cloth and a lidar).
+//
+// One step:
+//
+//   engine.set_positions(cloth, positions);   // deformable: vertices moved
+//   engine.set_transform(robot_arm, pose);    // rigid: only its transform moved
+//   dynrt::FrameStats stats = engine.update(); // trees brought up to date (refit, rebuild...)
+//   engine.render(view, image);                // and/or
+//   engine.intersect(rays, hits);              // closest hits, or occluded(rays, flags)
+//
+// Per mesh, update() picks the cheapest correct action for its motion class, as the renderer
+// does for animated scenes (README "Animation"): static meshes are built once, rigid ones only
+// move their instance, deformable ones are refitted (rebuilt when the refit's SAH cost has
+// degraded past EngineOptions::rebuild_threshold), exploding ones are rebuilt. A mesh added
+// with Motion::automatic starts static and is raised to the class its changes show (never
+// lowered).
+//
+// Thread safety. Between two update() calls the engine is read-only: intersect(), occluded()
+// and render() may run concurrently from any number of threads (renders are serialized with
+// each other; queries never wait). Every other call changes the engine and must not overlap
+// any call on the same engine; the engine detects a change made while a query or render is
+// running and throws Error::Code::invalid_state rather than race. Queries see the geometry of
+// the last update(), never changes made since. Different engines are independent.
+//
+// Errors: every failing call throws dynrt::Error (api/error.h) and leaves the engine as it was
+// (update() keeps the last good trees). std::bad_alloc passes through.
+
+#include "dynrt/api/error.h"
+#include "dynrt/api/export.h"
+#include "dynrt/api/types.h"
+#include "dynrt/engine/frame_stats.h"
+
+#include <oneapi/tbb/task_arena.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+
+namespace dynrt {
+
+/// How a mesh moves from step to step (README "Animation" explains the classes).
+enum class Motion : std::uint8_t {
+    /// Inferred from the calls: static until set_transform (then rigid) or set_positions (then
+    /// deformable); a deformable mesh whose refits degrade past the threshold on 3 steps in a
+    /// row is treated as exploding from then on.
+    automatic,
+    /// Never changes: set_positions and set_transform are refused.
+    static_,
+    /// Only its transform changes: set_positions is refused.
+    rigid,
+    /// Same triangles, vertices move: refitted.
+    deformable,
+    /// Anything goes: rebuilt at every step it changed.
+    exploding,
+};
+
+/// "automatic", "static", "rigid", "deformable" or "exploding".
+DYNRT_API const char* motion_name(Motion motion);
+
+/// Who owns a mesh's vertex positions.
+enum class Ownership : std::uint8_t {
+    /// add_mesh and set_positions copy them: the caller's buffer may go away right after.
+    copy,
+    /// The engine keeps a pointer to the caller's buffer and reads it in add_mesh and in every
+    /// update() that follows a set_positions call for the mesh. The buffer must stay alive and
+    /// unchanged during those calls, until the mesh is removed or the engine destroyed, or
+    /// until set_positions points the mesh at another buffer. After writing new positions into
+    /// the same buffer, call set_positions(mesh, buffer) to say so. Saves a copy per step.
+    borrow,
+};
+
+struct MeshDesc {
+    /// For errors and the report; "mesh <id>" when empty.
+    std::string name;
+    /// x, y, z per vertex, in object space. Finite.
+    std::span<const float> positions;
+    /// Three vertex indices per triangle, each less than the vertex count. Always copied.
+    std::span<const std::uint32_t> indices;
+    Motion motion = Motion::automatic;
+    Ownership ownership = Ownership::copy;
+    /// Object to world; finite and affine.
+    Transform transform;
+    Surface surface;
+};
+
+struct EngineOptions {
+    /// Worker threads for update, render and ray batches: 0 runs them on the calling thread's
+    /// oneTBB arena (all cores unless the caller limits it); N > 0 gives the engine an arena of
+    /// its own with N threads.
+    int threads = 0;
+    /// Borrowed: run the engine's work in this arena (it must outlive the engine); overrides
+    /// `threads`.
+    tbb::task_arena* arena = nullptr;
+    /// BVH builds (README "Choosing the cost ratio"): cost of a triangle test per node visit,
+    /// in (0, 1e6], and the largest leaf, in [1, 64].
+    float cost_ratio = 1.0f;
+    int leaf_size = 8;
+    /// Exploding meshes are rebuilt with this cost ratio (shallower trees build faster).
+    float cost_ratio_exploding = 0.3f;
+    /// A deformable mesh is rebuilt when refitting has raised its tree's SAH cost above
+    /// (1 + rebuild_threshold) times its cost at the last build; >= 0, +inf never rebuilds.
+    double rebuild_threshold = 0.3;
+};
+
+/// A caller-owned image the engine renders into. Row-major, y = 0 the top row.
+struct ImageView {
+    int width = 0;
+    int height = 0;
+    /// Linear RGB, 3 floats per pixel: width * height * 3 floats.
+    std::span<float> rgb;
+    /// Optional (empty to skip): distance from the eye along the unit ray, +inf on a miss;
+    /// width * height floats.
+    std::span<float> depth = {};
+    /// Optional (empty to skip): the MeshId value hit, or -1 on a miss; width * height.
+    std::span<std::int32_t> mesh = {};
+};
+
+struct RenderSettings {
+    /// Empty: one light above and behind the eye's side of the scene (the renderer's default
+    /// light, README "Shading").
+    std::vector<Light> lights;
+    Vec3 background{0.05f, 0.06f, 0.08f};
+    /// Ambient term, as a fraction of the diffuse colour.
+    float ambient = 0.08f;
+};
+
+/// What a ray batch cost. Packet rays were traced in 16x16 packets (consecutive runs of 256
+/// coherent rays of the batch); the others one by one.
+struct QueryStats {
+    std::size_t rays = 0;
+    std::size_t hits = 0;  ///< rays that hit (closest) or are occluded (any hit)
+    std::size_t packet_rays = 0;
+    std::size_t single_rays = 0;
+    double ms = 0.0;  ///< wall clock of the call
+    double mrays_per_s = 0.0;
+};
+
+class DYNRT_API Engine {
+public:
+    /// Throws Error (invalid_argument) for bad options.
+    explicit Engine(const EngineOptions& options = {});
+    ~Engine();
+    Engine(Engine&&) noexcept;
+    Engine& operator=(Engine&&) noexcept;
+    Engine(const Engine&) = delete;
+    Engine& operator=(const Engine&) = delete;
+
+    /// Adds a mesh; it is traced from the next update() on. Checks the description (sizes,
+    /// indices in range, finite positions and transform) and throws Error naming the mesh.
+    MeshId add_mesh(const MeshDesc& mesh);
+
+    /// New object-space positions for a deformable, exploding or automatic mesh: the same
+    /// vertex count, finite (checked at the next update(), which names the vertex). Copied or,
+    /// for a borrowed mesh, pointed to (see Ownership::borrow).
+    void set_positions(MeshId mesh, std::span<const float> positions);
+
+    /// A new object-to-world transform (finite, affine) for any mesh but a static one.
+    void set_transform(MeshId mesh, const Transform& transform);
+
+    /// A new material, used from the next render on.
+    void set_surface(MeshId mesh, const Surface& surface);
+
+    /// Takes the mesh out from the next update() on; its id is never reused. For a borrowed
+    /// mesh the engine stops reading the buffer now.
+    void remove_mesh(MeshId mesh);
+
+    /// The class the mesh is treated as now (for automatic meshes, the inferred one).
+    Motion motion(MeshId mesh) const;
+
+    /// Meshes added and not removed.
+    std::size_t mesh_count() const;
+
+    /// Brings every mesh's tree up to date with the changes since the last update (the first
+    /// call builds everything) and returns the step's figures: update_ms (checking and
+    /// gathering vertices), refit / rebuild / top-level ms, what was skipped, refitted and
+    /// rebuilt and why, the SAH cost and tree shape. `frame` in them counts the updates from 0.
+    /// Throws Error naming mesh, step and vertex when geometry is not finite; the engine then
+    /// keeps the trees of the last good update.
+    FrameStats update();
+
+    /// Renders `view` at the image's size with Phong shading and a shadow ray per light (as
+    /// `dynrt render` does) into `image`. Returns the frame's figures: the last update's
+    /// figures plus the trace's (primary, shadow, shade ms, rays, rays/s). Throws Error for a
+    /// degenerate view, spans of the wrong size, or before the first update().
+    FrameStats render(const View& view, const ImageView& image,
+                      const RenderSettings& settings = {}) const;
+
+    /// Closest hit of every ray, hits[i] for rays[i]; the same results as tracing each ray
+    /// alone, bit for bit. Runs of 256 rays that are coherent (directions within a narrow cone,
+    /// of one sign per axis) are traced as packets. Throws Error naming the first bad ray, for
+    /// hits.size() != rays.size(), or before the first update().
+    QueryStats intersect(std::span<const Ray> rays, std::span<RayHit> hits) const;
+
+    /// Whether anything is hit within [tmin, tmax] of every ray (1) or not (0): shadow and
+    /// visibility tests, cheaper than closest hits. Errors as for intersect.
+    QueryStats occluded(std::span<const Ray> rays, std::span<std::uint8_t> occluded) const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+/// Writes linear RGB (3 floats per pixel, row-major, top row first) to an image file; the
+/// extension picks the format (.png and .jpg get sRGB 8-bit, .exr linear floats). Throws Error
+/// naming the file.
+DYNRT_API void save_image(const std::string& path, int width, int height, std::span<const float> rgb);
+
+}  // namespace dynrt

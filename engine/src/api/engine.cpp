@@ -1,0 +1,594 @@
+#include "dynrt/api/engine.h"
+
+#include "dynrt/engine/camera.h"
+#include "dynrt/engine/renderer.h"
+#include "dynrt/scene/scene.h"
+#include "dynrt/scene/scene_error.h"
+#include "access_guard.h"
+#include "frame_tracer.h"
+#include "ray_batch.h"
+#include "scene_accel.h"
+#include "stopwatch.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <mutex>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+namespace dynrt {
+
+// Borrowed positions are read in place as glm::vec3: three packed floats, like the caller's.
+static_assert(sizeof(glm::vec3) == 3 * sizeof(float) && alignof(glm::vec3) == alignof(float));
+static_assert(std::is_standard_layout_v<glm::vec3>);
+
+namespace {
+
+using api_detail::AccessGuard;
+
+/// Deformable meshes whose refits degrade past the threshold on this many updates in a row are
+/// treated as exploding (Motion::automatic): their refits are wasted work.
+constexpr int kDegradedStepsToExploding = 3;
+
+anim::MotionClass to_class(Motion motion) {
+    switch (motion) {
+        case Motion::automatic:
+        case Motion::static_: return anim::MotionClass::static_;
+        case Motion::rigid: return anim::MotionClass::rigid;
+        case Motion::deformable: return anim::MotionClass::deformable;
+        case Motion::exploding: return anim::MotionClass::exploding;
+    }
+    return anim::MotionClass::exploding;
+}
+
+Motion to_motion(anim::MotionClass motion_class) {
+    switch (motion_class) {
+        case anim::MotionClass::static_: return Motion::static_;
+        case anim::MotionClass::rigid: return Motion::rigid;
+        case anim::MotionClass::deformable: return Motion::deformable;
+        case anim::MotionClass::exploding: return Motion::exploding;
+    }
+    return Motion::exploding;
+}
+
+glm::vec3 to_glm(const Vec3& v) { return {v.x, v.y, v.z}; }
+
+std::string format_vec(const glm::vec3& v) {
+    std::ostringstream out;
+    out << '(' << v.x << ", " << v.y << ", " << v.z << ')';
+    return out.str();
+}
+
+Error invalid(const std::string& message) {
+    return Error(Error::Code::invalid_argument, "dynrt::Engine: " + message);
+}
+
+/// The first non-finite position's index, or -1; parallel, for per-step checks of big meshes.
+std::ptrdiff_t first_non_finite(std::span<const glm::vec3> positions) {
+    std::atomic<std::ptrdiff_t> first{-1};
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, positions.size(), 16384),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                          for (std::size_t i = range.begin(); i < range.end(); ++i) {
+                              const glm::vec3& p = positions[i];
+                              if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) {
+                                  continue;
+                              }
+                              std::ptrdiff_t seen = first.load();
+                              while ((seen < 0 || std::ptrdiff_t(i) < seen) &&
+                                     !first.compare_exchange_weak(seen, std::ptrdiff_t(i))) {
+                              }
+                              return;
+                          }
+                      });
+    return first.load();
+}
+
+/// The transform in double, or an Error when it is not finite and affine.
+glm::dmat4 checked_transform(const Transform& transform, const std::string& what) {
+    glm::dmat4 m;
+    for (int c = 0; c < 4; ++c) {
+        for (int r = 0; r < 4; ++r) {
+            const float value = transform.m[std::size_t(c * 4 + r)];
+            if (!std::isfinite(value)) throw invalid(what + ": transform is not finite");
+            m[c][r] = double(value);
+        }
+    }
+    if (m[0][3] != 0.0 || m[1][3] != 0.0 || m[2][3] != 0.0 || m[3][3] != 1.0) {
+        throw invalid(what + ": transform is not affine (its last row must be 0, 0, 0, 1)");
+    }
+    return m;
+}
+
+}  // namespace
+
+/// One mesh of the engine, at the index of its scene object and its MeshId.
+struct MeshSlot {
+    Motion declared = Motion::automatic;
+    /// The class it is treated as now (raised from static for automatic meshes).
+    anim::MotionClass motion_class = anim::MotionClass::static_;
+    Ownership ownership = Ownership::copy;
+    std::vector<glm::vec3> owned;       ///< Ownership::copy
+    std::span<const glm::vec3> borrowed;  ///< Ownership::borrow
+    glm::dmat4 transform{1.0};
+    bool identity = true;
+    bool removed = false;
+    /// Whether an update has taken the mesh in (and checked its world positions if static).
+    bool settled = false;
+    /// Changes since the last update.
+    bool positions_changed = false;
+    bool transform_changed = false;
+    /// Borrowed positions not yet checked for finite values.
+    bool unchecked = false;
+    /// Updates in a row whose refit degraded past the threshold (Motion::automatic).
+    int degraded_steps = 0;
+    /// World positions of a deformable or exploding mesh with a transform (scratch).
+    std::vector<glm::vec3> world;
+
+    std::span<const glm::vec3> positions() const {
+        return ownership == Ownership::copy ? std::span<const glm::vec3>(owned) : borrowed;
+    }
+};
+
+struct Engine::Impl final : FixedPositions {
+    EngineOptions options;
+    std::optional<tbb::task_arena> own_arena;
+    tbb::task_arena* arena = nullptr;
+    UpdatePolicy policy;
+
+    /// Object i of the scene is mesh i (MeshId i); its material is material i.
+    Scene scene;
+    std::vector<MeshSlot> meshes;
+    std::size_t live = 0;
+
+    SceneAccel accel;
+    std::vector<ObjectState> states;
+    int step = 0;
+    bool updated = false;
+    /// An update failed after touching the trees: the next one starts afresh.
+    bool broken = false;
+    FrameStats last_update;
+    double update_wall_ms = 0.0;
+    /// The materials of the last update, as the shading kernel reads them.
+    std::vector<packet::PhongMaterial> materials;
+    std::vector<std::int32_t> object_material;
+
+    AccessGuard guard;
+    /// Renders run one at a time, on these buffers.
+    mutable std::mutex render_mutex;
+    mutable TraceScratch scratch;
+    mutable RenderedFrame frame;
+
+    template <typename Work>
+    decltype(auto) run(Work&& work) const {
+        if (arena) return arena->execute(std::forward<Work>(work));
+        return work();
+    }
+
+    std::string describe(std::size_t i) const {
+        return "mesh '" + scene.objects[i].name + "' (id " + std::to_string(i) + ")";
+    }
+
+    MeshSlot& slot(MeshId id, const char* call) {
+        if (id.value >= meshes.size() || meshes[id.value].removed) {
+            throw invalid(std::string(call) + ": no mesh with id " + std::to_string(id.value) +
+                          (id.value < meshes.size() ? " (it was removed)" : ""));
+        }
+        return meshes[id.value];
+    }
+    const MeshSlot& slot(MeshId id, const char* call) const {
+        return const_cast<Impl*>(this)->slot(id, call);
+    }
+
+    // ---- FixedPositions: static and rigid meshes' vertices, for their builds ----
+    std::span<const glm::vec3> object_space(std::size_t object) const override {
+        return meshes[object].positions();
+    }
+    std::span<const glm::vec3> world(std::size_t object,
+                                     std::vector<glm::vec3>& scratch_positions) const override {
+        const MeshSlot& mesh = meshes[object];
+        if (mesh.identity) return mesh.positions();
+        transform_positions(mesh, scratch_positions);
+        return scratch_positions;
+    }
+
+    /// world = transform * positions, in double and rounded once (as the scene poser does).
+    static void transform_positions(const MeshSlot& mesh, std::vector<glm::vec3>& out) {
+        const std::span<const glm::vec3> in = mesh.positions();
+        out.resize(in.size());
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, in.size(), 16384),
+                          [&](const tbb::blocked_range<std::size_t>& range) {
+                              for (std::size_t i = range.begin(); i < range.end(); ++i) {
+                                  out[i] = glm::vec3(mesh.transform * glm::dvec4(glm::dvec3(in[i]), 1.0));
+                              }
+                          });
+    }
+
+    void check_positions(std::size_t i, std::span<const glm::vec3> positions, const char* what,
+                         bool at_update) const {
+        const std::ptrdiff_t bad = first_non_finite(positions);
+        if (bad < 0) return;
+        const std::string where = describe(i) + (at_update ? ", step " + std::to_string(step) : "");
+        throw Error(at_update ? Error::Code::invalid_geometry : Error::Code::invalid_argument,
+                    "dynrt::Engine: " + where + ": " + what + " vertex " + std::to_string(bad) +
+                        " is not finite " + format_vec(positions[std::size_t(bad)]));
+    }
+
+    FrameStats update();
+    void refresh_materials();
+};
+
+Engine::Engine(const EngineOptions& options) : impl_(std::make_unique<Impl>()) {
+    Impl& s = *impl_;
+    if (options.threads < 0) throw invalid("threads " + std::to_string(options.threads) + " < 0");
+    if (!(options.cost_ratio > 0.0f && options.cost_ratio <= 1e6f)) {
+        throw invalid("cost_ratio must be in (0, 1e6]");
+    }
+    if (!(options.cost_ratio_exploding > 0.0f && options.cost_ratio_exploding <= 1e6f)) {
+        throw invalid("cost_ratio_exploding must be in (0, 1e6]");
+    }
+    if (options.leaf_size < 1 || options.leaf_size > 64) {
+        throw invalid("leaf_size " + std::to_string(options.leaf_size) + " outside [1, 64]");
+    }
+    if (!(options.rebuild_threshold >= 0.0)) throw invalid("rebuild_threshold must be >= 0");
+    s.options = options;
+    if (options.arena) {
+        s.arena = options.arena;
+    } else if (options.threads > 0) {
+        s.own_arena.emplace(options.threads);
+        s.arena = &*s.own_arena;
+    }
+    s.policy.build.cost_ratio = options.cost_ratio;
+    s.policy.build.leaf_size_max = std::uint32_t(options.leaf_size);
+    s.policy.exploding_cost_ratio = options.cost_ratio_exploding;
+    s.policy.rebuild_threshold = options.rebuild_threshold;
+}
+
+Engine::~Engine() = default;
+Engine::Engine(Engine&&) noexcept = default;
+Engine& Engine::operator=(Engine&&) noexcept = default;
+
+MeshId Engine::add_mesh(const MeshDesc& desc) {
+    Impl& s = *impl_;
+    const AccessGuard::Write write(s.guard);
+    const std::size_t id = s.meshes.size();
+    const std::string name = desc.name.empty() ? "mesh " + std::to_string(id) : desc.name;
+    const std::string what = "add_mesh '" + name + "'";
+    if (desc.positions.size() % 3 != 0) {
+        throw invalid(what + ": positions hold " + std::to_string(desc.positions.size()) +
+                      " floats, not a multiple of 3");
+    }
+    if (desc.indices.size() % 3 != 0) {
+        throw invalid(what + ": indices hold " + std::to_string(desc.indices.size()) +
+                      " values, not a multiple of 3");
+    }
+    const std::size_t vertices = desc.positions.size() / 3;
+    if (vertices > std::size_t(std::numeric_limits<std::uint32_t>::max()) ||
+        desc.indices.size() / 3 > std::size_t(std::numeric_limits<std::uint32_t>::max() / 2)) {
+        throw invalid(what + ": too many vertices or triangles");
+    }
+    for (std::size_t k = 0; k < desc.indices.size(); ++k) {
+        if (desc.indices[k] >= vertices) {
+            throw invalid(what + ": index " + std::to_string(k) + " (triangle " +
+                          std::to_string(k / 3) + ") is " + std::to_string(desc.indices[k]) +
+                          ", but the mesh has " + std::to_string(vertices) + " vertices");
+        }
+    }
+    const glm::dmat4 transform = checked_transform(desc.transform, what);
+    const std::span<const glm::vec3> positions(
+        reinterpret_cast<const glm::vec3*>(desc.positions.data()), vertices);
+    if (const std::ptrdiff_t bad = first_non_finite(positions); bad >= 0) {
+        throw invalid(what + ": vertex " + std::to_string(bad) + " is not finite " +
+                      format_vec(positions[std::size_t(bad)]));
+    }
+    const glm::vec3 diffuse = to_glm(desc.surface.diffuse), specular = to_glm(desc.surface.specular);
+    if (!std::isfinite(desc.surface.shininess) || desc.surface.shininess < 0.0f ||
+        first_non_finite(std::span<const glm::vec3>(&diffuse, 1)) >= 0 ||
+        first_non_finite(std::span<const glm::vec3>(&specular, 1)) >= 0) {
+        throw invalid(what + ": surface colours and shininess must be finite, shininess >= 0");
+    }
+
+    MeshSlot mesh;
+    mesh.declared = desc.motion;
+    mesh.motion_class = to_class(desc.motion);
+    mesh.ownership = desc.ownership;
+    if (desc.ownership == Ownership::copy) {
+        mesh.owned.assign(positions.begin(), positions.end());
+    } else {
+        mesh.borrowed = positions;
+    }
+    mesh.transform = transform;
+    mesh.identity = transform == glm::dmat4(1.0);
+
+    Object object;
+    object.name = name;
+    object.mesh.triangles.resize(desc.indices.size() / 3);
+    for (std::size_t t = 0; t < object.mesh.triangles.size(); ++t) {
+        object.mesh.triangles[t] = {desc.indices[3 * t], desc.indices[3 * t + 1],
+                                    desc.indices[3 * t + 2]};
+    }
+    object.material = std::uint32_t(id);
+    Material material;
+    material.name = name;
+    material.diffuse = diffuse;
+    material.specular = specular;
+    material.shininess = desc.surface.shininess;
+
+    s.scene.objects.push_back(std::move(object));
+    s.scene.materials.push_back(std::move(material));
+    s.meshes.push_back(std::move(mesh));
+    ++s.live;
+    return MeshId{std::uint32_t(id)};
+}
+
+void Engine::set_positions(MeshId id, std::span<const float> positions) {
+    Impl& s = *impl_;
+    const AccessGuard::Write write(s.guard);
+    MeshSlot& mesh = s.slot(id, "set_positions");
+    const std::string what = "set_positions: " + s.describe(id.value);
+    if (mesh.declared == Motion::static_ || mesh.declared == Motion::rigid) {
+        throw invalid(what + " was added as " + motion_name(mesh.declared) +
+                      ", so its vertices cannot move");
+    }
+    const std::size_t count = mesh.positions().size();
+    if (positions.size() != 3 * count) {
+        throw invalid(what + ": " + std::to_string(positions.size()) + " floats given, " +
+                      std::to_string(3 * count) + " expected (3 per vertex, same vertex count)");
+    }
+    const std::span<const glm::vec3> given(reinterpret_cast<const glm::vec3*>(positions.data()),
+                                           count);
+    if (mesh.ownership == Ownership::copy) {
+        s.run([&] { s.check_positions(id.value, given, "new", false); });
+        std::copy(given.begin(), given.end(), mesh.owned.begin());
+    } else {
+        mesh.borrowed = given;
+        mesh.unchecked = true;
+    }
+    mesh.positions_changed = true;
+}
+
+void Engine::set_transform(MeshId id, const Transform& transform) {
+    Impl& s = *impl_;
+    const AccessGuard::Write write(s.guard);
+    MeshSlot& mesh = s.slot(id, "set_transform");
+    const std::string what = "set_transform: " + s.describe(id.value);
+    if (mesh.declared == Motion::static_) throw invalid(what + " was added as static");
+    mesh.transform = checked_transform(transform, what);
+    mesh.identity = mesh.transform == glm::dmat4(1.0);
+    mesh.transform_changed = true;
+}
+
+void Engine::set_surface(MeshId id, const Surface& surface) {
+    Impl& s = *impl_;
+    const AccessGuard::Write write(s.guard);
+    s.slot(id, "set_surface");
+    const glm::vec3 diffuse = to_glm(surface.diffuse), specular = to_glm(surface.specular);
+    if (!std::isfinite(surface.shininess) || surface.shininess < 0.0f ||
+        first_non_finite(std::span<const glm::vec3>(&diffuse, 1)) >= 0 ||
+        first_non_finite(std::span<const glm::vec3>(&specular, 1)) >= 0) {
+        throw invalid("set_surface: " + s.describe(id.value) +
+                      ": colours and shininess must be finite, shininess >= 0");
+    }
+    Material& material = s.scene.materials[id.value];
+    material.diffuse = diffuse;
+    material.specular = specular;
+    material.shininess = surface.shininess;
+}
+
+void Engine::remove_mesh(MeshId id) {
+    Impl& s = *impl_;
+    const AccessGuard::Write write(s.guard);
+    MeshSlot& mesh = s.slot(id, "remove_mesh");
+    // The slot stays (ids index the scene) with no triangles; its tree is rebuilt empty.
+    mesh.removed = true;
+    mesh.borrowed = {};
+    mesh.owned.clear();
+    mesh.owned.shrink_to_fit();
+    mesh.world.clear();
+    s.scene.objects[id.value].mesh.triangles.clear();
+    s.scene.objects[id.value].mesh.triangles.shrink_to_fit();
+    s.accel.invalidate(id.value);
+    --s.live;
+}
+
+Motion Engine::motion(MeshId id) const {
+    return to_motion(impl_->slot(id, "motion").motion_class);
+}
+
+std::size_t Engine::mesh_count() const { return impl_->live; }
+
+FrameStats Engine::update() {
+    Impl& s = *impl_;
+    const AccessGuard::Write write(s.guard);
+    return s.run([&] { return s.update(); });
+}
+
+FrameStats Engine::Impl::update() {
+    const Stopwatch wall;
+    FrameStats stats;
+    stats.frame = step;
+    Stopwatch clock;
+    // ---- Classes, world positions and checks: nothing is changed until all pass ----
+    std::vector<anim::MotionClass> classes(meshes.size());
+    states.resize(meshes.size());
+    for (std::size_t i = 0; i < meshes.size(); ++i) {
+        MeshSlot& mesh = meshes[i];
+        anim::MotionClass motion_class = mesh.motion_class;
+        if (mesh.declared == Motion::automatic && !mesh.removed) {
+            if (mesh.transform_changed) motion_class = std::max(motion_class, anim::MotionClass::rigid);
+            if (mesh.positions_changed) {
+                motion_class = std::max(motion_class, anim::MotionClass::deformable);
+            }
+        }
+        classes[i] = motion_class;
+        ObjectState& state = states[i];
+        state.motion_class = motion_class;
+        state.changed = mesh.positions_changed || mesh.transform_changed;
+        state.transform = mesh.transform;
+        state.world_positions = {};
+        if (mesh.unchecked) check_positions(i, mesh.positions(), "borrowed", true);
+        const bool moving = motion_class == anim::MotionClass::deformable ||
+                            motion_class == anim::MotionClass::exploding;
+        if (moving) {
+            if (mesh.identity) {
+                state.world_positions = mesh.positions();
+            } else {
+                if (state.changed || mesh.world.size() != mesh.positions().size()) {
+                    transform_positions(mesh, mesh.world);
+                    check_positions(i, mesh.world, "transformed", true);
+                }
+                state.world_positions = mesh.world;
+            }
+        } else if (motion_class == anim::MotionClass::static_ && !mesh.identity && !mesh.settled) {
+            // Joining the static group: its world positions must be finite.
+            std::vector<glm::vec3> world_positions;
+            transform_positions(mesh, world_positions);
+            check_positions(i, world_positions, "transformed", true);
+        }
+    }
+    stats.update_ms = clock.lap_ms();
+
+    // ---- The trees ----
+    if (broken) accel.clear();
+    broken = true;
+    accel.update(scene, states, *this, policy, stats);
+    broken = false;
+    for (std::size_t i = 0; i < meshes.size(); ++i) {
+        MeshSlot& mesh = meshes[i];
+        mesh.motion_class = classes[i];
+        mesh.settled = true;
+        mesh.positions_changed = mesh.transform_changed = mesh.unchecked = false;
+    }
+    // Automatic deformable meshes whose refits keep degrading are rebuilt anyway: treat them
+    // as exploding, which skips the refit.
+    std::vector<bool> degraded(meshes.size(), false);
+    for (const TreeRebuild& rebuild : stats.rebuilds) {
+        if (rebuild.reason == std::string("sah degraded")) degraded[rebuild.object] = true;
+    }
+    for (std::size_t i = 0; i < meshes.size(); ++i) {
+        MeshSlot& mesh = meshes[i];
+        if (mesh.declared != Motion::automatic ||
+            mesh.motion_class != anim::MotionClass::deformable || !states[i].changed) {
+            continue;
+        }
+        mesh.degraded_steps = degraded[i] ? mesh.degraded_steps + 1 : 0;
+        if (mesh.degraded_steps >= kDegradedStepsToExploding) {
+            mesh.motion_class = anim::MotionClass::exploding;
+        }
+    }
+    refresh_materials();
+    stats.total_ms = wall.elapsed_ms();
+    last_update = stats;
+    update_wall_ms = stats.total_ms;
+    updated = true;
+    ++step;
+    return stats;
+}
+
+void Engine::Impl::refresh_materials() {
+    materials.clear();
+    for (const Material& m : scene.materials) {
+        materials.push_back(packet::PhongMaterial{m.diffuse, m.specular, m.shininess});
+    }
+    object_material.clear();
+    for (const Object& object : scene.objects) object_material.push_back(std::int32_t(object.material));
+}
+
+FrameStats Engine::render(const View& view, const ImageView& image,
+                          const RenderSettings& settings) const {
+    const Impl& s = *impl_;
+    const AccessGuard::Read read(s.guard);
+    if (!s.updated) {
+        throw Error(Error::Code::invalid_state, "dynrt::Engine: render before the first update()");
+    }
+    if (image.width <= 0 || image.height <= 0 || image.width > 65536 || image.height > 65536) {
+        throw invalid("render: image size " + std::to_string(image.width) + "x" +
+                      std::to_string(image.height) + " outside 1..65536");
+    }
+    const std::size_t pixels = std::size_t(image.width) * std::size_t(image.height);
+    const auto check_size = [&](std::size_t size, std::size_t per_pixel, const char* name) {
+        if (size != pixels * per_pixel) {
+            throw invalid(std::string("render: ") + name + " holds " + std::to_string(size) +
+                          " values, " + std::to_string(pixels * per_pixel) + " expected");
+        }
+    };
+    check_size(image.rgb.size(), 3, "rgb");
+    if (!image.depth.empty()) check_size(image.depth.size(), 1, "depth");
+    if (!image.mesh.empty()) check_size(image.mesh.size(), 1, "mesh");
+    Camera camera;
+    camera.eye = to_glm(view.eye);
+    camera.target = to_glm(view.target);
+    camera.up = to_glm(view.up);
+    camera.fov_y_deg = view.fov_y_deg;
+    RenderOptions options;
+    options.width = image.width;
+    options.height = image.height;
+    options.background = to_glm(settings.background);
+    options.ambient = settings.ambient;
+    options.hit_buffers = !image.depth.empty() || !image.mesh.empty();
+    if (!std::isfinite(options.ambient) ||
+        first_non_finite(std::span<const glm::vec3>(&options.background, 1)) >= 0) {
+        throw invalid("render: background and ambient must be finite");
+    }
+    std::vector<PointLight> lights;
+    for (const Light& light : settings.lights) {
+        const glm::vec3 position = to_glm(light.position);
+        if (first_non_finite(std::span<const glm::vec3>(&position, 1)) >= 0 ||
+            !std::isfinite(light.intensity)) {
+            throw invalid("render: light position and intensity must be finite");
+        }
+        lights.push_back(PointLight{position, light.intensity});
+    }
+    if (lights.empty()) {
+        const bvh::Aabb bounds = s.accel.world_bounds();
+        lights.push_back(bounds.is_empty() ? PointLight{} : default_light(bounds));
+    }
+
+    const std::lock_guard<std::mutex> lock(s.render_mutex);
+    RenderedFrame& frame = s.frame;
+    try {
+        s.run([&] {
+            const Stopwatch clock;
+            frame.stats = s.last_update;
+            trace_frame(TraceInputs{s.accel, s.materials, s.object_material, lights}, camera,
+                        options, s.scratch, frame);
+            frame.stats.total_ms = s.update_wall_ms + clock.elapsed_ms();
+        });
+    } catch (const std::invalid_argument& e) {
+        throw invalid(std::string("render: ") + e.what());
+    }
+    std::copy_n(&frame.color[0].x, 3 * pixels, image.rgb.begin());
+    if (!image.depth.empty()) std::copy(frame.depth.begin(), frame.depth.end(), image.depth.begin());
+    if (!image.mesh.empty()) std::copy(frame.object.begin(), frame.object.end(), image.mesh.begin());
+    return frame.stats;
+}
+
+QueryStats Engine::intersect(std::span<const Ray> rays, std::span<RayHit> hits) const {
+    const Impl& s = *impl_;
+    const AccessGuard::Read read(s.guard);
+    if (!s.updated) {
+        throw Error(Error::Code::invalid_state, "dynrt::Engine: intersect before the first update()");
+    }
+    return s.run([&] { return api_detail::intersect_batch(s.accel, rays, hits); });
+}
+
+QueryStats Engine::occluded(std::span<const Ray> rays, std::span<std::uint8_t> occluded) const {
+    const Impl& s = *impl_;
+    const AccessGuard::Read read(s.guard);
+    if (!s.updated) {
+        throw Error(Error::Code::invalid_state, "dynrt::Engine: occluded before the first update()");
+    }
+    return s.run([&] { return api_detail::occluded_batch(s.accel, rays, occluded); });
+}
+
+}  // namespace dynrt

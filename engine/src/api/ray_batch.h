@@ -1,0 +1,31 @@
+#pragma once
+// Tracing a caller's batch of arbitrary rays through a SceneAccel (Engine::intersect and
+// Engine::occluded): the batch is cut into runs of 256 consecutive rays; a run whose rays are
+// coherent is traced as one packet (packet/), any other ray by ray. Both give the same hits bit
+// for bit (the packet tracer's contract), so the choice only changes the time.
+
+#include "dynrt/api/engine.h"
+#include "dynrt/api/types.h"
+#include "scene_accel.h"
+
+#include <cstdint>
+#include <span>
+
+namespace dynrt::api_detail {
+
+/// A run of rays is traced as a packet when all of its directions have the same sign on each
+/// axis and lie within this cosine of their mean direction (about 25 degrees): packets share
+/// one traversal, which pays while the rays visit mostly the same nodes. Measured in
+/// benchmarks/bm_api.cpp; wide runs (a whole lidar sweep) are faster ray by ray.
+inline constexpr float kCoherentCosine = 0.9f;
+
+/// Closest hits (`hits` sized as `rays`). Throws Error naming the first invalid ray found
+/// (rays are checked in parallel, so "first" is in the order found). Thread-safe.
+QueryStats intersect_batch(const SceneAccel& accel, std::span<const Ray> rays,
+                           std::span<RayHit> hits);
+
+/// Any hit: occluded[i] = 1 when rays[i] hits anything within [tmin, tmax], else 0.
+QueryStats occluded_batch(const SceneAccel& accel, std::span<const Ray> rays,
+                          std::span<std::uint8_t> occluded);
+
+}  // namespace dynrt::api_detail

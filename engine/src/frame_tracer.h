@@ -1,0 +1,44 @@
+#pragma once
+// Tracing and shading one frame through a SceneAccel: primary rays in 16x16 tiles, a shadow
+// ray per hit and light, Phong shading (renderer.h describes the model). The renderer calls it
+// after posing a scene's frame; the library API (dynrt/dynrt.h) after its caller's update.
+
+#include "dynrt/bvh/two_level_bvh.h"
+#include "dynrt/engine/camera.h"
+#include "dynrt/engine/renderer.h"
+#include "dynrt/packet/packet_shading.h"
+#include "scene_accel.h"
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace dynrt {
+
+/// What a frame's trace reads besides the camera and options; borrowed for the call.
+struct TraceInputs {
+    const SceneAccel& accel;
+    /// Materials as the shading kernel reads them, and each object's index into them.
+    std::span<const packet::PhongMaterial> materials;
+    const std::vector<std::int32_t>& object_material;
+    std::span<const PointLight> lights;
+};
+
+/// Buffers a trace fills and the next one reuses (one per concurrent trace).
+struct TraceScratch {
+    std::vector<bvh::InstanceHit> hits;
+    /// visible[pixel * lights + l]: light l reaches the pixel's hit point (single-ray tracer;
+    /// the packet tracer keeps its verdicts per tile).
+    std::vector<std::uint8_t> visible;
+    std::vector<packet::ShadingLight> shading_lights;
+};
+
+/// Renders `camera`'s view at options.width x options.height into `out` (its buffers reused),
+/// with options' tracer, culling, adaptive tolerance, lights' shading, background and ambient
+/// (options.lights is ignored: `in.lights` are the lights). Sets the trace's fields of
+/// out.stats (primary, shadow and shade ms and rays, rays/s, interpolated pixels, packet work)
+/// and leaves the others as they are. Throws std::invalid_argument for a degenerate camera.
+void trace_frame(const TraceInputs& in, const Camera& camera, const RenderOptions& options,
+                 TraceScratch& scratch, RenderedFrame& out);
+
+}  // namespace dynrt

@@ -9,10 +9,10 @@
 #include <tbb/combinable.h>
 #include <tbb/parallel_for.h>
 
-#include <glm/geometric.hpp>
-
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <string>
 
 namespace dynrt::api_detail {
@@ -22,12 +22,11 @@ namespace {
 constexpr std::size_t kRun = packet::kPacketRays;
 
 bool finite(const Vec3& v) {
-    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+    return std::isfinite(v.x) & std::isfinite(v.y) & std::isfinite(v.z);
 }
 
-/// The engine's ray for `ray`, or an Error naming ray `index` and what is wrong with it.
-bvh::Ray checked(const Ray& ray, std::size_t index) {
-    const char* problem = nullptr;
+[[noreturn]] void throw_bad_ray(const Ray& ray, std::size_t index) {
+    const char* problem = "tmax is not >= tmin";
     if (!finite(ray.origin)) {
         problem = "origin is not finite";
     } else if (!finite(ray.direction)) {
@@ -36,43 +35,58 @@ bvh::Ray checked(const Ray& ray, std::size_t index) {
         problem = "direction is zero";
     } else if (!(ray.tmin >= 0.0f) || std::isinf(ray.tmin)) {
         problem = "tmin is not finite and >= 0";
-    } else if (!(ray.tmax >= ray.tmin)) {
-        problem = "tmax is not >= tmin";
     }
-    if (problem) {
-        throw Error(Error::Code::invalid_argument,
-                    "dynrt::Engine: ray " + std::to_string(index) + ": " + problem);
-    }
-    return bvh::Ray{{ray.origin.x, ray.origin.y, ray.origin.z},
-                    {ray.direction.x, ray.direction.y, ray.direction.z},
-                    ray.tmin,
-                    ray.tmax};
+    throw Error(Error::Code::invalid_argument,
+                "dynrt::Engine: ray " + std::to_string(index) + ": " + problem);
 }
 
-/// Whether rays [first, first + n) may share a packet: one direction sign per axis, and every
-/// direction within kCoherentCosine of their mean.
-bool coherent(std::span<const bvh::Ray> rays) {
-    const auto signs = [](const glm::vec3& d) {
-        return int(std::signbit(d.x)) | int(std::signbit(d.y)) << 1 | int(std::signbit(d.z)) << 2;
-    };
-    const int octant = signs(rays[0].dir);
-    glm::vec3 sum{0.0f};
-    for (const bvh::Ray& ray : rays) {
-        if (signs(ray.dir) != octant) return false;
-        sum += glm::normalize(ray.dir);
+/// Loads rays [first, first + n) into lanes 0..n-1 of `packet` (the others inactive), checking
+/// each (an Error names a bad one), and returns whether they are coherent: every direction
+/// within kCoherentCosine of the run's middle ray's, with its sign on every axis. One pass and
+/// no square root: cos(d, r) >= c is tested as (d.r)^2 >= c^2 |d|^2 |r|^2 with d.r > 0.
+bool load_run(std::span<const Ray> rays, std::size_t first, std::size_t n,
+              packet::RayPacket& packet) {
+    const Vec3& r = rays[first + n / 2].direction;
+    const float rr = r.x * r.x + r.y * r.y + r.z * r.z;
+    const float c2 = kCoherentCosine * kCoherentCosine;
+    bool coherent = true;
+    for (std::size_t i = 0; i < n; ++i) {
+        const Ray& ray = rays[first + i];
+        const Vec3& o = ray.origin;
+        const Vec3& d = ray.direction;
+        const bool valid = finite(o) & finite(d) &
+                           ((d.x != 0.0f) | (d.y != 0.0f) | (d.z != 0.0f)) &
+                           (ray.tmin >= 0.0f) &
+                           (ray.tmin < std::numeric_limits<float>::infinity()) &
+                           (ray.tmax >= ray.tmin);
+        if (!valid) throw_bad_ray(ray, first + i);
+        packet.org_x[i] = o.x;
+        packet.org_y[i] = o.y;
+        packet.org_z[i] = o.z;
+        packet.dir_x[i] = d.x;
+        packet.dir_y[i] = d.y;
+        packet.dir_z[i] = d.z;
+        packet.tmin[i] = ray.tmin;
+        packet.tmax[i] = ray.tmax;
+        const float dr = d.x * r.x + d.y * r.y + d.z * r.z;
+        const float dd = d.x * d.x + d.y * d.y + d.z * d.z;
+        const bool same_signs = (std::signbit(d.x) == std::signbit(r.x)) &
+                                (std::signbit(d.y) == std::signbit(r.y)) &
+                                (std::signbit(d.z) == std::signbit(r.z));
+        coherent &= same_signs & (dr > 0.0f) & (dr * dr >= c2 * dd * rr);
     }
-    const glm::vec3 mean = glm::normalize(sum);
-    return std::all_of(rays.begin(), rays.end(), [&](const bvh::Ray& ray) {
-        return glm::dot(glm::normalize(ray.dir), mean) >= kCoherentCosine;
-    });
+    packet.active = packet::LaneMask{};
+    for (std::size_t w = 0; w < n / 64; ++w) packet.active.words[w] = ~std::uint64_t{0};
+    if (n % 64) packet.active.words[n / 64] = (std::uint64_t{1} << (n % 64)) - 1;
+    return coherent;
 }
 
 struct RunWork {
     std::size_t hits = 0, packet_rays = 0, single_rays = 0;
 };
 
-/// Runs per_run(first, rays of the run as engine rays, work) over runs of kRun rays in
-/// parallel, and sums the work into QueryStats.
+/// Runs per_run(first, n, the run's packet, whether it is coherent, work) over the runs of kRun
+/// rays in parallel, and sums the work into QueryStats.
 template <typename PerRun>
 QueryStats for_each_run(std::span<const Ray> rays, std::size_t outputs, PerRun&& per_run) {
     if (outputs != rays.size()) {
@@ -85,9 +99,9 @@ QueryStats for_each_run(std::span<const Ray> rays, std::size_t outputs, PerRun&&
     const std::size_t runs = (rays.size() + kRun - 1) / kRun;
     tbb::parallel_for(std::size_t(0), runs, [&](std::size_t r) {
         const std::size_t first = r * kRun, n = std::min(kRun, rays.size() - first);
-        bvh::Ray run[kRun];
-        for (std::size_t i = 0; i < n; ++i) run[i] = checked(rays[first + i], first + i);
-        per_run(first, std::span<const bvh::Ray>(run, n), work.local());
+        packet::RayPacket packet;
+        const bool coherent = load_run(rays, first, n, packet);
+        per_run(first, n, packet, coherent, work.local());
     });
     const RunWork sum = work.combine([](RunWork a, const RunWork& b) {
         return RunWork{a.hits + b.hits, a.packet_rays + b.packet_rays,
@@ -101,11 +115,6 @@ QueryStats for_each_run(std::span<const Ray> rays, std::size_t outputs, PerRun&&
     stats.ms = clock.elapsed_ms();
     stats.mrays_per_s = stats.ms > 0.0 ? double(stats.rays) / (stats.ms * 1e3) : 0.0;
     return stats;
-}
-
-void fill_packet(std::span<const bvh::Ray> run, packet::RayPacket& packet) {
-    packet.clear();
-    for (std::size_t i = 0; i < run.size(); ++i) packet.set_ray(int(i), run[i]);
 }
 
 RayHit to_api(const bvh::InstanceHit& hit) {
@@ -124,57 +133,50 @@ RayHit to_api(const bvh::InstanceHit& hit) {
 QueryStats intersect_batch(const SceneAccel& accel, std::span<const Ray> rays,
                            std::span<RayHit> hits) {
     const bvh::TwoLevelBvh& tlas = accel.top_level();
-    return for_each_run(rays, hits.size(), [&](std::size_t first, std::span<const bvh::Ray> run,
+    return for_each_run(rays, hits.size(), [&](std::size_t first, std::size_t n,
+                                                const packet::RayPacket& packet, bool coherent,
                                                 RunWork& work) {
-        if (coherent(run)) {
-            packet::RayPacket packet;
-            packet::InstanceHits packet_hits;
-            fill_packet(run, packet);
-            packet::intersect_closest(tlas, packet, packet_hits);
-            for (std::size_t i = 0; i < run.size(); ++i) {
-                bvh::InstanceHit hit = packet_hits.hit(int(i));
-                accel.resolve(hit);
-                hits[first + i] = to_api(hit);
-                work.hits += hit.is_hit();
-            }
-            work.packet_rays += run.size();
-            return;
-        }
-        for (std::size_t i = 0; i < run.size(); ++i) {
-            bvh::InstanceHit hit = bvh::intersect_closest(tlas, run[i]);
+        const auto store = [&](std::size_t i, bvh::InstanceHit hit) {
             accel.resolve(hit);
             hits[first + i] = to_api(hit);
             work.hits += hit.is_hit();
+        };
+        if (coherent) {
+            packet::InstanceHits packet_hits;
+            packet::intersect_closest(tlas, packet, packet_hits);
+            for (std::size_t i = 0; i < n; ++i) store(i, packet_hits.hit(int(i)));
+            work.packet_rays += n;
+        } else {
+            for (std::size_t i = 0; i < n; ++i) {
+                store(i, bvh::intersect_closest(tlas, packet.ray(int(i))));
+            }
+            work.single_rays += n;
         }
-        work.single_rays += run.size();
     });
 }
 
 QueryStats occluded_batch(const SceneAccel& accel, std::span<const Ray> rays,
                           std::span<std::uint8_t> occluded) {
     const bvh::TwoLevelBvh& tlas = accel.top_level();
-    return for_each_run(rays, occluded.size(), [&](std::size_t first,
-                                                    std::span<const bvh::Ray> run,
-                                                    RunWork& work) {
-        if (coherent(run)) {
-            packet::RayPacket packet;
+    return for_each_run(rays, occluded.size(), [&](std::size_t first, std::size_t n,
+                                                    const packet::RayPacket& packet,
+                                                    bool coherent, RunWork& work) {
+        if (coherent) {
             packet::LaneMask blocked;
-            fill_packet(run, packet);
             packet::intersect_any(tlas, packet, blocked);
-            for (std::size_t i = 0; i < run.size(); ++i) {
-                const bool hit = blocked.test(int(i));
+            for (std::size_t i = 0; i < n; ++i) {
+                occluded[first + i] = blocked.test(int(i));
+                work.hits += blocked.test(int(i));
+            }
+            work.packet_rays += n;
+        } else {
+            for (std::size_t i = 0; i < n; ++i) {
+                const bool hit = bvh::intersect_any(tlas, packet.ray(int(i)));
                 occluded[first + i] = hit;
                 work.hits += hit;
             }
-            work.packet_rays += run.size();
-            return;
+            work.single_rays += n;
         }
-        for (std::size_t i = 0; i < run.size(); ++i) {
-            const bool hit = bvh::intersect_any(tlas, run[i]);
-            occluded[first + i] = hit;
-            work.hits += hit;
-        }
-        work.single_rays += run.size();
     });
 }
 

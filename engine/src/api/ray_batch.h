@@ -13,10 +13,10 @@
 
 namespace dynrt::api_detail {
 
-/// A run of rays is traced as a packet when all of its directions have the same sign on each
-/// axis and lie within this cosine of their mean direction (about 25 degrees): packets share
-/// one traversal, which pays while the rays visit mostly the same nodes. Measured in
-/// benchmarks/bm_api.cpp; wide runs (a whole lidar sweep) are faster ray by ray.
+/// A run of rays is traced as a packet when every direction has the signs of the run's middle
+/// ray's direction and lies within this cosine of it (about 25 degrees): packets share one
+/// traversal, which pays while the rays visit mostly the same nodes. Measured in
+/// benchmarks/bm_api.cpp.
 inline constexpr float kCoherentCosine = 0.9f;
 
 /// Closest hits (`hits` sized as `rays`). Throws Error naming the first invalid ray found

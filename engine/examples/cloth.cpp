@@ -407,10 +407,19 @@ int run(const Options& options) {
                 ++images;
             }
         }
-        std::printf("%5d %7.2f %9.2f %8.2f %10.2f %12.3f %8.2f %3zu/%-3zu %8s\n", step,
+        std::printf("%5d %7.2f %9.2f %8.2f %10.2f %12.3f %8.2f %3zu/%-3zu %8s", step,
                     sim_ms.back(), stats.update_ms, stats.refit_ms, stats.rebuild_ms,
                     stats.top_level_ms, stats.total_ms, stats.objects_refitted,
                     stats.objects_rebuilt, trace);
+        // Why a tree was rebuilt: for the cloth, its refitted tree's SAH cost passed
+        // (1 + EngineOptions::rebuild_threshold) times its cost at the last build.
+        for (const dynrt::TreeRebuild& rebuild : stats.rebuilds) {
+            std::printf("  rebuilt %s: %s", rebuild.name.c_str(), rebuild.reason.c_str());
+            if (rebuild.sah_at_last_build > 0.0) {
+                std::printf(" (SAH %.1f -> %.1f)", rebuild.sah_at_last_build, rebuild.sah_refitted);
+            }
+        }
+        std::printf("\n");
     }
 
     std::printf("median over %d steps: sim %.2f ms, update total %.2f ms (update_ms %.2f, "

@@ -148,7 +148,8 @@ std::vector<std::uint32_t> ray_order(const std::string& order, int channels, int
 dynrt::Vec3 mesh_colour(std::uint32_t mesh) {
     static constexpr dynrt::Vec3 kPalette[] = {
         {0.5f, 0.5f, 0.5f}, {0.9f, 0.8f, 0.5f}, {0.9f, 0.3f, 0.2f}, {0.3f, 0.8f, 0.3f},
-        {0.3f, 0.5f, 1.0f}, {0.9f, 0.5f, 0.9f}, {0.2f, 0.9f, 0.9f}, {1.0f, 0.6f, 0.2f}};
+        {0.3f, 0.5f, 1.0f}, {0.9f, 0.5f, 0.9f}, {0.2f, 0.9f, 0.9f}, {1.0f, 0.6f, 0.2f},
+        {1.0f, 1.0f, 1.0f}};
     return kPalette[mesh % (sizeof kPalette / sizeof kPalette[0])];
 }
 

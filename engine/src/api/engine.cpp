@@ -191,15 +191,28 @@ struct Engine::Impl final : FixedPositions {
     }
 
     // ---- FixedPositions: static and rigid meshes' vertices, for their builds ----
+    // A build reads a borrowed buffer again (the static group is rebuilt whenever a static mesh
+    // joins or leaves it), and the caller may have changed it since add_mesh checked it.
     std::span<const glm::vec3> object_space(std::size_t object) const override {
-        return meshes[object].positions();
+        return fixed_positions(object);
     }
     std::span<const glm::vec3> world(std::size_t object,
                                      std::vector<glm::vec3>& scratch_positions) const override {
         const MeshSlot& mesh = meshes[object];
-        if (mesh.identity) return mesh.positions();
+        if (mesh.identity) return fixed_positions(object);
+        fixed_positions(object);
         transform_positions(mesh, scratch_positions);
+        if (mesh.ownership == Ownership::borrow) {
+            check_positions(object, scratch_positions, "transformed", true);
+        }
         return scratch_positions;
+    }
+    std::span<const glm::vec3> fixed_positions(std::size_t object) const {
+        const MeshSlot& mesh = meshes[object];
+        if (mesh.ownership == Ownership::borrow) {
+            check_positions(object, mesh.positions(), "borrowed", true);
+        }
+        return mesh.positions();
     }
 
     /// world = transform * positions, in double and rounded once (as the scene poser does).

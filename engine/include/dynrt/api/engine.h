@@ -69,11 +69,14 @@ DYNRT_API const char* motion_name(Motion motion);
 enum class Ownership : std::uint8_t {
     /// add_mesh and set_positions copy them: the caller's buffer may go away right after.
     copy,
-    /// The engine keeps a pointer to the caller's buffer and reads it in add_mesh and in every
-    /// update() that follows a set_positions call for the mesh. The buffer must stay alive and
-    /// unchanged during those calls, until the mesh is removed or the engine destroyed, or
-    /// until set_positions points the mesh at another buffer. After writing new positions into
-    /// the same buffer, call set_positions(mesh, buffer) to say so. Saves a copy per step.
+    /// The engine keeps a pointer to the caller's buffer and reads it in add_mesh, in every
+    /// update() that follows a set_positions call for the mesh, and in any update() that builds
+    /// the mesh's tree: the first, and for a static mesh every one that rebuilds the static
+    /// group (a static mesh added or removed, an automatic mesh raised from static). So the
+    /// buffer must stay alive and hold the mesh's current positions until the mesh is removed
+    /// or the engine destroyed, or until set_positions points the mesh at another buffer, and
+    /// must not be written during a call on the engine. After writing new positions into the
+    /// same buffer, call set_positions(mesh, buffer) to say so. Saves a copy per step.
     borrow,
 };
 

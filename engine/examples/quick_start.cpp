@@ -3,6 +3,7 @@
 #include <dynrt/dynrt.h>
 
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <cstdio>
 #include <vector>

@@ -64,5 +64,6 @@ else()
 endif()
 install(CODE "
   set(DYNRT_INSTALL_PREFIX \"\${CMAKE_INSTALL_PREFIX}\")
-  configure_file(\"${PROJECT_BINARY_DIR}/dynrt.pc\" \"\$ENV{DESTDIR}${_dynrt_pc_dir}/dynrt.pc\" @ONLY)
+  configure_file(\"${PROJECT_BINARY_DIR}/dynrt.pc\"
+                 \"\$ENV{DESTDIR}${_dynrt_pc_dir}/dynrt.pc\" @ONLY)
 ")

@@ -10,6 +10,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -40,16 +41,10 @@ bool finite(const Vec3& v) {
                 "dynrt::Engine: ray " + std::to_string(index) + ": " + problem);
 }
 
-/// Loads rays [first, first + n) into lanes 0..n-1 of `packet` (the others inactive), checking
-/// each (an Error names a bad one), and returns whether they are coherent: every direction
-/// within kCoherentCosine of the run's middle ray's, with its sign on every axis. One pass and
-/// no square root: cos(d, r) >= c is tested as (d.r)^2 >= c^2 |d|^2 |r|^2 with d.r > 0.
-bool load_run(std::span<const Ray> rays, std::size_t first, std::size_t n,
+/// Loads rays [first, first + n) into lanes 0..n-1 of `packet` (the others inactive),
+/// checking each (an Error names a bad one).
+void load_run(std::span<const Ray> rays, std::size_t first, std::size_t n,
               packet::RayPacket& packet) {
-    const Vec3& r = rays[first + n / 2].direction;
-    const float rr = r.x * r.x + r.y * r.y + r.z * r.z;
-    const float c2 = kCoherentCosine * kCoherentCosine;
-    bool coherent = true;
     for (std::size_t i = 0; i < n; ++i) {
         const Ray& ray = rays[first + i];
         const Vec3& o = ray.origin;
@@ -68,27 +63,73 @@ bool load_run(std::span<const Ray> rays, std::size_t first, std::size_t n,
         packet.dir_z[i] = d.z;
         packet.tmin[i] = ray.tmin;
         packet.tmax[i] = ray.tmax;
-        const float dr = d.x * r.x + d.y * r.y + d.z * r.z;
-        const float dd = d.x * d.x + d.y * d.y + d.z * d.z;
-        const bool same_signs = (std::signbit(d.x) == std::signbit(r.x)) &
-                                (std::signbit(d.y) == std::signbit(r.y)) &
-                                (std::signbit(d.z) == std::signbit(r.z));
-        coherent &= same_signs & (dr > 0.0f) & (dr * dr >= c2 * dd * rr);
     }
     packet.active = packet::LaneMask{};
     for (std::size_t w = 0; w < n / 64; ++w) packet.active.words[w] = ~std::uint64_t{0};
     if (n % 64) packet.active.words[n / 64] = (std::uint64_t{1} << (n % 64)) - 1;
-    return coherent;
+}
+
+/// A set of a run's rays traced together: as a packet (the lanes of `lanes`) or one by one.
+struct RayGroup {
+    packet::LaneMask lanes;
+    bool packet = false;
+};
+
+/// Splits the loaded run into groups by the signs of the directions (at most 8), and marks a
+/// group as a packet when it has at least kPacketRaysMin rays, all within kCoherentCosine of
+/// the direction of its middle ray. A batch in a coherent order gives one group; a lidar sweep
+/// crossing the horizon gives two coherent ones. No square root: cos(d, r) >= c is tested as
+/// (d.r)^2 >= c^2 |d|^2 |r|^2 with d.r > 0. Returns the number of groups written to `groups`.
+int group_run(const packet::RayPacket& packet, std::size_t n, RayGroup (&groups)[8]) {
+    // Lanes sorted by octant (a counting sort), so each group reads only its own lanes.
+    std::uint8_t octant_of[packet::kPacketRays];
+    int count[8] = {};
+    for (std::size_t i = 0; i < n; ++i) {
+        const int octant = int(std::signbit(packet.dir_x[i])) |
+                           int(std::signbit(packet.dir_y[i])) << 1 |
+                           int(std::signbit(packet.dir_z[i])) << 2;
+        octant_of[i] = std::uint8_t(octant);
+        ++count[octant];
+    }
+    int start[9] = {};
+    for (int octant = 0; octant < 8; ++octant) start[octant + 1] = start[octant] + count[octant];
+    std::uint16_t order[packet::kPacketRays];
+    int next[8];
+    std::copy(start, start + 8, next);
+    for (std::size_t i = 0; i < n; ++i) order[next[octant_of[i]]++] = std::uint16_t(i);
+
+    int written = 0;
+    for (int octant = 0; octant < 8; ++octant) {
+        if (count[octant] == 0) continue;
+        RayGroup& group = groups[written++];
+        group = RayGroup{};
+        const std::span<const std::uint16_t> lanes(order + start[octant], std::size_t(count[octant]));
+        for (const std::uint16_t lane : lanes) group.lanes.set(lane);
+        if (count[octant] < kPacketRaysMin) continue;
+        // The group's middle ray is its reference direction.
+        const int middle = lanes[lanes.size() / 2];
+        const float rx = packet.dir_x[middle], ry = packet.dir_y[middle], rz = packet.dir_z[middle];
+        const float c2rr = kCoherentCosine * kCoherentCosine * (rx * rx + ry * ry + rz * rz);
+        bool coherent = true;
+        for (const std::uint16_t lane : lanes) {
+            const float dx = packet.dir_x[lane], dy = packet.dir_y[lane], dz = packet.dir_z[lane];
+            const float dr = dx * rx + dy * ry + dz * rz;
+            coherent &= (dr > 0.0f) & (dr * dr >= c2rr * (dx * dx + dy * dy + dz * dz));
+        }
+        group.packet = coherent;
+    }
+    return written;
 }
 
 struct RunWork {
     std::size_t hits = 0, packet_rays = 0, single_rays = 0;
 };
 
-/// Runs per_run(first, n, the run's packet, whether it is coherent, work) over the runs of kRun
-/// rays in parallel, and sums the work into QueryStats.
-template <typename PerRun>
-QueryStats for_each_run(std::span<const Ray> rays, std::size_t outputs, PerRun&& per_run) {
+/// Runs per_group(first, packet, as_packet, work) for every group of every run of kRun rays,
+/// in parallel: the packet holds the run (lane i is ray first + i) with the group's lanes
+/// active. Sums the work into QueryStats.
+template <typename PerGroup>
+QueryStats for_each_group(std::span<const Ray> rays, std::size_t outputs, PerGroup&& per_group) {
     if (outputs != rays.size()) {
         throw Error(Error::Code::invalid_argument,
                     "dynrt::Engine: " + std::to_string(rays.size()) + " rays but room for " +
@@ -100,8 +141,13 @@ QueryStats for_each_run(std::span<const Ray> rays, std::size_t outputs, PerRun&&
     tbb::parallel_for(std::size_t(0), runs, [&](std::size_t r) {
         const std::size_t first = r * kRun, n = std::min(kRun, rays.size() - first);
         packet::RayPacket packet;
-        const bool coherent = load_run(rays, first, n, packet);
-        per_run(first, n, packet, coherent, work.local());
+        load_run(rays, first, n, packet);
+        RayGroup groups[8];
+        const int count = group_run(packet, n, groups);
+        for (int g = 0; g < count; ++g) {
+            packet.active = groups[g].lanes;
+            per_group(first, packet, groups[g].packet, work.local());
+        }
     });
     const RunWork sum = work.combine([](RunWork a, const RunWork& b) {
         return RunWork{a.hits + b.hits, a.packet_rays + b.packet_rays,
@@ -128,28 +174,39 @@ RayHit to_api(const bvh::InstanceHit& hit) {
     return out;
 }
 
+/// Calls per_lane(lane) for every active lane of `packet`, in order.
+template <typename PerLane>
+void for_each_lane(const packet::LaneMask& lanes, PerLane&& per_lane) {
+    for (int w = 0; w < packet::kPacketRays / 64; ++w) {
+        for (std::uint64_t bits = lanes.words[w]; bits != 0; bits &= bits - 1) {
+            per_lane(w * 64 + std::countr_zero(bits));
+        }
+    }
+}
+
 }  // namespace
 
 QueryStats intersect_batch(const SceneAccel& accel, std::span<const Ray> rays,
                            std::span<RayHit> hits) {
     const bvh::TwoLevelBvh& tlas = accel.top_level();
-    return for_each_run(rays, hits.size(), [&](std::size_t first, std::size_t n,
-                                                const packet::RayPacket& packet, bool coherent,
-                                                RunWork& work) {
-        const auto store = [&](std::size_t i, bvh::InstanceHit hit) {
+    return for_each_group(rays, hits.size(), [&](std::size_t first,
+                                                  const packet::RayPacket& packet,
+                                                  bool as_packet, RunWork& work) {
+        const auto store = [&](int lane, bvh::InstanceHit hit) {
             accel.resolve(hit);
-            hits[first + i] = to_api(hit);
+            hits[first + std::size_t(lane)] = to_api(hit);
             work.hits += hit.is_hit();
         };
-        if (coherent) {
+        const std::size_t n = std::size_t(packet.active.count());
+        if (as_packet) {
             packet::InstanceHits packet_hits;
             packet::intersect_closest(tlas, packet, packet_hits);
-            for (std::size_t i = 0; i < n; ++i) store(i, packet_hits.hit(int(i)));
+            for_each_lane(packet.active, [&](int lane) { store(lane, packet_hits.hit(lane)); });
             work.packet_rays += n;
         } else {
-            for (std::size_t i = 0; i < n; ++i) {
-                store(i, bvh::intersect_closest(tlas, packet.ray(int(i))));
-            }
+            for_each_lane(packet.active, [&](int lane) {
+                store(lane, bvh::intersect_closest(tlas, packet.ray(lane)));
+            });
             work.single_rays += n;
         }
     });
@@ -158,23 +215,24 @@ QueryStats intersect_batch(const SceneAccel& accel, std::span<const Ray> rays,
 QueryStats occluded_batch(const SceneAccel& accel, std::span<const Ray> rays,
                           std::span<std::uint8_t> occluded) {
     const bvh::TwoLevelBvh& tlas = accel.top_level();
-    return for_each_run(rays, occluded.size(), [&](std::size_t first, std::size_t n,
-                                                    const packet::RayPacket& packet,
-                                                    bool coherent, RunWork& work) {
-        if (coherent) {
+    return for_each_group(rays, occluded.size(), [&](std::size_t first,
+                                                      const packet::RayPacket& packet,
+                                                      bool as_packet, RunWork& work) {
+        const std::size_t n = std::size_t(packet.active.count());
+        if (as_packet) {
             packet::LaneMask blocked;
             packet::intersect_any(tlas, packet, blocked);
-            for (std::size_t i = 0; i < n; ++i) {
-                occluded[first + i] = blocked.test(int(i));
-                work.hits += blocked.test(int(i));
-            }
+            for_each_lane(packet.active, [&](int lane) {
+                occluded[first + std::size_t(lane)] = blocked.test(lane);
+                work.hits += blocked.test(lane);
+            });
             work.packet_rays += n;
         } else {
-            for (std::size_t i = 0; i < n; ++i) {
-                const bool hit = bvh::intersect_any(tlas, packet.ray(int(i)));
-                occluded[first + i] = hit;
+            for_each_lane(packet.active, [&](int lane) {
+                const bool hit = bvh::intersect_any(tlas, packet.ray(lane));
+                occluded[first + std::size_t(lane)] = hit;
                 work.hits += hit;
-            }
+            });
             work.single_rays += n;
         }
     });

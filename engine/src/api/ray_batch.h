@@ -1,8 +1,9 @@
 #pragma once
 // Tracing a caller's batch of arbitrary rays through a SceneAccel (Engine::intersect and
-// Engine::occluded): the batch is cut into runs of 256 consecutive rays; a run whose rays are
-// coherent is traced as one packet (packet/), any other ray by ray. Both give the same hits bit
-// for bit (the packet tracer's contract), so the choice only changes the time.
+// Engine::occluded): the batch is cut into runs of 256 consecutive rays, each run into groups
+// by the signs of the directions; a group whose rays are coherent is traced as one packet
+// (packet/, with the group's lanes active), any other ray by ray. Both give the same hits bit
+// for bit (the packet tracer's contract), so the grouping only changes the time.
 
 #include "dynrt/api/engine.h"
 #include "dynrt/api/types.h"
@@ -13,11 +14,13 @@
 
 namespace dynrt::api_detail {
 
-/// A run of rays is traced as a packet when every direction has the signs of the run's middle
-/// ray's direction and lies within this cosine of it (about 25 degrees): packets share one
-/// traversal, which pays while the rays visit mostly the same nodes. Measured in
-/// benchmarks/bm_api.cpp.
+/// A group of rays is traced as a packet when every direction lies within this cosine of the
+/// group's middle ray's direction (about 25 degrees): packets share one traversal, which pays
+/// while the rays visit mostly the same nodes. Measured in benchmarks/bm_api.cpp.
 inline constexpr float kCoherentCosine = 0.9f;
+
+/// Smaller groups go ray by ray: the packet machinery costs more than it saves for a few rays.
+inline constexpr int kPacketRaysMin = 16;
 
 /// Closest hits (`hits` sized as `rays`). Throws Error naming the first invalid ray found
 /// (rays are checked in parallel, so "first" is in the order found). Thread-safe.

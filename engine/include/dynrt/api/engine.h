@@ -135,8 +135,8 @@ struct RenderSettings {
     float ambient = 0.08f;
 };
 
-/// What a ray batch cost. Packet rays were traced in 16x16 packets (consecutive runs of 256
-/// coherent rays of the batch); the others one by one.
+/// What a ray batch cost. Packet rays were traced in packets (see Engine::intersect); the
+/// others one by one.
 struct QueryStats {
     std::size_t rays = 0;
     std::size_t hits = 0;  ///< rays that hit (closest) or are occluded (any hit)
@@ -197,9 +197,13 @@ public:
                       const RenderSettings& settings = {}) const;
 
     /// Closest hit of every ray, hits[i] for rays[i]; the same results as tracing each ray
-    /// alone, bit for bit. Runs of 256 rays that are coherent (directions within a narrow cone,
-    /// of one sign per axis) are traced as packets. Throws Error naming the first bad ray, for
-    /// hits.size() != rays.size(), or before the first update().
+    /// alone, bit for bit. The batch is cut into runs of 256 consecutive rays and each run into
+    /// groups by the signs of the directions; a group of at least 16 rays whose directions all
+    /// lie within about 25 degrees of its middle ray's is traced as one packet, much faster
+    /// than ray by ray (QueryStats::packet_rays counts them). So order a batch the way its
+    /// rays fan out: neighbouring pixels or lidar beams next to each other, not shuffled.
+    /// Throws Error naming a bad ray, for hits.size() != rays.size(), or before the first
+    /// update().
     QueryStats intersect(std::span<const Ray> rays, std::span<RayHit> hits) const;
 
     /// Whether anything is hit within [tmin, tmax] of every ray (1) or not (0): shadow and

@@ -235,5 +235,34 @@ TEST(ApiRender, AfterMovesTheFrameShowsTheNewGeometry) {
     expect_same_frame(want, got, true);
 }
 
+TEST(ApiRender, SetSurfaceTakesEffectAtTheNextRender) {
+    // "A new material, used from the next render on" (api/engine.h): no update in between.
+    std::vector<Piece> ps = pieces();
+    Engine engine;
+    add_pieces(engine, ps);
+    engine.update();
+    const View view{{1.0f, 2.0f, 6.0f}, {0.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, 50.0f};
+    RenderSettings settings;
+    settings.lights = {Light{{3.0f, 5.0f, 4.0f}, 1.0f}};
+    Image before(kWidth, kHeight);
+    engine.render(view, ImageView{kWidth, kHeight, before.rgb}, settings);
+    const Surface red{{1.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, 1.0f};
+    engine.set_surface(MeshId{1}, red);
+    ps[1].surface = red;
+
+    RenderOptions options;
+    options.width = kWidth;
+    options.height = kHeight;
+    options.lights = {PointLight{{3.0f, 5.0f, 4.0f}, 1.0f}};
+    const Scene scene = scene_of(ps, options.pose);
+    Renderer renderer(options);
+    RenderedFrame want;
+    renderer.render(scene, Camera{{1.0f, 2.0f, 6.0f}, {0.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, 50.0f}, 0, want);
+    Image got(kWidth, kHeight);
+    engine.render(view, ImageView{kWidth, kHeight, got.rgb, got.depth, got.mesh}, settings);
+    EXPECT_NE(got.rgb, before.rgb);
+    expect_same_frame(want, got, true);
+}
+
 }  // namespace
 }  // namespace dynrt::api_test

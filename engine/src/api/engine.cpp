@@ -383,6 +383,11 @@ void Engine::set_surface(MeshId id, const Surface& surface) {
     material.diffuse = diffuse;
     material.specular = specular;
     material.shininess = surface.shininess;
+    // Renders shade with the copy the last update made: change it too, so the next render
+    // uses the new material without waiting for an update (no render runs during this call).
+    if (id.value < s.materials.size()) {
+        s.materials[id.value] = packet::PhongMaterial{diffuse, specular, surface.shininess};
+    }
 }
 
 void Engine::remove_mesh(MeshId id) {

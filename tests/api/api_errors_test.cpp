@@ -173,6 +173,41 @@ TEST(ApiErrors, NonFiniteBorrowedPositionsFailTheUpdateWhichKeepsTheLastGoodTree
     EXPECT_EQ(check_closest(*ref.tracer, rays, verdicts_for(*ref.tracer, rays), after, "fixed").mismatches, 0u);
 }
 
+TEST(ApiErrors, TransformsThatOverflowTheGeometryFailTheUpdate) {
+    // Finite vertices and a finite transform whose product is not finite in float: the update
+    // names the mesh and step, and keeps the last good trees. Every class, rigid included
+    // (traced in object space, but its world extent must exist).
+    // Radius 1e9: large, but the float ray-triangle test's products (coordinates cubed) stay
+    // finite, so the sphere is still hit correctly.
+    const MeshData big = sphere({0.0f, 0.0f, 0.0f}, 1e9f);
+    Transform blow_up;
+    blow_up.m[0] = blow_up.m[5] = blow_up.m[10] = 1e30f;
+    for (const Motion motion : {Motion::static_, Motion::rigid, Motion::deformable, Motion::automatic}) {
+        SCOPED_TRACE(motion_name(motion));
+        Engine engine;
+        MeshDesc d = desc_of("big", big, motion);
+        d.transform = blow_up;
+        engine.add_mesh(d);
+        expect_error([&] { engine.update(); }, kGeometry, {"'big'", "step 0"});
+    }
+    for (const Motion motion : {Motion::rigid, Motion::deformable, Motion::automatic}) {
+        SCOPED_TRACE(motion_name(motion));
+        Engine engine;
+        const MeshId id = engine.add_mesh(desc_of("big", big, motion));
+        engine.update();
+        engine.set_transform(id, blow_up);
+        expect_error([&] { engine.update(); }, kGeometry, {"'big'", "step 1"});
+        const Ray ray{{1e8f, 2e8f, 1e10f}, {0.0f, 0.0f, -1.0f}};
+        RayHit hit;
+        engine.intersect(std::span<const Ray>(&ray, 1), std::span<RayHit>(&hit, 1));
+        EXPECT_TRUE(hit.hit());
+        EXPECT_NEAR(hit.t, 9.03e9f, 3e7f) << describe(hit);
+        // A transform that fits works again.
+        engine.set_transform(id, Transform::translation({1e9f, 0.0f, 0.0f}));
+        engine.update();
+    }
+}
+
 TEST(ApiErrors, BadRaysAreRefusedNamingTheRay) {
     Engine engine;
     engine.add_mesh(desc_of("ball", sphere({0.0f, 0.0f, 0.0f}, 1.0f)));

@@ -14,6 +14,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <glm/common.hpp>
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 
@@ -134,6 +135,9 @@ struct MeshSlot {
     int degraded_steps = 0;
     /// World positions of a deformable or exploding mesh with a transform (scratch).
     std::vector<glm::vec3> world;
+    /// Object-space bounds of the positions, while box_known (for rigid meshes' world extent).
+    glm::vec3 box_lo{0.0f}, box_hi{0.0f};
+    bool box_known = false;
 
     std::span<const glm::vec3> positions() const {
         return ownership == Ownership::copy ? std::span<const glm::vec3>(owned) : borrowed;
@@ -235,6 +239,33 @@ struct Engine::Impl final : FixedPositions {
         throw Error(at_update ? Error::Code::invalid_geometry : Error::Code::invalid_argument,
                     "dynrt::Engine: " + where + ": " + what + " vertex " + std::to_string(bad) +
                         " is not finite " + format_vec(positions[std::size_t(bad)]));
+    }
+
+    /// Throws invalid_geometry when a rigid mesh's world extent is not finite in float. Traced
+    /// in object space, its vertices are never transformed, but its world box is; the corners
+    /// of its object-space box bound every transformed vertex, the transform being affine.
+    void check_world_extent(std::size_t i, MeshSlot& mesh) const {
+        const std::span<const glm::vec3> positions = mesh.positions();
+        if (positions.empty()) return;
+        if (!mesh.box_known) {
+            mesh.box_lo = mesh.box_hi = positions[0];
+            for (const glm::vec3& p : positions) {
+                mesh.box_lo = glm::min(mesh.box_lo, p);
+                mesh.box_hi = glm::max(mesh.box_hi, p);
+            }
+            mesh.box_known = true;
+        }
+        for (int corner = 0; corner < 8; ++corner) {
+            const glm::dvec3 p(corner & 1 ? mesh.box_hi.x : mesh.box_lo.x,
+                               corner & 2 ? mesh.box_hi.y : mesh.box_lo.y,
+                               corner & 4 ? mesh.box_hi.z : mesh.box_lo.z);
+            const glm::vec3 world(mesh.transform * glm::dvec4(p, 1.0));
+            if (first_non_finite(std::span<const glm::vec3>(&world, 1)) < 0) continue;
+            throw Error(Error::Code::invalid_geometry,
+                        "dynrt::Engine: " + describe(i) + ", step " + std::to_string(step) +
+                            ": its transform takes the corner " + format_vec(glm::vec3(p)) +
+                            " of its bounds to " + format_vec(world) + ", not finite");
+        }
     }
 
     FrameStats update();
@@ -368,6 +399,7 @@ void Engine::set_positions(MeshId id, std::span<const float> positions) {
         mesh.unchecked = true;
     }
     mesh.positions_changed = true;
+    mesh.box_known = false;
 }
 
 void Engine::set_transform(MeshId id, const Transform& transform) {
@@ -396,6 +428,11 @@ void Engine::set_surface(MeshId id, const Surface& surface) {
     material.diffuse = diffuse;
     material.specular = specular;
     material.shininess = surface.shininess;
+    // Renders shade with the copy the last update made: change it too, so the next render
+    // uses the new material without waiting for an update (no render runs during this call).
+    if (id.value < s.materials.size()) {
+        s.materials[id.value] = packet::PhongMaterial{diffuse, specular, surface.shininess};
+    }
 }
 
 void Engine::remove_mesh(MeshId id) {
@@ -462,6 +499,8 @@ FrameStats Engine::Impl::update() {
                 }
                 state.world_positions = mesh.world;
             }
+        } else if (motion_class == anim::MotionClass::rigid && (state.changed || !mesh.settled)) {
+            check_world_extent(i, mesh);
         } else if (motion_class == anim::MotionClass::static_ && !mesh.identity && !mesh.settled) {
             // Joining the static group: its world positions must be finite.
             std::vector<glm::vec3> world_positions;

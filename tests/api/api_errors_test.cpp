@@ -173,6 +173,37 @@ TEST(ApiErrors, NonFiniteBorrowedPositionsFailTheUpdateWhichKeepsTheLastGoodTree
     EXPECT_EQ(check_closest(*ref.tracer, rays, verdicts_for(*ref.tracer, rays), after, "fixed").mismatches, 0u);
 }
 
+TEST(ApiErrors, ABorrowedStaticBufferSpoiledAfterHandOverFailsTheBuildAndBlocksQueries) {
+    // A static mesh's borrowed buffer is read again only when the static group is rebuilt (here:
+    // another static mesh joins it), half way through the update: the trees are then a mix of
+    // two steps, so queries are refused until an update succeeds, which starts afresh.
+    Engine engine;
+    Mirror m;
+    const MeshData ball = sphere({0.0f, 0.0f, 0.0f}, 1.0f);
+    std::vector<float> buffer = ball.positions;
+    m.add(engine, "ground", ball, Motion::static_, {}, Ownership::borrow, buffer);
+    engine.update();
+    std::mt19937 rng(9);
+    const std::vector<Ray> rays = incoherent_rays(rng, {1.5f, 0.0f, 0.0f}, 6.0f, 2.5f, 400);
+    std::vector<RayHit> hits(rays.size());
+    engine.intersect(rays, hits);
+
+    buffer[3 * 7 + 1] = kNaN;  // the caller breaks its promise
+    m.add(engine, "rock", sphere({3.0f, 0.0f, 0.0f}, 1.0f), Motion::static_);
+    expect_error([&] { engine.update(); }, kGeometry, {"'ground'", "step 1", "vertex 7"});
+    expect_error([&] { engine.intersect(rays, hits); }, kState, {"failed"});
+    std::vector<float> rgb(16 * 16 * 3);
+    expect_error([&] { engine.render(View{{0.0f, 0.0f, 8.0f}}, ImageView{16, 16, rgb}); }, kState,
+                 {"failed"});
+
+    buffer = ball.positions;
+    engine.update();
+    const Reference ref(m);
+    engine.intersect(rays, hits);
+    EXPECT_EQ(check_closest(*ref.tracer, rays, verdicts_for(*ref.tracer, rays), hits, "rebuilt")
+                  .mismatches, 0u);
+}
+
 TEST(ApiErrors, TransformsThatOverflowTheGeometryFailTheUpdate) {
     // Finite vertices and a finite transform whose product is not finite in float: the update
     // names the mesh and step, and keeps the last good trees. Every class, rigid included

@@ -270,6 +270,16 @@ struct Engine::Impl final : FixedPositions {
 
     FrameStats update();
     void refresh_materials();
+
+    /// Throws invalid_state unless the last update() succeeded.
+    void check_traced(const char* call) const {
+        if (updated) return;
+        throw Error(Error::Code::invalid_state,
+                    std::string("dynrt::Engine: ") + call +
+                        (broken ? " after an update() that failed while building trees: call "
+                                  "update() again once the input is fixed"
+                                : " before the first update()"));
+    }
 };
 
 Engine::Engine(const EngineOptions& options) : impl_(std::make_unique<Impl>()) {
@@ -511,8 +521,13 @@ FrameStats Engine::Impl::update() {
     stats.update_ms = clock.lap_ms();
 
     // ---- The trees ----
+    // Everything above is checked before the trees are touched. What a build reads later (a
+    // borrowed static or rigid buffer, checked as it is read) can still fail the update half
+    // way: then the trees are a mix of two steps, so queries are refused until an update
+    // succeeds, and that update starts afresh.
     if (broken) accel.clear();
     broken = true;
+    updated = false;
     accel.update(scene, states, *this, policy, stats);
     broken = false;
     for (std::size_t i = 0; i < meshes.size(); ++i) {
@@ -560,9 +575,7 @@ FrameStats Engine::render(const View& view, const ImageView& image,
                           const RenderSettings& settings) const {
     const Impl& s = *impl_;
     const AccessGuard::Read read(s.guard);
-    if (!s.updated) {
-        throw Error(Error::Code::invalid_state, "dynrt::Engine: render before the first update()");
-    }
+    s.check_traced("render");
     if (image.width <= 0 || image.height <= 0 || image.width > 65536 || image.height > 65536) {
         throw invalid("render: image size " + std::to_string(image.width) + "x" +
                       std::to_string(image.height) + " outside 1..65536");
@@ -628,18 +641,14 @@ FrameStats Engine::render(const View& view, const ImageView& image,
 QueryStats Engine::intersect(std::span<const Ray> rays, std::span<RayHit> hits) const {
     const Impl& s = *impl_;
     const AccessGuard::Read read(s.guard);
-    if (!s.updated) {
-        throw Error(Error::Code::invalid_state, "dynrt::Engine: intersect before the first update()");
-    }
+    s.check_traced("intersect");
     return s.run([&] { return api_detail::intersect_batch(s.accel, rays, hits); });
 }
 
 QueryStats Engine::occluded(std::span<const Ray> rays, std::span<std::uint8_t> occluded) const {
     const Impl& s = *impl_;
     const AccessGuard::Read read(s.guard);
-    if (!s.updated) {
-        throw Error(Error::Code::invalid_state, "dynrt::Engine: occluded before the first update()");
-    }
+    s.check_traced("occluded");
     return s.run([&] { return api_detail::occluded_batch(s.accel, rays, occluded); });
 }
 

@@ -27,7 +27,8 @@
 // the last update(), never changes made since. Different engines are independent.
 //
 // Errors: every failing call throws dynrt::Error (api/error.h) and leaves the engine as it was
-// (update() keeps the last good trees). std::bad_alloc passes through.
+// (update() keeps the last good trees, with one exception described at
+// Error::Code::invalid_geometry). std::bad_alloc passes through.
 
 #include "dynrt/api/error.h"
 #include "dynrt/api/export.h"
@@ -184,9 +185,10 @@ public:
     /// Brings every mesh's tree up to date with the changes since the last update (the first
     /// call builds everything) and returns the step's figures: update_ms (checking and
     /// gathering vertices), refit / rebuild / top-level ms, what was skipped, refitted and
-    /// rebuilt and why, the SAH cost and tree shape. `frame` in them counts the updates from 0.
-    /// Throws Error naming mesh, step and vertex when geometry is not finite; the engine then
-    /// keeps the trees of the last good update.
+    /// rebuilt and why, the SAH cost and tree shape; total_ms is the whole call. `frame` in
+    /// them counts the updates from 0. Throws Error naming mesh, step and vertex when geometry
+    /// is not finite; the engine then keeps the trees of the last good update (but see
+    /// Error::Code::invalid_geometry for borrowed static and rigid buffers).
     FrameStats update();
 
     /// Renders `view` at the image's size with Phong shading and a shadow ray per light (as

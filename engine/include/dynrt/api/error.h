@@ -16,12 +16,15 @@ public:
         /// A bad argument: an unknown or removed mesh id, a span of the wrong size, an index out
         /// of range, a non-finite value, a bad option. Nothing was changed.
         invalid_argument,
-        /// Geometry that became unusable while updating (a transform or vertex that is not
-        /// finite after transforming). The message names the mesh and the step. The engine
-        /// keeps the state of its last good update.
+        /// Geometry that became unusable while updating (a vertex that is not finite, or not
+        /// after transforming). The message names the mesh, the step and the vertex. Found
+        /// before the trees are touched (the usual case), the engine keeps the trees of its
+        /// last good update; found while a tree was built (a borrowed static or rigid buffer
+        /// the caller wrote after handing it over), queries throw invalid_state until an
+        /// update() succeeds.
         invalid_geometry,
-        /// A call at the wrong time: tracing before the first update(), or a change while
-        /// another thread is tracing.
+        /// A call at the wrong time: tracing before the first update() or after an update()
+        /// that failed half way, or a change while another thread is tracing.
         invalid_state,
     };
 

@@ -1,5 +1,7 @@
 #include "dynrt/engine/image_output.h"
 
+#include "srgb.h"
+
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
@@ -12,11 +14,6 @@ namespace dynrt {
 namespace {
 
 constexpr const char* kAovNames[] = {"depth", "object", "prim", "normal"};
-
-float srgb_encode(float linear) {
-    const float c = std::clamp(linear, 0.0f, 1.0f);
-    return c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
-}
 
 void write_floats(const std::filesystem::path& path, int width, int height, int channels,
                   const float* data, OIIO::TypeDesc file_type) {

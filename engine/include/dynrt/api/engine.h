@@ -218,8 +218,10 @@ private:
 };
 
 /// Writes linear RGB (3 floats per pixel, row-major, top row first) to an image file; the
-/// extension picks the format (.png and .jpg get sRGB 8-bit, .exr linear floats). Throws Error
-/// naming the file.
-DYNRT_API void save_image(const std::string& path, int width, int height, std::span<const float> rgb);
+/// extension picks the format: .png, .jpg, .bmp and .tga get sRGB-encoded 8-bit values clamped
+/// to [0, 1], .hdr (Radiance) the linear floats. Throws Error naming the file for another
+/// extension, a missing folder, a size mismatch or a failed write.
+DYNRT_API void save_image(const std::string& path, int width, int height,
+                          std::span<const float> rgb);
 
 }  // namespace dynrt

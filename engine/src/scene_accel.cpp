@@ -140,18 +140,21 @@ void SceneAccel::update(const Scene& scene, std::span<const ObjectState> states,
         objects_.resize(count);
         object_boxes_.resize(count);
     }
-    // An object that changed class is built afresh in the space of its new class; the static
-    // group is rebuilt whenever an object joins or leaves it.
+    // An object that changed class is built afresh when its tree's space changes (rigid trees
+    // are in object space, the others in world space); deformable and exploding objects keep
+    // theirs. The static group is rebuilt whenever an object joins or leaves it.
+    const auto world_space = [](anim::MotionClass c) { return c != anim::MotionClass::rigid; };
     for (std::size_t i = 0; i < count; ++i) {
         ObjectTree& object = objects_[i];
         const anim::MotionClass now = states[i].motion_class;
         if (object.known && object.motion_class == now) continue;
-        if (object.known) {
+        const bool leaves_group = object.known && object.motion_class == anim::MotionClass::static_;
+        if (object.known && (leaves_group || world_space(object.motion_class) != world_space(now))) {
             object.built = false;
             object.measured = false;
+            object.class_changed = true;
         }
-        if ((object.known && object.motion_class == anim::MotionClass::static_) ||
-            now == anim::MotionClass::static_) {
+        if (leaves_group || now == anim::MotionClass::static_) {
             static_group_.built = false;
         }
         if (now != anim::MotionClass::static_) object.first_frame = true;
@@ -196,7 +199,8 @@ void SceneAccel::update(const Scene& scene, std::span<const ObjectState> states,
                 assemble(mesh, fixed.object_space(i), object.triangles);
                 stats.update_ms += clock.lap_ms();
                 build(object, policy.build);
-                record("first build");
+                record(object.class_changed ? "class changed" : "first build");
+                object.class_changed = false;
                 stats.rebuild_ms += clock.lap_ms();
                 break;
             }
@@ -217,7 +221,10 @@ void SceneAccel::update(const Scene& scene, std::span<const ObjectState> states,
                     break;
                 }
                 if (!object.built || exploding) {
-                    record(object.built ? "exploding" : "first build");
+                    record(object.built            ? "exploding"
+                           : object.class_changed ? "class changed"
+                                                  : "first build");
+                    object.class_changed = false;
                     // Until the build completes the tree does not match the triangles just
                     // stored: should it throw, the next update must rebuild, not compare.
                     object.built = false;

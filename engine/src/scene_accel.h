@@ -153,8 +153,10 @@ private:
         /// next update is their first (which builds, and so does not skip them).
         std::uint32_t group_first = 0;
         bool first_frame = true;
-        /// Whether an update has seen the object (so motion_class is the last update's).
+        /// Whether an update has seen the object (so motion_class is the last update's), and
+        /// whether its next build is because its class changed (for the report's reason).
         bool known = false;
+        bool class_changed = false;
     };
 
     void build(ObjectTree& object, const bvh::BuildConfig& config);

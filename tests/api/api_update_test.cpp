@@ -151,8 +151,8 @@ TEST(ApiUpdate, AutomaticMeshesAreRaisedByTheirCallsAndNeverLowered) {
     EXPECT_EQ(s.static_objects, 1u);
     EXPECT_EQ(s.rigid_objects, 1u);
     EXPECT_EQ(s.deformable_objects, 1u);
-    EXPECT_EQ(rebuild_reasons(s, a), Reasons{"first build"});
-    EXPECT_EQ(rebuild_reasons(s, c), Reasons{"first build"});
+    EXPECT_EQ(rebuild_reasons(s, a), Reasons{"class changed"});
+    EXPECT_EQ(rebuild_reasons(s, c), Reasons{"class changed"});
     EXPECT_EQ(rebuild_reasons(s, b), Reasons{"static group changed"});
 
     // A rigid one moved again stays rigid and is not rebuilt.
@@ -161,10 +161,12 @@ TEST(ApiUpdate, AutomaticMeshesAreRaisedByTheirCallsAndNeverLowered) {
     EXPECT_EQ(engine.motion(a), Motion::rigid);
     EXPECT_EQ(s.objects_rebuilt, 0u);
 
-    // a: set_positions raises it to deformable; a later set_transform does not lower it.
+    // a: set_positions raises it to deformable (its tree goes from object to world space);
+    // a later set_transform does not lower it.
     m.set_positions(engine, a, scaled(ball, {0.0f, 0.0f, 0.0f}, 0.9f));
     s = engine.update();
     EXPECT_EQ(engine.motion(a), Motion::deformable);
+    EXPECT_EQ(rebuild_reasons(s, a), Reasons{"class changed"});
     m.set_transform(engine, a, Transform::translation({0.0f, 2.0f, 0.0f}));
     s = engine.update();
     EXPECT_EQ(engine.motion(a), Motion::deformable);
@@ -194,21 +196,23 @@ TEST(ApiUpdate, AnAutomaticMeshWhoseRefitsKeepDegradingBecomesExploding) {
     const MeshData base = sphere({0.0f, 0.0f, 0.0f}, 1.0f);
     const MeshId cloth = m.add(engine, "cloth", base, Motion::automatic);
     engine.update();
-    // Step 1 raises it to deformable (a first build); steps 2, 3, 4 refit and degrade.
+    // Step 1 raises it to deformable (its own tree, out of the static group); steps 2, 3, 4
+    // refit and degrade.
     const Motion after[] = {Motion::deformable, Motion::deformable, Motion::deformable, Motion::exploding};
     for (int step = 1; step <= 4; ++step) {
         m.set_positions(engine, cloth, scrambled(base, rng));
         const FrameStats s = engine.update();
         EXPECT_EQ(engine.motion(cloth), after[step - 1]) << "step " << step;
-        EXPECT_EQ(rebuild_reasons(s, cloth), Reasons{step == 1 ? "first build" : "sah degraded"})
+        EXPECT_EQ(rebuild_reasons(s, cloth), Reasons{step == 1 ? "class changed" : "sah degraded"})
             << "step " << step;
     }
-    // From then on rebuilt without a refit first (the step that changes its class builds it
-    // afresh as any change of class does, so that rebuild is reported as a first build).
-    for (int step = 5; step <= 6; ++step) {
+    // From then on rebuilt without a refit first; its world-space tree is kept across the
+    // change of class, so an unchanged step costs nothing.
+    EXPECT_EQ(engine.update().objects_rebuilt, 0u);
+    for (int step = 6; step <= 7; ++step) {
         m.set_positions(engine, cloth, scrambled(base, rng));
         const FrameStats s = engine.update();
-        EXPECT_EQ(rebuild_reasons(s, cloth), Reasons{step == 5 ? "first build" : "exploding"});
+        EXPECT_EQ(rebuild_reasons(s, cloth), Reasons{"exploding"});
         EXPECT_EQ(s.objects_refitted, 0u);
         EXPECT_EQ(s.exploding_objects, 1u);
         EXPECT_EQ(engine.motion(cloth), Motion::exploding);

@@ -14,8 +14,11 @@ struct TreeRebuild {
     std::size_t object = 0;  ///< index in scene order
     std::string name;        ///< the object's name
     /// "first build", "exploding" (rebuilt every frame it moves), "sah degraded" (the refit's
-    /// SAH cost passed the threshold) or "degenerate triangle gained area" (a refit could not
-    /// keep the tree correct).
+    /// SAH cost passed the threshold), "degenerate triangle gained area" (a refit could not
+    /// keep the tree correct), and from the library API, whose meshes can be raised to another
+    /// class: "class changed" (its tree moved between object and world space, or it left the
+    /// static group) and "static group changed" (for each static object, when an object joined
+    /// or left the group).
     std::string reason;
     /// For "sah degraded": the refitted tree's SAH cost and the cost at the previous build.
     double sah_refitted = 0;

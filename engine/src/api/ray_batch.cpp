@@ -26,6 +26,14 @@ bool finite(const Vec3& v) {
     return std::isfinite(v.x) & std::isfinite(v.y) & std::isfinite(v.z);
 }
 
+/// The API's contract for a ray (dynrt::Ray), without branches.
+bool valid_ray(const Ray& ray) {
+    const Vec3& d = ray.direction;
+    return finite(ray.origin) & finite(d) & ((d.x != 0.0f) | (d.y != 0.0f) | (d.z != 0.0f)) &
+           (ray.tmin >= 0.0f) & (ray.tmin < std::numeric_limits<float>::infinity()) &
+           (ray.tmax >= ray.tmin);
+}
+
 [[noreturn]] void throw_bad_ray(const Ray& ray, std::size_t index) {
     const char* problem = "tmax is not >= tmin";
     if (!finite(ray.origin)) {
@@ -42,19 +50,20 @@ bool finite(const Vec3& v) {
 }
 
 /// Loads rays [first, first + n) into lanes 0..n-1 of `packet` (the others inactive),
-/// checking each (an Error names a bad one).
-void load_run(std::span<const Ray> rays, std::size_t first, std::size_t n,
+/// checking each (an Error names a bad one). Returns whether the whole run is one coherent
+/// group (see group_run), the common case of a batch in a coherent order, decided in the same
+/// pass: every direction with the signs of the run's middle ray's and within kCoherentCosine
+/// of it. No branch in the loop, so the compiler can vectorise it.
+bool load_run(std::span<const Ray> rays, std::size_t first, std::size_t n,
               packet::RayPacket& packet) {
+    const Vec3& r = rays[first + n / 2].direction;
+    const float c2rr = kCoherentCosine * kCoherentCosine * (r.x * r.x + r.y * r.y + r.z * r.z);
+    bool valid = true, coherent = true;
     for (std::size_t i = 0; i < n; ++i) {
         const Ray& ray = rays[first + i];
         const Vec3& o = ray.origin;
         const Vec3& d = ray.direction;
-        const bool valid = finite(o) & finite(d) &
-                           ((d.x != 0.0f) | (d.y != 0.0f) | (d.z != 0.0f)) &
-                           (ray.tmin >= 0.0f) &
-                           (ray.tmin < std::numeric_limits<float>::infinity()) &
-                           (ray.tmax >= ray.tmin);
-        if (!valid) throw_bad_ray(ray, first + i);
+        valid &= valid_ray(ray);
         packet.org_x[i] = o.x;
         packet.org_y[i] = o.y;
         packet.org_z[i] = o.z;
@@ -63,10 +72,21 @@ void load_run(std::span<const Ray> rays, std::size_t first, std::size_t n,
         packet.dir_z[i] = d.z;
         packet.tmin[i] = ray.tmin;
         packet.tmax[i] = ray.tmax;
+        const float dr = d.x * r.x + d.y * r.y + d.z * r.z;
+        const bool same_signs = (std::signbit(d.x) == std::signbit(r.x)) &
+                                (std::signbit(d.y) == std::signbit(r.y)) &
+                                (std::signbit(d.z) == std::signbit(r.z));
+        coherent &= same_signs & (dr > 0.0f) & (dr * dr >= c2rr * (d.x * d.x + d.y * d.y + d.z * d.z));
+    }
+    if (!valid) {
+        for (std::size_t i = 0; i < n; ++i) {
+            if (!valid_ray(rays[first + i])) throw_bad_ray(rays[first + i], first + i);
+        }
     }
     packet.active = packet::LaneMask{};
     for (std::size_t w = 0; w < n / 64; ++w) packet.active.words[w] = ~std::uint64_t{0};
     if (n % 64) packet.active.words[n / 64] = (std::uint64_t{1} << (n % 64)) - 1;
+    return coherent && int(n) >= kPacketRaysMin;
 }
 
 /// A set of a run's rays traced together: as a packet (the lanes of `lanes`) or one by one.
@@ -141,9 +161,13 @@ QueryStats for_each_group(std::span<const Ray> rays, std::size_t outputs, PerGro
     tbb::parallel_for(std::size_t(0), runs, [&](std::size_t r) {
         const std::size_t first = r * kRun, n = std::min(kRun, rays.size() - first);
         packet::RayPacket packet;
-        load_run(rays, first, n, packet);
         RayGroup groups[8];
-        const int count = group_run(packet, n, groups);
+        int count = 1;
+        if (load_run(rays, first, n, packet)) {
+            groups[0] = RayGroup{packet.active, true};
+        } else {
+            count = group_run(packet, n, groups);
+        }
         for (int g = 0; g < count; ++g) {
             packet.active = groups[g].lanes;
             per_group(first, packet, groups[g].packet, work.local());

@@ -10,7 +10,11 @@ jobs=$(nproc)
 bash scripts/build.sh release -DCMAKE_BUILD_TYPE=Release
 ctest --test-dir build/release --output-on-failure -j "$jobs"
 
-bash scripts/build.sh asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDYNRT_SANITIZE=ON \
+# -O1 with line tables only, as sanitizer builds usually are: reports still give file and line,
+# and it compiles in well under half the time of -O2 -g (measured on three of the heaviest
+# files: 67 -> 32 s, 47 -> 19 s, 48 -> 20 s), which was most of the test command's time.
+bash scripts/build.sh asan -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" -DDYNRT_SANITIZE=ON \
   -DDYNRT_BUILD_BENCHMARKS=OFF
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
   ctest --test-dir build/asan --output-on-failure -j "$jobs" -E 'Heavy'

@@ -5,10 +5,9 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
-jobs=$(nproc)
 
 bash scripts/build.sh release -DCMAKE_BUILD_TYPE=Release
-ctest --test-dir build/release --output-on-failure -j "$jobs"
+bash scripts/run_tests.sh build/release
 
 # -O1 with line tables only, as sanitizer builds usually are: reports still give file and line,
 # and it compiles in well under half the time of -O2 -g (measured on three of the heaviest
@@ -17,7 +16,7 @@ bash scripts/build.sh asan -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" -DDYNRT_SANITIZE=ON \
   -DDYNRT_BUILD_BENCHMARKS=OFF
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
-  ctest --test-dir build/asan --output-on-failure -j "$jobs" -E 'Heavy'
+  bash scripts/run_tests.sh build/asan '-*Heavy*'
 
 # Coverage-guided fuzzing of the scene loaders (scripts/fuzz.sh): the glTF loader for 30 s, the
 # procedural and animation spec parsers for 10 s each (their grammars are small, and coverage

@@ -75,6 +75,16 @@ Error invalid(const std::string& message) {
     return Error(Error::Code::invalid_argument, "dynrt::Engine: " + message);
 }
 
+bool finite(const glm::vec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+/// The rule add_mesh and set_surface enforce for a Surface.
+bool valid_surface(const Surface& surface) {
+    return finite(to_glm(surface.diffuse)) && finite(to_glm(surface.specular)) &&
+           std::isfinite(surface.shininess) && surface.shininess >= 0.0f;
+}
+
 /// The first non-finite position's index, or -1; parallel, for per-step checks of big meshes.
 std::ptrdiff_t first_non_finite(std::span<const glm::vec3> positions) {
     std::atomic<std::ptrdiff_t> first{-1};
@@ -82,9 +92,7 @@ std::ptrdiff_t first_non_finite(std::span<const glm::vec3> positions) {
                       [&](const tbb::blocked_range<std::size_t>& range) {
                           for (std::size_t i = range.begin(); i < range.end(); ++i) {
                               const glm::vec3& p = positions[i];
-                              if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) {
-                                  continue;
-                              }
+                              if (finite(p)) continue;
                               std::ptrdiff_t seen = first.load();
                               while ((seen < 0 || std::ptrdiff_t(i) < seen) &&
                                      !first.compare_exchange_weak(seen, std::ptrdiff_t(i))) {
@@ -260,7 +268,7 @@ struct Engine::Impl final : FixedPositions {
                                corner & 2 ? mesh.box_hi.y : mesh.box_lo.y,
                                corner & 4 ? mesh.box_hi.z : mesh.box_lo.z);
             const glm::vec3 world(mesh.transform * glm::dvec4(p, 1.0));
-            if (first_non_finite(std::span<const glm::vec3>(&world, 1)) < 0) continue;
+            if (finite(world)) continue;
             throw Error(Error::Code::invalid_geometry,
                         "dynrt::Engine: " + describe(i) + ", step " + std::to_string(step) +
                             ": its transform takes the corner " + format_vec(glm::vec3(p)) +
@@ -345,12 +353,10 @@ MeshId Engine::add_mesh(const MeshDesc& desc) {
         throw invalid(what + ": vertex " + std::to_string(bad) + " is not finite " +
                       format_vec(positions[std::size_t(bad)]));
     }
-    const glm::vec3 diffuse = to_glm(desc.surface.diffuse), specular = to_glm(desc.surface.specular);
-    if (!std::isfinite(desc.surface.shininess) || desc.surface.shininess < 0.0f ||
-        first_non_finite(std::span<const glm::vec3>(&diffuse, 1)) >= 0 ||
-        first_non_finite(std::span<const glm::vec3>(&specular, 1)) >= 0) {
+    if (!valid_surface(desc.surface)) {
         throw invalid(what + ": surface colours and shininess must be finite, shininess >= 0");
     }
+    const glm::vec3 diffuse = to_glm(desc.surface.diffuse), specular = to_glm(desc.surface.specular);
 
     MeshSlot mesh;
     mesh.declared = desc.motion;
@@ -427,13 +433,11 @@ void Engine::set_surface(MeshId id, const Surface& surface) {
     Impl& s = *impl_;
     const AccessGuard::Write write(s.guard);
     s.slot(id, "set_surface");
-    const glm::vec3 diffuse = to_glm(surface.diffuse), specular = to_glm(surface.specular);
-    if (!std::isfinite(surface.shininess) || surface.shininess < 0.0f ||
-        first_non_finite(std::span<const glm::vec3>(&diffuse, 1)) >= 0 ||
-        first_non_finite(std::span<const glm::vec3>(&specular, 1)) >= 0) {
+    if (!valid_surface(surface)) {
         throw invalid("set_surface: " + s.describe(id.value) +
                       ": colours and shininess must be finite, shininess >= 0");
     }
+    const glm::vec3 diffuse = to_glm(surface.diffuse), specular = to_glm(surface.specular);
     Material& material = s.scene.materials[id.value];
     material.diffuse = diffuse;
     material.specular = specular;
@@ -601,15 +605,13 @@ FrameStats Engine::render(const View& view, const ImageView& image,
     options.background = to_glm(settings.background);
     options.ambient = settings.ambient;
     options.hit_buffers = !image.depth.empty() || !image.mesh.empty();
-    if (!std::isfinite(options.ambient) ||
-        first_non_finite(std::span<const glm::vec3>(&options.background, 1)) >= 0) {
+    if (!std::isfinite(options.ambient) || !finite(options.background)) {
         throw invalid("render: background and ambient must be finite");
     }
     std::vector<PointLight> lights;
     for (const Light& light : settings.lights) {
         const glm::vec3 position = to_glm(light.position);
-        if (first_non_finite(std::span<const glm::vec3>(&position, 1)) >= 0 ||
-            !std::isfinite(light.intensity)) {
+        if (!finite(position) || !std::isfinite(light.intensity)) {
             throw invalid("render: light position and intensity must be finite");
         }
         lights.push_back(PointLight{position, light.intensity});

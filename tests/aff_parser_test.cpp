@@ -62,7 +62,7 @@ resolution 800 600
 am 2.5 2.5 2.5   % a museum-style comment
 l 1 2 3
 l 4 5 6  0.3 0.3 0.3
-l lamp 7 8 9 1 1 1
+la lamp 7 8 9 1 1 1
 f 1 0.5 0.25  0.8 0.2  10 0 1
 fm 0.1 0.1 0.1
    0.5 0.5 0.5
@@ -109,7 +109,7 @@ pp 3
  0 0 0  0 0 1
  1 0 0  0 0 1
  0 1 0  0 0 1
-tpp 3 wood.ppm
+ttp wood.ppm
  0 0 0  0 0 1  0 0
  1 0 0  0 0 1  1 0
  0 1 0  0 0 1  0 1
@@ -126,6 +126,7 @@ c 0 0 0 0.1  0 1 0 0.05
     EXPECT_EQ(m.polygons[0].material, 0);
     EXPECT_EQ(m.polygons[1].normals.size(), 3u);
     EXPECT_EQ(m.polygons[2].uvs.size(), 3u);
+    EXPECT_EQ(m.polygons[2].normals.size(), 3u);
     EXPECT_EQ(m.polygons[2].texture, "wood.ppm");
     EXPECT_EQ(m.polygons[2].uvs[1], (Vec2{1, 0}));
     EXPECT_EQ(m.polygons[3].texture, "tetra.ppm");
@@ -269,6 +270,28 @@ TEST_F(AffParser, IncludesResolveRelativeToTheIncludingFile) {
     EXPECT_EQ(m.spheres[1].node, 0);
 }
 
+TEST_F(AffParser, DetailLevelSkipsIncludesAboveItAndTinyHitherReadsAsOne) {
+    write("fine.aff", "s 0 0 0 1\n");
+    write("coarse.aff", "s 0 0 0 2\n");
+    const AffModel m = parse_aff_file(write("top.aff", R"(
+v
+from 0 0 1
+at 0 0 0
+up 0 1 0
+angle 45
+hither 0.00001
+resolution 4 4
+i 1 fine.aff
+i 0 coarse.aff
+d 1
+i 1 fine.aff
+)"));
+    ASSERT_EQ(m.spheres.size(), 2u);  // the first `i 1` is above detail level 0
+    EXPECT_FLOAT_EQ(m.spheres[0].radius, 2.0f);
+    EXPECT_FLOAT_EQ(m.spheres[1].radius, 1.0f);
+    EXPECT_FLOAT_EQ(m.view->hither, 1.0f);
+}
+
 TEST_F(AffParser, MalformedInputNamesFileAndLine) {
     auto expect_error = [&](const std::string& text, const std::string& where, const std::string& what) {
         const std::string e = error_of(text);
@@ -287,6 +310,8 @@ TEST_F(AffParser, MalformedInputNamesFileAndLine) {
     expect_error("xs 1 1 1 0 1 0 0 0 0 0\ns 0 0 0 1\n", "2", "'xs' expects '{'");
     expect_error("k car\n{\n transl 1\n 0 1 2 3 0 0\n}\n", "5", "'transl' expects a number, found '}'");
     expect_error("k car\n{\n spin 1\n}\n", "3", "expects 'transl', 'rot', 'scale' or '}'");
+    expect_error("k car\n{\n visibility 1\n 0.5 0\n}\n", "3", "visibility keys are not supported");
+    expect_error("la 1 2 3\n", "1", "'la' expects a light name");
     expect_error("tpa 1\n0\n0 0 0 0 0 1\n", "3", "unexpected end of file");
     expect_error("a 0 20\n", "1", "unexpected end of file");
     expect_error("1.5 2\n", "1", "expected a command, found the number '1.5'");

@@ -168,8 +168,11 @@ private:
 
     void open_brace(Lexer& lex, std::string_view cmd) { keyword(lex, "{", cmd); }
 
+    // A name: any token but a number or a brace, so a forgotten name is reported at its place.
     std::string word(Lexer& lex, std::string_view what, std::string_view cmd) {
         const Token t = need(lex, cat(what, " for '", cmd, "'"));
+        if (to_float(t.text) || t.text == "{" || t.text == "}")
+            lex.fail(t.line, cat("'", cmd, "' expects ", what, ", found '", t.text, "'"));
         return std::string(t.text);
     }
 
@@ -196,10 +199,10 @@ private:
         if (c == "v") return view(lex);
         if (c == "b") return void(model_.background = vec3(lex, c));
         if (c == "am") return void(model_.ambient = vec3(lex, c));
-        if (c == "l") return light(lex);
+        if (c == "l" || c == "la") return light(lex, c);
         if (c == "f" || c == "fm") return material(lex, c);
-        if (c == "p" || c == "pp" || c == "tpp") return polygon(lex, t);
-        if (c == "tt") return textured_triangle(lex, t);
+        if (c == "p" || c == "pp") return polygon(lex, t);
+        if (c == "tt" || c == "ttp") return textured_triangle(lex, t);
         if (c == "s") return sphere(lex, t);
         if (c == "c") return cone(lex, t);
         if (c == "m") return mesh(lex, t);
@@ -209,6 +212,7 @@ private:
         if (c == "x") return animated_transform(lex, t);
         if (c == "k") return animation(lex, t);
         if (c == "a") return animation_params(lex);
+        if (c == "d") return void(detail_level_ = count(lex, c));
         if (c == "}") {
             if (open_.empty()) lex.fail(t.line, "'}' without an open transform block");
             open_.pop_back();
@@ -230,15 +234,18 @@ private:
         v.angle_deg = number(lex, "angle");
         keyword(lex, "hither", "v");
         v.hither = number(lex, "hither");
+        // BART's parser replaces a hither below 0.0001 by 1 (parse.c, parseViewpoint).
+        if (v.hither < 0.0001f) v.hither = 1.0f;
         keyword(lex, "resolution", "v");
         v.width = count(lex, "resolution", 1);
         v.height = count(lex, "resolution", 1);
         model_.view = v;
     }
 
-    void light(Lexer& lex) {
+    // `l x y z [r g b]`, or `la name x y z [r g b]` for a light animated by `k name`.
+    void light(Lexer& lex, std::string_view c) {
         Light l;
-        l.animation = optional_word(lex);  // unverified: BART names animated lights first
+        if (c == "la") l.animation = word(lex, "a light name", c);
         l.position = vec3(lex, "l");
         if (is_number(lex.peek())) l.color = vec3(lex, "l");
         model_.lights.push_back(std::move(l));
@@ -266,22 +273,23 @@ private:
 
     void polygon(Lexer& lex, const Token& t) {
         auto p = placed<Polygon>(lex, t.line);
-        const bool normals = t.text != "p", uvs = t.text == "tpp";
+        const bool normals = t.text == "pp";
         const int n = count(lex, t.text, 3);
-        if (uvs) p.texture = optional_word(lex);  // unverified: tpp is not used by the scenes
         for (int i = 0; i < n; ++i) {
             p.vertices.push_back(vec3(lex, t.text));
             if (normals) p.normals.push_back(vec3(lex, t.text));
-            if (uvs) p.uvs.push_back(vec2(lex, t.text));
         }
         model_.polygons.push_back(std::move(p));
     }
 
+    // `tt tex` (x y z u v per vertex) or the patch `ttp tex` (x y z nx ny nz u v).
     void textured_triangle(Lexer& lex, const Token& t) {
         auto p = placed<Polygon>(lex, t.line);
+        const bool normals = t.text == "ttp";
         p.texture = optional_word(lex);
         for (int i = 0; i < 3; ++i) {
             p.vertices.push_back(vec3(lex, t.text));
+            if (normals) p.normals.push_back(vec3(lex, t.text));
             p.uvs.push_back(vec2(lex, t.text));
         }
         model_.polygons.push_back(std::move(p));
@@ -366,9 +374,12 @@ private:
     }
 
     void include(Lexer& lex, const Token& t, const std::filesystem::path& path) {
-        // `i detail file`: the detail level is BART's and ignored; tolerate its absence.
-        if (is_number(lex.peek())) lex.next();
+        // `i detail file`: BART skips the file when its detail level exceeds the one `d` set
+        // (0 unless set); a missing level is taken as 0.
+        int detail = 0;
+        if (is_number(lex.peek())) detail = count(lex, "i");
         const Token name = need(lex, "a file name for 'i'");
+        if (detail > detail_level_) return;
         const std::filesystem::path target = (path.parent_path() / std::string(name.text)).lexically_normal();
         for (const std::filesystem::path& a : active_)
             if (a == target) lex.fail(name.line, cat("include cycle: '", target.string(), "' includes itself"));
@@ -433,6 +444,9 @@ private:
                     k.bias = number(lex, track.text);
                     a.rotations.push_back(k);
                 }
+            } else if (track.text == "visibility") {
+                lex.fail(track.line, cat("'k ", a.name, "': visibility keys are not supported (none of "
+                                         "the BART scenes uses them)"));
             } else {
                 lex.fail(track.line, cat("'k ", a.name, "' expects 'transl', 'rot', 'scale' or '}', found '", track.text, "'"));
             }
@@ -449,6 +463,7 @@ private:
     }
 
     AffModel& model_;
+    int detail_level_ = 0;  // `d`: includes with a higher level are skipped
     std::vector<int> open_;  // the transform nodes whose '{' is open, innermost last
     std::vector<std::filesystem::path> active_;  // the include chain being read
 };

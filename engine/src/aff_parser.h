@@ -11,18 +11,21 @@
 //   v / from / at / up / angle / hither / resolution     viewpoint (NFF)
 //   b r g b                                               background colour
 //   am r g b                                              ambient light
-//   l [name] x y z [r g b]                                point light (a name: animated)
+//   l x y z [r g b], la name x y z [r g b]                point light, animated light
 //   f r g b Kd Ks shine T ior                             NFF material
 //   fm amb(3) diff(3) spec(3) shine T ior                 BART material
-//   p n / pp n / tpp n tex                                polygon, with normals, with normals+uv
-//   tt tex                                                textured triangle (3 x: x y z u v)
+//   p n / pp n                                            polygon, polygon with normals
+//   tt tex / ttp tex                                      textured triangle (3 x: x y z u v),
+//                                                         patch (3 x: x y z nx ny nz u v)
 //   s x y z r, c base(3) r0 apex(3) r1                    sphere, cone (NFF)
 //   m, vertices n, normals n, texturecoords n [tex],
 //     triangles n                                         mesh block: `triangles` ends it; each
 //                                                         triangle lists 3 vertex indices, then 3
 //                                                         normal indices if the mesh has normals,
 //                                                         then 3 texture indices if it has them
-//   i detail file                                         include, relative to the including file
+//   i detail file                                         include, relative to the including file;
+//                                                         skipped when detail exceeds `d`'s level
+//   d level                                               detail level (0 by default)
 //   xs scale(3) axis(3) angle_deg translate(3) { ... }    static transform
 //   x name { ... }                                        animated transform, bound to `k name`
 //   k name { transl n (t x y z T C B)*  rot n (t ax ay az angle_deg T C B)*
@@ -30,7 +33,10 @@
 //   tpa n (t, 3 x (x y z nx ny nz))*                      triangle with per-vertex keyframes
 //   a start end frames                                    animation time range and frame count
 // Comments start with `#` (NFF) or `%` (seen in museum5.aff) and run to the end of the line.
-// Assumptions not settled by the files themselves are marked "unverified" below.
+// Where the paper is silent, BART's own previewer (parse.c, animation.c, kbsplpos.c,
+// kbsplrot.c) decides: mesh triangles list vertex, then normal, then texture indices; `rot`
+// angles are degrees; a hither below 0.0001 reads as 1. `visibility` keys (in BART's format
+// but unused by its three scenes) are refused with an error.
 
 #include <array>
 #include <cstdint>
@@ -51,8 +57,8 @@ struct SourceLocation {
     int line = 0;
 };
 
-/// `v`: the NFF viewpoint. `angle_deg` is the full field of view (NFF: the horizontal one for
-/// a square image; unverified which axis BART means for non-square resolutions).
+/// `v`: the NFF viewpoint. `angle_deg` is the full vertical field of view: BART's format
+/// description reads it "in the y-direction (from top to bottom)" with aspect width / height.
 struct View {
     Vec3 from{}, at{}, up{};
     float angle_deg = 0;
@@ -60,7 +66,7 @@ struct View {
     int width = 0, height = 0;
 };
 
-/// `l`: a point light; `animation` names its `k` block when the light is animated.
+/// `l`: a point light; `la` names its `k` block (`animation`), whose `transl` moves it.
 struct Light {
     Vec3 position{};
     std::optional<Vec3> color;  ///< absent: NFF's default white
@@ -82,7 +88,7 @@ struct Placement {
     SourceLocation where;
 };
 
-/// `p`, `pp`, `tpp`, `tt`: one planar polygon; normals and uvs empty or one per vertex.
+/// `p`, `pp`, `tt`, `ttp`: one planar polygon; normals and uvs empty or one per vertex.
 struct Polygon : Placement {
     std::vector<Vec3> vertices, normals;
     std::vector<Vec2> uvs;

@@ -14,7 +14,7 @@ namespace dynrt::anim {
 
 namespace {
 
-/// The numbers of key k's value (for cubic_spline, its value between the two tangents).
+/// The numbers of key k's value (for cubic_spline and squad, its value between the two tangents or controls).
 const double* key_value(const AnimationSampler& sampler, std::size_t k) {
     const std::size_t n = sampler.components;
     const bool three_per_key =

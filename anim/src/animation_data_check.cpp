@@ -95,7 +95,9 @@ private:
                     fail(name + "key times are not finite and strictly increasing");
                 }
             }
-            const std::size_t per_key = sampler.interpolation == Interpolation::cubic_spline ? 3 : 1;
+            const bool three_per_key = sampler.interpolation == Interpolation::cubic_spline ||
+                                       sampler.interpolation == Interpolation::squad;
+            const std::size_t per_key = three_per_key ? 3 : 1;
             if (sampler.components == 0 ||
                 sampler.values.size() != sampler.times.size() * per_key * sampler.components) {
                 fail(name + "value count does not match its keys");
@@ -106,6 +108,10 @@ private:
             const std::string name = "animation '" + clip.name + "' channel " + std::to_string(c) + ": ";
             if (channel.node >= scene_.nodes.size()) fail(name + "node out of range");
             if (channel.sampler >= clip.samplers.size()) fail(name + "sampler out of range");
+            if (channel.property != AnimatedProperty::rotation &&
+                clip.samplers[channel.sampler].interpolation == Interpolation::squad) {
+                fail(name + "squad interpolation is for rotations only");
+            }
             const std::uint32_t components = clip.samplers[channel.sampler].components;
             if (channel.property == AnimatedProperty::weights) {
                 check_weights_channel(channel, components, name);

@@ -8,8 +8,8 @@ namespace dynrt::anim {
 
 /// Throws SceneError naming the source and the element when node, skin, morph, clip, camera or
 /// motion data is inconsistent: an index out of range, a parent after its child, arrays of
-/// mismatched sizes, key times not strictly increasing, an animated node with a matrix, an
-/// exploding object that is not unshared.
+/// mismatched sizes, key times not strictly increasing, squad interpolation on anything but a
+/// rotation, an animated node with a matrix, an exploding object that is not unshared.
 void check_animation_data(const Scene& scene);
 
 }  // namespace dynrt::anim

@@ -1,4 +1,6 @@
-// glTF 2.0 Appendix C, "Animation Sampler Interpolation Modes"; slerp after Shoemake 1985.
+// glTF 2.0 Appendix C, "Animation Sampler Interpolation Modes"; slerp and squad after Shoemake
+// 1985 ("Animating rotation with quaternion curves") and, for squad, as BART evaluates it (Lext,
+// Assarsson, Moller 2001, whose quat.c is D. Eberly's Magic Software quaternion code).
 
 #include "dynrt/anim/animation_sampler.h"
 
@@ -12,10 +14,12 @@ namespace dynrt::anim {
 
 namespace {
 
-/// The numbers of key k's value (for cubic_spline, its value between the two tangents).
+/// The numbers of key k's value (for cubic_spline and squad, its value between the two tangents or controls).
 const double* key_value(const AnimationSampler& sampler, std::size_t k) {
     const std::size_t n = sampler.components;
-    return sampler.values.data() + (sampler.interpolation == Interpolation::cubic_spline ? (3 * k + 1) * n : k * n);
+    const bool three_per_key =
+        sampler.interpolation == Interpolation::cubic_spline || sampler.interpolation == Interpolation::squad;
+    return sampler.values.data() + (three_per_key ? (3 * k + 1) * n : k * n);
 }
 
 glm::dvec4 quaternion_at(const double* q) { return glm::dvec4(q[0], q[1], q[2], q[3]); }
@@ -25,6 +29,47 @@ void copy_value(const double* value, std::size_t n, std::span<double> out) { std
 void normalize_quaternion(std::span<double> q) {
     const double length = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
     for (double& c : q) c /= length;
+}
+
+// Eberly's slerp as BART uses it, on purpose not our slerp(): no flip to the short path (BART
+// flips keys once, when building the controls), the cosine clamped to [-1, 1] rather than the
+// inputs normalised, and p itself, not a lerp, once sin(angle) < 1e-3. Those are what BART
+// renders, so squad reproduces them.
+glm::dvec4 bart_slerp(const glm::dvec4& p, const glm::dvec4& q, double u) {
+    const double cos_angle = std::clamp(glm::dot(p, q), -1.0, 1.0);
+    const double angle = std::acos(cos_angle);
+    const double sin_angle = std::sin(angle);
+    if (sin_angle < 1e-3) return p;
+    return (std::sin((1.0 - u) * angle) / sin_angle) * p + (std::sin(u * angle) / sin_angle) * q;
+}
+
+// A squad result made unit as BART does: it turns it into an angle 2 acos(w) and a normalised
+// axis, then back into a quaternion, which keeps w and rescales (x, y, z). For a unit result
+// that is the identity; for the slightly non-unit ones that keys with non-unit axes give, it
+// keeps BART's angle where normalize() would change it.
+void write_bart_unit(const glm::dvec4& r, std::span<double> out) {
+    const double w = std::clamp(r.w, -1.0, 1.0);
+    const double xyz_length = std::sqrt(r.x * r.x + r.y * r.y + r.z * r.z);
+    if (xyz_length == 0.0) {  // BART: angle 0 about (1, 0, 0)
+        out[0] = out[1] = out[2] = 0.0;
+        out[3] = 1.0;
+        return;
+    }
+    const double scale = std::sqrt(1.0 - w * w) / xyz_length;
+    out[0] = r.x * scale;
+    out[1] = r.y * scale;
+    out[2] = r.z * scale;
+    out[3] = w;
+}
+
+// Span k of a squad sampler at fraction s of the way.
+void squad_span(const AnimationSampler& sampler, std::size_t k, double s, std::span<double> out) {
+    const double* a = key_value(sampler, k);
+    const double* b = key_value(sampler, k + 1);
+    const glm::dvec4 p = quaternion_at(a), q = quaternion_at(b);
+    const glm::dvec4 out_control = quaternion_at(a + 4), in_control = quaternion_at(b - 4);
+    write_bart_unit(bart_slerp(bart_slerp(p, q, s), bart_slerp(out_control, in_control, s), 2.0 * s * (1.0 - s)),
+                    out);
 }
 
 }  // namespace
@@ -47,6 +92,13 @@ glm::dvec4 slerp(const glm::dvec4& a, const glm::dvec4& b_in, double u) {
 void sample(const AnimationSampler& sampler, double t, bool rotation, std::span<double> out) {
     const std::vector<double>& times = sampler.times;
     const std::size_t n = sampler.components;
+    if (sampler.interpolation == Interpolation::squad) {
+        if (times.size() == 1) return write_bart_unit(quaternion_at(key_value(sampler, 0)), out);
+        // BART clamps by evaluating the end spans at s = 0 and s = 1, which differs from the
+        // end keys where its slerp cut-off keeps the first quaternion.
+        if (t <= times.front()) return squad_span(sampler, 0, 0.0, out);
+        if (t >= times.back()) return squad_span(sampler, times.size() - 2, 1.0, out);
+    }
     if (t <= times.front()) return copy_value(key_value(sampler, 0), n, out);
     if (t >= times.back()) return copy_value(key_value(sampler, times.size() - 1), n, out);
     // times[k] <= t < times[k + 1].
@@ -78,6 +130,8 @@ void sample(const AnimationSampler& sampler, double t, bool rotation, std::span<
             if (rotation) normalize_quaternion(out);
             return;
         }
+        case Interpolation::squad:
+            return squad_span(sampler, k, u, out);
     }
 }
 
@@ -85,6 +139,16 @@ bool is_constant(const AnimationSampler& sampler) {
     const std::size_t n = sampler.components;
     const std::size_t keys = sampler.times.size();
     const double* first = key_value(sampler, 0);
+    if (sampler.interpolation == Interpolation::squad) {
+        // squad(s; v, v, v, v) = v; any other control bends the curve away from v.
+        for (std::size_t k = 0; k < keys; ++k) {
+            const double* value = key_value(sampler, k);
+            for (const double* q : {value - n, value, value + n}) {
+                if (!std::equal(first, first + n, q)) return false;
+            }
+        }
+        return true;
+    }
     for (std::size_t k = 1; k < keys; ++k) {
         if (!std::equal(first, first + n, key_value(sampler, k))) return false;
     }

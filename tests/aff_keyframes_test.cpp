@@ -535,7 +535,7 @@ TEST(AffKeyframes, ErrorsNameTheTrack) {
         keys[2].time = keys[1].time;  // equal times
         vector_error(keys);
         keys = good;
-        keys[3].time = 1.5f;  // decreasing
+        keys[0].time = keys[2].time;  // a spacing factor divides by zero
         vector_error(keys);
         keys = good;
         keys[1].value[2] = nan;
@@ -564,5 +564,90 @@ TEST(AffKeyframes, ErrorsNameTheTrack) {
         keys = good_rot;
         keys[0].axis = {0, 0, 0};
         rotation_error(keys);
+    }
+}
+
+// ---- Equal and falling key times: BART's robots and kitchen tracks have both ----
+
+namespace {
+
+// Times with repeats and a fall back to before an earlier key, arranged as in Robot1.aff's
+// gun_rot1 (the track restarts at an earlier time and only its spans past the first part's
+// end are ever evaluated): keys 1..5 rise with a repeat at 2, keys 6..10 restart at 1 and rise
+// to 3, which the first part reached, then keys 11.. go on from 3.
+const std::vector<float> kRestartingTimes = {0, 0, 1, 2, 2, 3, 1, 1.5f, 2, 2.5f, 3, 4, 5, 5.5f, 5.5f};
+
+// Times at which to compare: a grid, the keys, and points within a millionth of the keys.
+std::vector<double> probe_times(const std::vector<float>& times) {
+    std::vector<double> probes;
+    for (int step = 0; step <= 700; ++step) probes.push_back(-1.0 + step / 100.0);
+    for (float t : times) {
+        for (double d : {-1e-6, 0.0, 1e-6}) probes.push_back(double(t) + d);
+    }
+    return probes;
+}
+
+}  // namespace
+
+TEST(AffKeyframes, EqualAndFallingTimesFollowBartsSpanSearch) {
+    std::mt19937 rng(21);
+    std::uniform_real_distribution<float> value(-10, 10), tcb(-0.9f, 0.9f);
+    const std::vector<float>& times = kRestartingTimes;
+    for (int track = 0; track < 10; ++track) {
+        std::vector<VectorKey> keys(times.size());
+        for (std::size_t k = 0; k < keys.size(); ++k) {
+            keys[k] = VectorKey{times[k], {value(rng), value(rng), value(rng)}, tcb(rng), tcb(rng), tcb(rng)};
+        }
+        const AnimationSampler sampler = kochanek_bartels_sampler(keys, 0.0, "restart");
+        const std::vector<BartCubic> polys = bart_position_polys(keys);
+        for (const double t : probe_times(times)) {
+            const std::array<double, 3> want = bart_position(polys, t);
+            const std::array<double, 3> got = sample3(sampler, t);
+            for (int c = 0; c < 3; ++c) EXPECT_NEAR(got[c], want[c], 1e-9) << "track " << track << " t " << t;
+        }
+        // The jumps are there: at 2 BART takes the span starting at the second key at 2.
+        EXPECT_NEAR(sample3(sampler, 2.0)[0], keys[4].value[0], 1e-12);
+        EXPECT_NEAR(sample3(sampler, std::nextafter(2.0, 0.0))[0], keys[3].value[0], 1e-9);
+    }
+}
+
+TEST(AffKeyframes, EqualAndFallingTimesFollowBartsSpanSearchForRotations) {
+    std::mt19937 rng(22);
+    std::uniform_real_distribution<float> angle(-400, 400), tcb(-0.9f, 0.9f);
+    std::uniform_int_distribution<int> coordinate(0, 2);
+    const std::vector<float>& times = kRestartingTimes;
+    int negated = 0;
+    for (int track = 0; track < 10; ++track) {
+        std::vector<RotationKey> keys(times.size());
+        std::vector<BartRotationKey> bart_keys(times.size());
+        for (std::size_t k = 0; k < keys.size(); ++k) {
+            Vec3 axis{0, 0, 0};
+            axis[std::size_t(coordinate(rng))] = 1;
+            keys[k] = RotationKey{times[k], axis, angle(rng), tcb(rng), tcb(rng), tcb(rng)};
+            bart_keys[k] = BartRotationKey{keys[k].time,
+                                           {keys[k].angle_deg * std::numbers::pi / 180.0, axis[0], axis[1], axis[2]},
+                                           keys[k].tension, keys[k].continuity, keys[k].bias};
+        }
+        const AnimationSampler sampler = bart_rotation_sampler(keys, 0.0, "restart");
+        const std::vector<BartSquad> si = bart_rotation_polys(bart_keys, negated);
+        for (const double t : probe_times(times)) {
+            const std::array<double, 9> want = bart_rotation_matrix(si, t);
+            const std::array<double, 4> q = sample4(sampler, t);
+            const std::array<double, 9> got = rotation_matrix(q[0], q[1], q[2], q[3]);
+            for (int e = 0; e < 9; ++e) EXPECT_NEAR(got[e], want[e], 1e-9) << "track " << track << " t " << t;
+        }
+    }
+}
+
+TEST(AffKeyframes, ATrackFallingIntoTheMiddleOfASpanIsRefused) {
+    // Keys 1..3 reach 3; key 4 at 2 starts a span 2 -> 4 that BART would use from 3 on, part
+    // way along: not representable, so an error naming the track.
+    const std::vector<VectorKey> keys = {vkey(0, 0, 0, 0, 0), vkey(1, 1, 0, 0, 0), vkey(3, 2, 0, 0, 0),
+                                         vkey(2, 3, 0, 0, 0), vkey(4, 4, 0, 0, 0), vkey(5, 5, 0, 0, 0)};
+    try {
+        (void)kochanek_bartels_sampler(keys, 0.0, "k 'falls'");
+        ADD_FAILURE() << "no SceneError";
+    } catch (const SceneError& e) {
+        EXPECT_NE(std::string(e.what()).find("k 'falls': keys 3 to 4 start before"), std::string::npos) << e.what();
     }
 }

@@ -33,10 +33,12 @@ void check_keys(std::span<const Key> keys, double time_offset, const std::string
               std::isfinite(keys[k].bias))) {
             throw SceneError(cat(what, ": key ", k, " has a number that is not finite"));
         }
-        if (k > 0 && !(keys[k].time > keys[k - 1].time)) {
-            throw SceneError(cat(what, ": key times are not strictly increasing (key ", k, ")"));
-        }
     }
+    // Equal and even falling times are BART's data (robots and kitchen have both); spans BART
+    // never evaluates are skipped (sampler_keys), but at least one span must last.
+    bool lasts = false;
+    for (std::size_t k = 1; k + 2 < keys.size(); ++k) lasts = lasts || keys[k + 1].time > keys[k].time;
+    if (!lasts) throw SceneError(cat(what, ": keys 1 to ", keys.size() - 2, " all have the same time"));
 }
 
 bool all_finite(const Vec3& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
@@ -119,16 +121,88 @@ glm::dvec4 eberly_exp(const glm::dvec4& q) {
     return {coeff * q.x, coeff * q.y, coeff * q.z, std::cos(angle)};
 }
 
-// One squad span of KB_RotInitialize: from p to q with controls a and b.
-struct SquadSpan {
-    glm::dvec4 p, a, b, q;
+// ---- Spans to sampler keys ----
+
+// One span of a track, from key `first` + 1 to key `first` + 2 (times in the sampler's clock),
+// with what its two ends hold: values and, for positions, BART's tangents per second, for
+// rotations squad's controls.
+template <class V>
+struct Span {
+    double start_time, end_time;
+    V start_value, end_value, start_out, end_in;
 };
 
-void write(std::vector<double>& values, std::size_t at, const glm::dvec4& q) {
-    values[at] = q.x;
-    values[at + 1] = q.y;
-    values[at + 2] = q.z;
-    values[at + 3] = q.w;
+// A sampler key: in-tangent (or control), value, out-tangent (or control).
+template <class V>
+struct SamplerKey {
+    double time;
+    V in, value, out;
+};
+
+// The sampler's keys for the spans of a track, as BART's span search uses them: at time t it
+// evaluates the first span whose end lies after t (KB_PosInterpolate0, KB_RotInterpolate). So
+// a span is used from the latest end of the spans before it (`covered`) to its own end, and
+// never when that end is not later: spans of no duration (equal key times) and spans that go
+// back in time (robots' tracks have both). Used spans give their ends as keys, shared where
+// one starts as the previous ends. Where skipped spans lie between two used ones the value
+// jumps: BART evaluates the earlier span for t < T and the later from T on, so the key ending
+// the earlier one moves one double ulp down to keep both values. Before the range BART clamps
+// to key 1 at t <= T (its search starts with a strict <), after it to key n-2; where those
+// differ from the used spans' ends, keys one ulp apart hold both. `still` makes an unused
+// tangent or control for a value (zero, or the value itself). Throws SceneError starting with
+// `what` for a span that would be used from part way along (a track that goes back in time
+// into the middle of a span): no key layout holds that, and BART's scenes have none.
+template <class V, class Still>
+std::vector<SamplerKey<V>> sampler_keys(const std::vector<Span<V>>& spans, const V& first_value,
+                                        const V& last_value, Still still, const std::string& what) {
+    std::vector<SamplerKey<V>> keys;
+    const auto below = [](double t) { return std::nextafter(t, -INFINITY); };
+    const auto above = [](double t) { return std::nextafter(t, INFINITY); };
+    double covered = spans.front().start_time;
+    bool contiguous = false;  // the previous span was used and ends where this one starts
+    for (std::size_t i = 0; i < spans.size(); ++i) {
+        const Span<V>& span = spans[i];
+        if (!(span.end_time > covered)) {
+            contiguous = false;
+            continue;
+        }
+        const auto finite = [](const V& v) {
+            for (int c = 0; c < v.length(); ++c) {
+                if (!std::isfinite(v[c])) return false;
+            }
+            return true;
+        };
+        if (!finite(span.start_out) || !finite(span.end_in)) {
+            throw SceneError(cat(what, ": the tangents of keys ", i + 1, " to ", i + 2, " are not finite (the "
+                                 "key times around them make BART's spacing factors divide by zero)"));
+        }
+        if (span.start_time < covered) {
+            throw SceneError(cat(what, ": keys ", i + 1, " to ", i + 2, " start before the time earlier keys "
+                                 "already reached (", covered, "); such a track is not supported"));
+        }
+        if (keys.empty()) {
+            if (!(span.start_value == first_value)) {
+                keys.push_back({span.start_time, still(first_value), first_value, still(first_value)});
+                keys.push_back({above(span.start_time), still(span.start_value), span.start_value, span.start_out});
+            } else {
+                keys.push_back({span.start_time, still(span.start_value), span.start_value, span.start_out});
+            }
+        } else if (contiguous) {
+            keys.back().out = span.start_out;
+        } else {
+            keys.back().time = below(keys.back().time);
+            keys.push_back({span.start_time, still(span.start_value), span.start_value, span.start_out});
+        }
+        keys.push_back({span.end_time, span.end_in, span.end_value, still(span.end_value)});
+        covered = span.end_time;
+        contiguous = true;
+    }
+    if (!contiguous && !(keys.back().value == last_value)) {
+        const double t = keys.back().time;
+        keys.back().time = below(t);
+        keys.push_back({t, still(last_value), last_value, still(last_value)});
+    }
+    return keys;
 }
 
 }  // namespace
@@ -139,36 +213,36 @@ AnimationSampler kochanek_bartels_sampler(std::span<const VectorKey> keys, doubl
     for (std::size_t k = 0; k < keys.size(); ++k) {
         if (!all_finite(keys[k].value)) throw SceneError(cat(what, ": key ", k, " has a number that is not finite"));
     }
-    const std::size_t kept = keys.size() - 2;
-    AnimationSampler sampler;
-    sampler.interpolation = Interpolation::cubic_spline;
-    sampler.components = 3;
-    sampler.times.resize(kept);
-    sampler.values.assign(kept * 3 * 3, 0.0);
     const auto point = [&](std::size_t i) {
         const Vec3& v = keys[i].value;
         return glm::dvec3(v[0], v[1], v[2]);
     };
-    for (std::size_t k = 0; k < kept; ++k) {
-        sampler.times[k] = static_cast<double>(keys[k + 1].time) - time_offset;
-        const glm::dvec3 value = point(k + 1);
-        for (int c = 0; c < 3; ++c) sampler.values[(3 * k + 1) * 3 + static_cast<std::size_t>(c)] = value[c];
-    }
-    // Span k of the sampler runs from key k+1 to key k+2 of the track.
-    for (std::size_t k = 0; k + 1 < kept; ++k) {
-        const TangentWeights w = tangent_weights(keys, k);
-        const glm::dvec3 p0 = point(k), p1 = point(k + 1), p2 = point(k + 2), p3 = point(k + 3);
-        const glm::dvec3 dp = p2 - p1;
-        const glm::dvec3 tangent_out = w.out1 * dp + w.out0 * (p1 - p0);
-        const glm::dvec3 tangent_in = w.in1 * (p3 - p2) + w.in0 * dp;
-        // BART's Hermite runs in the span's own parameter u in [0, 1]; glTF's multiplies the
-        // stored tangents by the span's duration, so store them per second.
-        const double duration = sampler.times[k + 1] - sampler.times[k];
-        for (int c = 0; c < 3; ++c) {
-            const std::size_t cc = static_cast<std::size_t>(c);
-            sampler.values[(3 * k + 2) * 3 + cc] = tangent_out[c] / duration;
-            sampler.values[(3 * (k + 1)) * 3 + cc] = tangent_in[c] / duration;
+    // Span i runs from key i+1 to key i+2 of the track.
+    std::vector<Span<glm::dvec3>> spans;
+    for (std::size_t i = 0; i + 3 < keys.size(); ++i) {
+        const double start = static_cast<double>(keys[i + 1].time) - time_offset;
+        const double end = static_cast<double>(keys[i + 2].time) - time_offset;
+        const glm::dvec3 p0 = point(i), p1 = point(i + 1), p2 = point(i + 2), p3 = point(i + 3);
+        Span<glm::dvec3> span{start, end, p1, p2, glm::dvec3(0.0), glm::dvec3(0.0)};
+        if (end > start) {
+            const TangentWeights w = tangent_weights(keys, i);
+            const glm::dvec3 dp = p2 - p1;
+            // BART's Hermite runs in the span's own parameter u in [0, 1]; glTF's multiplies
+            // the stored tangents by the span's duration, so store them per second.
+            span.start_out = (w.out1 * dp + w.out0 * (p1 - p0)) / (end - start);
+            span.end_in = (w.in1 * (p3 - p2) + w.in0 * dp) / (end - start);
         }
+        spans.push_back(span);
+    }
+    const auto zero = [](const glm::dvec3&) { return glm::dvec3(0.0); };
+    const std::vector<SamplerKey<glm::dvec3>> sampler_keys_ =
+        sampler_keys(spans, point(1), point(keys.size() - 2), zero, what);
+    AnimationSampler sampler;
+    sampler.interpolation = Interpolation::cubic_spline;
+    sampler.components = 3;
+    for (const SamplerKey<glm::dvec3>& k : sampler_keys_) {
+        sampler.times.push_back(k.time);
+        for (const glm::dvec3& v : {k.in, k.value, k.out}) sampler.values.insert(sampler.values.end(), {v.x, v.y, v.z});
     }
     return sampler;
 }
@@ -195,8 +269,8 @@ AnimationSampler bart_rotation_sampler(std::span<const RotationKey> keys, double
     };
 
     // ---- KB_RotInitialize, span by span in key order (the in-place negation needs the order) ----
-    std::vector<SquadSpan> spans(keys.size() - 3);
-    for (std::size_t i = 0; i < spans.size(); ++i) {
+    std::vector<Span<glm::dvec4>> spans;
+    for (std::size_t i = 0; i + 3 < keys.size(); ++i) {
         const glm::dvec4 q0 = quaternion(i), q1 = quaternion(i + 1), q3 = quaternion(i + 3);
         glm::dvec4 q2 = quaternion(i + 2);
         // Acute angle between consecutive keys; q3 is not flipped here, only when its own turn
@@ -205,32 +279,30 @@ AnimationSampler bart_rotation_sampler(std::span<const RotationKey> keys, double
             q2 = -q2;
             rotations[i + 2] = to_angle_axis(q2);
         }
-        const TangentWeights w = tangent_weights(keys, i);
-        const glm::dvec4 log_dq = eberly_log(multiply(unit_inverse(q1), q2));
-        const glm::dvec4 tangent_out = w.out1 * log_dq + w.out0 * eberly_log(multiply(unit_inverse(q0), q1));
-        const glm::dvec4 tangent_in = w.in0 * log_dq + w.in1 * eberly_log(multiply(unit_inverse(q2), q3));
-        spans[i] = SquadSpan{
-            .p = q1,
-            .a = multiply(q1, eberly_exp(0.5 * (tangent_out - log_dq))),
-            .b = multiply(q2, eberly_exp(0.5 * (log_dq - tangent_in))),
-            .q = q2,
-        };
+        const double start = static_cast<double>(keys[i + 1].time) - time_offset;
+        const double end = static_cast<double>(keys[i + 2].time) - time_offset;
+        Span<glm::dvec4> span{start, end, q1, q2, q1, q2};
+        if (end > start) {
+            const TangentWeights w = tangent_weights(keys, i);
+            const glm::dvec4 log_dq = eberly_log(multiply(unit_inverse(q1), q2));
+            const glm::dvec4 tangent_out = w.out1 * log_dq + w.out0 * eberly_log(multiply(unit_inverse(q0), q1));
+            const glm::dvec4 tangent_in = w.in0 * log_dq + w.in1 * eberly_log(multiply(unit_inverse(q2), q3));
+            span.start_out = multiply(q1, eberly_exp(0.5 * (tangent_out - log_dq)));
+            span.end_in = multiply(q2, eberly_exp(0.5 * (log_dq - tangent_in)));
+        }
+        spans.push_back(span);
     }
 
-    // ---- Spans to per-key [in, value, out] ----
-    const std::size_t kept = keys.size() - 2;
+    // ---- Spans to per-key [in, value, out]; unused controls hold the key's value ----
+    const auto itself = [](const glm::dvec4& q) { return q; };
+    const std::vector<SamplerKey<glm::dvec4>> sampler_keys_ =
+        sampler_keys(spans, quaternion(1), quaternion(keys.size() - 2), itself, what);
     AnimationSampler sampler;
     sampler.interpolation = Interpolation::squad;
     sampler.components = 4;
-    sampler.times.resize(kept);
-    sampler.values.assign(kept * 3 * 4, 0.0);
-    for (std::size_t k = 0; k < kept; ++k) {
-        sampler.times[k] = static_cast<double>(keys[k + 1].time) - time_offset;
-        // Span k starts at kept key k; the last kept key only ends span k-1.
-        const glm::dvec4 value = k < spans.size() ? spans[k].p : spans[k - 1].q;
-        write(sampler.values, (3 * k) * 4, k > 0 ? spans[k - 1].b : value);
-        write(sampler.values, (3 * k + 1) * 4, value);
-        write(sampler.values, (3 * k + 2) * 4, k < spans.size() ? spans[k].a : value);
+    for (const SamplerKey<glm::dvec4>& k : sampler_keys_) {
+        sampler.times.push_back(k.time);
+        for (const glm::dvec4& q : {k.in, k.value, k.out}) sampler.values.insert(sampler.values.end(), {q.x, q.y, q.z, q.w});
     }
     return sampler;
 }

@@ -25,8 +25,12 @@ namespace dynrt::aff {
 /// equals BART's KB_PosInterpolate0 up to rounding: key k's out-tangent and key k+1's in-tangent
 /// are BART's Tout and Tin divided by the span's duration (glTF's Hermite multiplies them back);
 /// the first kept key's in-tangent and the last kept key's out-tangent are unused and zero.
-/// Throws SceneError starting with `what` when there are fewer than 4 keys, times are not
-/// strictly increasing, or a number (or time_offset) is not finite. Thread safe.
+/// Equal key times (BART's robots and kitchen have them) make spans of no duration, which BART
+/// never evaluates; its curve jumps there, and the sampler keeps both values one double ulp
+/// apart (see sampler_keys in the .cpp), so it agrees with BART at every time but within that
+/// ulp. Throws SceneError starting with `what` when there are fewer than 4 keys, times
+/// decrease, keys 1..n-2 all share one time, or a number (or time_offset) is not finite.
+/// Thread safe.
 [[nodiscard]] AnimationSampler kochanek_bartels_sampler(std::span<const VectorKey> keys, double time_offset,
                                                         const std::string& what);
 
@@ -41,7 +45,7 @@ namespace dynrt::aff {
 /// BART re-derives; one value slot holds the latter. That span moves by O(|axis| - 1): nothing
 /// for unit axes, ~1e-7 for axes unit to float precision, and every key BART negates in the
 /// kitchen, robots and museum scenes has ||axis| - 1| < 6e-4.
-/// Throws SceneError starting with `what` as kochanek_bartels_sampler, and for a zero axis.
+/// Equal times and errors as kochanek_bartels_sampler, and a zero axis is an error too.
 /// Thread safe.
 [[nodiscard]] AnimationSampler bart_rotation_sampler(std::span<const RotationKey> keys, double time_offset,
                                                      const std::string& what);

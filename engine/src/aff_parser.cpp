@@ -245,6 +245,8 @@ private:
     // `l x y z [r g b]`, or `la name x y z [r g b]` for a light animated by `k name`.
     void light(Lexer& lex, std::string_view c) {
         Light l;
+        l.node = open_.empty() ? 0 : open_.back();
+        l.where = {lex.file(), lex.last_line()};
         if (c == "la") l.animation = word(lex, "a light name", c);
         l.position = vec3(lex, "l");
         if (is_number(lex.peek())) l.color = vec3(lex, "l");

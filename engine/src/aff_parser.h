@@ -71,6 +71,8 @@ struct Light {
     Vec3 position{};
     std::optional<Vec3> color;  ///< absent: NFF's default white
     std::string animation;
+    int node = 0;  ///< the transform node it sits under (index into AffModel::nodes)
+    SourceLocation where;
 };
 
 /// `f` or `fm`. For `f`, ambient is zero, diffuse is colour * Kd and specular is Ks * colour

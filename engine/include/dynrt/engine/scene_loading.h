@@ -1,5 +1,6 @@
 #pragma once
-// Scene front ends: glTF 2.0 files and procedural spec strings, both producing the scene model.
+// Scene front ends: glTF 2.0 files, BART's AFF files and procedural spec strings, all producing
+// the scene model.
 
 #include "dynrt/scene/scene.h"
 
@@ -10,8 +11,9 @@
 
 namespace dynrt {
 
-/// Loads `source`: a path ending in .gltf or .glb (case-insensitive) is read as glTF, anything
-/// else is parsed as a procedural spec (see make_procedural_scene). Throws SceneError with a
+/// Loads `source`: a path ending in .gltf or .glb (case-insensitive) is read as glTF, one ending
+/// in .aff as BART's AFF (load_aff), anything else is parsed as a procedural spec (see
+/// make_procedural_scene). Throws SceneError with a
 /// one-line message naming the file or spec, the object and the problem. The result has at
 /// least one triangle and only finite positions and in-range indices.
 Scene load_scene(const std::string& source);
@@ -27,6 +29,15 @@ Scene load_scene(const std::string& source);
 /// as a clip (Scene::clips) and the perspective cameras (Scene::cameras). Throws SceneError
 /// naming the file and the element ("animation 'Walk' channel 3: ...").
 Scene load_gltf(const std::filesystem::path& path);
+
+/// Reads a BART scene (Lext, Assarsson and Moller, "BART: A Benchmark for Animated Ray
+/// Tracing", IEEE CG&A 21(2), 2001): the AFF file at `path` and the files it includes, relative
+/// to the including file. Its viewpoint becomes cameras[0] and Scene::setup (image size, frame
+/// rate, frame count, background); `x`/`k` transforms become animated nodes (rigid objects),
+/// `tpa` triangles morphing objects (deformable), the rest static objects, one per material;
+/// textures are ignored. The conversion rules are in engine/src/aff_scene.h. Throws SceneError
+/// naming the file and line.
+Scene load_aff(const std::filesystem::path& path);
 
 /// The two encodings of a glTF 2.0 document.
 enum class GltfFormat { json, binary };

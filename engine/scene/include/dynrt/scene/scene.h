@@ -11,6 +11,7 @@
 #include "dynrt/scene/node.h"
 #include "dynrt/scene/procedural_motion.h"
 #include "dynrt/scene/scene_camera.h"
+#include "dynrt/scene/scene_setup.h"
 #include "dynrt/scene/skin.h"
 
 #include <glm/mat4x4.hpp>
@@ -78,6 +79,9 @@ struct Scene {
     std::vector<SceneCamera> cameras;
     /// User-added motions, applied in this order (dynrt::anim::add_procedural_motions).
     std::vector<ProceduralMotion> motions;
+    /// Present when the file says how it is to be shown (BART's AFF): then cameras[0] is its
+    /// viewpoint, and its image size, frame rate and background are the defaults.
+    std::optional<SceneSetup> setup;
 
     std::size_t triangle_count() const;
 };

@@ -1,0 +1,37 @@
+#pragma once
+// BART's AFF model (aff_parser.h) turned into the scene model every later stage reads.
+//
+// Geometry: polygons are fanned from their first vertex (as BART's own converters do), mesh
+// blocks keep their triangles, cones and spheres are tessellated (kAffConeSegments around,
+// no end caps, as NFF cones have none), `tt`/`ttp` are single triangles. Texture coordinates,
+// texture names and per-vertex normals are dropped: colour comes from the material.
+//
+// Motion, following BART's classification by data:
+//  - An `x NAME` transform with a `k NAME` block is an animated node: translation and scale
+//    keys become Kochanek-Bartels splines, rotation keys BART's squad (aff_keyframes.h).
+//    Everything under it is one rigid object per material, its vertices baked through the
+//    static `xs` transforms between it and the shapes.
+//  - `tpa` triangles sharing key times, node and material become one deformable object:
+//    key 0's positions plus one morph target per later key, with weights that move linearly
+//    from key to key, which is BART's linear interpolation of animated triangles.
+//  - Everything else is static, baked to world space, one object per material.
+//  - `k camera` animates the viewpoint, a node with the camera's translation and rotation.
+// Time: BART's frame f is at start + f (end - start) / (frames - 1); the scene's key times are
+// shifted by -start and SceneSetup::fps set to (frames - 1) / (end - start), so dynrt's frame f
+// (time f / fps) is BART's.
+
+#include "aff_parser.h"
+#include "dynrt/scene/scene.h"
+
+namespace dynrt::aff {
+
+/// Segments around a cone or sphere.
+inline constexpr int kAffConeSegments = 32;
+
+/// The scene `model` describes; `source` names it in messages. Throws SceneError naming the
+/// file and line for what the scene model cannot hold: an `x` whose keys are malformed, an
+/// animated light (`la`), a light under an animated transform, a zero rotation axis, a
+/// non-finite number, a viewpoint whose up vector is parallel to its view direction.
+[[nodiscard]] Scene scene_from_aff(const AffModel& model, const std::string& source);
+
+}  // namespace dynrt::aff

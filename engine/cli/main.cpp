@@ -49,7 +49,8 @@ namespace {
 /// What `render` and `bench` share: the scene, the view and the build settings.
 struct FrameArgs {
     std::string scene;
-    std::string res = "1024x1024";
+    /// Empty: the scene file's own image size (BART's `v`), else 1024x1024.
+    std::string res;
     std::string camera;
     std::vector<std::string> lights;
     float cost_ratio = dynrt::bvh::BuildConfig{}.cost_ratio;
@@ -62,7 +63,8 @@ struct FrameArgs {
     std::vector<std::string> anims;
     std::vector<std::string> treats;
     std::vector<std::string> clips;
-    double fps = dynrt::anim::kDefaultFps;
+    /// 0: the scene file's own frame rate (BART's `a`), else dynrt::anim::kDefaultFps.
+    double fps = 0.0;
     std::string frames;
     double rebuild_threshold = dynrt::RenderOptions{}.rebuild_threshold;
     float cost_ratio_exploding = dynrt::RenderOptions{}.cost_ratio_exploding;
@@ -138,9 +140,12 @@ dynrt::PointLight parse_light(const std::string& text) {
     return dynrt::PointLight{glm::vec3(v[0], v[1], v[2]), v.size() == 4 ? v[3] : 1.0f};
 }
 
+/// The options the flags give. The image size and frame rate are left 0 when not given:
+/// load_animated_scene fills them from the scene.
 dynrt::RenderOptions render_options(const FrameArgs& args) {
     dynrt::RenderOptions options;
-    parse_resolution(args.res, options.width, options.height);
+    options.width = options.height = 0;
+    if (!args.res.empty()) parse_resolution(args.res, options.width, options.height);
     options.build.cost_ratio = args.cost_ratio;
     options.build.leaf_size_max = args.leaf_size;
     for (const std::string& light : args.lights) options.lights.push_back(parse_light(light));
@@ -153,11 +158,25 @@ dynrt::RenderOptions render_options(const FrameArgs& args) {
     return options;
 }
 
+/// What the flags left open, from the scene file when it says (Scene::setup: BART's image
+/// size, frame rate and background), else the defaults: 1024x1024 at 24 fps.
+void apply_scene_setup(const dynrt::Scene& scene, dynrt::RenderOptions& options) {
+    const std::optional<dynrt::SceneSetup>& setup = scene.setup;
+    if (options.width == 0) {
+        options.width = setup ? setup->width : 1024;
+        options.height = setup ? setup->height : 1024;
+    }
+    if (options.pose.fps == 0.0) options.pose.fps = setup ? setup->fps : dynrt::anim::kDefaultFps;
+    if (setup) options.background = setup->background;
+}
+
 /// The scene with the user's procedural motions added, and the pose settings that name its
-/// objects and clips (class overrides and clip choices are checked against this scene).
+/// objects and clips (class overrides and clip choices are checked against this scene); the
+/// options the flags left open are filled from the scene (apply_scene_setup).
 dynrt::Scene load_animated_scene(const FrameArgs& args, const std::string& source,
                                  dynrt::RenderOptions& options) {
     dynrt::Scene scene = dynrt::load_scene(source);
+    apply_scene_setup(scene, options);
     dynrt::anim::add_procedural_motions(scene, args.anims);
     options.pose.class_overrides = dynrt::anim::parse_class_overrides(scene, args.treats);
     if (!args.clips.empty()) {
@@ -172,16 +191,28 @@ std::string scene_source(const FrameArgs& args) {
     return args.scene.empty() ? dynrt::default_scene_path().string() : args.scene;
 }
 
-/// `--camera gltf`: the scene's own (animated) camera, evaluated per frame.
-bool uses_scene_camera(const FrameArgs& args) { return args.camera == "gltf"; }
-
-dynrt::Camera camera_for(const dynrt::Scene& scene, const FrameArgs& args) {
-    if (uses_scene_camera(args)) {
+/// `--camera scene` (or `gltf`): the scene's own (animated) camera, evaluated per frame; also
+/// the default for a scene file that sets up its own view (BART's `v`).
+bool uses_scene_camera(const FrameArgs& args, const dynrt::Scene& scene) {
+    if (args.camera == "gltf" || args.camera == "scene") {
         if (scene.cameras.empty()) {
-            throw std::invalid_argument("--camera gltf: " + scene.source + " has no camera");
+            throw std::invalid_argument("--camera " + args.camera + ": " + scene.source + " has no camera");
         }
+        return true;
+    }
+    return args.camera.empty() && scene.setup && !scene.cameras.empty();
+}
+
+/// The camera of frame `frame`: the scene's own when it is used (posed at that frame with
+/// `pose`'s frame rate), else the one --camera describes or the default framing.
+dynrt::Camera camera_for(const dynrt::Scene& scene, const FrameArgs& args,
+                         const dynrt::anim::PoseSettings& pose, int frame = 0) {
+    if (uses_scene_camera(args, scene)) {
+        dynrt::anim::PoseSettings settings;
+        settings.fps = pose.fps;
+        settings.clips = pose.clips;
         dynrt::anim::PosedScene posed;
-        dynrt::anim::pose_scene(scene, 0, posed);
+        dynrt::anim::pose_scene(scene, settings, frame, posed);
         return dynrt::camera_from_scene(*posed.camera);
     }
     const dynrt::Camera camera = dynrt::default_camera(dynrt::scene_bounds(scene));
@@ -242,8 +273,8 @@ int run_render(const RenderArgs& args) {
 
     const std::string source = scene_source(args);
     const dynrt::Scene scene = load_animated_scene(args, source, options);
-    const bool scene_camera = uses_scene_camera(args);
-    const dynrt::Camera fixed_camera = camera_for(scene, args);
+    const bool scene_camera = uses_scene_camera(args, scene);
+    const dynrt::Camera fixed_camera = camera_for(scene, args, options.pose);
 
     dynrt::Renderer renderer(options);
     dynrt::RenderedFrame frame;
@@ -294,17 +325,18 @@ void write_text(const std::string& path, const std::string& text) {
 
 /// `bench --frames`: an animated sequence, with Embree's per-frame options beside it.
 int run_bench_sequence(const BenchArgs& args) {
-    if (!args.sweeps.empty() || !args.csv.empty() || !args.diff_image.empty() ||
-        uses_scene_camera(args)) {
-        throw std::invalid_argument("bench --frames: --sweep, --csv, --diff-image and --camera "
-                                    "gltf are not supported for sequences yet");
+    if (!args.sweeps.empty() || !args.csv.empty() || !args.diff_image.empty()) {
+        throw std::invalid_argument("bench --frames: --sweep, --csv and --diff-image are not "
+                                    "supported for sequences yet");
     }
     dynrt::RenderOptions options = render_options(args);
     const dynrt::FrameRange range = dynrt::parse_frame_range(args.frames);
     const int runs = args.repeat > 0 ? args.repeat : 1;
     const std::string source = scene_source(args);
     const dynrt::Scene scene = load_animated_scene(args, source, options);
-    const dynrt::Camera camera = camera_for(scene, args);
+    // The scene's own camera moves with the frames: nullopt asks for it frame by frame.
+    std::optional<dynrt::Camera> camera;
+    if (!uses_scene_camera(args, scene)) camera = camera_for(scene, args, options.pose);
     std::vector<std::unique_ptr<dynrt::SequenceTracer>> others;
 #if DYNRT_HAVE_EMBREE
     if (args.vs == "embree") {
@@ -386,13 +418,8 @@ bool sweeps_parameter(const BenchArgs& args, const std::string& parameter) {
     });
 }
 
-/// The render options of a still-frame bench (plain or --error), after refusing a camera it
-/// cannot follow.
+/// The render options of a still-frame bench (plain or --error).
 dynrt::RenderOptions still_frame_options(const BenchArgs& args) {
-    if (uses_scene_camera(args)) {
-        throw std::invalid_argument("bench: --camera gltf is not supported by bench yet; use "
-                                    "render --report");
-    }
     dynrt::RenderOptions options = render_options(args);
     options.hit_buffers = args.hit_buffers;
     return options;
@@ -408,16 +435,15 @@ int run_bench_error(const BenchArgs& args) {
     }
     const int repeat = args.repeat > 0 ? args.repeat : 5;
     dynrt::RenderOptions base = still_frame_options(args);
-    const std::vector<dynrt::reference::ErrorConfiguration> configs =
-        bench_configurations(args, base);
     const std::string source = scene_source(args);
+    // First the scene: its pose settings (class overrides, clips) and what it sets up (image
+    // size, frame rate) go into every row.
     const dynrt::Scene scene = load_animated_scene(args, source, base);
-    // The pose settings (class overrides, clips) came with the scene: give them to every row.
-    std::vector<dynrt::reference::ErrorConfiguration> posed_configs = configs;
-    for (auto& config : posed_configs) config.options.pose = base.pose;
-    const dynrt::Camera camera = camera_for(scene, args);
+    const std::vector<dynrt::reference::ErrorConfiguration> posed_configs =
+        bench_configurations(args, base);
     const bool moves = !scene.motions.empty() || !scene.clips.empty();
     const int frame = args.error_frame >= 0 ? args.error_frame : (moves ? 24 : 0);
+    const dynrt::Camera camera = camera_for(scene, args, base.pose, frame);
     std::cout << "dynrt bench --error: " << source << ", " << scene.triangle_count()
               << " triangles, " << base.width << "x" << base.height << ", frame " << frame
               << ", " << posed_configs.size() << " configuration(s), median (min-max) of "
@@ -482,6 +508,9 @@ int run_bench(const BenchArgs& args) {
     }
     const int repeat = args.repeat > 0 ? args.repeat : 5;
     dynrt::RenderOptions base = still_frame_options(args);
+    const std::string source = scene_source(args);
+    const dynrt::Scene scene = dynrt::load_scene(source);
+    apply_scene_setup(scene, base);
     // Culling items (if swept) vary slowest, then the build sweeps as expand_sweeps orders them.
     const std::vector<dynrt::reference::ErrorConfiguration> configs =
         bench_configurations(args, base);
@@ -491,9 +520,7 @@ int run_bench(const BenchArgs& args) {
                                     "a culling or adaptive sweep (with --error it draws time "
                                     "against error for any sweep)");
     }
-    const std::string source = scene_source(args);
-    const dynrt::Scene scene = dynrt::load_scene(source);
-    const dynrt::Camera camera = camera_for(scene, args);
+    const dynrt::Camera camera = camera_for(scene, args, base.pose);
     std::cout << "dynrt bench: " << source << ", " << scene.triangle_count() << " triangles, "
               << base.width << "x" << base.height << ", " << configs.size()
               << " configuration(s), median (min-max) of " << repeat << " runs after "
@@ -592,12 +619,15 @@ int main(int argc, char** argv) {
 
     const auto add_frame_options = [](CLI::App* cmd, FrameArgs& args) {
         cmd->add_option("scene", args.scene,
-                        "glTF file (.gltf/.glb) or procedural spec (e.g. sphere:100000); "
-                        "default: the bundled scene");
-        cmd->add_option("--res", args.res, "Image size WIDTHxHEIGHT")->capture_default_str();
+                        "glTF file (.gltf/.glb), BART file (.aff) or procedural spec (e.g. "
+                        "sphere:100000); default: the bundled scene");
+        cmd->add_option("--res", args.res,
+                        "Image size WIDTHxHEIGHT (default: the scene file's own, as BART's "
+                        "files give it, else 1024x1024)");
         cmd->add_option("--camera", args.camera,
                         "eye=x,y,z,target=x,y,z,up=x,y,z,fov=deg (any subset; default framing "
-                        "from the scene bounds), or gltf: the scene's first camera, animated");
+                        "from the scene bounds), or scene (also 'gltf'): the scene's first "
+                        "camera, animated; the default for a BART (.aff) scene");
         cmd->add_option("--light", args.lights,
                         "Point light x,y,z[,intensity]; repeatable (default: one light above)")
             ->allow_extra_args(false);
@@ -629,8 +659,10 @@ int main(int argc, char** argv) {
                         "glTF animation to play, by name or index; repeatable (default: all "
                         "clips together)")
             ->allow_extra_args(false);
-        cmd->add_option("--fps", args.fps, "Frames per second: frame f is time f / fps")
-            ->check(CLI::PositiveNumber)->capture_default_str();
+        cmd->add_option("--fps", args.fps,
+                        "Frames per second: frame f is time f / fps (default: the scene file's "
+                        "own, as BART's 'a' gives it, else 24)")
+            ->check(CLI::PositiveNumber);
         cmd->add_option("--frames", args.frames,
                         "A-B (frames A to B) or N (frames 0 to N-1); default frame 0");
         cmd->add_option("--rebuild-threshold", args.rebuild_threshold,
@@ -702,7 +734,7 @@ int main(int argc, char** argv) {
 
     std::string info_scene;
     CLI::App* info_cmd = app.add_subcommand("info", "Describe a scene: objects, triangles, bounds");
-    info_cmd->add_option("scene", info_scene, "glTF file or procedural spec")->required();
+    info_cmd->add_option("scene", info_scene, "glTF file, BART file (.aff) or procedural spec")->required();
 
     try {
         app.parse(argc, argv);

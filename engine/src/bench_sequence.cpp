@@ -51,15 +51,28 @@ std::string format_spread(const Spread& s) {
 
 }  // namespace
 
-SequenceBench bench_sequence(const Scene& scene, const Camera& camera,
+SequenceBench bench_sequence(const Scene& scene, const std::optional<Camera>& camera,
                              const RenderOptions& options, FrameRange range, int runs, int warmup,
                              const std::vector<std::unique_ptr<SequenceTracer>>& others) {
     if (runs < 1) throw std::invalid_argument("bench: repeat must be at least 1");
+    if (!camera && scene.cameras.empty()) {
+        throw std::invalid_argument("bench: " + scene.source + " has no camera of its own to follow");
+    }
     Renderer renderer(options);
     RenderedFrame frame;
+    // Frame f's camera, once the renderer has posed frame f (posing is part of the update).
+    const auto frame_camera = [&] {
+        return camera ? *camera : camera_from_scene(*renderer.posed().camera);
+    };
+    const auto render = [&](int f) {
+        renderer.update(scene, f);
+        const Camera c = frame_camera();
+        renderer.trace(c, frame);
+        return c;
+    };
     for (int i = 0; i < warmup; ++i) {
         renderer.reset();
-        renderer.render(scene, camera, range.first, frame);
+        render(range.first);
     }
     Samples dynrt;
     std::vector<Samples> other(others.size());
@@ -70,11 +83,11 @@ SequenceBench bench_sequence(const Scene& scene, const Camera& camera,
         renderer.reset();
         bench.frames.clear();
         for (int f = range.first; f <= range.last; ++f) {
-            renderer.render(scene, camera, f, frame);
+            const Camera c = render(f);
             const FrameStats& s = frame.stats;
             dynrt.add(SequenceFrameTimes{s.update_ms, s.build_ms, s.primary_ms, s.shadow_ms, {}});
             bench.frames.push_back(s);
-            for (std::size_t k = 0; k < others.size(); ++k) other[k].add(others[k]->frame(f, camera, frame));
+            for (std::size_t k = 0; k < others.size(); ++k) other[k].add(others[k]->frame(f, c, frame));
         }
     }
     bench.rows.push_back(dynrt.row("dynrt"));

@@ -639,6 +639,18 @@ TEST(AffKeyframes, EqualAndFallingTimesFollowBartsSpanSearchForRotations) {
     }
 }
 
+TEST(AffKeyframes, ATrackWhoseSpansAllFallBackIsRefused) {
+    // Key 1 at 5, then 1 and 2: every span ends before 5, so BART would never evaluate one.
+    const std::vector<VectorKey> keys = {vkey(0, 0, 0, 0, 0), vkey(5, 1, 0, 0, 0), vkey(1, 2, 0, 0, 0),
+                                         vkey(2, 3, 0, 0, 0), vkey(6, 4, 0, 0, 0)};
+    try {
+        (void)kochanek_bartels_sampler(keys, 0.0, "k 'back'");
+        ADD_FAILURE() << "no SceneError";
+    } catch (const SceneError& e) {
+        EXPECT_NE(std::string(e.what()).find("k 'back': its key times fall back"), std::string::npos) << e.what();
+    }
+}
+
 TEST(AffKeyframes, ATrackFallingIntoTheMiddleOfASpanIsRefused) {
     // Keys 1..3 reach 3; key 4 at 2 starts a span 2 -> 4 that BART would use from 3 on, part
     // way along: not representable, so an error naming the track.

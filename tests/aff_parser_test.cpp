@@ -317,6 +317,10 @@ TEST_F(AffParser, MalformedInputNamesFileAndLine) {
     expect_error("1.5 2\n", "1", "expected a command, found the number '1.5'");
     expect_error("i 0 missing.aff\n", "1", "cannot open AFF file");
     expect_error("i 0 bad.aff\n", "1", "include cycle");
+    // Counts are not trusted: a count of two billion in a short file is an early end of file.
+    expect_error("m\nvertices 2000000000\n0 0 0\n", "3", "unexpected end of file");
+    expect_error("tpa 2000000000\n0\n", "2", "unexpected end of file");
+    expect_error("i 0 /dev\n", "1", "not a regular file: /dev");
 }
 
 TEST_F(AffParser, MalformedIncludedFileNamesThatFile) {

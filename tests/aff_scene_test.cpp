@@ -231,6 +231,8 @@ TEST(AffScene, WhatTheSceneModelCannotHoldIsAnErrorNamingFileAndLine) {
                  "'up' is parallel to the view direction");
     expect_error("p 3\n0 0 0\n1 nan 0\n0 1 0\n", "snippet.aff:1: vertex (1, nan, 0) is not finite");
     expect_error("c 0 0 0 1  0 0 0 1\n", "snippet.aff:1: 'c' needs distinct base and apex");
+    expect_error("v\nfrom 0 0 1\nat 0 0 0\nup 0 1 0\nangle 40\nhither 1\nresolution 100000 8\n",
+                 "resolution 100000x8 is larger than 16384 a side");
 }
 
 TEST(AffScene, LoadSceneReadsAffFilesAndChecksThem) {

@@ -197,6 +197,9 @@ std::vector<SamplerKey<V>> sampler_keys(const std::vector<Span<V>>& spans, const
         covered = span.end_time;
         contiguous = true;
     }
+    if (keys.empty()) {
+        throw SceneError(cat(what, ": its key times fall back so that BART would evaluate none of its spans"));
+    }
     if (!contiguous && !(keys.back().value == last_value)) {
         const double t = keys.back().time;
         keys.back().time = below(t);

@@ -100,6 +100,11 @@ public:
     }
 
     void parse_file(const std::filesystem::path& path, const std::string& included_from) {
+        // Only regular files: an include naming a device (/dev/zero) or a folder would never end
+        // or never parse.
+        std::error_code ec;
+        if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
+            throw SceneError(cat(included_from, "not a regular file: ", path.string()));
         std::ifstream in(path, std::ios::binary);
         if (!in) throw SceneError(cat(included_from, "cannot open AFF file ", path.string()));
         std::ostringstream text;
@@ -319,20 +324,19 @@ private:
         for (;;) {
             const Token sub = need(lex, "'vertices', 'normals', 'texturecoords' or 'triangles' in mesh 'm'");
             if (sub.text == "vertices") {
+                // Counts are read, not trusted: items are appended as they come, so a huge
+                // count in a short file ends in "unexpected end of file", not in an allocation.
                 const int n = count(lex, sub.text);
-                m.vertices.resize(static_cast<std::size_t>(n));
-                for (Vec3& v : m.vertices) v = vec3(lex, sub.text);
+                for (int i = 0; i < n; ++i) m.vertices.push_back(vec3(lex, sub.text));
                 have_vertices = true;
             } else if (sub.text == "normals") {
                 const int n = count(lex, sub.text);
-                m.normals.resize(static_cast<std::size_t>(n));
-                for (Vec3& v : m.normals) v = vec3(lex, sub.text);
+                for (int i = 0; i < n; ++i) m.normals.push_back(vec3(lex, sub.text));
                 have_normals = true;
             } else if (sub.text == "texturecoords") {
                 const int n = count(lex, sub.text);
                 m.texture = optional_word(lex);
-                m.uvs.resize(static_cast<std::size_t>(n));
-                for (Vec2& v : m.uvs) v = vec2(lex, sub.text);
+                for (int i = 0; i < n; ++i) m.uvs.push_back(vec2(lex, sub.text));
                 have_uvs = true;
             } else if (sub.text == "triangles") {
                 if (!have_vertices) lex.fail(sub.line, "mesh 'm' has 'triangles' before 'vertices'");
@@ -364,8 +368,8 @@ private:
     void animated_triangle(Lexer& lex, const Token& t) {
         auto a = placed<AnimatedTriangle>(lex, t.line);
         const int n = count(lex, t.text, 1);
-        a.keys.resize(static_cast<std::size_t>(n));
-        for (TriangleKey& k : a.keys) {
+        for (int i = 0; i < n; ++i) {
+            TriangleKey& k = a.keys.emplace_back();
             k.time = number(lex, t.text);
             for (int v = 0; v < 3; ++v) {
                 k.positions[v] = vec3(lex, t.text);

@@ -370,6 +370,10 @@ private:
         if (glm::length(forward) == 0.0 || glm::length(right) == 0.0) {
             throw SceneError(cat(scene_.source, ": 'v': 'at' equals 'from' or 'up' is parallel to the view direction"));
         }
+        // The command line's own limit on image sizes.
+        if (v.width > 16384 || v.height > 16384) {
+            throw SceneError(cat(scene_.source, ": 'v': resolution ", v.width, "x", v.height, " is larger than 16384 a side"));
+        }
         if (!(v.angle_deg > 0.0f && v.angle_deg < 180.0f)) {
             throw SceneError(cat(scene_.source, ": 'v': angle ", v.angle_deg, " must lie in (0, 180) degrees"));
         }

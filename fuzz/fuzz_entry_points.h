@@ -118,4 +118,23 @@ inline FuzzOutcome feed_animation_specs(std::string_view text) {
     return FuzzOutcome{true, {}};
 }
 
+/// BART scene target: `text` is an AFF file named fuzz.aff (its includes resolve in the working
+/// folder and mostly fail to open, which is a SceneError too). A scene that loads is posed at
+/// its own frame rate before, at, between and past its frames: keyframe tracks, morphing `tpa`
+/// objects and the camera are evaluated long after loading.
+inline FuzzOutcome feed_aff_scene(std::string_view text) {
+    try {
+        const Scene scene = load_aff_text(text, "fuzz.aff");
+        anim::PoseSettings settings;
+        if (scene.setup) settings.fps = scene.setup->fps;
+        const anim::ScenePoser poser(scene, std::move(settings));
+        anim::PosedScene posed;
+        const int last = scene.setup ? scene.setup->frame_count - 1 : 0;
+        for (const int frame : {-1, 0, 1, last / 2, last, 1 << 20}) poser.pose(frame, posed);
+    } catch (const SceneError& e) {
+        return FuzzOutcome{false, e.what()};
+    }
+    return FuzzOutcome{true, {}};
+}
+
 }  // namespace dynrt::fuzz

@@ -4,13 +4,13 @@
 # other. Fails on the first crash, hang, leak or sanitizer report, leaving the input in
 # build/fuzz/crashes/. The corpus each run grows is kept in build/fuzz/corpus/<target>/, so a
 # later run continues where the last one stopped; the seeds stay in fuzz/corpus/<target>/.
-#   scripts/fuzz.sh [SECONDS [TARGET...]]      targets: gltf_loader procedural_spec animation_specs
+#   scripts/fuzz.sh [SECONDS [TARGET...]]      targets: gltf_loader procedural_spec animation_specs aff_scene
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-30}
 [ $# -gt 0 ] && shift
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(gltf_loader procedural_spec animation_specs)
+[ ${#targets[@]} -gt 0 ] || targets=(gltf_loader procedural_spec animation_specs aff_scene)
 
 # -O1 with line tables only, as fuzzing builds usually are: it compiles faster than -O2 -g
 # (tinygltf's implementation dominates the build), and sanitizer reports still give file and

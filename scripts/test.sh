@@ -19,9 +19,9 @@ ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
   bash scripts/run_tests.sh build/asan '-*Heavy*'
 
 # Coverage-guided fuzzing of the scene loaders (scripts/fuzz.sh): the glTF loader for 30 s, the
-# procedural and animation spec parsers for 10 s each (their grammars are small, and coverage
-# stops growing within seconds). A crash fails the script. On the 2-core development machine,
+# procedural and animation spec parsers and the BART (AFF) loader for 10 s each (their grammars
+# are small, and coverage stops growing within seconds). A crash fails the script. On the 2-core development machine,
 # shared and busy, the clang build took 3 min 15 s and the whole step 4 min; the build is most of
 # it (tinygltf's implementation alone about 50 s of one core).
 bash scripts/fuzz.sh 30 gltf_loader
-bash scripts/fuzz.sh 10 procedural_spec animation_specs
+bash scripts/fuzz.sh 10 procedural_spec animation_specs aff_scene

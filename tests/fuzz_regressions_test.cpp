@@ -95,5 +95,31 @@ TEST(FuzzRegressions, AnimationSpecInputsPoseOrGiveTheDocumentedError) {
     }
 }
 
+TEST(FuzzRegressions, AffSceneInputsLoadOrGiveTheDocumentedError) {
+    const std::vector<std::filesystem::path> inputs = inputs_of("aff_scene");
+    ASSERT_FALSE(inputs.empty()) << "the seed corpus fuzz/corpus/aff_scene is missing";
+    for (const std::filesystem::path& input : inputs) {
+        SCOPED_TRACE(input.string());
+        const std::vector<unsigned char> bytes = read_bytes(input);
+        fuzz::FuzzOutcome outcome;
+        EXPECT_NO_THROW(outcome = fuzz::feed_aff_scene(
+                            std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size())));
+        if (!outcome.loaded) {
+            EXPECT_FALSE(outcome.error.empty());
+            EXPECT_EQ(outcome.error.find('\n'), std::string::npos) << outcome.error;
+        }
+    }
+}
+
+TEST(FuzzRegressions, AffSeedsAllLoad) {
+    for (const std::filesystem::path& seed : files_in(kSourceDir / "fuzz" / "corpus" / "aff_scene")) {
+        SCOPED_TRACE(seed.string());
+        const std::vector<unsigned char> bytes = read_bytes(seed);
+        const fuzz::FuzzOutcome outcome =
+            fuzz::feed_aff_scene(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+        EXPECT_TRUE(outcome.loaded) << outcome.error;
+    }
+}
+
 }  // namespace
 }  // namespace dynrt

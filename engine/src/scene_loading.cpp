@@ -35,6 +35,12 @@ Scene load_aff(const std::filesystem::path& path) {
     return scene;
 }
 
+Scene load_aff_text(std::string_view text, const std::filesystem::path& name) {
+    Scene scene = aff::scene_from_aff(aff::parse_aff_text(text, name), name.string());
+    check_scene(scene);
+    return scene;
+}
+
 std::filesystem::path default_scene_path() {
     // A build tree runs from next to its sources; an installed binary finds the scene under
     // <prefix>/share/dynrt/scenes. When neither exists, the source path makes the clearer error.

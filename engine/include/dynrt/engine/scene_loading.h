@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <span>
 #include <string>
+#include <string_view>
 
 namespace dynrt {
 
@@ -38,6 +39,11 @@ Scene load_gltf(const std::filesystem::path& path);
 /// textures are ignored. The conversion rules are in engine/src/aff_scene.h. Throws SceneError
 /// naming the file and line.
 Scene load_aff(const std::filesystem::path& path);
+
+/// Reads AFF text as if it were the file `name`, as load_aff does (includes resolve relative
+/// to `name`'s folder and are read from the filesystem). Lets tests and the fuzz target feed
+/// text without writing it out.
+Scene load_aff_text(std::string_view text, const std::filesystem::path& name);
 
 /// The two encodings of a glTF 2.0 document.
 enum class GltfFormat { json, binary };

@@ -77,6 +77,60 @@ TEST(BenchSequence, EveryFrameOfEveryRunIsOneSample) {
     EXPECT_TRUE(doc["summary"]["median"].contains("refit_ms"));
 }
 
+/// A tracer that remembers the camera it was given for each frame.
+class CameraRecorder : public SequenceTracer {
+public:
+    explicit CameraRecorder(std::vector<Camera>& seen) : seen_(seen) {}
+    std::string name() const override { return "cameras"; }
+    SequenceFrameTimes frame(int, const Camera& camera, const RenderedFrame&) override {
+        seen_.push_back(camera);
+        return {};
+    }
+
+private:
+    std::vector<Camera>& seen_;
+};
+
+TEST(BenchSequence, WithoutAFixedCameraEveryTracerGetsTheScenesCameraOfEachFrame) {
+    // A BART scene whose camera moves along z, one unit per frame (frame f at time f).
+    const Scene scene = load_aff_text(R"(
+v
+from 0 0 10
+at 0 0 0
+up 0 1 0
+angle 40
+hither 1
+resolution 16 12
+a 0 3 4
+p 3
+0 0 0
+1 0 0
+0 1 0
+k camera
+{
+  transl 4
+  -1 0 0 11  0 0 0
+   0 0 0 10  0 0 0
+   3 0 0 7   0 0 0
+   4 0 0 6   0 0 0
+}
+)", "moving_camera.aff");
+    RenderOptions options;
+    options.width = 16;
+    options.height = 12;
+    options.pose.fps = scene.setup->fps;
+    std::vector<Camera> seen;
+    std::vector<std::unique_ptr<SequenceTracer>> others;
+    others.push_back(std::make_unique<CameraRecorder>(seen));
+    (void)bench_sequence(scene, std::nullopt, options, FrameRange{0, 3}, 1, 0, others);
+    ASSERT_EQ(seen.size(), 4u);
+    for (int f = 0; f < 4; ++f) EXPECT_NEAR(seen[std::size_t(f)].eye.z, 10.0 - f, 1e-5) << "frame " << f;
+    // A scene without a camera of its own needs a fixed one.
+    const Scene plain = load_scene("sphere:20");
+    EXPECT_THROW((void)bench_sequence(plain, std::nullopt, options, FrameRange{0, 1}, 1, 0, others),
+                 std::invalid_argument);
+}
+
 TEST(BenchSequence, TimelineStacksEveryStagePerFrame) {
     std::vector<FrameStats> frames(3);
     for (int f = 0; f < 3; ++f) {

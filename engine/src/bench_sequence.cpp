@@ -15,7 +15,7 @@ namespace {
 
 /// Per-frame samples of one tracer.
 struct Samples {
-    std::vector<double> update, build, primary, shadow, trace, frame;
+    std::vector<double> update, build, primary, shadow, trace, frame, shade, total;
     HitAgreement agreement;
 
     void add(const SequenceFrameTimes& t) {
@@ -25,6 +25,8 @@ struct Samples {
         shadow.push_back(t.shadow_ms);
         trace.push_back(t.primary_ms + t.shadow_ms);
         frame.push_back(t.update_ms + t.build_ms + t.primary_ms + t.shadow_ms);
+        shade.push_back(t.shade_ms);
+        total.push_back(frame.back() + t.shade_ms);
         agreement.object_differs += t.vs_dynrt.object_differs;
         agreement.prim_only_differs += t.vs_dynrt.prim_only_differs;
     }
@@ -38,6 +40,8 @@ struct Samples {
         r.primary_ms = spread_of(primary);
         r.shadow_ms = spread_of(shadow);
         r.frame_ms = spread_of(frame);
+        r.shade_ms = spread_of(shade);
+        r.total_ms = spread_of(total);
         r.vs_dynrt = agreement;
         return r;
     }
@@ -85,7 +89,7 @@ SequenceBench bench_sequence(const Scene& scene, const std::optional<Camera>& ca
         for (int f = range.first; f <= range.last; ++f) {
             const Camera c = render(f);
             const FrameStats& s = frame.stats;
-            dynrt.add(SequenceFrameTimes{s.update_ms, s.build_ms, s.primary_ms, s.shadow_ms, {}});
+            dynrt.add(SequenceFrameTimes{s.update_ms, s.build_ms, s.primary_ms, s.shadow_ms, s.shade_ms, {}});
             bench.frames.push_back(s);
             for (std::size_t k = 0; k < others.size(); ++k) other[k].add(others[k]->frame(f, c, frame));
         }
@@ -98,7 +102,8 @@ SequenceBench bench_sequence(const Scene& scene, const std::optional<Camera>& ca
 void print_sequence_table(std::ostream& out, const SequenceBench& bench) {
     out << std::left << std::setw(14) << "tracer" << std::right << std::setw(24) << "update ms"
         << std::setw(24) << "build/refit ms" << std::setw(24) << "trace ms" << std::setw(26)
-        << "frame ms (no shading)" << std::setw(12) << "dynrt/this" << '\n';
+        << "frame ms (no shading)" << std::setw(12) << "dynrt/this" << std::setw(24) << "shade ms"
+        << std::setw(24) << "total ms" << '\n';
     const double dynrt_frame = bench.rows.empty() ? 0.0 : bench.rows.front().frame_ms.median;
     for (const SequenceRow& r : bench.rows) {
         std::ostringstream ratio;
@@ -108,7 +113,14 @@ void print_sequence_table(std::ostream& out, const SequenceBench& bench) {
         out << std::left << std::setw(14) << r.tracer << std::right << std::setw(24)
             << format_spread(r.update_ms) << std::setw(24) << format_spread(r.build_ms)
             << std::setw(24) << format_spread(r.trace_ms) << std::setw(26)
-            << format_spread(r.frame_ms) << std::setw(12) << ratio.str() << '\n';
+            << format_spread(r.frame_ms) << std::setw(12) << ratio.str();
+        // A tracer that does not shade (Embree's rows time rays only) shows no shading figures.
+        if (r.shade_ms.max > 0.0) {
+            out << std::setw(24) << format_spread(r.shade_ms) << std::setw(24) << format_spread(r.total_ms);
+        } else {
+            out << std::setw(24) << "-" << std::setw(24) << "-";
+        }
+        out << '\n';
     }
     for (std::size_t k = 1; k < bench.rows.size(); ++k) {
         const SequenceRow& r = bench.rows[k];
@@ -133,6 +145,8 @@ std::string sequence_json(const SequenceBench& bench) {
             {"primary_ms", spread(r.primary_ms)},
             {"shadow_ms", spread(r.shadow_ms)},
             {"frame_ms", spread(r.frame_ms)},
+            {"shade_ms", spread(r.shade_ms)},
+            {"total_ms", spread(r.total_ms)},
             {"hit_object_differs", r.vs_dynrt.object_differs},
             {"hit_prim_only_differs", r.vs_dynrt.prim_only_differs}});
     }

@@ -26,6 +26,7 @@ struct SequenceFrameTimes {
     double build_ms = 0;    ///< bringing the acceleration structure up to date
     double primary_ms = 0;  ///< camera rays
     double shadow_ms = 0;   ///< shadow rays
+    double shade_ms = 0;    ///< hits to colours; 0 for a tracer that does not shade (Embree's)
     /// Its hits against dynrt's for this frame.
     HitAgreement vs_dynrt;
 };
@@ -52,6 +53,9 @@ struct SequenceRow {
     Spread shadow_ms;
     /// update + build + trace: what a frame costs before shading, the figure compared.
     Spread frame_ms;
+    Spread shade_ms;
+    /// frame + shade: the whole frame (as frame_ms for a tracer that does not shade).
+    Spread total_ms;
     /// Summed over the frames (other tracers only).
     HitAgreement vs_dynrt;
 };

@@ -208,6 +208,23 @@ std::vector<SamplerKey<V>> sampler_keys(const std::vector<Span<V>>& spans, const
     return keys;
 }
 
+// The sampler holding `keys` in the cubic_spline layout (squad shares it): per key the
+// in-tangent or control, the value, the out-tangent or control, each V::length() numbers
+// (x, y, z[, w]).
+template <class V>
+AnimationSampler sampler_of(const std::vector<SamplerKey<V>>& keys, Interpolation interpolation) {
+    AnimationSampler sampler;
+    sampler.interpolation = interpolation;
+    sampler.components = static_cast<std::uint32_t>(V::length());
+    for (const SamplerKey<V>& k : keys) {
+        sampler.times.push_back(k.time);
+        for (const V& v : {k.in, k.value, k.out}) {
+            for (int c = 0; c < V::length(); ++c) sampler.values.push_back(v[c]);
+        }
+    }
+    return sampler;
+}
+
 }  // namespace
 
 AnimationSampler kochanek_bartels_sampler(std::span<const VectorKey> keys, double time_offset,
@@ -238,16 +255,8 @@ AnimationSampler kochanek_bartels_sampler(std::span<const VectorKey> keys, doubl
         spans.push_back(span);
     }
     const auto zero = [](const glm::dvec3&) { return glm::dvec3(0.0); };
-    const std::vector<SamplerKey<glm::dvec3>> sampler_keys_ =
-        sampler_keys(spans, point(1), point(keys.size() - 2), zero, what);
-    AnimationSampler sampler;
-    sampler.interpolation = Interpolation::cubic_spline;
-    sampler.components = 3;
-    for (const SamplerKey<glm::dvec3>& k : sampler_keys_) {
-        sampler.times.push_back(k.time);
-        for (const glm::dvec3& v : {k.in, k.value, k.out}) sampler.values.insert(sampler.values.end(), {v.x, v.y, v.z});
-    }
-    return sampler;
+    return sampler_of(sampler_keys(spans, point(1), point(keys.size() - 2), zero, what),
+                      Interpolation::cubic_spline);
 }
 
 AnimationSampler bart_rotation_sampler(std::span<const RotationKey> keys, double time_offset,
@@ -298,16 +307,8 @@ AnimationSampler bart_rotation_sampler(std::span<const RotationKey> keys, double
 
     // ---- Spans to per-key [in, value, out]; unused controls hold the key's value ----
     const auto itself = [](const glm::dvec4& q) { return q; };
-    const std::vector<SamplerKey<glm::dvec4>> sampler_keys_ =
-        sampler_keys(spans, quaternion(1), quaternion(keys.size() - 2), itself, what);
-    AnimationSampler sampler;
-    sampler.interpolation = Interpolation::squad;
-    sampler.components = 4;
-    for (const SamplerKey<glm::dvec4>& k : sampler_keys_) {
-        sampler.times.push_back(k.time);
-        for (const glm::dvec4& q : {k.in, k.value, k.out}) sampler.values.insert(sampler.values.end(), {q.x, q.y, q.z, q.w});
-    }
-    return sampler;
+    return sampler_of(sampler_keys(spans, quaternion(1), quaternion(keys.size() - 2), itself, what),
+                      Interpolation::squad);
 }
 
 }  // namespace dynrt::aff

@@ -148,6 +148,30 @@ TEST(AffScene, ObjectsPerAnchorAndMaterialWithStaticTransformsBakedIn) {
     EXPECT_FLOAT_EQ(scene.materials[2].shininess, 10.0f);
 }
 
+TEST(AffScene, WhatTheModelLeavesOutIsListedForTheReport) {
+    EXPECT_TRUE(convert("l 0 5 0 0.5 0.5 0.5\np 3\n0 0 0\n1 0 0\n0 1 0\n").ignored.empty());
+    const Scene scene = convert(R"(
+am 0.5 0.5 0.5
+l 0 5 0  1 0.5 0.5
+fm 0 0 0  1 1 1  0 0 0  10 0.5 1.3
+tt wood.ppm
+ 0 0 0 0 0
+ 1 0 0 1 0
+ 0 1 0 0 1
+pp 3
+ 0 0 1  0 0 1
+ 1 0 1  0 0 1
+ 0 1 1  0 0 1
+)");
+    const std::vector<std::string> want = {
+        "textures of 1 shapes (colour from the material)",
+        "per-vertex normals of 1 shapes (shading uses the geometric normal)",
+        "light colours (each light is white, of their mean intensity)",
+        "transmittance and index of refraction (no refraction rays)",
+        "'am' ambient light (dynrt's own ambient term)"};
+    EXPECT_EQ(scene.ignored, want);
+}
+
 TEST(AffScene, ClassesFollowTheData) {
     const Scene scene = convert(kScene);
     const anim::ScenePoser poser(scene, own_rate(scene));

@@ -11,7 +11,8 @@ namespace {
 TEST(Report, JsonHasTheDocumentedSchema) {
     FrameStats a;
     a.frame = 0; a.triangles = 10; a.build_ms = 3.0; a.sah_cost = 7.5; a.depth = 4;
-    const nlohmann::json doc = nlohmann::json::parse(report_json(RunInfo{"sphere:10", 8, 4, 1.0f, 8, 2}, {a}));
+    const nlohmann::json doc =
+        nlohmann::json::parse(report_json(RunInfo{"sphere:10", 8, 4, 1.0f, 8, 2, {"textures of 2 shapes"}}, {a}));
     ASSERT_TRUE(doc.contains("frames"));
     ASSERT_EQ(doc["frames"].size(), 1u);
     for (const char* key : {"frame", "triangles", "update_ms", "build_ms", "primary_ms",
@@ -27,6 +28,7 @@ TEST(Report, JsonHasTheDocumentedSchema) {
     EXPECT_EQ(doc["frames"][0]["triangles"], 10);
     EXPECT_EQ(doc["frames"][0]["sah_cost"], 7.5);
     EXPECT_EQ(doc["run"]["scene"], "sphere:10");
+    EXPECT_EQ(doc["run"]["ignored"], nlohmann::json::array({"textures of 2 shapes"}));
 }
 
 TEST(Report, SummaryIsFieldwiseMedianMinMax) {

@@ -230,6 +230,11 @@ void draw_progress(int done, int total, double ms_per_frame) {
     if (done == total) std::cerr << "\n";
 }
 
+/// One line per thing the scene file says that dynrt leaves out (Scene::ignored).
+void print_ignored(std::ostream& out, const dynrt::Scene& scene) {
+    for (const std::string& what : scene.ignored) out << "ignored: " << what << "\n";
+}
+
 /// "rebuilds: 3 (first build 2, sah degraded 1)", over all frames.
 void print_rebuild_summary(std::ostream& out, const std::vector<dynrt::FrameStats>& frames) {
     std::vector<std::pair<std::string, int>> reasons;
@@ -299,6 +304,7 @@ int run_render(const RenderArgs& args) {
               << frames.front().degenerate_skipped << " degenerate skipped), "
               << options.width << "x" << options.height << ", frames " << range.first << "-"
               << range.last << " -> " << args.out << "\n";
+    print_ignored(std::cout, scene);
     dynrt::print_frame_header(std::cout);
     // A sequence prints its summary; every frame's figures are in the --report file.
     if (frames.size() <= 8) {
@@ -310,7 +316,8 @@ int run_render(const RenderArgs& args) {
         const dynrt::RunInfo run{source, options.width, options.height, options.build.cost_ratio,
                                  options.build.leaf_size_max,
                                  args.threads > 0 ? args.threads
-                                                  : tbb::info::default_concurrency()};
+                                                  : tbb::info::default_concurrency(),
+                                 scene.ignored};
         dynrt::write_report(args.report, run, frames);
         std::cout << "report: " << args.report << "\n";
     }
@@ -349,6 +356,7 @@ int run_bench_sequence(const BenchArgs& args) {
               << options.width << "x" << options.height << ", frames " << range.first << "-"
               << range.last << ", median (min-max) over " << range.count() * runs
               << " frames (" << runs << " run(s)) after " << args.warmup << " warm-up\n";
+    print_ignored(std::cout, scene);
     const dynrt::SequenceBench bench =
         dynrt::bench_sequence(scene, camera, options, range, runs, args.warmup, others);
     dynrt::print_sequence_table(std::cout, bench);

@@ -128,6 +128,7 @@ public:
             clip_.name = "bart";
             scene_.clips.push_back(std::move(clip_));
         }
+        note_ignored();
         return std::move(scene_);
     }
 
@@ -404,6 +405,29 @@ private:
             setup.background = glm::vec3(b[0], b[1], b[2]);
         }
         scene_.setup = setup;
+    }
+
+    // ---- What the model leaves out, for the report (README "BART", "Not modelled") ----
+    void note_ignored() {
+        std::size_t textured = 0, normals = 0;
+        for (const Polygon& p : model_.polygons) {
+            textured += !p.texture.empty() || !p.uvs.empty();
+            normals += !p.normals.empty();
+        }
+        for (const Mesh& m : model_.meshes) {
+            textured += !m.texture.empty() || !m.uvs.empty();
+            normals += !m.normals.empty();
+        }
+        normals += model_.animated_triangles.size();
+        std::vector<std::string>& out = scene_.ignored;
+        if (textured > 0) out.push_back(cat("textures of ", textured, " shapes (colour from the material)"));
+        if (normals > 0) out.push_back(cat("per-vertex normals of ", normals, " shapes (shading uses the geometric normal)"));
+        bool coloured = false, transparent = false;
+        for (const Light& l : model_.lights) coloured = coloured || (l.color && !((*l.color)[0] == (*l.color)[1] && (*l.color)[1] == (*l.color)[2]));
+        if (coloured) out.push_back("light colours (each light is white, of their mean intensity)");
+        for (const aff::Material& m : model_.materials) transparent = transparent || m.transmittance > 0.0f;
+        if (transparent) out.push_back("transmittance and index of refraction (no refraction rays)");
+        if (model_.ambient) out.push_back("'am' ambient light (dynrt's own ambient term)");
     }
 
     // ---- Lights: fixed points, placed through their static transforms; intensity is the

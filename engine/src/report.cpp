@@ -116,7 +116,8 @@ std::string report_json(const RunInfo& run, const std::vector<FrameStats>& frame
     doc["dynrt_report_version"] = 1;
     doc["run"] = {{"scene", run.scene},       {"width", run.width},
                   {"height", run.height},     {"cost_ratio", run.cost_ratio},
-                  {"leaf_size_max", run.leaf_size_max}, {"threads", run.threads}};
+                  {"leaf_size_max", run.leaf_size_max}, {"threads", run.threads},
+                  {"ignored", run.ignored}};
     doc["frames"] = nlohmann::ordered_json::array();
     for (const FrameStats& f : frames) doc["frames"].push_back(frame_json(f));
     doc["summary"] = summary_json(frames);

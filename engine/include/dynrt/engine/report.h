@@ -19,6 +19,8 @@ struct RunInfo {
     float cost_ratio = 0;
     unsigned leaf_size_max = 0;
     int threads = 0;
+    /// Scene::ignored: what the scene file says that dynrt left out.
+    std::vector<std::string> ignored;
 };
 
 /// {"dynrt_report_version": 1, "run": {...}, "frames": [FrameStats...],

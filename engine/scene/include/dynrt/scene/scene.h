@@ -82,6 +82,9 @@ struct Scene {
     /// Present when the file says how it is to be shown (BART's AFF): then cameras[0] is its
     /// viewpoint, and its image size, frame rate and background are the defaults.
     std::optional<SceneSetup> setup;
+    /// What the file says that the scene model leaves out (BART's textures, per-vertex normals,
+    /// light colours...), one short line each, for the report; empty when nothing was left out.
+    std::vector<std::string> ignored;
 
     std::size_t triangle_count() const;
 };

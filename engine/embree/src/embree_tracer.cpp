@@ -16,6 +16,10 @@
 
 #include <glm/geometric.hpp>
 
+#if defined(__SSE__)
+#include <xmmintrin.h>
+#endif
+
 #include <algorithm>
 #include <functional>
 #include <iomanip>
@@ -29,7 +33,10 @@ namespace dynrt::embree {
 namespace {
 
 constexpr int kLanes = 16;
-static_assert(packet::kTileSize == kLanes, "one packet is one tile row");
+/// A 16-ray packet covers kBlockSide x kBlockSide pixels; a tile holds whole blocks.
+constexpr int kBlockSide = 4;
+static_assert(kBlockSide * kBlockSide == kLanes, "one packet is one 4x4 block");
+static_assert(packet::kTileSize % kBlockSide == 0, "a tile is made of whole blocks");
 
 RTCBuildQuality rtc_quality(BuildQuality quality) {
     switch (quality) {
@@ -56,11 +63,59 @@ void resize_hits(PixelHits& hits, std::size_t pixels) {
     hits.v.assign(pixels, 0.0f);
 }
 
-/// Runs body(tile) for every 16x16 tile in parallel.
+/// Embree asks every thread that traces to run with denormals flushed to zero and read as zero
+/// (its device prints a warning otherwise: "This can have a severe performance impact"). The
+/// mode is per thread, so it is set for the duration of each of Embree's trace tasks and
+/// commits and then restored: dynrt's own code, on the same oneTBB threads, keeps IEEE
+/// denormals.
+class EmbreeFloatMode {
+public:
+#if defined(__SSE__)
+    EmbreeFloatMode() : saved_(_mm_getcsr()) { _mm_setcsr(saved_ | kFlushToZero | kDenormalsAreZero); }
+    ~EmbreeFloatMode() { _mm_setcsr(saved_); }
+
+private:
+    static constexpr unsigned kFlushToZero = 0x8000;
+    static constexpr unsigned kDenormalsAreZero = 0x0040;
+    unsigned saved_;
+#endif
+};
+
+/// Runs body(tile) for every 16x16 tile in parallel, in Embree's floating-point mode.
 template <typename Body>
 void for_each_tile(int width, int height, Body&& body) {
     const packet::Tiling tiling(width, height);
-    tbb::parallel_for(0, tiling.count(), [&](int i) { body(tiling.tile(i)); });
+    tbb::parallel_for(0, tiling.count(), [&](int i) {
+        const EmbreeFloatMode mode;
+        body(tiling.tile(i));
+    });
+}
+
+/// A 4x4-pixel block of a tile: one 16-ray packet, lane = 4 * row + column, the arrangement
+/// of Embree's own tutorials (a 16-wide SIMD program over a 2D block of pixels). Square blocks
+/// keep a packet's rays closer together than a 16x1 row, so they share more of the tree.
+struct Block {
+    int x0, y0;          ///< top-left pixel
+    int x_end, y_end;    ///< the tile's (and so the image's) bounds
+
+    /// The pixel of `lane` (clamped into the tile for lanes past its edge, so every lane gets a
+    /// real ray); true when the lane is inside the tile.
+    bool pixel(int lane, int& x, int& y) const {
+        const int px = x0 + lane % kBlockSide, py = y0 + lane / kBlockSide;
+        x = std::min(px, x_end - 1);
+        y = std::min(py, y_end - 1);
+        return px < x_end && py < y_end;
+    }
+};
+
+/// Runs body(block) for the tile's 4x4 blocks, row by row.
+template <typename Body>
+void for_each_block(const packet::Tile& tile, Body&& body) {
+    for (int y = tile.y0; y < tile.y1; y += kBlockSide) {
+        for (int x = tile.x0; x < tile.x1; x += kBlockSide) {
+            body(Block{x, y, tile.x1, tile.y1});
+        }
+    }
 }
 
 std::string format_spread(const Spread& s) {
@@ -193,6 +248,7 @@ double EmbreeTracer::build(const Scene& scene, BuildQuality quality) {
     // ---- Buffers: created and filled outside the timed part ----
     s.create(scene, s.own_posed, quality);
     // ---- Build: the commit alone is timed ----
+    const EmbreeFloatMode mode;
     const Stopwatch clock;
     rtcCommitScene(s.scene);
     const double ms = clock.elapsed_ms();
@@ -219,6 +275,7 @@ FrameLoad EmbreeTracer::load_frame(const Scene& scene, const anim::PosedScene& p
         check(s.device, "updating vertex buffers");
     }
     load.upload_ms = clock.lap_ms();
+    const EmbreeFloatMode mode;
     rtcCommitScene(s.scene);
     load.commit_ms = clock.lap_ms();
     check(s.device, "rtcCommitScene");
@@ -259,14 +316,15 @@ double EmbreeTracer::intersect16(const Camera& camera, int width, int height, Pi
     for_each_tile(width, height, [&](const packet::Tile& tile) {
         RTCIntersectContext context;
         rtcInitIntersectContext(&context);
-        for (int y = tile.y0; y < tile.y1; ++y) {
+        context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+        for_each_block(tile, [&](const Block& block) {
             alignas(64) int valid[kLanes];
             RTCRayHit16 rh;  // RTC_ALIGN(64) in its declaration
             for (int lane = 0; lane < kLanes; ++lane) {
-                const int x = tile.x0 + lane;
-                valid[lane] = x < tile.x1 ? -1 : 0;
+                int x, y;
+                valid[lane] = block.pixel(lane, x, y) ? -1 : 0;
                 // Masked-off lanes still get a harmless ray, so no lane holds garbage.
-                const bvh::Ray ray = rays.ray(std::min(x, tile.x1 - 1), y);
+                const bvh::Ray ray = rays.ray(x, y);
                 rh.ray.org_x[lane] = ray.org.x;
                 rh.ray.org_y[lane] = ray.org.y;
                 rh.ray.org_z[lane] = ray.org.z;
@@ -283,65 +341,95 @@ double EmbreeTracer::intersect16(const Camera& camera, int width, int height, Pi
                 rh.hit.instID[0][lane] = RTC_INVALID_GEOMETRY_ID;
             }
             rtcIntersect16(valid, scene, &context, &rh);
-            for (int lane = 0; lane < tile.x1 - tile.x0; ++lane) {
+            for (int lane = 0; lane < kLanes; ++lane) {
+                int x, y;
+                if (!block.pixel(lane, x, y)) continue;
                 if (rh.hit.geomID[lane] == RTC_INVALID_GEOMETRY_ID) continue;
-                const std::size_t p = std::size_t(y) * width + tile.x0 + lane;
+                const std::size_t p = std::size_t(y) * width + x;
                 out.object[p] = std::int32_t(rh.hit.geomID[lane]);
                 out.prim[p] = std::int32_t(rh.hit.primID[lane]);
                 out.u[p] = rh.hit.u[lane];
                 out.v[p] = rh.hit.v[lane];
             }
-        }
+        });
     });
     return clock.elapsed_ms();
 }
 
+namespace {
+
+/// What a pixel's shadow rays share, computed once for all lights exactly as the renderer does:
+/// the facing normal, the hit point and the offset origin.
+struct ShadowOrigin {
+    bool hit = false;
+    glm::vec3 normal{0.0f}, point{0.0f}, origin{0.0f};
+};
+
+/// `triangle_of(object, prim)` gives a hit's world-space triangle.
+template <typename TriangleOf>
+ShadowOrigin shadow_origin(const TriangleOf& triangle_of, const CameraRays& rays,
+                           const PixelHits& hits, int width, int x, int y) {
+    ShadowOrigin o;
+    const std::size_t p = std::size_t(y) * width + x;
+    if (hits.object[p] < 0) return o;
+    o.hit = true;
+    const bvh::Triangle tri = triangle_of(hits.object[p], hits.prim[p]);
+    const glm::vec3 dir = rays.ray(x, y).dir;
+    const glm::vec3 n = glm::normalize(glm::cross(tri.v1 - tri.v0, tri.v2 - tri.v0));
+    o.normal = glm::dot(n, dir) > 0.0f ? -n : n;
+    o.point = (1.0f - hits.u[p] - hits.v[p]) * tri.v0 + hits.u[p] * tri.v1 + hits.v[p] * tri.v2;
+    o.origin = offset_along_normal(o.point, o.normal, triangle_magnitude(tri.v0, tri.v1, tri.v2));
+    return o;
+}
+
+/// The renderer's shadow ray toward `light` (from the light to the offset origin, pushed further
+/// for the light's distance, t in [0, 1]), or false when the light is on the pixel's unlit side
+/// or the pixel has no hit.
+bool shadow_ray(const ShadowOrigin& o, const PointLight& light, glm::vec3& org, glm::vec3& dir) {
+    if (!o.hit || !(glm::dot(o.normal, light.position - o.point) > 0.0f)) return false;
+    org = light.position;
+    dir = shadow_ray_end(o.origin, o.normal, light.position) - light.position;
+    return true;
+}
+
+void reset_counts(std::vector<std::uint32_t>* occluded, int width, int height) {
+    if (occluded) occluded->assign(std::size_t(width) * std::size_t(height), 0u);
+}
+
+}  // namespace
+
 double EmbreeTracer::occluded16(const Camera& camera, int width, int height,
                                 const std::vector<PointLight>& lights, const PixelHits& hits,
-                                std::size_t& rays_traced) {
+                                std::size_t& rays_traced, std::vector<std::uint32_t>* occluded) {
     if (!state_->scene) throw std::logic_error("EmbreeTracer::occluded16 before build");
     const State& s = *state_;
+    const auto triangle_of = [&s](std::int32_t object, std::int32_t prim) {
+        return s.triangle(object, prim);
+    };
     const CameraRays rays(camera, width, height);
+    reset_counts(occluded, width, height);
     tbb::combinable<std::size_t> counts([] { return std::size_t(0); });
     const Stopwatch clock;
     for_each_tile(width, height, [&](const packet::Tile& tile) {
         RTCIntersectContext context;
         rtcInitIntersectContext(&context);
+        context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
         std::size_t traced = 0;
-        for (int y = tile.y0; y < tile.y1; ++y) {
-            // Per pixel of the row: facing normal and hit point, computed once for all lights,
-            // exactly as the renderer does.
-            glm::vec3 normal[kLanes]{}, point[kLanes]{}, origin[kLanes]{};
-            bool hit[kLanes] = {};
-            for (int lane = 0; lane < tile.x1 - tile.x0; ++lane) {
-                const std::size_t p = std::size_t(y) * width + tile.x0 + lane;
-                if (hits.object[p] < 0) continue;
-                hit[lane] = true;
-                const bvh::Triangle tri = s.triangle(hits.object[p], hits.prim[p]);
-                const glm::vec3 dir = rays.ray(tile.x0 + lane, y).dir;
-                const glm::vec3 n =
-                    glm::normalize(glm::cross(tri.v1 - tri.v0, tri.v2 - tri.v0));
-                normal[lane] = glm::dot(n, dir) > 0.0f ? -n : n;
-                point[lane] = (1.0f - hits.u[p] - hits.v[p]) * tri.v0 + hits.u[p] * tri.v1 +
-                              hits.v[p] * tri.v2;
-                origin[lane] = offset_along_normal(point[lane], normal[lane],
-                                                   triangle_magnitude(tri.v0, tri.v1, tri.v2));
+        for_each_block(tile, [&](const Block& block) {
+            ShadowOrigin origins[kLanes];
+            for (int lane = 0; lane < kLanes; ++lane) {
+                int x, y;
+                if (block.pixel(lane, x, y)) origins[lane] = shadow_origin(triangle_of, rays, hits, width, x, y);
             }
             for (const PointLight& light : lights) {
                 alignas(64) int valid[kLanes];
                 RTCRay16 ray;
                 int active = 0;
                 for (int lane = 0; lane < kLanes; ++lane) {
-                    const bool lit = hit[lane] &&
-                                     glm::dot(normal[lane], light.position - point[lane]) > 0.0f;
+                    glm::vec3 org(0.0f), dir(0.0f, 0.0f, 1.0f);
+                    const bool lit = shadow_ray(origins[lane], light, org, dir);
                     valid[lane] = lit ? -1 : 0;
                     active += lit;
-                    // The renderer's shadow rays: from the light to the offset origin,
-                    // pushed further for the light's distance.
-                    const glm::vec3 org = lit ? light.position : glm::vec3(0.0f);
-                    const glm::vec3 dir =
-                        lit ? shadow_ray_end(origin[lane], normal[lane], light.position) - light.position
-                            : glm::vec3(0, 0, 1);
                     ray.org_x[lane] = org.x;
                     ray.org_y[lane] = org.y;
                     ray.org_z[lane] = org.z;
@@ -358,6 +446,62 @@ double EmbreeTracer::occluded16(const Camera& camera, int width, int height,
                 if (active == 0) continue;
                 rtcOccluded16(valid, s.scene, &context, &ray);
                 traced += std::size_t(active);
+                if (!occluded) continue;
+                for (int lane = 0; lane < kLanes; ++lane) {
+                    int x, y;
+                    // rtcOccluded16 sets tfar to -inf for the occluded valid lanes.
+                    if (valid[lane] && block.pixel(lane, x, y) && ray.tfar[lane] < 0.0f) {
+                        ++(*occluded)[std::size_t(y) * width + x];
+                    }
+                }
+            }
+        });
+        counts.local() += traced;
+    });
+    const double ms = clock.elapsed_ms();
+    rays_traced = counts.combine(std::plus<>());
+    return ms;
+}
+
+double EmbreeTracer::occluded1(const Camera& camera, int width, int height,
+                               const std::vector<PointLight>& lights, const PixelHits& hits,
+                               std::size_t& rays_traced, std::vector<std::uint32_t>* occluded) {
+    if (!state_->scene) throw std::logic_error("EmbreeTracer::occluded1 before build");
+    const State& s = *state_;
+    const auto triangle_of = [&s](std::int32_t object, std::int32_t prim) {
+        return s.triangle(object, prim);
+    };
+    const CameraRays rays(camera, width, height);
+    reset_counts(occluded, width, height);
+    tbb::combinable<std::size_t> counts([] { return std::size_t(0); });
+    const Stopwatch clock;
+    for_each_tile(width, height, [&](const packet::Tile& tile) {
+        RTCIntersectContext context;
+        rtcInitIntersectContext(&context);
+        std::size_t traced = 0;
+        for (int y = tile.y0; y < tile.y1; ++y) {
+            for (int x = tile.x0; x < tile.x1; ++x) {
+                const ShadowOrigin o = shadow_origin(triangle_of, rays, hits, width, x, y);
+                for (const PointLight& light : lights) {
+                    glm::vec3 org, dir;
+                    if (!shadow_ray(o, light, org, dir)) continue;
+                    RTCRay ray;
+                    ray.org_x = org.x;
+                    ray.org_y = org.y;
+                    ray.org_z = org.z;
+                    ray.dir_x = dir.x;
+                    ray.dir_y = dir.y;
+                    ray.dir_z = dir.z;
+                    ray.tnear = 0.0f;
+                    ray.tfar = 1.0f;
+                    ray.time = 0.0f;
+                    ray.mask = ~0u;
+                    ray.id = 0;
+                    ray.flags = 0;
+                    rtcOccluded1(s.scene, &context, &ray);
+                    ++traced;
+                    if (occluded && ray.tfar < 0.0f) ++(*occluded)[std::size_t(y) * width + x];
+                }
             }
         }
         counts.local() += traced;
@@ -378,23 +522,29 @@ std::vector<EmbreeRow> bench_embree(const Scene& scene, const Camera& camera,
     if (disagreement) disagreement->assign(pixels, PixelAgreement::same);
     EmbreeTracer tracer;
     PixelHits single, packet;
+    std::vector<std::uint32_t> occluded_single, occluded_packet;
     std::vector<EmbreeRow> rows;
     for (BuildQuality quality : {BuildQuality::low, BuildQuality::medium, BuildQuality::high}) {
-        std::vector<double> build, i1, i16, o16, mrays;
-        std::size_t shadow_rays = 0;
+        std::vector<double> build, i1, i16, o1, o16, mrays;
+        std::size_t shadow_rays = 0, shadow_rays_single = 0;
         // Only the first quality warms up (device, thread pool, first-touch memory); the
         // others start warm, as later configurations of a dynrt sweep do.
         const int warmup_runs = quality == BuildQuality::low ? warmup : 0;
         for (int run = 0; run < warmup_runs + repeat; ++run) {
+            // Single rays and packets alternate within each run, so load on a shared machine
+            // falls on both alike.
             const double build_ms = tracer.build(scene, quality);
             const double i1_ms = tracer.intersect1(camera, width, height, single);
             const double i16_ms = tracer.intersect16(camera, width, height, packet);
-            const double o16_ms =
-                tracer.occluded16(camera, width, height, lights, single, shadow_rays);
+            const double o1_ms = tracer.occluded1(camera, width, height, lights, single,
+                                                  shadow_rays_single, &occluded_single);
+            const double o16_ms = tracer.occluded16(camera, width, height, lights, single,
+                                                    shadow_rays, &occluded_packet);
             if (run < warmup_runs) continue;
             build.push_back(build_ms);
             i1.push_back(i1_ms);
             i16.push_back(i16_ms);
+            o1.push_back(o1_ms);
             o16.push_back(o16_ms);
             const double ms = i16_ms + o16_ms;
             mrays.push_back(ms > 0 ? double(pixels + shadow_rays) / (ms * 1e3) : 0.0);
@@ -404,6 +554,7 @@ std::vector<EmbreeRow> bench_embree(const Scene& scene, const Camera& camera,
         row.build_ms = spread_of(build);
         row.intersect1_ms = spread_of(i1);
         row.intersect16_ms = spread_of(i16);
+        row.occluded1_ms = spread_of(o1);
         row.occluded16_ms = spread_of(o16);
         row.mrays_per_s = spread_of(mrays);
         row.shadow_rays = shadow_rays;
@@ -417,7 +568,12 @@ std::vector<EmbreeRow> bench_embree(const Scene& scene, const Camera& camera,
         }
         const HitAgreement packets =
             compare_hits(single.object, single.prim, packet.object, packet.prim);
-        row.packet_vs_single_differs = packets.object_differs + packets.prim_only_differs;
+        std::size_t shadows_differ = shadow_rays == shadow_rays_single ? 0 : 1;
+        for (std::size_t p = 0; p < occluded_single.size(); ++p) {
+            shadows_differ += occluded_single[p] != occluded_packet[p] ? 1 : 0;
+        }
+        row.packet_vs_single_differs =
+            packets.object_differs + packets.prim_only_differs + shadows_differ;
         rows.push_back(row);
     }
     return rows;
@@ -425,31 +581,34 @@ std::vector<EmbreeRow> bench_embree(const Scene& scene, const Camera& camera,
 
 void print_embree_table(std::ostream& out, const std::vector<EmbreeRow>& rows,
                         const BenchRow& dynrt_row) {
-    out << "embree 3 (build = rtcCommitScene only, buffer upload excluded; Mrays/s = primary + "
-           "shadow rays over intersect16 + occluded16; ratios dynrt/embree of medians, dynrt "
-           "row 1: build "
+    out << "embree 3 (build = rtcCommitScene only, buffer upload excluded; 16-ray packets of 4x4 "
+           "pixels with a coherent context; Mrays/s = primary + shadow rays over intersect16 + "
+           "occluded16; ratios dynrt/embree of medians, dynrt row 1: build "
         << std::fixed << std::setprecision(2) << dynrt_row.build_ms.median << " ms, primary "
-        << dynrt_row.primary_ms.median << " ms)\n";
+        << dynrt_row.primary_ms.median << " ms, shadow " << dynrt_row.shadow_ms.median
+        << " ms)\n";
     out << std::left << std::setw(8) << "quality" << std::right << std::setw(22) << "build ms"
         << std::setw(22) << "intersect1 ms" << std::setw(22) << "intersect16 ms"
-        << std::setw(22) << "occluded16 ms" << std::setw(22) << "Mrays/s" << std::setw(9)
-        << "build x" << std::setw(9) << "i1 x" << std::setw(9) << "i16 x" << '\n';
+        << std::setw(22) << "occluded1 ms" << std::setw(22) << "occluded16 ms" << std::setw(22)
+        << "Mrays/s" << std::setw(9) << "build x" << std::setw(9) << "i1 x" << std::setw(9)
+        << "i16 x" << std::setw(9) << "o1 x" << std::setw(9) << "o16 x" << '\n';
     for (const EmbreeRow& r : rows) {
-        out << std::left << std::setw(8) << quality_name(r.quality) << std::right
-            << ' ' << std::setw(21) << format_spread(r.build_ms) << ' ' << std::setw(21)
-            << format_spread(r.intersect1_ms) << ' ' << std::setw(21)
-            << format_spread(r.intersect16_ms) << ' ' << std::setw(21)
-            << format_spread(r.occluded16_ms) << ' ' << std::setw(21) << format_spread(r.mrays_per_s)
-            << std::setw(9) << format_ratio(dynrt_row.build_ms.median, r.build_ms.median)
-            << std::setw(9)
-            << format_ratio(dynrt_row.primary_ms.median, r.intersect1_ms.median)
-            << std::setw(9)
-            << format_ratio(dynrt_row.primary_ms.median, r.intersect16_ms.median) << '\n';
+        out << std::left << std::setw(8) << quality_name(r.quality) << std::right;
+        for (const Spread* spread : {&r.build_ms, &r.intersect1_ms, &r.intersect16_ms,
+                                     &r.occluded1_ms, &r.occluded16_ms, &r.mrays_per_s}) {
+            out << ' ' << std::setw(21) << format_spread(*spread);
+        }
+        out << std::setw(9) << format_ratio(dynrt_row.build_ms.median, r.build_ms.median)
+            << std::setw(9) << format_ratio(dynrt_row.primary_ms.median, r.intersect1_ms.median)
+            << std::setw(9) << format_ratio(dynrt_row.primary_ms.median, r.intersect16_ms.median)
+            << std::setw(9) << format_ratio(dynrt_row.shadow_ms.median, r.occluded1_ms.median)
+            << std::setw(9) << format_ratio(dynrt_row.shadow_ms.median, r.occluded16_ms.median)
+            << '\n';
     }
     for (const EmbreeRow& r : rows) {
         out << "hit agreement (" << quality_name(r.quality) << "): " << r.vs_dynrt.object_differs
             << " pixels differ in hit/object, " << r.vs_dynrt.prim_only_differs
-            << " only in primitive; intersect16 vs intersect1: " << r.packet_vs_single_differs
+            << " only in primitive; packets vs single rays: " << r.packet_vs_single_differs
             << " differ\n";
     }
 }
@@ -515,6 +674,7 @@ std::string embree_json(const std::vector<EmbreeRow>& rows) {
             {"build_ms", spread(r.build_ms)},
             {"intersect1_ms", spread(r.intersect1_ms)},
             {"intersect16_ms", spread(r.intersect16_ms)},
+            {"occluded1_ms", spread(r.occluded1_ms)},
             {"occluded16_ms", spread(r.occluded16_ms)},
             {"mrays_per_s", spread(r.mrays_per_s)},
             {"shadow_rays", r.shadow_rays},

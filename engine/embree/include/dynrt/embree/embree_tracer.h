@@ -76,18 +76,28 @@ public:
     /// Fills `out` and returns the time in ms. Requires a build.
     double intersect1(const Camera& camera, int width, int height, PixelHits& out);
 
-    /// The same rays as packets of 16: each 16x16 tile traced as one rtcIntersect16 per row
-    /// (lanes past the image edge masked off). Same results as intersect1.
+    /// The same rays as packets of 16, the way Embree's own tutorials cast them: each 16x16
+    /// tile as sixteen 4x4-pixel blocks, one rtcIntersect16 per block (lanes past the image
+    /// edge masked off), with the context flagged RTC_INTERSECT_CONTEXT_FLAG_COHERENT (camera
+    /// rays are coherent, and the flag selects Embree's frustum-culling packet traversal).
+    /// Same results as intersect1.
     double intersect16(const Camera& camera, int width, int height, PixelHits& out);
 
     /// dynrt's shadow rays for the hits `hits` (from intersect1/16 with the same camera, so
     /// with Embree's barycentrics, not dynrt's): per hit and light on the lit side, from the
     /// light to the barycentric hit point offset along the facing normal
-    /// (offset_along_normal), t in [0, 1], traced with rtcOccluded16 in the same row packets.
-    /// Counts the rays in `rays` and returns ms.
+    /// (offset_along_normal), t in [0, 1], traced with rtcOccluded16 in the same 4x4 blocks
+    /// with a coherent context (all rays of a packet start at one light). Counts the rays in
+    /// `rays` and returns ms. If `occluded` is not null, it receives per pixel the number of
+    /// lights whose shadow ray is occluded.
     double occluded16(const Camera& camera, int width, int height,
                       const std::vector<PointLight>& lights, const PixelHits& hits,
-                      std::size_t& rays);
+                      std::size_t& rays, std::vector<std::uint32_t>* occluded = nullptr);
+
+    /// The same shadow rays one at a time with rtcOccluded1. Same results as occluded16.
+    double occluded1(const Camera& camera, int width, int height,
+                     const std::vector<PointLight>& lights, const PixelHits& hits,
+                     std::size_t& rays, std::vector<std::uint32_t>* occluded = nullptr);
 
 private:
     struct State;
@@ -99,13 +109,15 @@ struct EmbreeRow {
     BuildQuality quality = BuildQuality::low;
     Spread build_ms;        ///< rtcCommitScene only; buffer creation and upload excluded
     Spread intersect1_ms;   ///< primary rays, one at a time
-    Spread intersect16_ms;  ///< primary rays, 16-wide packets
-    Spread occluded16_ms;   ///< shadow rays, 16-wide packets
+    Spread intersect16_ms;  ///< primary rays, 16-ray packets of 4x4 pixels
+    Spread occluded1_ms;    ///< shadow rays, one at a time
+    Spread occluded16_ms;   ///< shadow rays, 16-ray packets of 4x4 pixels
     Spread mrays_per_s;     ///< (primary + shadow rays) / (intersect16 + occluded16 time)
     std::size_t shadow_rays = 0;
     /// Embree's intersect1 hits against the dynrt frame given to bench_embree.
     HitAgreement vs_dynrt;
-    /// Pixels where intersect16 and intersect1 disagree on object or primitive (expected 0).
+    /// Pixels where intersect16 and intersect1 disagree on object or primitive, plus pixels
+    /// where occluded16 and occluded1 disagree on the number of occluded lights (expected 0).
     std::size_t packet_vs_single_differs = 0;
 };
 
@@ -119,15 +131,16 @@ std::vector<EmbreeRow> bench_embree(const Scene& scene, const Camera& camera,
                                     std::vector<PixelAgreement>* disagreement = nullptr);
 
 /// The Embree block: one row per quality with the ratios dynrt/Embree taken from `dynrt_row`
-/// (build ms over build ms, primary trace ms over intersect1 and intersect16 ms, medians),
-/// then a "hit agreement" line per quality.
+/// (medians: build ms over build ms, primary ms over intersect1 and intersect16 ms, shadow ms
+/// over occluded1 and occluded16 ms), then a "hit agreement" line per quality.
 void print_embree_table(std::ostream& out, const std::vector<EmbreeRow>& rows,
                         const BenchRow& dynrt_row);
 
 /// Embree stepping through an animated sequence beside dynrt (`bench --frames --vs embree`):
 /// per frame it poses the scene in full (every object's world positions), loads the frame
 /// (load_frame with `quality`: refit or low, Embree's two per-frame options), traces the
-/// camera rays with rtcIntersect16 and the shadow rays with rtcOccluded16, and compares its
+/// camera rays with rtcIntersect16 and the shadow rays with rtcOccluded16 (4x4-pixel packets,
+/// as EmbreeTracer::intersect16 and occluded16 trace them), and compares its
 /// hits with dynrt's. Borrows `scene`.
 std::unique_ptr<SequenceTracer> make_sequence_tracer(const Scene& scene, const RenderOptions& options,
                                                      BuildQuality quality);

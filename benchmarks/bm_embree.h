@@ -1,8 +1,8 @@
 #pragma once
 // Embree 3 counterparts of the dynrt figures (only when CMake found Embree): one device per
 // process with Embree's default thread count, and a scene of one triangle geometry per object
-// over shared (not copied) vertex and index buffers, built with RTC_BUILD_QUALITY_MEDIUM (or
-// set up for refitting).
+// over shared (not copied) vertex and index buffers, built with RTC_BUILD_QUALITY_MEDIUM unless
+// asked for another quality (or set up for refitting).
 
 #include "bm_scenes.h"
 
@@ -28,16 +28,17 @@ inline RTCDevice embree_device() {
 /// low quality: after the first commit, a commit following rtcUpdateGeometryBuffer of the
 /// vertices refits instead of rebuilding.
 inline RTCScene make_embree_scene(const SceneInput& input, bool refit = false,
-                                  const std::vector<std::vector<float>>* positions = nullptr) {
+                                  const std::vector<std::vector<float>>* positions = nullptr,
+                                  RTCBuildQuality quality = RTC_BUILD_QUALITY_MEDIUM) {
     const std::vector<std::vector<float>>& vertices = positions ? *positions : input.positions;
     RTCDevice device = embree_device();
     RTCScene scene = rtcNewScene(device);
-    rtcSetSceneBuildQuality(scene, refit ? RTC_BUILD_QUALITY_LOW : RTC_BUILD_QUALITY_MEDIUM);
+    rtcSetSceneBuildQuality(scene, refit ? RTC_BUILD_QUALITY_LOW : quality);
     if (refit) rtcSetSceneFlags(scene, RTC_SCENE_FLAG_DYNAMIC);
     for (std::size_t o = 0; o < input.positions.size(); ++o) {
         RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
         rtcSetGeometryBuildQuality(geometry,
-                                   refit ? RTC_BUILD_QUALITY_REFIT : RTC_BUILD_QUALITY_MEDIUM);
+                                   refit ? RTC_BUILD_QUALITY_REFIT : quality);
         rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                    vertices[o].data(), 0, 3 * sizeof(float),
                                    vertices[o].size() / 3);

@@ -16,9 +16,6 @@
 
 #include <glm/geometric.hpp>
 
-#if defined(__SSE__)
-#include <xmmintrin.h>
-#endif
 
 #include <algorithm>
 #include <functional>
@@ -62,24 +59,6 @@ void resize_hits(PixelHits& hits, std::size_t pixels) {
     hits.u.assign(pixels, 0.0f);
     hits.v.assign(pixels, 0.0f);
 }
-
-/// Embree asks every thread that traces to run with denormals flushed to zero and read as zero
-/// (its device prints a warning otherwise: "This can have a severe performance impact"). The
-/// mode is per thread, so it is set for the duration of each of Embree's trace tasks and
-/// commits and then restored: dynrt's own code, on the same oneTBB threads, keeps IEEE
-/// denormals.
-class EmbreeFloatMode {
-public:
-#if defined(__SSE__)
-    EmbreeFloatMode() : saved_(_mm_getcsr()) { _mm_setcsr(saved_ | kFlushToZero | kDenormalsAreZero); }
-    ~EmbreeFloatMode() { _mm_setcsr(saved_); }
-
-private:
-    static constexpr unsigned kFlushToZero = 0x8000;
-    static constexpr unsigned kDenormalsAreZero = 0x0040;
-    unsigned saved_;
-#endif
-};
 
 /// Runs body(tile) for every 16x16 tile in parallel, in Embree's floating-point mode.
 template <typename Body>

@@ -7,6 +7,10 @@
 
 #include <embree3/rtcore.h>
 
+#if defined(__SSE__)
+#include <xmmintrin.h>
+#endif
+
 namespace dynrt::embree {
 
 /// `ray` as an RTCRayHit ready for rtcIntersect1: the same origin, direction (not normalised,
@@ -30,5 +34,25 @@ inline RTCRayHit to_rtc_ray_hit(const bvh::Ray& ray) {
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     return rh;
 }
+
+/// Embree asks every thread that traces or builds to run with denormals flushed to zero and
+/// read as zero (its device warns otherwise: "This can have a severe performance impact").
+/// The mode is per thread, so it is set for the lifetime of this guard, inside each of
+/// Embree's trace tasks and around commits, and then restored: dynrt's own code, on the same
+/// oneTBB threads, keeps IEEE denormals.
+class EmbreeFloatMode {
+public:
+#if defined(__SSE__)
+    EmbreeFloatMode() : saved_(_mm_getcsr()) { _mm_setcsr(saved_ | kFlushToZero | kDenormalsAreZero); }
+    ~EmbreeFloatMode() { _mm_setcsr(saved_); }
+    EmbreeFloatMode(const EmbreeFloatMode&) = delete;
+    EmbreeFloatMode& operator=(const EmbreeFloatMode&) = delete;
+
+private:
+    static constexpr unsigned kFlushToZero = 0x8000;      // MXCSR.FZ
+    static constexpr unsigned kDenormalsAreZero = 0x0040;  // MXCSR.DAZ
+    unsigned saved_;
+#endif
+};
 
 }  // namespace dynrt::embree

@@ -256,6 +256,7 @@ RefitResult refit(TriangleBvh& accel, std::span<const Triangle> tris, const SahC
     }
     const TriangleLeaves leaves{tris, accel.bvh.prim_ids, accel.tris.data()};
     result.sah_cost = Refitter<TriangleLeaves>(accel.bvh, leaves, costs).run();
+    if (!accel.wide.empty()) refit_wide_leaf_order(accel.wide, accel.tris);
     return result;
 }
 

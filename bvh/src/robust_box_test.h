@@ -54,6 +54,19 @@ inline int octant_of(const glm::vec3& dir) {
            (std::signbit(dir.z) ? 4 : 0);
 }
 
+/// Clips [near, far] (on entry the segment's tmin and tmax) by the six slab distances, in the
+/// one order and NaN-ignoring form every box test of the bvh module uses, so they all round and
+/// treat NaNs alike: on floats here, on SIMD vectors of distances in the wide tree's test.
+template <class T>
+inline void clip_to_slabs(T t0x, T t1x, T t0y, T t1y, T t0z, T t1z, T& near, T& far) {
+    near = t0x > near ? t0x : near;
+    near = t0y > near ? t0y : near;
+    near = t0z > near ? t0z : near;
+    far = t1x < far ? t1x : far;
+    far = t1y < far ? t1y : far;
+    far = t1z < far ? t1z : far;
+}
+
 /// True when the ray segment [tmin, tmax] may meet `box`; `tnear` gets the entry distance.
 template <int kOctant>
 inline bool hit_box(const Aabb& box, const BoxRay& r, float tmin, float tmax, float& tnear) {
@@ -68,12 +81,7 @@ inline bool hit_box(const Aabb& box, const BoxRay& r, float tmin, float tmax, fl
     const float t1z = ((kNegZ ? box.lo.z : box.hi.z) - r.org.z) * r.inv_dir.z;
     float tn = tmin;
     float tf = tmax;
-    tn = t0x > tn ? t0x : tn;
-    tn = t0y > tn ? t0y : tn;
-    tn = t0z > tn ? t0z : tn;
-    tf = t1x < tf ? t1x : tf;
-    tf = t1y < tf ? t1y : tf;
-    tf = t1z < tf ? t1z : tf;
+    clip_to_slabs(t0x, t1x, t0y, t1y, t0z, t1z, tn, tf);
     tnear = tn;
     return tn <= tf * kFarScale;
 }

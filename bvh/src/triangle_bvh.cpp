@@ -203,6 +203,8 @@ TriangleBvh build_triangle_bvh(std::span<const Triangle> tris, const BuildConfig
     accel.degenerate_skipped = 0;
     Bvh recycled_tree = std::move(accel.bvh);
     accel.bvh = Bvh{};
+    WideBvh recycled_wide = std::move(accel.wide);
+    accel.wide = WideBvh{};
     const std::size_t n = tris.size();
     if (n == 0) return accel;
     if (n >= (std::size_t{1} << 31)) {
@@ -278,24 +280,62 @@ TriangleBvh build_triangle_bvh(std::span<const Triangle> tris, const BuildConfig
                               }
                           });
     }, std::move(recycled_tree));
+    if (config.wide && config.leaf_size_max <= kWideLeafSizeMax) {
+        accel.wide = collapse_to_wide<kWideWidth>(accel.bvh, accel.tris, WideCosts{},
+                                                  std::move(recycled_wide));
+    }
     return accel;
 }
 
-Hit intersect_closest(const TriangleBvh& accel, const Ray& ray) {
+Hit intersect_closest_binary(const TriangleBvh& accel, const Ray& ray) {
     Hit hit;
     traverse_octant<false, false>(accel, ray, hit, nullptr);
     return hit;
 }
 
+bool intersect_any_binary(const TriangleBvh& accel, const Ray& ray) {
+    Hit unused;
+    return traverse_octant<true, false>(accel, ray, unused, nullptr);
+}
+
+Hit intersect_closest(const TriangleBvh& accel, const Ray& ray) {
+    if (!accel.wide.empty()) return intersect_closest(accel.wide, ray);
+    return intersect_closest_binary(accel, ray);
+}
+
+bool intersect_any(const TriangleBvh& accel, const Ray& ray) {
+    if (!accel.wide.empty()) return intersect_any(accel.wide, ray);
+    return intersect_any_binary(accel, ray);
+}
+
+namespace {
+void add_wide_work(TraversalStats& stats, const WideTraversalStats& wide) {
+    stats.nodes_visited += wide.nodes_visited + wide.leaves_visited;
+    stats.triangles_tested += wide.triangles_tested;
+}
+}  // namespace
+
 Hit intersect_closest(const TriangleBvh& accel, const Ray& ray, TraversalStats& stats) {
+    if (!accel.wide.empty()) {
+        WideTraversalStats wide;
+        const Hit hit = intersect_closest(accel.wide, ray, wide);
+        add_wide_work(stats, wide);
+        return hit;
+    }
     Hit hit;
     traverse_octant<false, true>(accel, ray, hit, &stats);
     return hit;
 }
 
-bool intersect_any(const TriangleBvh& accel, const Ray& ray) {
+bool intersect_any(const TriangleBvh& accel, const Ray& ray, TraversalStats& stats) {
+    if (!accel.wide.empty()) {
+        WideTraversalStats wide;
+        const bool hit = intersect_any(accel.wide, ray, wide);
+        add_wide_work(stats, wide);
+        return hit;
+    }
     Hit unused;
-    return traverse_octant<true, false>(accel, ray, unused, nullptr);
+    return traverse_octant<true, true>(accel, ray, unused, &stats);
 }
 
 std::string validate(const TriangleBvh& accel, std::span<const Triangle> tris,
@@ -335,6 +375,10 @@ std::string validate(const TriangleBvh& accel, std::span<const Triangle> tris,
             return "tris[" + std::to_string(k) + "] is not a copy of triangle " +
                    std::to_string(accel.bvh.prim_ids[k]);
         }
+    }
+    if (!accel.wide.empty() || accel.bvh.empty()) {
+        error = validate(accel.wide, tris, accel.bvh.prim_ids);
+        if (!error.empty()) return "wide tree: " + error;
     }
     return {};
 }

@@ -167,7 +167,8 @@ inline bool wins(const Hit& candidate, std::uint32_t object, const InstanceHit& 
 /// the current best t (<=, not <: a tie may still win on the object). At a leaf, the instance's
 /// tree is traced with tmax = the best t so far.
 template <bool kAnyHit, int kOctant>
-bool traverse_top(const TwoLevelBvh& tlas, const Ray& ray, InstanceHit& best) {
+bool traverse_top(const TwoLevelBvh& tlas, const Ray& ray, InstanceHit& best,
+                  TraversalStats* stats) {
     const BvhNode* nodes = tlas.top.nodes.data();
     const BoxRay box_ray(ray);
     const float pad = top_level_pad(tlas, ray.org);
@@ -190,6 +191,7 @@ bool traverse_top(const TwoLevelBvh& tlas, const Ray& ray, InstanceHit& best) {
     std::uint32_t index = 0;
     while (true) {
         const BvhNode& node = nodes[index];
+        if (stats) ++stats->nodes_visited;
         if (!node.is_leaf()) {
             const std::uint32_t left = node.first;
             float t_left, t_right;
@@ -210,10 +212,14 @@ bool traverse_top(const TwoLevelBvh& tlas, const Ray& ray, InstanceHit& best) {
                 const Instance& instance = tlas.instances[tlas.top.prim_ids[k]];
                 Ray local = to_object_space(instance, ray);
                 if constexpr (kAnyHit) {
-                    if (bvh::intersect_any(*instance.blas, local)) return true;
+                    const bool hit = stats ? bvh::intersect_any(*instance.blas, local, *stats)
+                                           : bvh::intersect_any(*instance.blas, local);
+                    if (hit) return true;
                 } else {
                     local.tmax = tmax;
-                    const Hit candidate = bvh::intersect_closest(*instance.blas, local);
+                    const Hit candidate = stats
+                                              ? bvh::intersect_closest(*instance.blas, local, *stats)
+                                              : bvh::intersect_closest(*instance.blas, local);
                     if (candidate.is_hit() && wins(candidate, instance.object, best, tmax)) {
                         best.hit = candidate;
                         best.object = instance.object;
@@ -235,17 +241,18 @@ bool traverse_top(const TwoLevelBvh& tlas, const Ray& ray, InstanceHit& best) {
 }
 
 template <bool kAnyHit>
-bool traverse_top_octant(const TwoLevelBvh& tlas, const Ray& ray, InstanceHit& best) {
+bool traverse_top_octant(const TwoLevelBvh& tlas, const Ray& ray, InstanceHit& best,
+                         TraversalStats* stats) {
     if (tlas.top.empty()) return false;
     switch (octant_of(ray.dir)) {
-        case 0: return traverse_top<kAnyHit, 0>(tlas, ray, best);
-        case 1: return traverse_top<kAnyHit, 1>(tlas, ray, best);
-        case 2: return traverse_top<kAnyHit, 2>(tlas, ray, best);
-        case 3: return traverse_top<kAnyHit, 3>(tlas, ray, best);
-        case 4: return traverse_top<kAnyHit, 4>(tlas, ray, best);
-        case 5: return traverse_top<kAnyHit, 5>(tlas, ray, best);
-        case 6: return traverse_top<kAnyHit, 6>(tlas, ray, best);
-        default: return traverse_top<kAnyHit, 7>(tlas, ray, best);
+        case 0: return traverse_top<kAnyHit, 0>(tlas, ray, best, stats);
+        case 1: return traverse_top<kAnyHit, 1>(tlas, ray, best, stats);
+        case 2: return traverse_top<kAnyHit, 2>(tlas, ray, best, stats);
+        case 3: return traverse_top<kAnyHit, 3>(tlas, ray, best, stats);
+        case 4: return traverse_top<kAnyHit, 4>(tlas, ray, best, stats);
+        case 5: return traverse_top<kAnyHit, 5>(tlas, ray, best, stats);
+        case 6: return traverse_top<kAnyHit, 6>(tlas, ray, best, stats);
+        default: return traverse_top<kAnyHit, 7>(tlas, ray, best, stats);
     }
 }
 
@@ -336,14 +343,33 @@ InstanceHit intersect_closest(const TwoLevelBvh& tlas, const Ray& ray) {
         if (best.hit.is_hit()) best.object = sole->object;
         return best;
     }
-    traverse_top_octant<false>(tlas, ray, best);
+    traverse_top_octant<false>(tlas, ray, best, nullptr);
     return best;
 }
 
 bool intersect_any(const TwoLevelBvh& tlas, const Ray& ray) {
     if (const Instance* sole = sole_identity_instance(tlas)) return intersect_any(*sole->blas, ray);
     InstanceHit unused;
-    return traverse_top_octant<true>(tlas, ray, unused);
+    return traverse_top_octant<true>(tlas, ray, unused, nullptr);
+}
+
+InstanceHit intersect_closest(const TwoLevelBvh& tlas, const Ray& ray, TraversalStats& stats) {
+    InstanceHit best;
+    if (const Instance* sole = sole_identity_instance(tlas)) {
+        best.hit = intersect_closest(*sole->blas, ray, stats);
+        if (best.hit.is_hit()) best.object = sole->object;
+        return best;
+    }
+    traverse_top_octant<false>(tlas, ray, best, &stats);
+    return best;
+}
+
+bool intersect_any(const TwoLevelBvh& tlas, const Ray& ray, TraversalStats& stats) {
+    if (const Instance* sole = sole_identity_instance(tlas)) {
+        return intersect_any(*sole->blas, ray, stats);
+    }
+    InstanceHit unused;
+    return traverse_top_octant<true>(tlas, ray, unused, &stats);
 }
 
 }  // namespace dynrt::bvh

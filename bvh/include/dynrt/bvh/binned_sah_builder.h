@@ -11,6 +11,9 @@
 
 namespace dynrt::bvh {
 
+/// The largest binary leaf the wide tree can hold (65535 blocks of 4 triangles).
+inline constexpr std::uint32_t kWideLeafSizeMax = 65535u * 4u;
+
 struct BuildConfig {
     /// Cost of intersecting one primitive in units of one traversal step (the SAH's
     /// C_isect / C_trav). Small values make leaves cheap: 0.1 gives big shallow leaves,
@@ -24,6 +27,11 @@ struct BuildConfig {
     /// clearing and sweeping them would cost more than binning), and nodes of at most four
     /// primitives try every split exactly instead.
     std::uint32_t bin_count = 16;
+    /// build_triangle_bvh only: also collapse the tree into the wide tree (wide_bvh.h) that
+    /// single rays trace. Off, single rays trace the binary tree, for comparisons (`dynrt bench
+    /// --bvh binary`); the hits are the same either way. The wide tree is also left out when
+    /// leaf_size_max exceeds kWideLeafSizeMax.
+    bool wide = true;
 
     SahCosts sah_costs() const { return SahCosts{1.0f, cost_ratio}; }
 };

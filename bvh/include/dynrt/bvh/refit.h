@@ -48,8 +48,8 @@ struct RefitResult {
 /// returns skipped_triangle_has_area and changes nothing. Otherwise rewrites `accel.tris` in
 /// leaf order through `accel.bvh.prim_ids`, then recomputes every node box bottom-up: a leaf's
 /// box is the union of its triangles' boxes, an inner node's the union of its two children's.
-/// The topology, prim_ids and skipped_ids stay as they were, so hits still report the
-/// caller's indices. A triangle that became degenerate stays in the tree (validate accepts
+/// The wide tree, when present, is refitted in place the same way (refit_wide). The topology,
+/// prim_ids and skipped_ids stay as they were, so hits still report the caller's indices. A triangle that became degenerate stays in the tree (validate accepts
 /// that): the watertight test never hits it when two vertices coincide, but may when they
 /// are only collinear (see is_degenerate), where a rebuild would leave it out; motion makes
 /// exactly collinear vertices rarely, and the hit point then lies on the segment anyway.

@@ -5,6 +5,7 @@
 #include "dynrt/bvh/binned_sah_builder.h"
 #include "dynrt/bvh/ray.h"
 #include "dynrt/bvh/triangle.h"
+#include "dynrt/bvh/wide_bvh.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -15,7 +16,11 @@
 namespace dynrt::bvh {
 
 struct TriangleBvh {
+    /// The binary tree: what refits decide rebuilds on (its SAH cost) and what packets trace.
     Bvh bvh;
+    /// The same tree collapsed to kWideWidth children per node with triangles in SIMD blocks:
+    /// what single rays trace when present (BuildConfig::wide). Refitted with the binary tree.
+    WideBvh wide;
     /// `tris[i]` is the triangle of the caller's index `bvh.prim_ids[i]`, copied so a leaf's
     /// triangles are contiguous in memory.
     std::vector<Triangle> tris;
@@ -40,7 +45,8 @@ TriangleBvh build_triangle_bvh(std::span<const Triangle> tris, const BuildConfig
 TriangleBvh build_triangle_bvh(std::span<const Triangle> tris, const BuildConfig& config,
                                TriangleBvh&& recycled);
 
-/// Closest hit along `ray` within [ray.tmin, ray.tmax], or a miss. Thread-safe on a shared
+/// Closest hit along `ray` within [ray.tmin, ray.tmax], or a miss, through the wide tree when
+/// there is one, else the binary tree (the same hit either way). Thread-safe on a shared
 /// tree. Box tests are conservative (Ize 2013, "Robust BVH Ray Traversal"), so no triangle that
 /// the watertight test would hit is culled by rounding in a box test.
 Hit intersect_closest(const TriangleBvh& accel, const Ray& ray);
@@ -56,16 +62,26 @@ struct TraversalStats {
 };
 
 /// intersect_closest that also adds its work to `stats` (a separate instantiation of the same
-/// traversal; the plain overload pays nothing for counting). Thread-safe if `stats` is not
-/// shared.
+/// traversal; the plain overload pays nothing for counting). For the wide tree, nodes_visited
+/// counts wide inner nodes plus leaves and triangles_tested the used lanes of the blocks
+/// tested. Thread-safe if `stats` is not shared.
 Hit intersect_closest(const TriangleBvh& accel, const Ray& ray, TraversalStats& stats);
+
+/// intersect_any that also counts its work, as above.
+bool intersect_any(const TriangleBvh& accel, const Ray& ray, TraversalStats& stats);
+
+/// The binary tree's traversals, whether or not a wide tree is present: for tests and
+/// comparisons.
+Hit intersect_closest_binary(const TriangleBvh& accel, const Ray& ray);
+bool intersect_any_binary(const TriangleBvh& accel, const Ray& ray);
 
 /// `validate` for a triangle BVH built from `tris`: the tree invariants of `accel.bvh` against
 /// the triangles' boxes, except that degenerate triangles may be absent (and no others), plus
 /// `accel.tris[i]` equal to `tris[accel.bvh.prim_ids[i]]`, `skipped_ids` listing exactly the
 /// absent triangles in ascending order and `degenerate_skipped` equal to their number. Holds
 /// after a refit too (a triangle that became degenerate stays in the tree, which is allowed).
-/// Returns "" when valid, else the first violation. For tests and debug checks.
+/// When the wide tree is present, it must hold exactly the tree's triangles (validate in
+/// wide_bvh.h). Returns "" when valid, else the first violation. For tests and debug checks.
 std::string validate(const TriangleBvh& accel, std::span<const Triangle> tris,
                      std::uint32_t leaf_size_max);
 

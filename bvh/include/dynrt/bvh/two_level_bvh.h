@@ -103,4 +103,9 @@ InstanceHit intersect_closest(const TwoLevelBvh& tlas, const Ray& ray);
 /// intersect_closest(tlas, ray).is_hit(). Thread-safe.
 bool intersect_any(const TwoLevelBvh& tlas, const Ray& ray);
 
+/// The same traversals adding their work to `stats`: top-level nodes visited plus each traced
+/// instance's work (TriangleBvh's counting overloads). Thread-safe if `stats` is not shared.
+InstanceHit intersect_closest(const TwoLevelBvh& tlas, const Ray& ray, TraversalStats& stats);
+bool intersect_any(const TwoLevelBvh& tlas, const Ray& ray, TraversalStats& stats);
+
 }  // namespace dynrt::bvh

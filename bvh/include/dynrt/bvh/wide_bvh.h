@@ -1,0 +1,216 @@
+#pragma once
+// The wide BVH: a 4- or 8-ary tree collapsed from the binary binned-SAH tree, with child boxes
+// in SoA layout (one SIMD pass tests a ray against every child) and triangles pre-gathered per
+// leaf into SoA blocks of four (one SIMD pass runs the watertight test on four triangles).
+// Single rays trace it nearest child first (closest hit) or stop at the first hit (any hit).
+//
+// The collapse follows Ylitie, Karras and Laine 2017, "Efficient Incoherent Ray Traversal on
+// GPUs Through Compressed Wide BVHs" (section 4.1): a dynamic program over the binary tree picks,
+// for every wide node, which binary descendants become its children and which subtrees become
+// one leaf, minimising the SAH cost of the wide tree. No box is recomputed: each wide child's
+// box is the box of a binary node, so the wide tree culls exactly where the binary one does,
+// and hits are the very same (the same watertight arithmetic and the same tie rule: smallest
+// t, then smallest primitive index).
+//
+// Memory: one node is 128 bytes (N = 4) or 256 bytes (N = 8), one block 160 bytes for up to
+// four triangles (vertices and the caller's index). bytes() reports both.
+
+#include "dynrt/bvh/aabb.h"
+#include "dynrt/bvh/bvh.h"
+#include "dynrt/bvh/ray.h"
+#include "dynrt/bvh/triangle.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <new>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace dynrt::bvh {
+
+/// Triangles per leaf block: the SIMD width of the triangle test.
+inline constexpr int kBlockLanes = 4;
+
+/// Up to four triangles, structure of arrays: `v0[axis][lane]` is vertex 0's coordinate on that
+/// axis of the lane's triangle. Unused lanes repeat lane 0's vertices and have prim kInvalidId;
+/// the test masks them out.
+struct alignas(16) TriangleBlock {
+    float v0[3][kBlockLanes];
+    float v1[3][kBlockLanes];
+    float v2[3][kBlockLanes];
+    /// The caller's triangle index of each lane (the index given to build_triangle_bvh).
+    std::uint32_t prim[kBlockLanes];
+
+    Triangle triangle(int lane) const {
+        return Triangle{{v0[0][lane], v0[1][lane], v0[2][lane]},
+                        {v1[0][lane], v1[1][lane], v1[2][lane]},
+                        {v2[0][lane], v2[1][lane], v2[2][lane]}};
+    }
+};
+static_assert(sizeof(TriangleBlock) == 160);
+
+/// One node of an N-wide tree. Child slot i is
+///   - empty when blocks[i] == 0 and child[i] == kInvalidId (its box is the empty box, which no
+///     ray meets); empty slots come after every used slot;
+///   - an inner node when blocks[i] == 0: child[i] indexes WideBvhOf::nodes;
+///   - a leaf when blocks[i] > 0: triangle blocks [child[i], child[i] + blocks[i]).
+template <int N>
+struct alignas(64) WideNode {
+    static_assert(N == 4 || N == 8, "wide nodes are 4 or 8 wide");
+    float lo_x[N], lo_y[N], lo_z[N];
+    float hi_x[N], hi_y[N], hi_z[N];
+    std::uint32_t child[N];
+    std::uint16_t blocks[N];
+    /// The leaf-order position (index into TriangleBvh::tris and Bvh::prim_ids) of the first
+    /// triangle below the node. The used lanes of the blocks, read in depth-first slot order,
+    /// are the triangles in leaf order, so a refit can stream the leaf-ordered triangles
+    /// instead of gathering the caller's (refit_wide_leaf_order).
+    std::uint32_t first_position;
+
+    bool is_empty(int i) const { return blocks[i] == 0 && child[i] == kInvalidId; }
+    bool is_leaf(int i) const { return blocks[i] != 0; }
+    Aabb box(int i) const {
+        return Aabb{{lo_x[i], lo_y[i], lo_z[i]}, {hi_x[i], hi_y[i], hi_z[i]}};
+    }
+    void set_box(int i, const Aabb& b) {
+        lo_x[i] = b.lo.x; lo_y[i] = b.lo.y; lo_z[i] = b.lo.z;
+        hi_x[i] = b.hi.x; hi_y[i] = b.hi.y; hi_z[i] = b.hi.z;
+    }
+};
+static_assert(sizeof(WideNode<4>) == 128 && sizeof(WideNode<8>) == 256);
+
+/// The allocator of the wide tree's arrays: like std::allocator, except that growing a vector
+/// leaves the new elements uninitialised instead of zeroing them, since the collapse writes
+/// every one of them right after (zeroing 60 MB for a million triangles took a tenth of the
+/// collapse).
+template <class T>
+struct UninitializedAllocator : std::allocator<T> {
+    using value_type = T;
+    template <class U>
+    struct rebind {
+        using other = UninitializedAllocator<U>;
+    };
+    UninitializedAllocator() = default;
+    template <class U>
+    UninitializedAllocator(const UninitializedAllocator<U>&) {}
+
+    template <class U, class... Args>
+    void construct(U* p, Args&&... args) {
+        if constexpr (sizeof...(Args) == 0) {
+            ::new (static_cast<void*>(p)) U;
+        } else {
+            ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+        }
+    }
+};
+
+/// An N-wide tree over triangles. `nodes[0]` is the root (an inner node, even over a single
+/// leaf) when the tree is non-empty; nodes are in depth-first order, every child after its
+/// parent.
+template <int N>
+struct WideBvhOf {
+    std::vector<WideNode<N>, UninitializedAllocator<WideNode<N>>> nodes;
+    std::vector<TriangleBlock, UninitializedAllocator<TriangleBlock>> blocks;
+    /// The root's box (the union of its children's), for callers that cull whole trees.
+    Aabb root_box;
+
+    bool empty() const { return nodes.empty(); }
+    std::size_t bytes() const {
+        return nodes.size() * sizeof(WideNode<N>) + blocks.size() * sizeof(TriangleBlock);
+    }
+};
+
+/// The width the engine uses. Both widths are built and tested; 8 was measured faster on the
+/// AVX2 development machine (benchmarks/README.md, "Wide trees").
+inline constexpr int kWideWidth = 8;
+using WideBvh = WideBvhOf<kWideWidth>;
+
+/// Relative costs of the collapse's SAH, in units of one wide node test. A block of four
+/// triangles costs a little more than a node test (more arithmetic, same one SIMD pass).
+struct WideCosts {
+    float node = 1.0f;
+    float block = 1.25f;
+    /// Largest leaf the collapse may form by merging binary leaves, in triangles. A binary
+    /// leaf larger than this stays one leaf.
+    std::uint32_t leaf_prims_max = 16;
+};
+
+/// Collapses the binary tree `bvh` (made by build_binned_sah or build_triangle_bvh; its leaves
+/// refer to `prim_ids`) into an N-wide tree. `leaf_tris[k]` is the triangle of leaf position k
+/// (TriangleBvh::tris); blocks record the caller's index `bvh.prim_ids[k]`. Runs in parallel on
+/// the calling thread's oneTBB arena; the result does not depend on thread timing. An empty
+/// tree gives an empty wide tree. Throws std::length_error when a binary leaf needs more than
+/// 65535 blocks (leaf_size_max above 262,140). `recycled`, a wide tree no longer needed, lends
+/// its storage (a tree rebuilt every frame then writes memory that is already faulted in).
+template <int N>
+WideBvhOf<N> collapse_to_wide(const Bvh& bvh, std::span<const Triangle> leaf_tris,
+                              const WideCosts& costs = {}, WideBvhOf<N>&& recycled = {});
+
+/// Refits the wide tree in place to `tris`, the caller's triangles after a move (indexed as
+/// TriangleBlock::prim): every block's vertices are re-read, every child box recomputed
+/// bottom-up (a leaf's as the union of its triangles' boxes, an inner node's as the union of
+/// its children's). The topology stays. Boxes equal those of the binary tree refitted to the
+/// same triangles, up to the sign of zero coordinates. Parallel and deterministic. Throws
+/// std::invalid_argument for a prim index out of range or a malformed tree.
+template <int N>
+void refit_wide(WideBvhOf<N>& wide, std::span<const Triangle> tris);
+
+/// The same refit from `leaf_tris`, the triangles in leaf order (TriangleBvh::tris after the
+/// binary refit wrote them): read sequentially instead of gathered by the caller's index,
+/// which made the refit several times faster on a triangle soup. Throws
+/// std::invalid_argument when the tree's positions do not match `leaf_tris`.
+template <int N>
+void refit_wide_leaf_order(WideBvhOf<N>& wide, std::span<const Triangle> leaf_tris);
+
+/// Work done by a traversal, for benchmarks (counted only by the overloads that take it).
+struct WideTraversalStats {
+    /// Inner nodes whose children were box-tested.
+    std::uint64_t nodes_visited = 0;
+    /// Leaves whose blocks were tested.
+    std::uint64_t leaves_visited = 0;
+    /// Triangle lanes tested (used lanes only).
+    std::uint64_t triangles_tested = 0;
+};
+
+/// Closest hit within [ray.tmin, ray.tmax]: the smallest t, ties to the smallest caller index,
+/// exactly as intersect_closest on the binary tree. Thread-safe on a shared tree.
+template <int N>
+Hit intersect_closest(const WideBvhOf<N>& wide, const Ray& ray);
+template <int N>
+Hit intersect_closest(const WideBvhOf<N>& wide, const Ray& ray, WideTraversalStats& stats);
+
+/// True when any triangle is hit within [ray.tmin, ray.tmax]. Thread-safe.
+template <int N>
+bool intersect_any(const WideBvhOf<N>& wide, const Ray& ray);
+template <int N>
+bool intersect_any(const WideBvhOf<N>& wide, const Ray& ray, WideTraversalStats& stats);
+
+/// Shape figures of a wide tree.
+struct WideStats {
+    std::size_t nodes = 0;
+    std::size_t leaves = 0;
+    std::size_t blocks = 0;
+    /// Used lanes / all lanes of the blocks.
+    double block_fill = 0.0;
+    /// Mean used child slots per node.
+    double children_mean = 0.0;
+    std::size_t bytes = 0;
+};
+template <int N>
+WideStats compute_stats(const WideBvhOf<N>& wide);
+
+/// Checks the wide tree against `tris` (the caller's triangles, indexed as
+/// TriangleBlock::prim): every node reached once from the root, depth within kMaxDepth, used
+/// slots before empty ones, every child box inside its parent's slot box, every block's used
+/// lanes inside their leaf's box and bit-equal to `tris[prim]`, unused lanes marked, and the
+/// used lanes in depth-first slot order exactly `expected_prims` (the binary tree's prim_ids,
+/// in leaf order), each node's first_position where its lanes start. Returns "" when valid, else the
+/// first violation. For tests and debug checks after every build and refit.
+template <int N>
+std::string validate(const WideBvhOf<N>& wide, std::span<const Triangle> tris,
+                     std::span<const std::uint32_t> expected_prims);
+
+}  // namespace dynrt::bvh

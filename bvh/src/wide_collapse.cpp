@@ -1,0 +1,351 @@
+// Collapsing the binary binned-SAH tree into an N-wide one by the dynamic program of Ylitie,
+// Karras and Laine 2017, "Efficient Incoherent Ray Traversal on GPUs Through Compressed Wide
+// BVHs" (section 4.1). For a binary node n and i = 1..N slots, C(n, i) is the least SAH cost of
+// n's subtree when it may occupy up to i child slots of a wide node:
+//
+//   C(n, 1) = min(C_leaf(n), C_node(n))
+//   C(n, i) = min(C_dist(n, i), C(n, i - 1))                        for i >= 2
+//   C_dist(n, j) = min over 0 < k < j of C(left, k) + C(right, j - k)
+//   C_node(n) = A(n) c_node + C_dist(n, N)
+//   C_leaf(n) = A(n) ceil(p(n) / 4) c_block    if p(n) <= leaf_prims_max, else infinite
+//
+// (A the half area, p the triangle count). A binary leaf is always one slot, a leaf, whatever
+// its size. The program runs bottom-up in parallel and records its choices; the wide tree is
+// then read off them top-down, nodes in depth-first order, and the blocks are filled in
+// parallel.
+
+#include "dynrt/bvh/wide_bvh.h"
+
+#include "huge_pages.h"
+
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/parallel_invoke.h>
+
+#include <algorithm>
+#include <array>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+namespace dynrt::bvh {
+namespace {
+
+/// Subtrees above this depth of the binary tree are costed as parallel tasks.
+constexpr std::uint32_t kParallelDepth = 10;
+/// Wide levels whose inner children are emitted as parallel tasks (8^3 or 4^4 subtrees).
+template <int N>
+constexpr std::uint32_t kParallelEmitDepth = N == 8 ? 3 : 4;
+constexpr std::uint32_t kMaxBlocksPerLeaf = 0xffff;
+
+std::uint32_t blocks_for(std::uint32_t prims) {
+    return (prims + kBlockLanes - 1) / kBlockLanes;
+}
+
+constexpr std::uint8_t kLeaf = 0;
+constexpr std::uint8_t kNode = 1;
+
+/// What a subtree becomes in the wide tree: its wide nodes and triangle blocks.
+struct WideSize {
+    std::uint32_t nodes = 0;
+    std::uint32_t blocks = 0;
+
+    WideSize operator+(const WideSize& o) const { return {nodes + o.nodes, blocks + o.blocks}; }
+};
+
+template <int N>
+class Collapser {
+public:
+    Collapser(const Bvh& bvh, std::span<const Triangle> leaf_tris, const WideCosts& costs)
+        : bvh_(bvh), leaf_tris_(leaf_tris), costs_(costs),
+          choice_(std::make_unique_for_overwrite<Choices[]>(bvh.nodes.size())),
+          size_as_node_(std::make_unique_for_overwrite<WideSize[]>(bvh.nodes.size())) {}
+
+    WideBvhOf<N> run(WideBvhOf<N>&& recycled) {
+        WideBvhOf<N> wide = std::move(recycled);
+        wide.nodes.clear();
+        wide.blocks.clear();
+        wide.root_box = Aabb{};
+        if (bvh_.nodes.empty()) return wide;
+        const Result root = cost(0, 1);
+        // The root is a wide node: over one leaf when the whole tree is best as one leaf (or
+        // is a single binary leaf), else over the best distribution of its children.
+        const bool root_leaf = bvh_.nodes[0].is_leaf() || choice_[0][0] == kLeaf;
+        const WideSize size = root_leaf ? WideSize{1, root.size[0].blocks} : size_as_node_[0];
+        detail::resize_with_huge_pages(wide.nodes, size.nodes);
+        detail::resize_with_huge_pages(wide.blocks, size.blocks);
+        nodes_ = wide.nodes.data();
+        blocks_ = wide.blocks.data();
+        if (root_leaf) {
+            nodes_[0] = empty_node();
+            nodes_[0].first_position = 0;
+            std::uint32_t next_node = 1, next_block = 0;
+            fill_slot(nodes_[0], 0, 0, next_node, next_block, nullptr);
+        } else {
+            emit_node(0, 0, 0, 1);
+        }
+        wide.root_box = bvh_.nodes[0].box;
+        return wide;
+    }
+
+private:
+    using Costs = std::array<float, N>;
+    /// choices[0]: kLeaf or kNode, how the subtree fills one slot; choices[i - 1] for
+    /// 2 <= i <= N: the k of the best split of i slots between the children, or 0 when fewer
+    /// slots, C(n, i - 1), were no worse; choices[N]: the k of C_dist(n, N), the split of a
+    /// wide node's own N slots when the subtree becomes one.
+    using Choices = std::array<std::uint8_t, N + 1>;
+
+    /// C(n, 1..N) of a subtree, what each choice makes of it in the wide tree, and p(n).
+    struct Result {
+        Costs cost;
+        std::array<WideSize, N> size;
+        std::uint32_t prims = 0;
+    };
+
+    /// Runs the dynamic program over the subtree at `index`, recording the choices and, for
+    /// every inner node, the size of the wide subtree it gives as a wide node (so that the
+    /// emission knows where each subtree goes before it is made, and can run in parallel).
+    Result cost(std::uint32_t index, std::uint32_t depth) {
+        const BvhNode& node = bvh_.nodes[index];
+        const float area = node.box.half_area();
+        Result r;
+        Choices& choice = choice_[index];
+        if (node.is_leaf()) {
+            if (blocks_for(node.count) > kMaxBlocksPerLeaf) {
+                throw std::length_error("collapse_to_wide: a leaf of " +
+                                        std::to_string(node.count) +
+                                        " triangles needs more than 65535 blocks");
+            }
+            r.cost.fill(area * static_cast<float>(blocks_for(node.count)) * costs_.block);
+            r.size.fill(WideSize{0, blocks_for(node.count)});
+            r.prims = node.count;
+            choice.fill(0);
+            choice[0] = kLeaf;
+            return r;
+        }
+        Result left, right;
+        if (depth < kParallelDepth) {
+            tbb::parallel_invoke([&] { left = cost(node.first, depth + 1); },
+                                 [&] { right = cost(node.first + 1, depth + 1); });
+        } else {
+            left = cost(node.first, depth + 1);
+            right = cost(node.first + 1, depth + 1);
+        }
+        r.prims = left.prims + right.prims;
+
+        // C_dist(n, j) for j = 2..N, each with its best k.
+        Costs dist;
+        std::array<std::uint8_t, N> dist_k{};
+        for (int j = 2; j <= N; ++j) {
+            float best = std::numeric_limits<float>::infinity();
+            int best_k = 1;
+            for (int k = 1; k < j; ++k) {
+                const float sum = left.cost[k - 1] + right.cost[j - k - 1];
+                if (sum < best) {
+                    best = sum;
+                    best_k = k;
+                }
+            }
+            dist[j - 1] = best;
+            dist_k[j - 1] = static_cast<std::uint8_t>(best_k);
+        }
+        auto dist_size = [&](int j, int k) { return left.size[k - 1] + right.size[j - k - 1]; };
+        choice[N] = dist_k[N - 1];
+        const WideSize as_node_size = WideSize{1, 0} + dist_size(N, dist_k[N - 1]);
+        size_as_node_[index] = as_node_size;
+        const float as_node = area * costs_.node + dist[N - 1];
+        const float as_leaf = r.prims <= costs_.leaf_prims_max
+                                  ? area * static_cast<float>(blocks_for(r.prims)) * costs_.block
+                                  : std::numeric_limits<float>::infinity();
+        choice[0] = as_leaf <= as_node ? kLeaf : kNode;
+        r.cost[0] = std::min(as_leaf, as_node);
+        r.size[0] = choice[0] == kLeaf ? WideSize{0, blocks_for(r.prims)} : as_node_size;
+        for (int i = 2; i <= N; ++i) {
+            if (dist[i - 1] < r.cost[i - 2]) {
+                r.cost[i - 1] = dist[i - 1];
+                r.size[i - 1] = dist_size(i, dist_k[i - 1]);
+                choice[i - 1] = dist_k[i - 1];
+            } else {
+                r.cost[i - 1] = r.cost[i - 2];
+                r.size[i - 1] = r.size[i - 2];
+                choice[i - 1] = 0;
+            }
+        }
+        return r;
+    }
+
+    static WideNode<N> empty_node() {
+        WideNode<N> node;
+        for (int i = 0; i < N; ++i) {
+            node.set_box(i, Aabb{});
+            node.child[i] = kInvalidId;
+            node.blocks[i] = 0;
+        }
+        return node;
+    }
+
+    /// The binary nodes that fill the slots of a wide node made from `index`, in order.
+    void slots_of(std::uint32_t index, int slots, std::array<std::uint32_t, N>& out, int& used) const {
+        const BvhNode& node = bvh_.nodes[index];
+        if (slots == 1 || node.is_leaf()) {
+            out[used++] = index;
+            return;
+        }
+        const std::uint8_t k = choice_[index][slots - 1];
+        if (k == 0) {
+            slots_of(index, slots - 1, out, used);
+            return;
+        }
+        slots_of(node.first, k, out, used);
+        slots_of(node.first + 1, slots - k, out, used);
+    }
+
+    /// Writes the wide node made from the binary inner node `index` at `at`, its leaves'
+    /// blocks from `first_block` on and its inner children's subtrees right after it, in slot
+    /// order (depth-first order, each subtree in the range its size reserves); the subtrees
+    /// of the top levels as parallel tasks.
+    void emit_node(std::uint32_t index, std::uint32_t at, std::uint32_t first_block,
+                   std::uint32_t depth) {
+        WideNode<N>& wide_node = nodes_[at];
+        wide_node = empty_node();
+        wide_node.first_position = leftmost_position(index);
+        // The node's children share its N slots by the best split of C_dist(n, N).
+        const BvhNode& node = bvh_.nodes[index];
+        const int k = choice_[index][N];
+        std::array<std::uint32_t, N> slots;
+        int used = 0;
+        slots_of(node.first, k, slots, used);
+        slots_of(node.first + 1, N - k, slots, used);
+        std::uint32_t next_node = at + 1;
+        std::uint32_t next_block = first_block;
+        struct Job {
+            std::uint32_t binary, at, first_block;
+        };
+        std::array<Job, N> jobs;
+        int job_count = 0;
+        for (int i = 0; i < used; ++i) {
+            Job job;
+            if (fill_slot(wide_node, i, slots[i], next_node, next_block, &job.at)) {
+                job.binary = slots[i];
+                job.first_block = next_block - size_as_node_[slots[i]].blocks;
+                jobs[job_count++] = job;
+            }
+        }
+        auto run = [&](int j) { emit_node(jobs[j].binary, jobs[j].at, jobs[j].first_block, depth + 1); };
+        if (depth < kParallelEmitDepth<N> && job_count > 1) {
+            tbb::parallel_for(0, job_count, run);
+        } else {
+            for (int j = 0; j < job_count; ++j) run(j);
+        }
+    }
+
+    /// Sets slot `slot` of `parent` to the binary subtree `binary`: a leaf, whose blocks are
+    /// filled here, or an inner node, whose place (returned in *child_at, and then true) is
+    /// reserved for the caller to emit.
+    bool fill_slot(WideNode<N>& parent, int slot, std::uint32_t binary, std::uint32_t& next_node,
+                   std::uint32_t& next_block, std::uint32_t* child_at) {
+        const BvhNode& node = bvh_.nodes[binary];
+        parent.set_box(slot, node.box);
+        if (node.is_leaf() || choice_[binary][0] == kLeaf) {
+            const std::uint32_t blocks = fill_leaf(blocks_ + next_block, binary);
+            parent.child[slot] = next_block;
+            parent.blocks[slot] = static_cast<std::uint16_t>(blocks);
+            next_block += blocks;
+            return false;
+        }
+        const WideSize size = size_as_node_[binary];
+        parent.child[slot] = next_node;
+        parent.blocks[slot] = 0;
+        *child_at = next_node;
+        next_node += size.nodes;
+        next_block += size.blocks;
+        return true;
+    }
+
+    /// The leaf-order position of the first triangle of the binary subtree at `index`.
+    std::uint32_t leftmost_position(std::uint32_t index) const {
+        while (!bvh_.nodes[index].is_leaf()) index = bvh_.nodes[index].first;
+        return bvh_.nodes[index].first;
+    }
+
+    /// Copies the triangles of the binary subtree at `index` into consecutive blocks; returns
+    /// how many it filled. The builder's subtrees cover contiguous leaf-order ranges, left
+    /// child first, which is what lets a refit stream the triangles (WideNode::first_position);
+    /// a tree without that property is refused rather than collapsed into one that refits wrong.
+    std::uint32_t fill_leaf(TriangleBlock* blocks, std::uint32_t index) const {
+        int lane = 0;
+        TriangleBlock* block = blocks;
+        std::uint32_t expected = leftmost_position(index);
+        visit_leaves(index, [&](std::uint32_t k) {
+            if (k != expected++) {
+                throw std::invalid_argument(
+                    "collapse_to_wide: a subtree's leaves are not one contiguous range of "
+                    "prim_ids in order (not a tree from build_binned_sah)");
+            }
+            const Triangle& t = leaf_tris_[k];
+            for (int axis = 0; axis < 3; ++axis) {
+                block->v0[axis][lane] = t.v0[axis];
+                block->v1[axis][lane] = t.v1[axis];
+                block->v2[axis][lane] = t.v2[axis];
+            }
+            block->prim[lane] = bvh_.prim_ids[k];
+            if (++lane == kBlockLanes) {
+                lane = 0;
+                ++block;
+            }
+        });
+        if (lane != 0) {
+            for (; lane < kBlockLanes; ++lane) {
+                for (int axis = 0; axis < 3; ++axis) {
+                    block->v0[axis][lane] = block->v0[axis][0];
+                    block->v1[axis][lane] = block->v1[axis][0];
+                    block->v2[axis][lane] = block->v2[axis][0];
+                }
+                block->prim[lane] = kInvalidId;
+            }
+            ++block;
+        }
+        return static_cast<std::uint32_t>(block - blocks);
+    }
+
+    template <class Visit>
+    void visit_leaves(std::uint32_t index, Visit&& visit) const {
+        const BvhNode& node = bvh_.nodes[index];
+        if (node.is_leaf()) {
+            for (std::uint32_t k = node.first; k < node.first + node.count; ++k) visit(k);
+            return;
+        }
+        visit_leaves(node.first, visit);
+        visit_leaves(node.first + 1, visit);
+    }
+
+    const Bvh& bvh_;
+    std::span<const Triangle> leaf_tris_;
+    WideCosts costs_;
+    std::unique_ptr<Choices[]> choice_;
+    /// Per binary inner node, the wide subtree it gives as a wide node.
+    std::unique_ptr<WideSize[]> size_as_node_;
+    WideNode<N>* nodes_ = nullptr;
+    TriangleBlock* blocks_ = nullptr;
+};
+
+}  // namespace
+
+template <int N>
+WideBvhOf<N> collapse_to_wide(const Bvh& bvh, std::span<const Triangle> leaf_tris,
+                              const WideCosts& costs, WideBvhOf<N>&& recycled) {
+    if (leaf_tris.size() != bvh.prim_ids.size()) {
+        throw std::invalid_argument("collapse_to_wide: " + std::to_string(leaf_tris.size()) +
+                                    " triangles for " + std::to_string(bvh.prim_ids.size()) +
+                                    " primitive ids");
+    }
+    return Collapser<N>(bvh, leaf_tris, costs).run(std::move(recycled));
+}
+
+template WideBvhOf<4> collapse_to_wide<4>(const Bvh&, std::span<const Triangle>, const WideCosts&,
+                                          WideBvhOf<4>&&);
+template WideBvhOf<8> collapse_to_wide<8>(const Bvh&, std::span<const Triangle>, const WideCosts&,
+                                          WideBvhOf<8>&&);
+
+}  // namespace dynrt::bvh

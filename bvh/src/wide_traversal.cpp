@@ -1,0 +1,239 @@
+// Single-ray traversal of the wide tree: all N child boxes of a node in one SIMD pass (the
+// conservative test of Ize 2013, "Robust BVH Ray Traversal", lane by lane as robust_box_test.h
+// computes it), the children that are hit visited nearest first (closest hit) or in any order
+// with an exit at the first hit (any hit), and leaves tested four triangles at a time
+// (watertight_block.h). The stack keeps each pushed child with its entry distance, and a
+// closest-hit query pops only those that can still hold a hit at or before the current one.
+
+#include "dynrt/bvh/wide_bvh.h"
+
+#include "robust_box_test.h"
+#include "watertight_block.h"
+#include "wide_simd.h"
+
+namespace dynrt::bvh {
+namespace {
+
+using detail::kFarScale;
+
+/// One child reference: an inner node (blocks == 0) or a leaf's block range.
+struct ChildRef {
+    std::uint32_t child;
+    std::uint32_t blocks;
+};
+
+template <int N>
+struct BoxRayN {
+    using F = typename detail::WideLanes<N>::F;
+    F org_x, org_y, org_z, inv_x, inv_y, inv_z, far_scale;
+
+    explicit BoxRayN(const detail::BoxRay& r)
+        : org_x(detail::splat<N>(r.org.x)), org_y(detail::splat<N>(r.org.y)),
+          org_z(detail::splat<N>(r.org.z)), inv_x(detail::splat<N>(r.inv_dir.x)),
+          inv_y(detail::splat<N>(r.inv_dir.y)), inv_z(detail::splat<N>(r.inv_dir.z)),
+          far_scale(detail::splat<N>(kFarScale)) {}
+};
+
+/// hit_box for the N children of `node` at once: returns the mask of children met within
+/// [tmin, tmax] and their entry distances in `tnear`, bit for bit hit_box's.
+template <int N, int kOctant>
+__attribute__((always_inline)) inline std::uint32_t hit_children(
+    const WideNode<N>& node, const BoxRayN<N>& r, typename detail::WideLanes<N>::F tmin,
+    typename detail::WideLanes<N>::F far_limit, typename detail::WideLanes<N>::F& tnear) {
+    using F = typename detail::WideLanes<N>::F;
+    constexpr bool kNegX = (kOctant & 1) != 0;
+    constexpr bool kNegY = (kOctant & 2) != 0;
+    constexpr bool kNegZ = (kOctant & 4) != 0;
+    const F t0x = (detail::load_lanes<N>(kNegX ? node.hi_x : node.lo_x) - r.org_x) * r.inv_x;
+    const F t1x = (detail::load_lanes<N>(kNegX ? node.lo_x : node.hi_x) - r.org_x) * r.inv_x;
+    const F t0y = (detail::load_lanes<N>(kNegY ? node.hi_y : node.lo_y) - r.org_y) * r.inv_y;
+    const F t1y = (detail::load_lanes<N>(kNegY ? node.lo_y : node.hi_y) - r.org_y) * r.inv_y;
+    const F t0z = (detail::load_lanes<N>(kNegZ ? node.hi_z : node.lo_z) - r.org_z) * r.inv_z;
+    const F t1z = (detail::load_lanes<N>(kNegZ ? node.lo_z : node.hi_z) - r.org_z) * r.inv_z;
+    F tn = tmin;
+    F tf = far_limit;
+    detail::clip_to_slabs(t0x, t1x, t0y, t1y, t0z, t1z, tn, tf);
+    tnear = tn;
+    return detail::lane_mask<N>(tn <= tf * r.far_scale);
+}
+
+constexpr int kStackSize = 8 * static_cast<int>(kMaxDepth);
+
+template <int N, bool kAnyHit, bool kCount, int kOctant>
+bool traverse(const WideBvhOf<N>& wide, const Ray& ray, Hit& hit, WideTraversalStats* stats) {
+    using F = typename detail::WideLanes<N>::F;
+    if (wide.nodes.empty()) return false;
+    const WideNode<N>* nodes = wide.nodes.data();
+    const TriangleBlock* blocks = wide.blocks.data();
+    const detail::BoxRay box_ray(ray);
+    const BoxRayN<N> wide_ray(box_ray);
+    const detail::BlockRay tri_ray{WatertightRay(ray)};
+    const float tmin = ray.tmin;
+    float tmax = ray.tmax;
+    // Broadcast once; the tmax vectors change only when a hit shrinks the segment.
+    using F4 = detail::WideLanes<kBlockLanes>::F;
+    const F tmin_n = detail::splat<N>(tmin);
+    const F4 tmin_4 = detail::splat<kBlockLanes>(tmin);
+    F tmax_n = detail::splat<N>(tmax);
+    F4 tmax_4 = detail::splat<kBlockLanes>(tmax);
+
+    struct Entry {
+        ChildRef ref;
+        float tnear;
+    };
+    Entry stack[kStackSize];
+    int top = 0;
+    bool found = false;
+
+    float root_near;
+    if (!detail::hit_box<kOctant>(wide.root_box, box_ray, tmin, tmax, root_near)) return false;
+    ChildRef current{0, 0};
+    while (true) {
+        if (current.blocks == 0) {
+            const WideNode<N>& node = nodes[current.child];
+            if constexpr (kCount) ++stats->nodes_visited;
+            F tnear;
+            std::uint32_t mask = hit_children<N, kOctant>(node, wide_ray, tmin_n, tmax_n, tnear);
+            if (mask != 0) {
+                const int first = __builtin_ctz(mask);
+                mask &= mask - 1;
+                if (mask == 0) {
+                    current = ChildRef{node.child[first], node.blocks[first]};
+                    continue;
+                }
+                if constexpr (kAnyHit) {
+                    // Any order finds an occluder; push the others as they come.
+                    while (mask != 0) {
+                        const int i = __builtin_ctz(mask);
+                        mask &= mask - 1;
+                        stack[top++] = Entry{ChildRef{node.child[i], node.blocks[i]}, tnear[i]};
+                    }
+                    current = ChildRef{node.child[first], node.blocks[first]};
+                    continue;
+                } else {
+                    // Sort the hit children by entry distance, farthest first, onto the stack
+                    // (insertion into the run of entries this node pushes), then visit the
+                    // nearest.
+                    const int base = top;
+                    auto push_sorted = [&](int i) {
+                        const Entry e{ChildRef{node.child[i], node.blocks[i]}, tnear[i]};
+                        int at = top++;
+                        while (at > base && stack[at - 1].tnear < e.tnear) {
+                            stack[at] = stack[at - 1];
+                            --at;
+                        }
+                        stack[at] = e;
+                    };
+                    push_sorted(first);
+                    while (mask != 0) {
+                        const int i = __builtin_ctz(mask);
+                        mask &= mask - 1;
+                        push_sorted(i);
+                    }
+                    current = stack[--top].ref;
+                    continue;
+                }
+            }
+        } else {
+            if constexpr (kCount) ++stats->leaves_visited;
+            const TriangleBlock* block = blocks + current.child;
+            const TriangleBlock* end = block + current.blocks;
+            for (; block != end; ++block) {
+                if constexpr (kCount) {
+                    for (int lane = 0; lane < kBlockLanes; ++lane) {
+                        stats->triangles_tested += block->prim[lane] != kInvalidId ? 1 : 0;
+                    }
+                }
+                const detail::BlockHits hits = detail::watertight_block(tri_ray, *block, tmin_4, tmax_4);
+                if (hits.mask == 0) continue;
+                if constexpr (kAnyHit) {
+                    return true;
+                } else {
+                    // Lane by lane, as the scalar loop takes triangles one after the other: a
+                    // lane is kept if its t is within the current tmax and beats the hit so far
+                    // (ties to the lower primitive index, so the answer does not depend on the
+                    // order in which leaves or lanes are visited).
+                    std::uint32_t mask = hits.mask;
+                    while (mask != 0) {
+                        const int lane = __builtin_ctz(mask);
+                        mask &= mask - 1;
+                        const float t = hits.t[lane];
+                        const std::uint32_t prim = block->prim[lane];
+                        if (t <= tmax && (t < tmax || prim < hit.prim)) {
+                            hit.t = t;
+                            hit.u = hits.bary_v[lane] / hits.det[lane];
+                            hit.v = hits.bary_w[lane] / hits.det[lane];
+                            hit.prim = prim;
+                            tmax = t;
+                            found = true;
+                        }
+                    }
+                    tmax_n = detail::splat<N>(tmax);
+                    tmax_4 = detail::splat<kBlockLanes>(tmax);
+                }
+            }
+        }
+        // Pop the next child that can still hold a hit at or before the current one.
+        while (true) {
+            if (top == 0) return found;
+            const Entry e = stack[--top];
+            if (kAnyHit || e.tnear <= tmax * kFarScale) {
+                current = e.ref;
+                break;
+            }
+        }
+    }
+}
+
+template <int N, bool kAnyHit, bool kCount>
+bool traverse_octant(const WideBvhOf<N>& wide, const Ray& ray, Hit& hit, WideTraversalStats* stats) {
+    switch (detail::octant_of(ray.dir)) {
+        case 0: return traverse<N, kAnyHit, kCount, 0>(wide, ray, hit, stats);
+        case 1: return traverse<N, kAnyHit, kCount, 1>(wide, ray, hit, stats);
+        case 2: return traverse<N, kAnyHit, kCount, 2>(wide, ray, hit, stats);
+        case 3: return traverse<N, kAnyHit, kCount, 3>(wide, ray, hit, stats);
+        case 4: return traverse<N, kAnyHit, kCount, 4>(wide, ray, hit, stats);
+        case 5: return traverse<N, kAnyHit, kCount, 5>(wide, ray, hit, stats);
+        case 6: return traverse<N, kAnyHit, kCount, 6>(wide, ray, hit, stats);
+        default: return traverse<N, kAnyHit, kCount, 7>(wide, ray, hit, stats);
+    }
+}
+
+}  // namespace
+
+template <int N>
+Hit intersect_closest(const WideBvhOf<N>& wide, const Ray& ray) {
+    Hit hit;
+    traverse_octant<N, false, false>(wide, ray, hit, nullptr);
+    return hit;
+}
+
+template <int N>
+Hit intersect_closest(const WideBvhOf<N>& wide, const Ray& ray, WideTraversalStats& stats) {
+    Hit hit;
+    traverse_octant<N, false, true>(wide, ray, hit, &stats);
+    return hit;
+}
+
+template <int N>
+bool intersect_any(const WideBvhOf<N>& wide, const Ray& ray) {
+    Hit unused;
+    return traverse_octant<N, true, false>(wide, ray, unused, nullptr);
+}
+
+template <int N>
+bool intersect_any(const WideBvhOf<N>& wide, const Ray& ray, WideTraversalStats& stats) {
+    Hit unused;
+    return traverse_octant<N, true, true>(wide, ray, unused, &stats);
+}
+
+#define DYNRT_WIDE_TRAVERSAL(N)                                                                 \
+    template Hit intersect_closest<N>(const WideBvhOf<N>&, const Ray&);                        \
+    template Hit intersect_closest<N>(const WideBvhOf<N>&, const Ray&, WideTraversalStats&);   \
+    template bool intersect_any<N>(const WideBvhOf<N>&, const Ray&);                           \
+    template bool intersect_any<N>(const WideBvhOf<N>&, const Ray&, WideTraversalStats&);
+DYNRT_WIDE_TRAVERSAL(4)
+DYNRT_WIDE_TRAVERSAL(8)
+#undef DYNRT_WIDE_TRAVERSAL
+
+}  // namespace dynrt::bvh

@@ -6,6 +6,7 @@
 
 #include "dynrt/bvh/binned_sah_builder.h"
 #include "dynrt/bvh/triangle_bvh.h"
+#include "dynrt/bvh/wide_bvh.h"
 
 #if DYNRT_HAVE_EMBREE
 #include "bm_embree.h"
@@ -66,6 +67,55 @@ void BM_BuildTriangleBvhRecycled(benchmark::State& state, const std::string& spe
     report_tree(state, accel.bvh, config);
 }
 
+/// build_triangle_bvh without the wide tree (BuildConfig::wide off): what the collapse adds is
+/// the difference to BM_BuildTriangleBvh.
+void BM_BuildTriangleBvhBinaryOnly(benchmark::State& state, const std::string& spec) {
+    const SceneInput& input = scene_input(spec);
+    bvh::BuildConfig config;
+    config.wide = false;
+    bvh::TriangleBvh accel;
+    for (auto _ : state) {
+        const Clock::time_point start = Clock::now();
+        bvh::TriangleBvh built = bvh::build_triangle_bvh(input.triangles, config);
+        state.SetIterationTime(seconds_since(start));
+        accel = std::move(built);
+    }
+    state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(input.triangles.size()));
+    report_tree(state, accel.bvh, config);
+}
+
+/// collapse_to_wide alone, of a binary tree built once, at width N, into fresh storage; with
+/// the wide tree's shape as counters.
+template <int N>
+void BM_CollapseToWide(benchmark::State& state, const std::string& spec) {
+    const SceneInput& input = scene_input(spec);
+    bvh::BuildConfig config;
+    config.wide = false;
+    const bvh::TriangleBvh accel = bvh::build_triangle_bvh(input.triangles, config);
+    bvh::WideBvhOf<N> wide;
+    for (auto _ : state) {
+        const Clock::time_point start = Clock::now();
+        bvh::WideBvhOf<N> built = bvh::collapse_to_wide<N>(accel.bvh, accel.tris);
+        state.SetIterationTime(seconds_since(start));
+        wide = std::move(built);
+    }
+    state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(input.triangles.size()));
+    const bvh::WideStats stats = bvh::compute_stats(wide);
+    state.counters["nodes"] = static_cast<double>(stats.nodes);
+    state.counters["leaves"] = static_cast<double>(stats.leaves);
+    state.counters["children"] = stats.children_mean;
+    state.counters["block_fill"] = stats.block_fill;
+    state.counters["bytes_per_tri"] =
+        static_cast<double>(stats.bytes) / static_cast<double>(input.triangles.size());
+}
+
+void BM_CollapseToWide8(benchmark::State& state, const std::string& spec) {
+    BM_CollapseToWide<8>(state, spec);
+}
+void BM_CollapseToWide4(benchmark::State& state, const std::string& spec) {
+    BM_CollapseToWide<4>(state, spec);
+}
+
 /// build_binned_sah over precomputed boxes and centres: binning and partitioning alone.
 void BM_BuildBinnedSahFromBoxes(benchmark::State& state, const std::string& spec) {
     const SceneInput& input = scene_input(spec);
@@ -116,6 +166,12 @@ DYNRT_BUILD_BENCHMARK(BM_BuildTriangleBvh, sphere_1M, "sphere:1000000");
 DYNRT_BUILD_BENCHMARK(BM_BuildTriangleBvh, soup_1M, "soup:1000000");
 DYNRT_BUILD_BENCHMARK(BM_BuildTriangleBvhRecycled, sphere_1M, "sphere:1000000");
 DYNRT_BUILD_BENCHMARK(BM_BuildTriangleBvhRecycled, soup_1M, "soup:1000000");
+DYNRT_BUILD_BENCHMARK(BM_BuildTriangleBvhBinaryOnly, sphere_1M, "sphere:1000000");
+DYNRT_BUILD_BENCHMARK(BM_BuildTriangleBvhBinaryOnly, soup_1M, "soup:1000000");
+DYNRT_BUILD_BENCHMARK(BM_CollapseToWide8, sphere_1M, "sphere:1000000");
+DYNRT_BUILD_BENCHMARK(BM_CollapseToWide8, soup_1M, "soup:1000000");
+DYNRT_BUILD_BENCHMARK(BM_CollapseToWide4, sphere_1M, "sphere:1000000");
+DYNRT_BUILD_BENCHMARK(BM_CollapseToWide4, soup_1M, "soup:1000000");
 DYNRT_BUILD_BENCHMARK(BM_BuildBinnedSahFromBoxes, sphere_1M, "sphere:1000000");
 DYNRT_BUILD_BENCHMARK(BM_BuildBinnedSahFromBoxes, soup_1M, "soup:1000000");
 #if DYNRT_HAVE_EMBREE

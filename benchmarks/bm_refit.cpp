@@ -69,10 +69,14 @@ const WavedScene& waved(const SceneInput& input) {
 
 /// `refit` of a TriangleBvh: leaf-order triangle copies and all node boxes. `threads` 0 runs
 /// on the default arena (the whole machine), otherwise in an arena of that many threads.
-void BM_RefitTriangleBvh(benchmark::State& state, const std::string& spec, int threads) {
+/// `wide` false refits the binary tree alone (BuildConfig::wide off), so the difference is
+/// what the wide tree's refit adds.
+void BM_RefitTriangleBvh(benchmark::State& state, const std::string& spec, int threads,
+                         bool wide = true) {
     const SceneInput& input = scene_input(spec);
     const std::vector<bvh::Triangle>* frames[2] = {&waved(input).triangles, &input.triangles};
-    const bvh::BuildConfig config;
+    bvh::BuildConfig config;
+    config.wide = wide;
     bvh::TriangleBvh accel = bvh::build_triangle_bvh(input.triangles, config);
     const double built_sah = bvh::sah_cost(accel.bvh, config.sah_costs());
     tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
@@ -149,6 +153,8 @@ const std::string kSoup = "soup:1000000";
 
 DYNRT_REFIT_BENCHMARK(BM_RefitTriangleBvh, sphere_1M, kSphere, 0)->UseRealTime();
 DYNRT_REFIT_BENCHMARK(BM_RefitTriangleBvh, soup_1M, kSoup, 0)->UseRealTime();
+DYNRT_REFIT_BENCHMARK(BM_RefitTriangleBvh, sphere_1M_binary_only, kSphere, 0, false)->UseRealTime();
+DYNRT_REFIT_BENCHMARK(BM_RefitTriangleBvh, soup_1M_binary_only, kSoup, 0, false)->UseRealTime();
 DYNRT_REFIT_BENCHMARK(BM_RefitTriangleBvh, sphere_1M_1thread, kSphere, 1)->UseRealTime();
 DYNRT_REFIT_BENCHMARK(BM_RefitTriangleBvh, soup_1M_1thread, kSoup, 1)->UseRealTime();
 DYNRT_REFIT_BENCHMARK(BM_RefitBvhFromBoxes, sphere_1M, kSphere)->UseRealTime();

@@ -1,4 +1,5 @@
 #include "dynrt/anim/procedural_motion.h"
+#include "dynrt/bvh/wide_bvh.h"
 #include "dynrt/engine/bench.h"
 #include "dynrt/engine/scene_loading.h"
 
@@ -99,21 +100,39 @@ TEST(Bench, RowsCountPacketWorkPerCullingConfiguration) {
     EXPECT_GT(culled.ray_triangle_culled, 0u);
     EXPECT_LT(culled.ray_triangle_tests, none.ray_triangle_tests);
 
+    EXPECT_GT(none.nodes_visited, 0u);
+    EXPECT_GT(none.rays, 48u * 48u - 1u);
+
+    // The single-ray tracer counts its work too, on the wide tree or the binary one: the wide
+    // tree visits fewer nodes per ray and costs more bytes per triangle (it is kept beside the
+    // binary tree).
     options.tracer = Tracer::single;
     const BenchRow single = bench_configuration(scene, camera, options, 1, 0);
     EXPECT_EQ(single.packet_culling, "");
-    EXPECT_EQ(single.ray_triangle_tests, 0u);
+    EXPECT_EQ(single.tree_width, bvh::kWideWidth);
+    EXPECT_GT(single.ray_triangle_tests, 0u);
+    EXPECT_EQ(single.ray_triangle_culled, 0u);
+    options.build.wide = false;
+    const BenchRow binary = bench_configuration(scene, camera, options, 1, 0);
+    EXPECT_EQ(binary.tree_width, 2);
+    EXPECT_EQ(binary.rays, single.rays);
+    EXPECT_LT(single.nodes_visited, binary.nodes_visited);
+    EXPECT_GT(single.bytes_per_triangle, binary.bytes_per_triangle);
+    EXPECT_GT(binary.bytes_per_triangle, 36.0);
 
     const nlohmann::json doc = nlohmann::json::parse(bench_json({none, culled}));
     EXPECT_EQ(doc["rows"][1]["packet_culling"], "ab+bp+nf");
     EXPECT_EQ(doc["rows"][1]["ray_triangle_tests"], culled.ray_triangle_tests);
     EXPECT_EQ(doc["rows"][1]["ray_triangle_culled"], culled.ray_triangle_culled);
     const std::string csv = bench_csv({none, culled});
-    EXPECT_NE(csv.find(",packet_culling,ray_triangle_tests,ray_triangle_culled\n"),
+    EXPECT_NE(csv.find(",packet_culling,ray_triangle_tests,ray_triangle_culled,nodes_visited,"
+                       "rays,tree_width,bytes_per_triangle\n"),
               std::string::npos)
         << csv;
     EXPECT_NE(csv.find(",ab+bp+nf," + std::to_string(culled.ray_triangle_tests) + "," +
-                       std::to_string(culled.ray_triangle_culled) + "\n"),
+                       std::to_string(culled.ray_triangle_culled) + "," +
+                       std::to_string(culled.nodes_visited) + "," + std::to_string(culled.rays) +
+                       ","),
               std::string::npos)
         << csv;
 }

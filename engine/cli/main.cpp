@@ -57,6 +57,7 @@ struct FrameArgs {
     unsigned leaf_size = dynrt::bvh::BuildConfig{}.leaf_size_max;
     int threads = 0;
     std::string tracer = "packet";
+    std::string bvh = "wide";
     std::string packet_culling = "all";
     float adaptive = 0.0f;
     // Animation: which motions, clips and classes, at what rate, which frames.
@@ -148,6 +149,7 @@ dynrt::RenderOptions render_options(const FrameArgs& args) {
     if (!args.res.empty()) parse_resolution(args.res, options.width, options.height);
     options.build.cost_ratio = args.cost_ratio;
     options.build.leaf_size_max = args.leaf_size;
+    options.build.wide = args.bvh == "wide";
     for (const std::string& light : args.lights) options.lights.push_back(parse_light(light));
     options.tracer = args.tracer == "single" ? dynrt::Tracer::single : dynrt::Tracer::packet;
     options.packet.culling = dynrt::packet::PacketCulling::parse(args.packet_culling);
@@ -648,6 +650,10 @@ int main(int argc, char** argv) {
             ->check(CLI::Range(1, 1024));
         cmd->add_option("--tracer", args.tracer, "packet (16x16 ray packets) or single (one ray at a time)")
             ->check(CLI::IsMember({"packet", "single"}))->capture_default_str();
+        cmd->add_option("--bvh", args.bvh,
+                        "Tree single rays trace: wide (8 children per node, triangles in SIMD "
+                        "blocks of 4) or binary; the same hits either way")
+            ->check(CLI::IsMember({"wide", "binary"}))->capture_default_str();
         cmd->add_option("--packet-culling", args.packet_culling,
                         "Packet culling stages: ab,bp,edge,nf (any subset), all or none")
             ->capture_default_str();

@@ -1,5 +1,7 @@
 #include "dynrt/engine/bench.h"
 
+#include "dynrt/bvh/wide_bvh.h"
+
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -45,6 +47,10 @@ void for_each_column(const BenchRow& row, Visit&& visit) {
     visit("packet_culling", row.packet_culling);
     visit("ray_triangle_tests", row.ray_triangle_tests);
     visit("ray_triangle_culled", row.ray_triangle_culled);
+    visit("nodes_visited", row.nodes_visited);
+    visit("rays", row.rays);
+    visit("tree_width", row.tree_width);
+    visit("bytes_per_triangle", row.bytes_per_triangle);
 }
 
 std::vector<std::string> split(const std::string& text, char separator) {
@@ -279,19 +285,26 @@ BenchRow bench_configuration(const Scene& scene, const Camera& camera,
         Renderer hits(with_hits);
         render_frame(hits, *last_frame);
     }
+    const std::size_t kept = out.stats.triangles - out.stats.degenerate_skipped;
+    row.tree_width = options.build.wide ? bvh::kWideWidth : 2;
+    row.bytes_per_triangle =
+        kept > 0 ? double(out.stats.binary_tree_bytes + out.stats.wide_tree_bytes) / double(kept)
+                 : 0.0;
     if (options.tracer == Tracer::packet) {
         std::string culling = options.packet.culling.to_string();
         std::replace(culling.begin(), culling.end(), ',', '+');
         row.packet_culling = culling;
-        // Counting costs a little time per packet: a separate render, outside the timings.
-        RenderOptions counting = options;
-        counting.count_packet_work = true;
-        Renderer counter(counting);
-        RenderedFrame counted;
-        render_frame(counter, counted);
-        row.ray_triangle_tests = counted.stats.ray_triangle_tests;
-        row.ray_triangle_culled = counted.stats.ray_triangle_culled;
     }
+    // Counting costs a little time per ray: a separate render, outside the timings.
+    RenderOptions counting = options;
+    counting.count_packet_work = true;
+    Renderer counter(counting);
+    RenderedFrame counted;
+    render_frame(counter, counted);
+    row.ray_triangle_tests = counted.stats.ray_triangle_tests;
+    row.ray_triangle_culled = counted.stats.ray_triangle_culled;
+    row.nodes_visited = counted.stats.nodes_visited;
+    row.rays = counted.stats.primary_rays + counted.stats.shadow_rays;
     return row;
 }
 
@@ -301,7 +314,9 @@ void print_bench_table(std::ostream& out, const std::vector<BenchRow>& rows) {
         << std::setw(22) << "shade ms" << std::setw(22) << "total ms" << std::setw(22)
         << "Mrays/s" << std::setw(9) << "SAH" << std::setw(7) << "leaf" << std::setw(6)
         << "depth" << std::setw(7) << "adapt" << "  " << std::left << std::setw(14) << "culling" << std::right
-        << std::setw(10) << "tests M" << std::setw(10) << "culled M" << '\n';
+        << std::setw(10) << "tests M" << std::setw(10) << "culled M" << std::setw(7) << "width"
+        << std::setw(7) << "B/tri" << std::setw(11) << "nodes/ray" << std::setw(10) << "tris/ray"
+        << '\n';
     for (const BenchRow& r : rows) {
         std::ostringstream cost;
         cost << r.build.cost_ratio;
@@ -315,7 +330,11 @@ void print_bench_table(std::ostream& out, const std::vector<BenchRow>& rows) {
             << r.depth << std::setw(7) << r.adaptive_tolerance << "  " << std::left << std::setw(14)
             << (r.packet_culling.empty() ? "-" : r.packet_culling) << std::right
             << std::setw(10) << double(r.ray_triangle_tests) / 1e6 << std::setw(10)
-            << double(r.ray_triangle_culled) / 1e6 << '\n';
+            << double(r.ray_triangle_culled) / 1e6 << std::setw(7) << r.tree_width
+            << std::setprecision(0) << std::setw(7) << r.bytes_per_triangle << std::setprecision(2)
+            << std::setw(11) << (r.rays ? double(r.nodes_visited) / double(r.rays) : 0.0)
+            << std::setw(10) << (r.rays ? double(r.ray_triangle_tests) / double(r.rays) : 0.0)
+            << '\n';
     }
 }
 

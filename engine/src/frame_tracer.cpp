@@ -137,8 +137,9 @@ void trace_frame(const TraceInputs& in, const Camera& camera, const RenderOption
 
     // ---- Primary rays, one 16x16 tile per task ----
     scratch.hits.resize(pixels);
-    const bool count = options.tracer == Tracer::packet && options.count_packet_work;
+    const bool count = options.count_packet_work;
     tbb::combinable<packet::PacketStats> work;
+    tbb::combinable<bvh::TraversalStats> single_work;
     if (options.tracer == Tracer::packet) {
         const packet::PinholeRays& pinhole = rays.pinhole();
         for_each_tile(width, height, [&](const packet::Tile& tile) {
@@ -157,7 +158,8 @@ void trace_frame(const TraceInputs& in, const Camera& camera, const RenderOption
         });
     } else {
         for_each_pixel_in_tiles(width, height, [&](int x, int y, std::size_t p) {
-            scratch.hits[p] = bvh::intersect_closest(accel, rays.ray(x, y));
+            scratch.hits[p] = count ? bvh::intersect_closest(accel, rays.ray(x, y), single_work.local())
+                                    : bvh::intersect_closest(accel, rays.ray(x, y));
             in.accel.resolve(scratch.hits[p]);
         });
     }
@@ -227,7 +229,10 @@ void trace_frame(const TraceInputs& in, const Camera& camera, const RenderOption
             for (std::size_t l = 0; l < lights.size(); ++l) {
                 if (!origin.faces(lights[l])) continue;
                 ++traced;
-                scratch.visible[p * lights.size() + l] = !bvh::intersect_any(accel, origin.ray_to(lights[l]));
+                const bvh::Ray shadow = origin.ray_to(lights[l]);
+                scratch.visible[p * lights.size() + l] =
+                    !(count ? bvh::intersect_any(accel, shadow, single_work.local())
+                            : bvh::intersect_any(accel, shadow));
             }
             shadow_rays.local() += traced;
         });
@@ -264,6 +269,17 @@ void trace_frame(const TraceInputs& in, const Camera& camera, const RenderOption
         stats.ray_triangle_tests = total.ray_triangle_tests;
         stats.ray_triangle_culled = total.culled_active_bounds + total.culled_beam_planes +
                                     total.culled_triangle_edges + total.culled_near_far;
+        stats.nodes_visited = total.nodes_visited;
+        if (options.tracer == Tracer::single) {
+            const bvh::TraversalStats single = single_work.combine(
+                [](bvh::TraversalStats a, const bvh::TraversalStats& b) {
+                    a.nodes_visited += b.nodes_visited;
+                    a.triangles_tested += b.triangles_tested;
+                    return a;
+                });
+            stats.ray_triangle_tests = single.triangles_tested;
+            stats.nodes_visited = single.nodes_visited;
+        }
     }
     finish();
 }

@@ -310,6 +310,10 @@ void SceneAccel::update(const Scene& scene, std::span<const ObjectState> states,
         if (root_area > 0.0 && !box.is_empty()) sah += double(box.half_area()) / root_area * object.sah;
         nodes += object.shape.nodes;
         leaves += object.shape.leaves;
+        stats.binary_tree_bytes += object.tree.bvh.nodes.size() * sizeof(bvh::BvhNode) +
+                                   object.tree.bvh.prim_ids.size() * sizeof(std::uint32_t) +
+                                   object.tree.tris.size() * sizeof(bvh::Triangle);
+        stats.wide_tree_bytes += object.tree.wide.bytes();
         leaf_max = std::max(leaf_max, object.shape.leaf_prims_max);
         depth = std::max(depth, object.shape.depth);
     }

@@ -49,6 +49,14 @@ struct BenchRow {
     /// timed runs are not perturbed. 0 for the single-ray tracer.
     std::uint64_t ray_triangle_tests = 0;
     std::uint64_t ray_triangle_culled = 0;
+    /// Node visits of the same counted render (FrameStats::nodes_visited), and the rays it
+    /// traced (primary + shadow), for per-ray figures.
+    std::uint64_t nodes_visited = 0;
+    std::uint64_t rays = 0;
+    /// The tree single rays traced: 8 (wide) or 2 (binary), and the bytes per triangle of all
+    /// the trees kept (binary tree, plus the wide tree when built).
+    int tree_width = 2;
+    double bytes_per_triangle = 0;
 };
 
 /// Expands sweep specs such as "cost-ratio=0.1,1" and "leaf=4,8" into the cross product of

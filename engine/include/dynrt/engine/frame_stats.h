@@ -52,6 +52,14 @@ struct FrameStats {
     /// tests the culling stages avoided (packet::PacketStats has the breakdown).
     std::uint64_t ray_triangle_tests = 0;
     std::uint64_t ray_triangle_culled = 0;
+    /// Node visits of the same counted trace: packet node visits for the packet tracer; for the
+    /// single-ray tracer, every ray's visits (wide inner nodes and leaves, or binary nodes,
+    /// plus top-level nodes), whose triangle tests are then in ray_triangle_tests.
+    std::uint64_t nodes_visited = 0;
+    /// Memory of the objects' trees: the binary trees (nodes, primitive ids and triangles in
+    /// leaf order) and the wide trees (nodes and triangle blocks; 0 with BuildConfig::wide off).
+    std::size_t binary_tree_bytes = 0;
+    std::size_t wide_tree_bytes = 0;
 
     // ---- The per-frame update: build_ms = refit_ms + rebuild_ms + top_level_ms ----
     double refit_ms = 0;      ///< refitting deformable objects' trees

@@ -66,8 +66,8 @@ struct RenderOptions {
     float adaptive_tolerance = 0.0f;
     /// The packet tracer's culling stages and SIMD width (ignored by the single-ray tracer).
     packet::PacketConfig packet;
-    /// Count the packet tracer's work into FrameStats (ray_triangle_tests and
-    /// ray_triangle_culled); off by default, as counting costs a little time.
+    /// Count the tracer's work into FrameStats (ray_triangle_tests, nodes_visited and, for the
+    /// packet tracer, ray_triangle_culled); off by default, as counting costs a little time.
     bool count_packet_work = false;
     /// Fill RenderedFrame's per-pixel hit buffers (depth, object, prim, normal) as well as its
     /// colour. Off, they are left empty and a frame writes 12 bytes per pixel instead of 36:

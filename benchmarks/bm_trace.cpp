@@ -1,12 +1,15 @@
 // Single-ray closest-hit tracing of a 1024x1024 primary-ray image (the engine's camera
 // convention, default camera for the scene's bounds), in parallel over 16x16 tiles with oneTBB:
-// dynrt's BVH traversal against Embree 3's rtcIntersect1 over the very same rays. Plus a
-// microbenchmark of the watertight ray/triangle test alone. Items are rays (or tests).
+// dynrt's BVH traversal (the engine's default, the 8-wide tree; and, to compare the trees, the
+// binary tree and wide trees of 4 and 8) against Embree 3's rtcIntersect1 over the very same
+// rays. Plus a microbenchmark of the watertight ray/triangle test alone. Items are rays (or
+// tests).
 
 #include "bm_scenes.h"
 
 #include "dynrt/bvh/triangle_bvh.h"
 #include "dynrt/bvh/watertight_intersector.h"
+#include "dynrt/bvh/wide_bvh.h"
 #include "dynrt/engine/camera.h"
 
 #if DYNRT_HAVE_EMBREE
@@ -98,6 +101,55 @@ void BM_TraceClosestDynrt(benchmark::State& state, const std::string& spec) {
     state.counters["sah"] = bvh::sah_cost(accel.bvh, bvh::BuildConfig{}.sah_costs());
 }
 
+/// The binary tree's traversal, whatever the engine's default.
+void BM_TraceClosestBinary(benchmark::State& state, const std::string& spec) {
+    const SceneInput& input = scene_input(spec);
+    const std::vector<bvh::Ray>& rays = camera_rays(input);
+    const bvh::TriangleBvh& accel = accel_for(input);
+    std::vector<float> t(rays.size());
+    for (auto _ : state) {
+        for_each_pixel_by_tile(
+            [&](std::size_t i) { t[i] = bvh::intersect_closest_binary(accel, rays[i]).t; });
+        benchmark::ClobberMemory();
+    }
+    state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(rays.size()));
+    state.counters["hit_fraction"] = hit_fraction(t);
+}
+
+/// A wide tree of N children per node collapsed from the same binary tree, with its work per
+/// ray and its bytes per triangle (nodes and blocks).
+template <int N>
+void BM_TraceClosestWide(benchmark::State& state, const std::string& spec) {
+    const SceneInput& input = scene_input(spec);
+    const std::vector<bvh::Ray>& rays = camera_rays(input);
+    const bvh::TriangleBvh& accel = accel_for(input);
+    static std::map<std::string, std::unique_ptr<bvh::WideBvhOf<N>>> cache;
+    auto& wide = cache[spec];
+    if (!wide) {
+        wide = std::make_unique<bvh::WideBvhOf<N>>(bvh::collapse_to_wide<N>(accel.bvh, accel.tris));
+    }
+    std::vector<float> t(rays.size());
+    for (auto _ : state) {
+        for_each_pixel_by_tile([&](std::size_t i) { t[i] = bvh::intersect_closest(*wide, rays[i]).t; });
+        benchmark::ClobberMemory();
+    }
+    state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(rays.size()));
+    state.counters["hit_fraction"] = hit_fraction(t);
+    bvh::WideTraversalStats work;
+    for (const bvh::Ray& ray : rays) bvh::intersect_closest(*wide, ray, work);
+    state.counters["nodes_per_ray"] = static_cast<double>(work.nodes_visited) / rays.size();
+    state.counters["leaves_per_ray"] = static_cast<double>(work.leaves_visited) / rays.size();
+    state.counters["tris_per_ray"] = static_cast<double>(work.triangles_tested) / rays.size();
+    state.counters["bytes_per_tri"] =
+        static_cast<double>(wide->bytes()) / static_cast<double>(input.triangles.size());
+}
+void BM_TraceClosestWide4(benchmark::State& state, const std::string& spec) {
+    BM_TraceClosestWide<4>(state, spec);
+}
+void BM_TraceClosestWide8(benchmark::State& state, const std::string& spec) {
+    BM_TraceClosestWide<8>(state, spec);
+}
+
 #if DYNRT_HAVE_EMBREE
 void BM_TraceClosestEmbree(benchmark::State& state, const std::string& spec) {
     const SceneInput& input = scene_input(spec);
@@ -167,6 +219,12 @@ void BM_WatertightIntersect(benchmark::State& state) {
 
 DYNRT_TRACE_BENCHMARK(BM_TraceClosestDynrt, sphere_1M, "sphere:1000000");
 DYNRT_TRACE_BENCHMARK(BM_TraceClosestDynrt, soup_1M, "soup:1000000");
+DYNRT_TRACE_BENCHMARK(BM_TraceClosestBinary, sphere_1M, "sphere:1000000");
+DYNRT_TRACE_BENCHMARK(BM_TraceClosestBinary, soup_1M, "soup:1000000");
+DYNRT_TRACE_BENCHMARK(BM_TraceClosestWide4, sphere_1M, "sphere:1000000");
+DYNRT_TRACE_BENCHMARK(BM_TraceClosestWide4, soup_1M, "soup:1000000");
+DYNRT_TRACE_BENCHMARK(BM_TraceClosestWide8, sphere_1M, "sphere:1000000");
+DYNRT_TRACE_BENCHMARK(BM_TraceClosestWide8, soup_1M, "soup:1000000");
 #if DYNRT_HAVE_EMBREE
 DYNRT_TRACE_BENCHMARK(BM_TraceClosestEmbree, sphere_1M, "sphere:1000000");
 DYNRT_TRACE_BENCHMARK(BM_TraceClosestEmbree, soup_1M, "soup:1000000");

@@ -157,10 +157,22 @@ void trace_frame(const TraceInputs& in, const Camera& camera, const RenderOption
             }
         });
     } else {
-        for_each_pixel_in_tiles(width, height, [&](int x, int y, std::size_t p) {
-            scratch.hits[p] = count ? bvh::intersect_closest(accel, rays.ray(x, y), single_work.local())
-                                    : bvh::intersect_closest(accel, rays.ray(x, y));
-            in.accel.resolve(scratch.hits[p]);
+        // The camera rays of a tile are made in SIMD, as for packets (the very same rays as
+        // rays.ray(x, y), bit for bit), then traced one by one: making each ray on its own (a
+        // normalisation per pixel) cost a third as much as tracing it on sphere:1000000.
+        const packet::PinholeRays& pinhole = rays.pinhole();
+        for_each_tile(width, height, [&](const packet::Tile& tile) {
+            packet::RayPacket camera_rays;
+            pinhole.fill_tile(tile, camera_rays);
+            for (int y = tile.y0; y < tile.y1; ++y) {
+                for (int x = tile.x0; x < tile.x1; ++x) {
+                    const bvh::Ray ray = camera_rays.ray(packet::tile_lane(tile, x, y));
+                    bvh::InstanceHit& hit = scratch.hits[std::size_t(y) * width + x];
+                    hit = count ? bvh::intersect_closest(accel, ray, single_work.local())
+                                : bvh::intersect_closest(accel, ray);
+                    in.accel.resolve(hit);
+                }
+            }
         });
     }
     stats.primary_ms = clock.lap_ms();

@@ -4,6 +4,8 @@
 
 #include "dynrt/anim/posed_scene.h"
 #include "dynrt/bvh/triangle.h"
+#include "dynrt/packet/pinhole.h"
+#include "dynrt/packet/ray_packet.h"
 #include "dynrt/packet/tiling.h"
 #include "shadow_ray_offset.h"
 #include "stopwatch.h"
@@ -270,9 +272,13 @@ double EmbreeTracer::intersect1(const Camera& camera, int width, int height, Pix
     for_each_tile(width, height, [&](const packet::Tile& tile) {
         RTCIntersectContext context;
         rtcInitIntersectContext(&context);
+        // The tile's rays made in SIMD, as dynrt's single-ray tracer makes them, so both sides
+        // pay the same for making rays.
+        packet::RayPacket camera_rays;
+        rays.pinhole().fill_tile(tile, camera_rays);
         for (int y = tile.y0; y < tile.y1; ++y) {
             for (int x = tile.x0; x < tile.x1; ++x) {
-                RTCRayHit rh = to_rtc_ray_hit(rays.ray(x, y));
+                RTCRayHit rh = to_rtc_ray_hit(camera_rays.ray(packet::tile_lane(tile, x, y)));
                 rtcIntersect1(scene, &context, &rh);
                 if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
                 const std::size_t p = std::size_t(y) * width + x;

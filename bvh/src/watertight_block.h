@@ -9,6 +9,8 @@
 #include "dynrt/bvh/watertight_intersector.h"
 #include "dynrt/bvh/wide_bvh.h"
 
+#include "watertight_kernel.h"
+
 #include "wide_simd.h"
 
 #include <cstdint>
@@ -71,19 +73,15 @@ __attribute__((always_inline)) inline BlockHits watertight_block(const BlockRay&
     const I valid = prims != splat<kBlockLanes>(static_cast<std::int32_t>(kInvalidId));
     const F zero = splat<kBlockLanes>(0.0f);
     std::uint32_t exact = lane_mask<kBlockLanes>(((u == zero) | (v == zero) | (w == zero)) & valid);
-    // The scalar test's fallback, lane by lane: exact products in double, one rounding.
+    // The scalar test's fallback, lane by lane.
     while (exact != 0) {
         const int lane = __builtin_ctz(exact);
         exact &= exact - 1;
-        const double cxby = static_cast<double>(cx[lane]) * static_cast<double>(by[lane]);
-        const double cybx = static_cast<double>(cy[lane]) * static_cast<double>(bx[lane]);
-        u[lane] = static_cast<float>(cxby - cybx);
-        const double axcy = static_cast<double>(ax[lane]) * static_cast<double>(cy[lane]);
-        const double aycx = static_cast<double>(ay[lane]) * static_cast<double>(cx[lane]);
-        v[lane] = static_cast<float>(axcy - aycx);
-        const double bxay = static_cast<double>(bx[lane]) * static_cast<double>(ay[lane]);
-        const double byax = static_cast<double>(by[lane]) * static_cast<double>(ax[lane]);
-        w[lane] = static_cast<float>(bxay - byax);
+        float lu, lv, lw;
+        exact_edge_functions(ax[lane], ay[lane], bx[lane], by[lane], cx[lane], cy[lane], lu, lv, lw);
+        u[lane] = lu;
+        v[lane] = lv;
+        w[lane] = lw;
     }
 
     const I outside = ((u < zero) | (v < zero) | (w < zero)) & ((u > zero) | (v > zero) | (w > zero));

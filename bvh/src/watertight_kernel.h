@@ -10,6 +10,23 @@
 
 namespace dynrt::bvh::detail {
 
+/// The paper's fallback for an edge function that rounds to exactly zero (it may be a tiny
+/// value of either sign): all three recomputed in double, where the products of floats are
+/// exact and the difference rounds to zero only when it is zero. Shared by the one-triangle
+/// test below and the four-lane block test (watertight_block.h), lane by lane.
+inline void exact_edge_functions(float ax, float ay, float bx, float by, float cx, float cy,
+                                 float& u, float& v, float& w) {
+    const double cxby = static_cast<double>(cx) * static_cast<double>(by);
+    const double cybx = static_cast<double>(cy) * static_cast<double>(bx);
+    u = static_cast<float>(cxby - cybx);
+    const double axcy = static_cast<double>(ax) * static_cast<double>(cy);
+    const double aycx = static_cast<double>(ay) * static_cast<double>(cx);
+    v = static_cast<float>(axcy - aycx);
+    const double bxay = static_cast<double>(bx) * static_cast<double>(ay);
+    const double byax = static_cast<double>(by) * static_cast<double>(ax);
+    w = static_cast<float>(bxay - byax);
+}
+
 inline bool watertight_test(const WatertightRay& ray, const Triangle& tri, float tmin, float tmax,
                             Hit& hit) {
     // Vertices relative to the ray origin, in arrays so the per-ray axis permutation can index
@@ -32,20 +49,8 @@ inline bool watertight_test(const WatertightRay& ray, const Triangle& tri, float
     float v = ax * cy - ay * cx;
     float w = bx * ay - by * ax;
 
-    // An edge function that rounds to exactly zero may be a tiny value of either sign; decide
-    // it in double, where the products of floats are exact and the difference rounds to zero
-    // only when it is zero (the paper's fallback).
-    if (u == 0.0f || v == 0.0f || w == 0.0f) {
-        const double cxby = static_cast<double>(cx) * static_cast<double>(by);
-        const double cybx = static_cast<double>(cy) * static_cast<double>(bx);
-        u = static_cast<float>(cxby - cybx);
-        const double axcy = static_cast<double>(ax) * static_cast<double>(cy);
-        const double aycx = static_cast<double>(ay) * static_cast<double>(cx);
-        v = static_cast<float>(axcy - aycx);
-        const double bxay = static_cast<double>(bx) * static_cast<double>(ay);
-        const double byax = static_cast<double>(by) * static_cast<double>(ax);
-        w = static_cast<float>(bxay - byax);
-    }
+    // An edge function that rounds to exactly zero may be a tiny value of either sign.
+    if (u == 0.0f || v == 0.0f || w == 0.0f) exact_edge_functions(ax, ay, bx, by, cx, cy, u, v, w);
 
     // Both faces: the origin must be on the same side of all three edges (zero counts as
     // either side, so points on edges and vertices are inside).

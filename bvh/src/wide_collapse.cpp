@@ -10,9 +10,12 @@
 //   C_leaf(n) = A(n) ceil(p(n) / 4) c_block    if p(n) <= leaf_prims_max, else infinite
 //
 // (A the half area, p the triangle count). A binary leaf is always one slot, a leaf, whatever
-// its size. The program runs bottom-up in parallel and records its choices; the wide tree is
-// then read off them top-down, nodes in depth-first order, and the blocks are filled in
-// parallel.
+// its size. The program runs bottom-up in parallel and records its choices, and for every
+// binary node the size of the wide subtree it would head; the wide tree is then read off the
+// choices top-down, in depth-first order, each subtree written into the range its size
+// reserves, so the top levels' subtrees are emitted (and their blocks filled) in parallel and
+// the layout still does not depend on thread timing. Both arrays are allocated once at their
+// final size.
 
 #include "dynrt/bvh/wide_bvh.h"
 
@@ -42,6 +45,7 @@ std::uint32_t blocks_for(std::uint32_t prims) {
     return (prims + kBlockLanes - 1) / kBlockLanes;
 }
 
+/// choices[0] of a binary node: its subtree fills one slot as a leaf or as a wide node.
 constexpr std::uint8_t kLeaf = 0;
 constexpr std::uint8_t kNode = 1;
 

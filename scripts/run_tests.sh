@@ -2,6 +2,8 @@
 # Runs the tests of one build tree: each GoogleTest program once, split into as many shards as
 # there are cores run side by side, then ctest for the tests that are not GoogleTest cases
 # (label gtest: examples, the README check, the installed-package build).
+# With DYNRT_TEST_TALLY set to a file, appends a line "PASSED FAILED" per program and one for
+# ctest, which scripts/test.sh sums into its closing summary line.
 #   scripts/run_tests.sh BUILD_DIR [GTEST_FILTER]
 # `ctest --test-dir BUILD_DIR` runs the very same tests, one process per case, which is handier
 # for picking tests (-R) but slow for all of them: starting a test process costs about 0.4 s in
@@ -14,6 +16,7 @@ filter=${2:-*}
 shards=$(nproc)
 
 failed=0
+tally() { [ -n "${DYNRT_TEST_TALLY:-}" ] && echo "$1 $2" >>"$DYNRT_TEST_TALLY"; return 0; }
 for program in tests/dynrt_tests tests/dynrt_stress_tests tests/api/dynrt_api_tests; do
   folder="$dir/$(dirname "$program")"
   name=$(basename "$program")
@@ -32,7 +35,17 @@ for program in tests/dynrt_tests tests/dynrt_stress_tests tests/api/dynrt_api_te
       echo "$name shard $shard/$shards FAILED (log: $log)" >&2
       failed=1
     fi
+    # GoogleTest's own counts; a shard that died before printing them counts as one failure.
+    shard_passed=$(sed -n 's/^\[  PASSED  \] \([0-9]*\) tests\{0,1\}\..*/\1/p' "$log" | tail -n 1)
+    shard_failed=$(sed -n 's/^\[  FAILED  \] \([0-9]*\) tests\{0,1\}, listed below.*/\1/p' "$log" | tail -n 1)
+    if [ -z "$shard_passed" ] && [ -z "$shard_failed" ]; then shard_failed=1; fi
+    tally "${shard_passed:-0}" "${shard_failed:-0}"
   done
 done
-ctest --test-dir "$dir" --output-on-failure -j "$shards" -LE gtest
+ctest_log=$(mktemp)
+ctest --test-dir "$dir" --output-on-failure -j "$shards" -LE gtest | tee "$ctest_log" || failed=1
+# "100% tests passed, 0 tests failed out of 5"
+read -r ctest_failed ctest_total < <(sed -n 's/.*tests passed, \([0-9]*\) tests\{0,1\} failed out of \([0-9]*\).*/\1 \2/p' "$ctest_log" | tail -n 1) || true
+rm -f "$ctest_log"
+if [ -n "${ctest_total:-}" ]; then tally $((ctest_total - ctest_failed)) "$ctest_failed"; else tally 0 1; fi
 exit $failed

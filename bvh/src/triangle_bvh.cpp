@@ -376,7 +376,7 @@ std::string validate(const TriangleBvh& accel, std::span<const Triangle> tris,
                    std::to_string(accel.bvh.prim_ids[k]);
         }
     }
-    if (!accel.wide.empty() || accel.bvh.empty()) {
+    if (!accel.wide.empty()) {
         error = validate(accel.wide, tris, accel.bvh.prim_ids);
         if (!error.empty()) return "wide tree: " + error;
     }

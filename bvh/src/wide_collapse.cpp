@@ -39,7 +39,6 @@ constexpr std::uint32_t kParallelDepth = 10;
 /// Wide levels whose inner children are emitted as parallel tasks (8^3 or 4^4 subtrees).
 template <int N>
 constexpr std::uint32_t kParallelEmitDepth = N == 8 ? 3 : 4;
-constexpr std::uint32_t kMaxBlocksPerLeaf = 0xffff;
 
 std::uint32_t blocks_for(std::uint32_t prims) {
     return (prims + kBlockLanes - 1) / kBlockLanes;
@@ -116,7 +115,7 @@ private:
         Result r;
         Choices& choice = choice_[index];
         if (node.is_leaf()) {
-            if (blocks_for(node.count) > kMaxBlocksPerLeaf) {
+            if (node.count > kWideLeafSizeMax) {
                 throw std::length_error("collapse_to_wide: a leaf of " +
                                         std::to_string(node.count) +
                                         " triangles needs more than 65535 blocks");

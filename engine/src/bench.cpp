@@ -286,7 +286,8 @@ BenchRow bench_configuration(const Scene& scene, const Camera& camera,
         render_frame(hits, *last_frame);
     }
     const std::size_t kept = out.stats.triangles - out.stats.degenerate_skipped;
-    row.tree_width = options.build.wide ? bvh::kWideWidth : 2;
+    // What was built, not what was asked: no wide tree exists over oversized leaves.
+    row.tree_width = out.stats.wide_tree_bytes > 0 ? bvh::kWideWidth : 2;
     row.bytes_per_triangle =
         kept > 0 ? double(out.stats.binary_tree_bytes + out.stats.wide_tree_bytes) / double(kept)
                  : 0.0;

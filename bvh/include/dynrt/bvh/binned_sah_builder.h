@@ -11,9 +11,6 @@
 
 namespace dynrt::bvh {
 
-/// The largest binary leaf the wide tree can hold (65535 blocks of 4 triangles).
-inline constexpr std::uint32_t kWideLeafSizeMax = 65535u * 4u;
-
 struct BuildConfig {
     /// Cost of intersecting one primitive in units of one traversal step (the SAH's
     /// C_isect / C_trav). Small values make leaves cheap: 0.1 gives big shallow leaves,
@@ -30,7 +27,7 @@ struct BuildConfig {
     /// build_triangle_bvh only: also collapse the tree into the wide tree (wide_bvh.h) that
     /// single rays trace. Off, single rays trace the binary tree, for comparisons (`dynrt bench
     /// --bvh binary`); the hits are the same either way. The wide tree is also left out when
-    /// leaf_size_max exceeds kWideLeafSizeMax.
+    /// leaf_size_max exceeds kWideLeafSizeMax (wide_bvh.h).
     bool wide = true;
 
     SahCosts sah_costs() const { return SahCosts{1.0f, cost_ratio}; }

@@ -52,6 +52,9 @@ struct alignas(16) TriangleBlock {
 };
 static_assert(sizeof(TriangleBlock) == 160);
 
+/// The largest binary leaf the wide tree can hold: a leaf slot counts its blocks in 16 bits.
+inline constexpr std::uint32_t kWideLeafSizeMax = 0xffffu * kBlockLanes;
+
 /// One node of an N-wide tree. Child slot i is
 ///   - empty when blocks[i] == 0 and child[i] == kInvalidId (its box is the empty box, which no
 ///     ray meets); empty slots come after every used slot;

@@ -1,9 +1,14 @@
-// Single-ray closest-hit tracing of a 1024x1024 primary-ray image (the engine's camera
-// convention, default camera for the scene's bounds), in parallel over 16x16 tiles with oneTBB:
-// dynrt's BVH traversal (the engine's default, the 8-wide tree; and, to compare the trees, the
-// binary tree and wide trees of 4 and 8) against Embree 3's rtcIntersect1 over the very same
-// rays. Plus a microbenchmark of the watertight ray/triangle test alone. Items are rays (or
-// tests).
+// Tracing of a 1024x1024 primary-ray image (the engine's camera convention, default camera for
+// the scene's bounds), in parallel over 16x16 tiles with oneTBB:
+//   - single rays: dynrt's BVH traversal (the engine's default, the 8-wide tree; and, to
+//     compare the trees, the binary tree and wide trees of 4 and 8) against Embree 3's
+//     rtcIntersect1 over the very same rays;
+//   - packets: dynrt's 16x16 packets on the wide and the binary tree against Embree's
+//     rtcIntersect16 / rtcOccluded16 over 4x4-pixel blocks with a coherent context (its
+//     tutorials' arrangement), closest hits of the camera rays and any hits of shadow rays
+//     from those hits toward a light above the camera. Both sides copy the same precomputed
+//     rays into their packets.
+// Plus a microbenchmark of the watertight ray/triangle test alone. Items are rays (or tests).
 
 #include "bm_scenes.h"
 
@@ -11,6 +16,8 @@
 #include "dynrt/bvh/watertight_intersector.h"
 #include "dynrt/bvh/wide_bvh.h"
 #include "dynrt/engine/camera.h"
+#include "dynrt/packet/packet_traversal.h"
+#include "dynrt/packet/ray_packet.h"
 
 #if DYNRT_HAVE_EMBREE
 #include "bm_embree.h"
@@ -22,6 +29,7 @@
 #include <oneapi/tbb/parallel_for.h>
 
 #include <cstdint>
+#include <glm/geometric.hpp>
 #include <limits>
 #include <map>
 #include <memory>
@@ -177,6 +185,201 @@ void BM_TraceClosestEmbree(benchmark::State& state, const std::string& spec) {
 }
 #endif
 
+// ---- Packets ----------------------------------------------------------------------------
+
+/// The binary tree alone (BuildConfig::wide off), so that packets trace it.
+const bvh::TriangleBvh& binary_accel_for(const SceneInput& input) {
+    static std::map<std::string, std::unique_ptr<bvh::TriangleBvh>> cache;
+    auto& slot = cache[input.spec];
+    if (!slot) {
+        bvh::BuildConfig config;
+        config.wide = false;
+        slot = std::make_unique<bvh::TriangleBvh>(bvh::build_triangle_bvh(input.triangles, config));
+    }
+    return *slot;
+}
+
+/// Shadow rays of the camera rays' closest hits (on the binary tree) toward a point light above
+/// the default camera: from the hit point to the light, t in [1e-4, 1 - 1e-4]. Pixels without a
+/// hit get an empty segment (tmin > tmax), which every tracer reports unoccluded at once.
+const std::vector<bvh::Ray>& shadow_rays(const SceneInput& input) {
+    static std::map<std::string, std::vector<bvh::Ray>> cache;
+    std::vector<bvh::Ray>& rays = cache[input.spec];
+    if (rays.empty()) {
+        const std::vector<bvh::Ray>& primary = camera_rays(input);
+        const bvh::TriangleBvh& accel = binary_accel_for(input);
+        const Camera camera = default_camera(input.bounds);
+        const glm::vec3 light = camera.eye + glm::vec3(0.0f, 0.5f * glm::length(input.bounds.extent()), 0.0f);
+        rays.resize(primary.size());
+        tbb::parallel_for(std::size_t{0}, primary.size(), [&](std::size_t i) {
+            const bvh::Hit hit = bvh::intersect_closest_binary(accel, primary[i]);
+            bvh::Ray r;
+            r.org = hit.is_hit() ? primary[i].org + hit.t * primary[i].dir : primary[i].org;
+            r.dir = light - r.org;
+            r.tmin = 1e-4f;
+            r.tmax = hit.is_hit() ? 1.0f - 1e-4f : 0.0f;
+            rays[i] = r;
+        });
+    }
+    return rays;
+}
+
+/// Calls `trace(x0, y0)` for every 16x16 tile, one oneTBB task per tile.
+template <class Trace>
+void for_each_tile(const Trace& trace) {
+    constexpr int tiles_x = kWidth / kTile;
+    constexpr int tiles = tiles_x * (kHeight / kTile);
+    tbb::parallel_for(tbb::blocked_range<int>(0, tiles, 1), [&](const tbb::blocked_range<int>& r) {
+        for (int tile = r.begin(); tile < r.end(); ++tile) trace((tile % tiles_x) * kTile, (tile / tiles_x) * kTile);
+    });
+}
+
+/// dynrt's 16x16 packets: closest hits of the camera rays (kShadow false) or any hits of the
+/// shadow rays, on the wide tree or the binary one, with the work per ray of a counting pass.
+template <bool kWide, bool kShadow>
+void BM_Packet(benchmark::State& state, const std::string& spec) {
+    const SceneInput& input = scene_input(spec);
+    const std::vector<bvh::Ray>& rays = kShadow ? shadow_rays(input) : camera_rays(input);
+    const bvh::TriangleBvh& accel = kWide ? accel_for(input) : binary_accel_for(input);
+    std::vector<float> t(rays.size());
+    const packet::PacketConfig config;  // the renderer's defaults
+    const auto trace = [&](int x0, int y0, packet::PacketStats* stats) {
+        thread_local auto packet = std::make_unique<packet::RayPacket>();
+        thread_local auto hits = std::make_unique<packet::PacketHits>();
+        const packet::Tile tile{x0, y0, x0 + kTile, y0 + kTile};
+        packet::fill_tile(tile, [&](int x, int y) { return rays[std::size_t(y) * kWidth + std::size_t(x)]; }, *packet);
+        if constexpr (kShadow) {
+            for (int lane = 0; lane < packet::kPacketRays; ++lane) {
+                if (packet->tmin[lane] > packet->tmax[lane]) packet->active.reset(lane);
+            }
+            packet::LaneMask occluded;
+            packet::intersect_any(accel, *packet, occluded, config, stats);
+            for (int lane = 0; lane < packet::kPacketRays; ++lane) {
+                const packet::LanePixel p = packet::tile_pixel(tile, lane);
+                t[std::size_t(p.y) * kWidth + std::size_t(p.x)] = occluded.test(lane) ? 0.0f : 1.0f;
+            }
+        } else {
+            packet::intersect_closest(accel, *packet, *hits, config, stats);
+            for (int lane = 0; lane < packet::kPacketRays; ++lane) {
+                const packet::LanePixel p = packet::tile_pixel(tile, lane);
+                t[std::size_t(p.y) * kWidth + std::size_t(p.x)] = hits->t[lane];
+            }
+        }
+    };
+    for (auto _ : state) {
+        for_each_tile([&](int x0, int y0) { trace(x0, y0, nullptr); });
+        benchmark::ClobberMemory();
+    }
+    state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(rays.size()));
+    if constexpr (kShadow) {
+        std::size_t occluded = 0;
+        for (const float v : t) occluded += v == 0.0f ? 1 : 0;
+        state.counters["occluded_fraction"] = double(occluded) / double(t.size());
+    } else {
+        state.counters["hit_fraction"] = hit_fraction(t);
+    }
+    packet::PacketStats work;
+    for (int y0 = 0; y0 < kHeight; y0 += kTile) {
+        for (int x0 = 0; x0 < kWidth; x0 += kTile) trace(x0, y0, &work);
+    }
+    const double n = double(rays.size());
+    state.counters["nodes_per_ray"] = double(work.nodes_visited) / n;
+    state.counters["box_tests_per_ray"] = double(work.ray_box_tests) / n;
+    state.counters["tris_per_ray"] = double(work.ray_triangle_tests) / n;
+}
+void BM_PacketClosestWide(benchmark::State& state, const std::string& spec) {
+    BM_Packet<true, false>(state, spec);
+}
+void BM_PacketClosestBinary(benchmark::State& state, const std::string& spec) {
+    BM_Packet<false, false>(state, spec);
+}
+void BM_PacketOccludedWide(benchmark::State& state, const std::string& spec) {
+    BM_Packet<true, true>(state, spec);
+}
+void BM_PacketOccludedBinary(benchmark::State& state, const std::string& spec) {
+    BM_Packet<false, true>(state, spec);
+}
+
+#if DYNRT_HAVE_EMBREE
+/// Embree's rtcIntersect16 (kShadow false) or rtcOccluded16 over the tile's 4x4-pixel blocks,
+/// coherent context, denormals flushed as Embree asks, HIGH build quality (its best trace).
+template <bool kShadow>
+void BM_PacketEmbree16(benchmark::State& state, const std::string& spec) {
+    const SceneInput& input = scene_input(spec);
+    const std::vector<bvh::Ray>& rays = kShadow ? shadow_rays(input) : camera_rays(input);
+    static std::map<std::string, RTCScene> scenes;
+    RTCScene& scene = scenes[spec];
+    if (scene == nullptr) {
+        embree::EmbreeFloatMode mode;
+        scene = make_embree_scene(input, false, nullptr, RTC_BUILD_QUALITY_HIGH);
+        rtcCommitScene(scene);
+    }
+    std::vector<float> t(rays.size());
+    for (auto _ : state) {
+        for_each_tile([&](int x0, int y0) {
+            embree::EmbreeFloatMode mode;
+            RTCIntersectContext context;
+            rtcInitIntersectContext(&context);
+            context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+            alignas(64) int valid[16];
+            for (int by = y0; by < y0 + kTile; by += 4) {
+                for (int bx = x0; bx < x0 + kTile; bx += 4) {
+                    alignas(64) RTCRayHit16 rh;
+                    for (int k = 0; k < 16; ++k) {
+                        const bvh::Ray& r = rays[std::size_t(by + k / 4) * kWidth + std::size_t(bx + k % 4)];
+                        rh.ray.org_x[k] = r.org.x;
+                        rh.ray.org_y[k] = r.org.y;
+                        rh.ray.org_z[k] = r.org.z;
+                        rh.ray.dir_x[k] = r.dir.x;
+                        rh.ray.dir_y[k] = r.dir.y;
+                        rh.ray.dir_z[k] = r.dir.z;
+                        rh.ray.tnear[k] = r.tmin;
+                        rh.ray.tfar[k] = r.tmax;
+                        rh.ray.time[k] = 0.0f;
+                        rh.ray.mask[k] = ~0u;
+                        rh.ray.id[k] = 0;
+                        rh.ray.flags[k] = 0;
+                        rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+                        rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+                        valid[k] = r.tmin <= r.tmax ? -1 : 0;
+                    }
+                    if constexpr (kShadow) {
+                        rtcOccluded16(valid, scene, &context, &rh.ray);
+                    } else {
+                        rtcIntersect16(valid, scene, &context, &rh);
+                    }
+                    for (int k = 0; k < 16; ++k) {
+                        const std::size_t i = std::size_t(by + k / 4) * kWidth + std::size_t(bx + k % 4);
+                        if constexpr (kShadow) {
+                            t[i] = valid[k] != 0 && rh.ray.tfar[k] < 0.0f ? 0.0f : 1.0f;
+                        } else {
+                            t[i] = rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID
+                                       ? rh.ray.tfar[k]
+                                       : std::numeric_limits<float>::infinity();
+                        }
+                    }
+                }
+            }
+        });
+        benchmark::ClobberMemory();
+    }
+    state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(rays.size()));
+    if constexpr (kShadow) {
+        std::size_t occluded = 0;
+        for (const float v : t) occluded += v == 0.0f ? 1 : 0;
+        state.counters["occluded_fraction"] = double(occluded) / double(t.size());
+    } else {
+        state.counters["hit_fraction"] = hit_fraction(t);
+    }
+}
+void BM_PacketClosestEmbree16(benchmark::State& state, const std::string& spec) {
+    BM_PacketEmbree16<false>(state, spec);
+}
+void BM_PacketOccludedEmbree16(benchmark::State& state, const std::string& spec) {
+    BM_PacketEmbree16<true>(state, spec);
+}
+#endif
+
 /// intersect_watertight alone: 64 rays against 1024 random triangles, about a third of the
 /// tests hit. Items are ray/triangle tests.
 void BM_WatertightIntersect(benchmark::State& state) {
@@ -228,6 +431,20 @@ DYNRT_TRACE_BENCHMARK(BM_TraceClosestWide8, soup_1M, "soup:1000000");
 #if DYNRT_HAVE_EMBREE
 DYNRT_TRACE_BENCHMARK(BM_TraceClosestEmbree, sphere_1M, "sphere:1000000");
 DYNRT_TRACE_BENCHMARK(BM_TraceClosestEmbree, soup_1M, "soup:1000000");
+#endif
+DYNRT_TRACE_BENCHMARK(BM_PacketClosestWide, sphere_1M, "sphere:1000000");
+DYNRT_TRACE_BENCHMARK(BM_PacketClosestWide, soup_1M, "soup:1000000");
+DYNRT_TRACE_BENCHMARK(BM_PacketClosestBinary, sphere_1M, "sphere:1000000");
+DYNRT_TRACE_BENCHMARK(BM_PacketClosestBinary, soup_1M, "soup:1000000");
+DYNRT_TRACE_BENCHMARK(BM_PacketOccludedWide, sphere_1M, "sphere:1000000");
+DYNRT_TRACE_BENCHMARK(BM_PacketOccludedWide, soup_1M, "soup:1000000");
+DYNRT_TRACE_BENCHMARK(BM_PacketOccludedBinary, sphere_1M, "sphere:1000000");
+DYNRT_TRACE_BENCHMARK(BM_PacketOccludedBinary, soup_1M, "soup:1000000");
+#if DYNRT_HAVE_EMBREE
+DYNRT_TRACE_BENCHMARK(BM_PacketClosestEmbree16, sphere_1M, "sphere:1000000");
+DYNRT_TRACE_BENCHMARK(BM_PacketClosestEmbree16, soup_1M, "soup:1000000");
+DYNRT_TRACE_BENCHMARK(BM_PacketOccludedEmbree16, sphere_1M, "sphere:1000000");
+DYNRT_TRACE_BENCHMARK(BM_PacketOccludedEmbree16, soup_1M, "soup:1000000");
 #endif
 BENCHMARK(BM_WatertightIntersect);
 

@@ -95,7 +95,8 @@ std::string describe(const PacketConfig& config) {
 
 bool same_bits(float a, float b) { return std::bit_cast<std::uint32_t>(a) == std::bit_cast<std::uint32_t>(b); }
 
-/// The single-ray tracer's answers for every lane of a packet (misses for inactive lanes).
+/// The single-ray tracer's answers on the binary tree for every lane of a packet (misses for
+/// inactive lanes).
 struct SingleRay {
     bvh::Hit closest[kPacketRays];
     bool any[kPacketRays];
@@ -103,8 +104,8 @@ struct SingleRay {
     SingleRay(const bvh::TriangleBvh& accel, const RayPacket& packet) {
         for (int lane = 0; lane < kPacketRays; ++lane) {
             const bool active = packet.active.test(lane);
-            closest[lane] = active ? bvh::intersect_closest(accel, packet.ray(lane)) : bvh::Hit{};
-            any[lane] = active && bvh::intersect_any(accel, packet.ray(lane));
+            closest[lane] = active ? bvh::intersect_closest_binary(accel, packet.ray(lane)) : bvh::Hit{};
+            any[lane] = active && bvh::intersect_any_binary(accel, packet.ray(lane));
         }
     }
 };
@@ -254,6 +255,9 @@ struct SceneCase {
     const char* label;
     std::string spec;  ///< empty: the bundled default scene
     int random_cameras;
+    /// The tree the packets trace: the wide one (the default build) or the binary one. The
+    /// single rays they are compared with always trace the binary tree.
+    bool wide = true;
 };
 
 class PacketVsSingleRay : public ::testing::TestWithParam<SceneCase> {};
@@ -261,8 +265,11 @@ class PacketVsSingleRay : public ::testing::TestWithParam<SceneCase> {};
 TEST_P(PacketVsSingleRay, ClosestAndAnyHitsAgreeForEveryPixel) {
     const SceneCase& param = GetParam();
     const Scene scene = load_scene(param.spec.empty() ? default_scene_path().string() : param.spec);
-    const Accel a = build_accel(scene);
+    bvh::BuildConfig build;
+    build.wide = param.wide;
+    const Accel a = build_accel(scene, build);
     ASSERT_TRUE(bvh::validate(a.bvh, a.tris, 8).empty());
+    ASSERT_EQ(a.bvh.wide.empty(), !param.wide);
     const glm::vec3 light = default_camera(a.bounds).eye + glm::vec3(0.0f, 0.5f * glm::length(a.bounds.extent()), 0.0f);
     const std::vector<PacketConfig> all = all_configs();
     const int sizes[][2] = {{37, 23}, {16, 16}, {21, 18}, {17, 33}};
@@ -313,7 +320,9 @@ INSTANTIATE_TEST_SUITE_P(
                       SceneCase{"soup20000", "soup:20000", 3},
                       SceneCase{"composition", kComposition, 4},
                       SceneCase{"farComposition", kFarComposition, 2},
-                      SceneCase{"defaultScene", "", 1}),
+                      SceneCase{"defaultScene", "", 1},
+                      SceneCase{"compositionBinaryTree", kComposition, 2, false},
+                      SceneCase{"defaultSceneBinaryTree", "", 0, false}),
     [](const ::testing::TestParamInfo<SceneCase>& info) { return std::string(info.param.label); });
 
 /// Leaf sizes and cost ratios change the tree's shape, and with it which rays share leaves.

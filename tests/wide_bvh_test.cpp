@@ -138,6 +138,47 @@ TYPED_TEST(WideBvhTest, GivesTheBinaryTreesHitsBitForBit) {
     }
 }
 
+/// The subtree queries continue a hit: visiting the root's children one by one, each query
+/// starting from the hit the previous ones found (ray.tmax shortened to it), ends with the
+/// whole tree's hit bit for bit, in either order of the children, and any hit below some child
+/// exactly when the whole tree has one.
+TYPED_TEST(WideBvhTest, SubtreeQueriesContinueAHitToTheWholeTreesHit) {
+    constexpr int N = TypeParam::value;
+    const std::vector<Triangle> tris = random_soup(61, 3000, 1.0f, 0.08f);
+    const TriangleBvh binary = build_triangle_bvh(tris, binary_config(4));
+    const WideBvhOf<N> wide = collapse_to_wide<N>(binary.bvh, binary.tris);
+    const WideNode<N>& root = wide.nodes[0];
+    int hits = 0;
+    for (const Ray& ray : random_rays(tris, 62, 800)) {
+        const Hit expected = intersect_closest(wide, ray);
+        for (bool reversed : {false, true}) {
+            Hit hit;
+            bool any = false;
+            WideTraversalStats work;
+            for (int j = 0; j < N; ++j) {
+                const int i = reversed ? N - 1 - j : j;
+                if (root.is_empty(i)) continue;
+                const WideSubtree below{root.child[i], root.blocks[i]};
+                Ray shortened = ray;
+                if (hit.is_hit()) shortened.tmax = hit.t;
+                const Hit before = hit;
+                if (!intersect_closest(wide, below, shortened, hit, &work)) {
+                    EXPECT_EQ(std::memcmp(&before, &hit, sizeof(Hit)), 0)
+                        << describe(ray) << ": a query that found nothing changed the hit";
+                }
+                any = intersect_any(wide, below, ray) || any;
+            }
+            ASSERT_EQ(std::memcmp(&expected, &hit, sizeof(Hit)), 0)
+                << describe(ray) << ": whole tree t " << expected.t << " prim " << expected.prim
+                << ", by subtrees t " << hit.t << " prim " << hit.prim;
+            EXPECT_EQ(any, intersect_any(wide, ray)) << describe(ray);
+            EXPECT_GT(work.nodes_visited + work.leaves_visited, 0u);
+        }
+        hits += expected.is_hit() ? 1 : 0;
+    }
+    EXPECT_GT(hits, 100);
+}
+
 TYPED_TEST(WideBvhTest, MatchesBruteForceWithDegenerateTriangles) {
     constexpr int N = TypeParam::value;
     std::vector<Triangle> tris = random_soup(56, 400, 1.0f, 0.1f);

@@ -59,10 +59,13 @@ __attribute__((always_inline)) inline std::uint32_t hit_children(
 
 constexpr int kStackSize = 8 * static_cast<int>(kMaxDepth);
 
+/// Traverses from `current`: the root node (`from_root`, which first tests the root box), or
+/// a subtree whose box the caller knows the ray meets. Improves on `hit` (closest hit; ray.tmax
+/// is its t while there is one); true when a hit was found below `current`.
 template <int N, bool kAnyHit, bool kCount, int kOctant>
-bool traverse(const WideBvhOf<N>& wide, const Ray& ray, Hit& hit, WideTraversalStats* stats) {
+bool traverse(const WideBvhOf<N>& wide, ChildRef current, bool from_root, const Ray& ray,
+              Hit& hit, WideTraversalStats* stats) {
     using F = typename detail::WideLanes<N>::F;
-    if (wide.nodes.empty()) return false;
     const WideNode<N>* nodes = wide.nodes.data();
     const TriangleBlock* blocks = wide.blocks.data();
     const detail::BoxRay box_ray(ray);
@@ -86,8 +89,9 @@ bool traverse(const WideBvhOf<N>& wide, const Ray& ray, Hit& hit, WideTraversalS
     bool found = false;
 
     float root_near;
-    if (!detail::hit_box<kOctant>(wide.root_box, box_ray, tmin, tmax, root_near)) return false;
-    ChildRef current{0, 0};
+    if (from_root && !detail::hit_box<kOctant>(wide.root_box, box_ray, tmin, tmax, root_near)) {
+        return false;
+    }
     while (true) {
         if (current.blocks == 0) {
             const WideNode<N>& node = nodes[current.child];
@@ -186,17 +190,35 @@ bool traverse(const WideBvhOf<N>& wide, const Ray& ray, Hit& hit, WideTraversalS
 }
 
 template <int N, bool kAnyHit, bool kCount>
-bool traverse_octant(const WideBvhOf<N>& wide, const Ray& ray, Hit& hit, WideTraversalStats* stats) {
+bool traverse_octant(const WideBvhOf<N>& wide, ChildRef start, bool from_root, const Ray& ray,
+                     Hit& hit, WideTraversalStats* stats) {
     switch (detail::octant_of(ray.dir)) {
-        case 0: return traverse<N, kAnyHit, kCount, 0>(wide, ray, hit, stats);
-        case 1: return traverse<N, kAnyHit, kCount, 1>(wide, ray, hit, stats);
-        case 2: return traverse<N, kAnyHit, kCount, 2>(wide, ray, hit, stats);
-        case 3: return traverse<N, kAnyHit, kCount, 3>(wide, ray, hit, stats);
-        case 4: return traverse<N, kAnyHit, kCount, 4>(wide, ray, hit, stats);
-        case 5: return traverse<N, kAnyHit, kCount, 5>(wide, ray, hit, stats);
-        case 6: return traverse<N, kAnyHit, kCount, 6>(wide, ray, hit, stats);
-        default: return traverse<N, kAnyHit, kCount, 7>(wide, ray, hit, stats);
+        case 0: return traverse<N, kAnyHit, kCount, 0>(wide, start, from_root, ray, hit, stats);
+        case 1: return traverse<N, kAnyHit, kCount, 1>(wide, start, from_root, ray, hit, stats);
+        case 2: return traverse<N, kAnyHit, kCount, 2>(wide, start, from_root, ray, hit, stats);
+        case 3: return traverse<N, kAnyHit, kCount, 3>(wide, start, from_root, ray, hit, stats);
+        case 4: return traverse<N, kAnyHit, kCount, 4>(wide, start, from_root, ray, hit, stats);
+        case 5: return traverse<N, kAnyHit, kCount, 5>(wide, start, from_root, ray, hit, stats);
+        case 6: return traverse<N, kAnyHit, kCount, 6>(wide, start, from_root, ray, hit, stats);
+        default: return traverse<N, kAnyHit, kCount, 7>(wide, start, from_root, ray, hit, stats);
     }
+}
+
+/// A query of the whole tree: none when the ray misses the root box.
+template <int N, bool kAnyHit>
+bool traverse_tree(const WideBvhOf<N>& wide, const Ray& ray, Hit& hit, WideTraversalStats* stats) {
+    if (wide.nodes.empty()) return false;
+    if (stats) return traverse_octant<N, kAnyHit, true>(wide, ChildRef{0, 0}, true, ray, hit, stats);
+    return traverse_octant<N, kAnyHit, false>(wide, ChildRef{0, 0}, true, ray, hit, nullptr);
+}
+
+/// A query below one subtree, for a ray that meets its box.
+template <int N, bool kAnyHit>
+bool traverse_subtree(const WideBvhOf<N>& wide, WideSubtree subtree, const Ray& ray, Hit& hit,
+                      WideTraversalStats* stats) {
+    const ChildRef start{subtree.child, subtree.blocks};
+    if (stats) return traverse_octant<N, kAnyHit, true>(wide, start, false, ray, hit, stats);
+    return traverse_octant<N, kAnyHit, false>(wide, start, false, ray, hit, nullptr);
 }
 
 }  // namespace
@@ -204,34 +226,51 @@ bool traverse_octant(const WideBvhOf<N>& wide, const Ray& ray, Hit& hit, WideTra
 template <int N>
 Hit intersect_closest(const WideBvhOf<N>& wide, const Ray& ray) {
     Hit hit;
-    traverse_octant<N, false, false>(wide, ray, hit, nullptr);
+    traverse_tree<N, false>(wide, ray, hit, nullptr);
     return hit;
 }
 
 template <int N>
 Hit intersect_closest(const WideBvhOf<N>& wide, const Ray& ray, WideTraversalStats& stats) {
     Hit hit;
-    traverse_octant<N, false, true>(wide, ray, hit, &stats);
+    traverse_tree<N, false>(wide, ray, hit, &stats);
     return hit;
 }
 
 template <int N>
 bool intersect_any(const WideBvhOf<N>& wide, const Ray& ray) {
     Hit unused;
-    return traverse_octant<N, true, false>(wide, ray, unused, nullptr);
+    return traverse_tree<N, true>(wide, ray, unused, nullptr);
 }
 
 template <int N>
 bool intersect_any(const WideBvhOf<N>& wide, const Ray& ray, WideTraversalStats& stats) {
     Hit unused;
-    return traverse_octant<N, true, true>(wide, ray, unused, &stats);
+    return traverse_tree<N, true>(wide, ray, unused, &stats);
+}
+
+template <int N>
+bool intersect_closest(const WideBvhOf<N>& wide, WideSubtree subtree, const Ray& ray, Hit& hit,
+                       WideTraversalStats* stats) {
+    return traverse_subtree<N, false>(wide, subtree, ray, hit, stats);
+}
+
+template <int N>
+bool intersect_any(const WideBvhOf<N>& wide, WideSubtree subtree, const Ray& ray,
+                   WideTraversalStats* stats) {
+    Hit unused;
+    return traverse_subtree<N, true>(wide, subtree, ray, unused, stats);
 }
 
 #define DYNRT_WIDE_TRAVERSAL(N)                                                                 \
     template Hit intersect_closest<N>(const WideBvhOf<N>&, const Ray&);                        \
     template Hit intersect_closest<N>(const WideBvhOf<N>&, const Ray&, WideTraversalStats&);   \
     template bool intersect_any<N>(const WideBvhOf<N>&, const Ray&);                           \
-    template bool intersect_any<N>(const WideBvhOf<N>&, const Ray&, WideTraversalStats&);
+    template bool intersect_any<N>(const WideBvhOf<N>&, const Ray&, WideTraversalStats&);      \
+    template bool intersect_closest<N>(const WideBvhOf<N>&, WideSubtree, const Ray&, Hit&,     \
+                                       WideTraversalStats*);                                   \
+    template bool intersect_any<N>(const WideBvhOf<N>&, WideSubtree, const Ray&,               \
+                                   WideTraversalStats*);
 DYNRT_WIDE_TRAVERSAL(4)
 DYNRT_WIDE_TRAVERSAL(8)
 #undef DYNRT_WIDE_TRAVERSAL

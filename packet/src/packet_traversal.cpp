@@ -22,6 +22,7 @@
 #include "packet_kernels.h"
 #include "packet_work.h"
 #include "range_tracer.h"
+#include "wide_packet_traversal.h"
 
 #include <algorithm>
 #include <bit>
@@ -349,8 +350,10 @@ void closest_with(const bvh::TriangleBvh& accel, const RayPacket& packet, Packet
                   const PacketConfig& config, PacketStats* stats) {
     Work w;
     detail::prepare<W>(packet, w);
-    if (stats) {
-        ++stats->packets;
+    if (stats) ++stats->packets;
+    if (!accel.wide.empty()) {
+        wide_closest<W>(accel.wide, packet, w, config, stats);
+    } else if (stats) {
         Traversal<W, false, true>(accel, w, config, stats, nullptr).run();
     } else {
         Traversal<W, false, false>(accel, w, config, nullptr, nullptr).run();
@@ -372,8 +375,10 @@ void any_with(const bvh::TriangleBvh& accel, const RayPacket& packet, LaneMask& 
     Work w;
     detail::prepare<W>(packet, w);
     occluded = LaneMask{};
-    if (stats) {
-        ++stats->packets;
+    if (stats) ++stats->packets;
+    if (!accel.wide.empty()) {
+        wide_any<W>(accel.wide, packet, w, config, stats, occluded);
+    } else if (stats) {
         Traversal<W, true, true>(accel, w, config, stats, &occluded).run();
     } else {
         Traversal<W, true, false>(accel, w, config, nullptr, &occluded).run();

@@ -191,6 +191,26 @@ bool intersect_any(const WideBvhOf<N>& wide, const Ray& ray);
 template <int N>
 bool intersect_any(const WideBvhOf<N>& wide, const Ray& ray, WideTraversalStats& stats);
 
+/// A subtree of a wide tree as a node's child slot names it: inner node `child` when blocks
+/// is 0, else the leaf of blocks [child, child + blocks).
+struct WideSubtree {
+    std::uint32_t child = 0;
+    std::uint32_t blocks = 0;
+};
+
+/// Continues a closest-hit query below `subtree`, for a ray known to meet its box (a packet
+/// tracer handing its last few rays to single-ray traversal): `hit` is the ray's closest hit so
+/// far (a default Hit for none) and ray.tmax its t when there is one. A closer hit below, by
+/// intersect_closest's rules (ties to the smaller caller index), replaces it; returns whether
+/// one did. `stats`, when given, receives the work (added).
+template <int N>
+bool intersect_closest(const WideBvhOf<N>& wide, WideSubtree subtree, const Ray& ray, Hit& hit,
+                       WideTraversalStats* stats = nullptr);
+/// Whether any triangle below `subtree` is hit within [ray.tmin, ray.tmax]; as above.
+template <int N>
+bool intersect_any(const WideBvhOf<N>& wide, WideSubtree subtree, const Ray& ray,
+                   WideTraversalStats* stats = nullptr);
+
 /// Shape figures of a wide tree.
 struct WideStats {
     std::size_t nodes = 0;

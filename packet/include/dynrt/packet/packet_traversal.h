@@ -3,7 +3,10 @@
 // decisions (ranged traversal: Wald, Boulos and Shirley 2007, "Ray Tracing Deformable Scenes
 // Using Dynamic Bounding Volume Hierarchies"; Overbeck, Ramamoorthi and Mark 2008, "Large Ray
 // Packets for Real-Time Whitted Ray Tracing"), with the leaf-level vertex culling of Reshetov
-// 2007, "Faster Ray Packets - Triangle Intersection through Vertex Culling".
+// 2007, "Faster Ray Packets - Triangle Intersection through Vertex Culling". The packet
+// traces the TriangleBvh's wide tree when it has one (all N children of a node decided in one
+// SIMD pass by an early hit and an early miss; packet/src/wide_packet_traversal.cpp), else its
+// binary tree (packet/src/packet_traversal.cpp).
 //
 // Results are exactly those of the single-ray tracer (bvh::intersect_closest and
 // bvh::intersect_any), lane by lane and bit for bit: the per-lane box and triangle tests are the
@@ -85,8 +88,8 @@ struct PacketConfig {
     int lanes = simd::kNativeLanes;
     /// When the box test narrows the rays reaching a node to at most two SIMD steps holding at
     /// most this many hitting rays, those rays traverse the subtree one by one (Embree's
-    /// "hybrid" traversal: per node, a single ray costs far less than the packet machinery).
-    /// 0 never switches.
+    /// "hybrid" traversal: per node, a single ray costs far less than the packet machinery),
+    /// on the wide tree through its single-ray traversal. 0 never switches.
     int single_ray_max = 2;
     /// The leaf culling stages (bp, edge, nf) run only when at least this many SIMD steps of
     /// rays are to be tested at the leaf: culling one triangle costs about as much as testing

@@ -1,0 +1,358 @@
+// Packet traversal of the wide tree: 256 rays share one stack over nodes of N = 8 children.
+//
+// At an inner node, two tests cover all N children in one SIMD pass each:
+//   1. early hit: the range's first and last active rays against every child box (their own
+//      box tests): the children both hit are entered by the whole range without testing other
+//      rays (its end chunks hit, so it would not narrow), the children one hits are visited;
+//   2. early miss: for the other children, interval arithmetic over all active rays (bounds on
+//      origin and reciprocal direction) rules out those no ray can hit (long ranges only).
+// The children left are pushed farthest first along the packet's mean direction, so the
+// nearest is popped next; a child not decided by the early hit narrows the range to its first
+// and last chunk with a hit when popped (Wald, Boulos and Shirley 2007; Overbeck, Ramamoorthi
+// and Mark 2008), on the rays' current hit distances. When that leaves a handful of rays in at
+// most two chunks, the packet has lost coherence there: those rays continue one by one through
+// the single-ray traversal of the wide tree (bvh::intersect_closest on a subtree), which costs
+// far less per node than the packet machinery for a few rays (Embree's "hybrid" traversal does
+// the same). At a leaf, the rays of the range are box-tested lane by lane and the blocks'
+// triangles go through the shared leaf test (range_tracer.h: vertex culling, then the SIMD
+// watertight test per chunk).
+//
+// Results equal the single-ray tracer's bit for bit for the reasons given in packet_kernels.h:
+// every skip (early miss, narrowing, the leaf's per-lane box test, vertex culling) is
+// conservative for the very float tests the single-ray tracers run; an early hit only enters
+// a child; and ties go to the lower primitive index in every path, so the order of leaves does
+// not matter. The rays handed to single-ray traversal run the wide tree's own kernels, which
+// equal the binary tree's (bvh/wide_bvh.h).
+
+#include "wide_packet_traversal.h"
+
+#include "packet_kernels.h"
+#include "range_tracer.h"
+
+#include <bit>
+#include <cstdint>
+
+namespace dynrt::packet::detail {
+namespace {
+
+constexpr int N = bvh::kWideWidth;
+constexpr int kStackSize = N * static_cast<int>(bvh::kMaxDepth) + 1;
+
+template <int W, bool kAnyHit, bool kCount>
+class WideTraversal : RangeTracer<W, kAnyHit, kCount> {
+    using Base = RangeTracer<W, kAnyHit, kCount>;
+    using Base::w_;
+    using Base::config_;
+    using Base::stats_;
+    /// N lanes, one per child of a node.
+    using C = simd::Lanes<N>;
+    using CF = typename C::F;
+    using CI = typename C::I;
+    using Node = bvh::WideNode<N>;
+
+public:
+    WideTraversal(const bvh::WideBvh& wide, const RayPacket& packet, Work& w,
+                  const PacketConfig& config, PacketStats* stats, LaneMask* occluded)
+        : Base(w, config, stats, occluded), wide_(wide), packet_(packet) {}
+
+    void run() {
+        if (wide_.nodes.empty() || w_.first_chunk > w_.last_chunk) return;
+        const Beam& beam = w_.beam;
+        if (beam.common_octant) {
+            if (beam.common_origin) {
+                run_with<BoxMode::kOctantOrigin>();
+            } else {
+                run_with<BoxMode::kOctant>();
+            }
+        } else {
+            run_with<BoxMode::kGeneral>();
+        }
+    }
+
+private:
+    /// Child `slot` of node `node`, to be visited by the chunks [first, last]; `entered` when
+    /// the early hit already decided that the range enters it (no narrowing needed).
+    struct Entry {
+        std::uint32_t node;
+        std::uint16_t first, last;
+        std::uint8_t slot;
+        bool entered;
+    };
+
+    template <BoxMode M>
+    void run_with() {
+        const Beam& beam = w_.beam;
+        if (beam.common_perm) {
+            if (beam.common_origin) {
+                traverse<M, TriMode::kRelative>();
+            } else {
+                traverse<M, TriMode::kPermuted>();
+            }
+        } else {
+            traverse<M, TriMode::kGeneral>();
+        }
+    }
+
+    template <BoxMode BM, TriMode TM>
+    void traverse() {
+        const Node* nodes = wide_.nodes.data();
+        const Beam& beam = w_.beam;
+        top_ = 0;
+        push_children(0, w_.first_chunk, w_.last_chunk);
+        while (top_ > 0) {
+            const Entry e = stack_[--top_];
+            int first = e.first, last = e.last;
+            if constexpr (kAnyHit) {
+                // Occluded rays are gone: trim chunks without active lanes from the range.
+                while (first <= last && w_.chunk_bits[first] == 0) ++first;
+                while (last >= first && w_.chunk_bits[last] == 0) --last;
+                if (first > last) continue;
+            }
+            const Node& parent = nodes[e.node];
+            const bvh::Aabb box = parent.box(e.slot);
+            const bvh::WideSubtree below{parent.child[e.slot], parent.blocks[e.slot]};
+            if constexpr (kCount) ++stats_->nodes_visited;
+            if (below.blocks == 0) {
+                if (!e.entered) {
+                    const NodePlanes np(box, beam);
+                    std::uint32_t first_bits = 0, last_bits = 0;
+                    if (!this->template narrow<BM>(box, np, first, last, first_bits, last_bits)) continue;
+                    if (last - first <= 1) {
+                        const std::uint32_t lanes[2] = {first_bits, last != first ? last_bits : 0u};
+                        if (std::popcount(lanes[0]) + std::popcount(lanes[1]) <= config_.single_ray_max) {
+                            trace_lanes(below, first, lanes, 2);
+                            if constexpr (kAnyHit) {
+                                if (w_.active_lanes == 0) return;
+                            }
+                            continue;
+                        }
+                    }
+                }
+                push_children(below.child, first, last);
+                continue;
+            }
+            // A leaf: its rays, lane by lane (stage ab), then its triangles.
+            const NodePlanes np(box, beam);
+            const int n = this->template select_leaf_lanes<BM>(box, np, first, last);
+            if (n == 0) continue;
+            const bvh::TriangleBlock* blocks = wide_.blocks.data() + below.child;
+            this->template intersect_leaf<TM>(
+                n, below.blocks * bvh::kBlockLanes, [&](std::uint32_t k, bvh::Triangle& tri) {
+                    const bvh::TriangleBlock& block = blocks[k / bvh::kBlockLanes];
+                    const int lane = int(k % bvh::kBlockLanes);
+                    tri = block.triangle(lane);
+                    return block.prim[lane];
+                });
+            if constexpr (kAnyHit) {
+                if (w_.active_lanes == 0) return;  // every ray is occluded
+            }
+        }
+    }
+
+    /// Tests the children of inner node `index` for the chunks [first, last] (early hit, then
+    /// early miss) and pushes the ones to visit, nearest on top.
+    void push_children(std::uint32_t index, int first, int last) {
+        const Node& node = wide_.nodes[index];
+        std::uint32_t used = 0;
+        for (int i = 0; i < N; ++i) used |= node.is_empty(i) ? 0u : 1u << i;
+        // The range's first and last active rays: children both hit are entered with the
+        // range as it is (it cannot narrow: its end chunks hit); children one of them hits are
+        // visited, and narrowed when popped.
+        const std::uint32_t first_bits = w_.chunk_bits[first], last_bits = w_.chunk_bits[last];
+        const std::uint32_t hit_first =
+            first_bits != 0 ? children_hit_by_lane(node, first * W + std::countr_zero(first_bits)) & used
+                            : 0u;
+        const int last_lane = last * W + 31 - std::countl_zero(last_bits);
+        const std::uint32_t hit_last =
+            last_bits == 0 ? 0u
+            : last_lane == first * W + std::countr_zero(first_bits) ? hit_first
+                                                                    : children_hit_by_lane(node, last_lane) & used;
+        const std::uint32_t entered = hit_first & hit_last;
+        std::uint32_t visit = used;
+        const std::uint32_t undecided = used & ~(hit_first | hit_last);
+        if (undecided != 0 && (last - first + 1) * W >= kBeamMinLanes) {
+            const float tfar_hi = kAnyHit ? w_.beam.tmax_hi : this->range_tfar_max(first, last);
+            const std::uint32_t missed = children_missed_by_beam(node, tfar_hi) & undecided;
+            visit &= ~missed;
+            if constexpr (kCount) stats_->early_misses += std::popcount(missed);
+        }
+        if constexpr (kCount) stats_->early_hits += std::popcount(entered);
+        if (visit == 0) return;
+        // Order along the packet's mean direction: the sum of a child's box corners projected
+        // on it (twice the centre's projection), farthest pushed first.
+        const float* mean = w_.beam.mean_dir;
+        const CF key = (C::load(node.lo_x) + C::load(node.hi_x)) * C::splat(mean[0]) +
+                       (C::load(node.lo_y) + C::load(node.hi_y)) * C::splat(mean[1]) +
+                       (C::load(node.lo_z) + C::load(node.hi_z)) * C::splat(mean[2]);
+        int slots[N];
+        int count = 0;
+        for (std::uint32_t m = visit; m != 0; m &= m - 1) {
+            const int i = std::countr_zero(m);
+            int at = count++;
+            while (at > 0 && key[slots[at - 1]] < key[i]) {
+                slots[at] = slots[at - 1];
+                --at;
+            }
+            slots[at] = i;
+        }
+        for (int j = 0; j < count; ++j) {
+            const int i = slots[j];
+            prefetch_child(node, i);
+            stack_[top_++] = Entry{index, std::uint16_t(first), std::uint16_t(last),
+                                   std::uint8_t(i), ((entered >> i) & 1u) != 0};
+        }
+    }
+
+    /// The children of `node` whose boxes `lane` hits (its own Ize box test, on N children at
+    /// once; an early hit only enters a child, so it needs no exactness argument).
+    std::uint32_t children_hit_by_lane(const Node& node, int lane) const {
+        if constexpr (kCount) stats_->ray_box_tests += N;
+        CF tn = C::splat(w_.tnear[lane]);
+        CF tf = C::splat(w_.tfar[lane]);
+        const float* lo[3] = {node.lo_x, node.lo_y, node.lo_z};
+        const float* hi[3] = {node.hi_x, node.hi_y, node.hi_z};
+        for (int a = 0; a < 3; ++a) {
+            const float inv = w_.inv[a][lane];
+            const CF o = C::splat(w_.org[a][lane]);
+            const CF i = C::splat(inv);
+            const bool negative = inv < 0.0f;
+            const CF t0 = (C::load(negative ? hi[a] : lo[a]) - o) * i;
+            const CF t1 = (C::load(negative ? lo[a] : hi[a]) - o) * i;
+            tn = C::max_into(t0, tn);
+            tf = C::min_into(t1, tf);
+        }
+        return C::bits(tn <= tf * C::splat(kFarScale));
+    }
+
+    /// The children no active ray can hit: beam_misses (packet_kernels.h) on N children at
+    /// once, the same arithmetic per child (near and far planes by the axis's common sign,
+    /// products at the corners of the origin and reciprocal-direction intervals, NaN-ignoring
+    /// max and min), so the same conservative bound.
+    std::uint32_t children_missed_by_beam(const Node& node, float tfar_hi) const {
+        const Beam& b = w_.beam;
+        CF tn = C::splat(b.tnear_lo);
+        CF tf = C::splat(tfar_hi);
+        const float* lo[3] = {node.lo_x, node.lo_y, node.lo_z};
+        const float* hi[3] = {node.hi_x, node.hi_y, node.hi_z};
+        const auto min = [](CF x, CF y) { return y < x ? y : x; };
+        const auto max = [](CF x, CF y) { return x < y ? y : x; };
+        for (int a = 0; a < 3; ++a) {
+            if (!b.interval_ok[a]) continue;
+            const CF near = C::load(b.negative[a] ? hi[a] : lo[a]);
+            const CF far = C::load(b.negative[a] ? lo[a] : hi[a]);
+            const CF i_lo = C::splat(b.inv_lo[a]), i_hi = C::splat(b.inv_hi[a]);
+            CF t0, t1;
+            if (b.common_origin) {
+                const CF n = near - C::splat(b.origin[a]), f = far - C::splat(b.origin[a]);
+                t0 = min(n * i_lo, n * i_hi);
+                t1 = max(f * i_lo, f * i_hi);
+            } else {
+                const CF o_lo = C::splat(b.org_lo[a]), o_hi = C::splat(b.org_hi[a]);
+                const CF n_lo = near - o_hi, n_hi = near - o_lo;
+                const CF f_lo = far - o_hi, f_hi = far - o_lo;
+                t0 = min(min(n_lo * i_lo, n_lo * i_hi), min(n_hi * i_lo, n_hi * i_hi));
+                t1 = max(max(f_lo * i_lo, f_lo * i_hi), max(f_hi * i_lo, f_hi * i_hi));
+            }
+            tn = max(tn, t0);
+            tf = min(tf, t1);
+        }
+        return C::bits(tn > tf * C::splat(kFarScale));
+    }
+
+    /// The lanes in `lanes[j]` (bits of chunk first + j) continue one by one below `below`
+    /// with the single-ray traversal, from their current hits.
+    void trace_lanes(bvh::WideSubtree below, int first, const std::uint32_t* lanes, int chunks) {
+        bvh::WideTraversalStats work;
+        bvh::WideTraversalStats* counted = kCount ? &work : nullptr;
+        for (int j = 0; j < chunks; ++j) {
+            const int c = first + j;
+            bool updated = false;
+            for (std::uint32_t b = lanes[j]; b != 0; b &= b - 1) {
+                const int lane = c * W + std::countr_zero(b);
+                bvh::Ray ray = packet_.ray(lane);
+                ray.tmax = w_.tfar[lane];
+                if constexpr (kAnyHit) {
+                    if (bvh::intersect_any(wide_, below, ray, counted)) this->terminate(lane);
+                } else {
+                    bvh::Hit hit;
+                    if (w_.hit_prim[lane] != bvh::kInvalidId) {
+                        hit = bvh::Hit{w_.tfar[lane], w_.hit_u[lane], w_.hit_v[lane], w_.hit_prim[lane]};
+                    }
+                    if (bvh::intersect_closest(wide_, below, ray, hit, counted)) {
+                        w_.tfar[lane] = hit.t;
+                        w_.hit_u[lane] = hit.u;
+                        w_.hit_v[lane] = hit.v;
+                        w_.hit_prim[lane] = hit.prim;
+                        updated = true;
+                    }
+                }
+            }
+            if (updated) {
+                using L = simd::Lanes<W>;
+                w_.chunk_tfar_max[c] = L::reduce_max(L::load(w_.tfar + c * W));
+            }
+        }
+        if constexpr (kCount) {
+            stats_->nodes_visited += work.nodes_visited + work.leaves_visited;
+            stats_->leaves_visited += work.leaves_visited;
+            stats_->ray_box_tests += std::uint64_t(N) * work.nodes_visited;
+            stats_->ray_triangle_tests += work.triangles_tested;
+        }
+    }
+
+    /// Starts fetching what child i's visit reads: its node (four cache lines) or its blocks.
+    void prefetch_child(const Node& node, int i) const {
+        const char* p;
+        int lines;
+        if (node.is_leaf(i)) {
+            p = reinterpret_cast<const char*>(wide_.blocks.data() + node.child[i]);
+            lines = int(node.blocks[i] * sizeof(bvh::TriangleBlock) + 63) / 64;
+            lines = lines < 10 ? lines : 10;
+        } else {
+            p = reinterpret_cast<const char*>(wide_.nodes.data() + node.child[i]);
+            lines = int(sizeof(Node) / 64);
+        }
+        for (int k = 0; k < lines; ++k) __builtin_prefetch(p + 64 * k);
+    }
+
+    const bvh::WideBvh& wide_;
+    const RayPacket& packet_;
+    Entry stack_[kStackSize];
+    int top_ = 0;
+};
+
+}  // namespace
+
+template <int W>
+void wide_closest(const bvh::WideBvh& wide, const RayPacket& packet, Work& w,
+                  const PacketConfig& config, PacketStats* stats) {
+    if (stats) {
+        WideTraversal<W, false, true>(wide, packet, w, config, stats, nullptr).run();
+    } else {
+        WideTraversal<W, false, false>(wide, packet, w, config, nullptr, nullptr).run();
+    }
+}
+
+template <int W>
+void wide_any(const bvh::WideBvh& wide, const RayPacket& packet, Work& w,
+              const PacketConfig& config, PacketStats* stats, LaneMask& occluded) {
+    if (stats) {
+        WideTraversal<W, true, true>(wide, packet, w, config, stats, &occluded).run();
+    } else {
+        WideTraversal<W, true, false>(wide, packet, w, config, nullptr, &occluded).run();
+    }
+}
+
+template void wide_closest<1>(const bvh::WideBvh&, const RayPacket&, Work&, const PacketConfig&,
+                              PacketStats*);
+template void wide_any<1>(const bvh::WideBvh&, const RayPacket&, Work&, const PacketConfig&,
+                          PacketStats*, LaneMask&);
+#if defined(__AVX512F__) || defined(__AVX2__) || defined(__SSE2__) || defined(__ARM_NEON)
+// The native width, when it is not 1 (simd.h).
+template void wide_closest<simd::kNativeLanes>(const bvh::WideBvh&, const RayPacket&, Work&,
+                                               const PacketConfig&, PacketStats*);
+template void wide_any<simd::kNativeLanes>(const bvh::WideBvh&, const RayPacket&, Work&,
+                                           const PacketConfig&, PacketStats*, LaneMask&);
+#endif
+
+}  // namespace dynrt::packet::detail

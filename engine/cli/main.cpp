@@ -651,8 +651,8 @@ int main(int argc, char** argv) {
         cmd->add_option("--tracer", args.tracer, "packet (16x16 ray packets) or single (one ray at a time)")
             ->check(CLI::IsMember({"packet", "single"}))->capture_default_str();
         cmd->add_option("--bvh", args.bvh,
-                        "Tree single rays trace: wide (8 children per node, triangles in SIMD "
-                        "blocks of 4) or binary; the same hits either way")
+                        "Tree packets and single rays trace: wide (8 children per node, "
+                        "triangles in SIMD blocks of 4) or binary; the same hits either way")
             ->check(CLI::IsMember({"wide", "binary"}))->capture_default_str();
         cmd->add_option("--packet-culling", args.packet_culling,
                         "Packet culling stages: ab,bp,edge,nf (any subset), all or none")

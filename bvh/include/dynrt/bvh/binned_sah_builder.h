@@ -25,8 +25,8 @@ struct BuildConfig {
     /// primitives try every split exactly instead.
     std::uint32_t bin_count = 16;
     /// build_triangle_bvh only: also collapse the tree into the wide tree (wide_bvh.h) that
-    /// single rays trace. Off, single rays trace the binary tree, for comparisons (`dynrt bench
-    /// --bvh binary`); the hits are the same either way. The wide tree is also left out when
+    /// packets and single rays trace. Off, they trace the binary tree, for comparisons (`dynrt
+    /// bench --bvh binary`); the hits are the same either way. The wide tree is also left out when
     /// leaf_size_max exceeds kWideLeafSizeMax (wide_bvh.h).
     bool wide = true;
 

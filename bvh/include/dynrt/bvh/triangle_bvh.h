@@ -19,7 +19,8 @@ struct TriangleBvh {
     /// The binary tree: what refits decide rebuilds on (its SAH cost) and what packets trace.
     Bvh bvh;
     /// The same tree collapsed to kWideWidth children per node with triangles in SIMD blocks:
-    /// what single rays trace when present (BuildConfig::wide). Refitted with the binary tree.
+    /// what packets and single rays trace when present (BuildConfig::wide). Refitted with the
+    /// binary tree.
     WideBvh wide;
     /// `tris[i]` is the triangle of the caller's index `bvh.prim_ids[i]`, copied so a leaf's
     /// triangles are contiguous in memory.

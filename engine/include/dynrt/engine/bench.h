@@ -53,7 +53,7 @@ struct BenchRow {
     /// traced (primary + shadow), for per-ray figures.
     std::uint64_t nodes_visited = 0;
     std::uint64_t rays = 0;
-    /// The tree single rays traced: 8 (wide) or 2 (binary), and the bytes per triangle of all
+    /// The tree traced: 8 (wide) or 2 (binary), and the bytes per triangle of all
     /// the trees kept (binary tree, plus the wide tree when built).
     int tree_width = 2;
     double bytes_per_triangle = 0;

@@ -149,8 +149,8 @@ TEST(Bench, RowsSummariseRepeatedRendersAndSerialise) {
     ASSERT_EQ(rows.size(), 2u);
     for (const BenchRow& row : rows) {
         EXPECT_EQ(row.triangles, scene.triangle_count());
-        for (const Spread& s : {row.build_ms, row.trace_ms, row.primary_ms, row.shadow_ms,
-                                row.shade_ms, row.total_ms}) {
+        for (const Spread& s : {row.update_ms, row.build_ms, row.trace_ms, row.primary_ms,
+                                row.shadow_ms, row.shade_ms, row.total_ms}) {
             EXPECT_LE(s.min, s.median);
             EXPECT_LE(s.median, s.max);
             EXPECT_GE(s.min, 0.0);
@@ -165,7 +165,7 @@ TEST(Bench, RowsSummariseRepeatedRendersAndSerialise) {
     std::istringstream lines(csv);
     std::string header, line;
     std::getline(lines, header);
-    EXPECT_EQ(header.rfind("cost_ratio,leaf_size_max,triangles,build_ms_median,build_ms_min,", 0), 0u)
+    EXPECT_EQ(header.rfind("cost_ratio,leaf_size_max,triangles,update_ms_median,update_ms_min,", 0), 0u)
         << header;
     int data_lines = 0;
     while (std::getline(lines, line)) ++data_lines;
@@ -177,10 +177,12 @@ TEST(Bench, RowsSummariseRepeatedRendersAndSerialise) {
     EXPECT_EQ(doc["rows"][0]["cost_ratio"], 0.1);
     EXPECT_EQ(doc["rows"][1]["triangles"], scene.triangle_count());
     EXPECT_EQ(doc["rows"][0]["trace_ms"]["median"], rows[0].trace_ms.median);
+    EXPECT_EQ(doc["rows"][0]["update_ms"]["median"], rows[0].update_ms.median);
 
     std::ostringstream table;
     print_bench_table(table, rows);
     EXPECT_NE(table.str().find("trace ms"), std::string::npos);
+    EXPECT_NE(table.str().find("update ms"), std::string::npos);
 }
 
 TEST(Bench, AdaptiveAndUpdateSweepsAreTakenOutOfTheBuildSweeps) {

@@ -1,6 +1,7 @@
 // Runs the `dynrt` executable as a user would: good runs write what they promise, bad flags and
 // bad input end with a clear one-line error and a non-zero exit, never a crash.
 
+#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -21,8 +22,9 @@ struct CliRun {
     std::string output;  // stdout and stderr together
 };
 
-CliRun run_dynrt(const std::string& args) {
-    const std::string command = std::string(DYNRT_CLI_PATH) + " " + args + " 2>&1";
+/// Runs `command_line` in a shell, stdout and stderr together.
+CliRun run_dynrt_command(const std::string& command_line) {
+    const std::string command = command_line + " 2>&1";
     FILE* pipe = popen(command.c_str(), "r");
     if (!pipe) return {-1, "popen failed"};
     std::string output;
@@ -32,6 +34,23 @@ CliRun run_dynrt(const std::string& args) {
     // A signal (a crash) is reported as exit code 128 + signal, as a shell would.
     const int code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
     return {code, output};
+}
+
+CliRun run_dynrt(const std::string& args) {
+    std::string command = DYNRT_CLI_PATH;
+    command += ' ';
+    command += args;
+    return run_dynrt_command(command);
+}
+
+/// run_dynrt under `timeout`: a run still going after `seconds` is killed and exits with 124.
+CliRun run_dynrt_within(int seconds, const std::string& args) {
+    std::string command = "timeout " + std::to_string(seconds);
+    command += ' ';
+    command += DYNRT_CLI_PATH;
+    command += ' ';
+    command += args;
+    return run_dynrt_command(command);
 }
 
 fs::path fresh_dir(const std::string& name) {
@@ -208,12 +227,140 @@ TEST(Cli, BenchVsAnUnknownTracerIsAnError) {
     EXPECT_NE(run.output.find("--vs"), std::string::npos) << run.output;
 }
 
+/// Frame numbers near INT_MAX once wrapped the frame counter and wrote files until the disk
+/// filled (render) or looped for ever (bench). They must be refused at once, naming the bound,
+/// with nothing written. `timeout` bounds the run, so a regression fails instead of hanging.
+TEST(Cli, FarFramesAreRefusedAtOnceWithNothingWritten) {
+    const fs::path dir = fresh_dir("far_frames");
+    for (const std::string& frames : {std::string("2147483646-2147483647"), std::string("10000001"),
+                                      std::string("9999999-10000000"),
+                                      std::string("0-99999999999999999999999")}) {
+        for (const std::string& command : {std::string("render"), std::string("bench")}) {
+            const std::string out = (dir / "big" / "%d.png").string();
+            const CliRun run = run_dynrt_within(
+                20, command + " sphere:10 --res 8x8 --anim rigid --frames " + frames +
+                        (command == "render" ? " --out '" + out + "'" : std::string()));
+            SCOPED_TRACE(command + " --frames " + frames);
+            EXPECT_NE(run.exit_code, 0) << run.output;
+            EXPECT_NE(run.exit_code, 124) << "did not finish within 20 s: " << run.output;
+            EXPECT_LT(run.exit_code, 128) << "crashed: " << run.output;
+            EXPECT_NE(run.output.find("frame numbers above 9999999 are not supported"),
+                      std::string::npos)
+                << run.output;
+            EXPECT_FALSE(fs::exists(dir / "big")) << "a refused run created its output folder";
+        }
+    }
+    // The largest frame is still rendered.
+    const CliRun last = run_dynrt_within(
+        60, "render sphere:10 --res 8x8 --anim rigid --frames 9999998-9999999 --out '" +
+                (dir / "ok" / "%d.png").string() + "'");
+    EXPECT_EQ(last.exit_code, 0) << last.output;
+    EXPECT_TRUE(fs::exists(dir / "ok" / "9999999.png"));
+    EXPECT_EQ(std::distance(fs::directory_iterator(dir / "ok"), fs::directory_iterator{}), 2);
+}
+
+/// A sequence seen as one file: an animated GIF with one image per frame, and a contact sheet
+/// of the frames in a grid; video names get a clear refusal saying what to do instead.
+TEST(Cli, SequencesGoToAnAnimatedGifAndAContactSheet) {
+    const fs::path dir = fresh_dir("sequence_files");
+    const fs::path gif = dir / "anim.gif", sheet = dir / "sheet.png";
+    const CliRun run = run_dynrt("render sphere:200 --res 20x12 --anim rigid --frames 0-4 --out '" +
+                                 gif.string() + "' --contact-sheet '" + sheet.string() + "'");
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+    auto in = OIIO::ImageInput::open(gif.string());
+    ASSERT_TRUE(in) << OIIO::geterror();
+    int frames = 0;
+    while (in->seek_subimage(frames, 0)) {
+        EXPECT_EQ(in->spec().width, 20);
+        EXPECT_EQ(in->spec().height, 12);
+        ++frames;
+    }
+    EXPECT_EQ(frames, 5);
+    in->close();
+    auto grid = OIIO::ImageInput::open(sheet.string());
+    ASSERT_TRUE(grid) << OIIO::geterror();
+    EXPECT_EQ(grid->spec().width, 3 * 21 - 1);   // 5 thumbnails: 3 columns of 20 + 1 pixels
+    EXPECT_EQ(grid->spec().height, 2 * 13 - 1);  // 2 rows
+    grid->close();
+    EXPECT_NE(run.output.find("contact sheet: "), std::string::npos) << run.output;
+
+    const CliRun video = run_dynrt("render sphere:10 --res 8x8 --frames 0-1 --out '" +
+                                   (dir / "anim.mp4").string() + "'");
+    EXPECT_NE(video.exit_code, 0);
+    EXPECT_LT(video.exit_code, 128) << video.output;
+    EXPECT_NE(video.output.find("does not write video"), std::string::npos) << video.output;
+    EXPECT_NE(video.output.find("ffmpeg -framerate"), std::string::npos) << video.output;
+    EXPECT_FALSE(fs::exists(dir / "anim.mp4"));
+}
+
+/// glTF parts dynrt leaves out are named, as BART's are (skipped without ../shared/scenes).
+TEST(Cli, GltfTexturesAndExtensionsAreReportedAsIgnored) {
+    const fs::path file = fs::path(DYNRT_SHARED_SCENES_DIR) / "transmissiontest" / "TransmissionTest.glb";
+    if (!fs::exists(file)) GTEST_SKIP() << file << " not found";
+    const fs::path dir = fresh_dir("ignored");
+    const CliRun run = run_dynrt("render '" + file.string() + "' --res 8x8 --out '" +
+                                 (dir / "t.png").string() + "'");
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+    EXPECT_NE(run.output.find("ignored: textures of "), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find("ignored: extension KHR_materials_transmission"), std::string::npos)
+        << run.output;
+}
+
+TEST(Cli, PrintsItsVersion) {
+    const CliRun run = run_dynrt("--version");
+    EXPECT_EQ(run.exit_code, 0) << run.output;
+    EXPECT_EQ(run.output.rfind("dynrt ", 0), 0u) << run.output;
+}
+
+/// A numbered output makes its folder for one frame as for many, and only once the scene has
+/// loaded: a run that fails first leaves no folder behind.
+TEST(Cli, NumberedOutputMakesItsFolderOnlyForARunThatRenders) {
+    const fs::path dir = fresh_dir("numbered");
+    const CliRun one = run_dynrt("render sphere:10 --res 8x8 --frames 0-0 --out '" +
+                                 (dir / "one" / "%d.png").string() + "'");
+    EXPECT_EQ(one.exit_code, 0) << one.output;
+    EXPECT_TRUE(fs::exists(dir / "one" / "0.png")) << one.output;
+    const CliRun bad = run_dynrt("render /no/such/file.gltf --frames 0-1 --out '" +
+                                 (dir / "bad" / "%d.png").string() + "'");
+    EXPECT_NE(bad.exit_code, 0) << bad.output;
+    EXPECT_FALSE(fs::exists(dir / "bad")) << bad.output;
+}
+
 TEST(Cli, InfoListsObjects) {
     const CliRun run = run_dynrt("info 'sphere:100+soup:10'");
     ASSERT_EQ(run.exit_code, 0) << run.output;
     EXPECT_NE(run.output.find("sphere:100"), std::string::npos) << run.output;
     EXPECT_NE(run.output.find("soup:10"), std::string::npos) << run.output;
     EXPECT_NE(run.output.find("2 objects"), std::string::npos) << run.output;
+}
+
+/// The timeline of a file with alternative clips (Fox: Survey, Walk, Run drive the same
+/// skeleton): `info` lists them with their times, `render` plays the first and says so, and
+/// frames past the end draw a warning unless --loop. Skipped without ../shared/scenes.
+TEST(Cli, ClipsAreListedChosenAndWarnedPastTheirEnd) {
+    const fs::path fox = fs::path(DYNRT_SHARED_SCENES_DIR) / "fox" / "Fox.glb";
+    if (!fs::exists(fox)) GTEST_SKIP() << fox << " not found";
+    const CliRun info = run_dynrt("info '" + fox.string() + "'");
+    ASSERT_EQ(info.exit_code, 0) << info.output;
+    for (const char* expected : {"frame rate: 24 fps", "clips: 3 (by default only the first plays",
+                                 "Survey", "Walk", "Run", "duration s"}) {
+        EXPECT_NE(info.output.find(expected), std::string::npos) << expected << "\n" << info.output;
+    }
+    const fs::path dir = fresh_dir("clips");
+    const std::string render = "render '" + fox.string() + "' --res 16x16 --out '" +
+                               (dir / "%d.png").string() + "'";
+    const CliRun past = run_dynrt(render + " --frames 500-501");
+    ASSERT_EQ(past.exit_code, 0) << past.output;
+    EXPECT_NE(past.output.find("clips: playing 'Survey'"), std::string::npos) << past.output;
+    EXPECT_NE(past.output.find("warning: frames 500-501 are past the end of the animation"),
+              std::string::npos)
+        << past.output;
+    const CliRun looped = run_dynrt(render + " --frames 500-501 --loop");
+    ASSERT_EQ(looped.exit_code, 0) << looped.output;
+    EXPECT_EQ(looped.output.find("warning:"), std::string::npos) << looped.output;
+    const CliRun walk = run_dynrt(render + " --clip Walk --frames 0-1");
+    ASSERT_EQ(walk.exit_code, 0) << walk.output;
+    EXPECT_EQ(walk.output.find("clips: playing"), std::string::npos) << walk.output;
 }
 
 TEST(Cli, HelpOnEveryCommand) {
@@ -255,6 +402,9 @@ INSTANTIATE_TEST_SUITE_P(
                     BadCall{"render sphere:10 --out x.unknownext", "x.unknownext"},
                     BadCall{"render /no/such/file.gltf", "/no/such/file.gltf"},
                     BadCall{"render cube:10", "cube:10"},
+                    BadCall{"render cube:10", ".aff"},
+                    BadCall{"render sphere:10 --light 1,2,3,-1", "intensity must be >= 0"},
+                    BadCall{"render sphere:10 --report /nonexistent-dir/r.json", "nonexistent-dir"},
                     BadCall{"bench sphere:10 --sweep leaf=0", "leaf"},
                     BadCall{"bench sphere:10 --sweep depth=3", "depth"},
                     BadCall{"bench sphere:10 --repeat 0", "repeat"},
@@ -270,6 +420,10 @@ INSTANTIATE_TEST_SUITE_P(
                     BadCall{"render sphere:10 --clip walk", "walk"},
                     BadCall{"render sphere:10 --camera gltf", "no camera"},
                     BadCall{"render sphere:10 --fps 0", "--fps"},
+                    BadCall{"render sphere:10 --fps 0", "'0' is not a positive number"},
+                    BadCall{"render sphere:10 soup:10", "unexpected argument(s) 'soup:10'"},
+                    BadCall{"render sphere:10 --out /proc/dynrt-no/%d.png --frames 0-1",
+                            "/proc/dynrt-no"},
                     BadCall{"bench sphere:10 --anim wave", "--frames"},
                     BadCall{"bench sphere:10 --frames 2 --sweep leaf=2,4", "--sweep"},
                     BadCall{"bench sphere:10 --error-block 4", "--error"},

@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 #include <stdexcept>
+#include <string>
 
 namespace dynrt {
 namespace {
@@ -26,6 +28,50 @@ TEST(FrameRange, RefusesMalformedText) {
     for (const char* bad : {"", "0", "-1", "5-3", "a-b", "1-", "-", "1-2-3", "1.5", "2-x"}) {
         EXPECT_THROW(parse_frame_range(bad), std::invalid_argument) << bad;
     }
+}
+
+/// The bound on frame numbers (kFrameMax) holds for every way of writing a range, however large
+/// its numbers, and a refusal says why.
+TEST(FrameRange, RefusesFramesBeyondTheBoundNamingIt) {
+    const std::string bound = "frame numbers above " + std::to_string(kFrameMax);
+    for (const char* far : {"2147483646-2147483647", "10000000-10000001", "0-10000000",
+                            "10000001", "99999999999999999999", "5-99999999999999999999999",
+                            "99999999999999999999-99999999999999999999"}) {
+        try {
+            parse_frame_range(far);
+            ADD_FAILURE() << far << " was accepted";
+        } catch (const std::invalid_argument& e) {
+            EXPECT_NE(std::string(e.what()).find(bound), std::string::npos) << e.what();
+        }
+    }
+    const FrameRange last = parse_frame_range("9999998-9999999");
+    EXPECT_EQ(last.count(), 2);
+    EXPECT_EQ(parse_frame_range("10000000").last, kFrameMax);
+}
+
+/// Property: any text made of digits, dashes and a few other characters either parses into a
+/// range within the bound whose count is first..last, or is refused with invalid_argument.
+TEST(FrameRange, RandomTextParsesWithinTheBoundOrIsRefused) {
+    std::mt19937 rng(17);
+    const std::string alphabet = "0123456789999--+ x.";
+    std::uniform_int_distribution<std::size_t> pick(0, alphabet.size() - 1);
+    std::uniform_int_distribution<int> length(0, 24);
+    int parsed = 0;
+    for (int i = 0; i < 20000; ++i) {
+        std::string text;
+        const int n = length(rng);
+        for (int k = 0; k < n; ++k) text += alphabet[pick(rng)];
+        try {
+            const FrameRange r = parse_frame_range(text);
+            ++parsed;
+            ASSERT_GE(r.first, 0) << text;
+            ASSERT_LE(r.first, r.last) << text;
+            ASSERT_LE(r.last, kFrameMax) << text;
+            ASSERT_EQ(static_cast<long long>(r.count()), static_cast<long long>(r.last) - r.first + 1);
+        } catch (const std::invalid_argument&) {
+        }
+    }
+    EXPECT_GT(parsed, 100);
 }
 
 TEST(FramePath, FormatsTheFrameNumber) {

@@ -1,8 +1,11 @@
 #include "dynrt/anim/clip_selection.h"
 
 #include <charconv>
+#include <cstdint>
+#include <set>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace dynrt::anim {
 
@@ -22,6 +25,23 @@ std::size_t find_clip(const Scene& scene, std::string_view name_or_index) {
         what += (i == 0 ? " " : ", ") + std::to_string(i) + " '" + scene.clips[i].name + "'";
     }
     throw std::invalid_argument(what + ")");
+}
+
+std::vector<std::size_t> default_clips(const Scene& scene) {
+    std::vector<std::size_t> all;
+    std::set<std::pair<std::uint32_t, int>> driven;  // (node, property) of the clips so far
+    for (std::size_t c = 0; c < scene.clips.size(); ++c) {
+        std::set<std::pair<std::uint32_t, int>> mine;
+        for (const AnimationChannel& channel : scene.clips[c].channels) {
+            mine.emplace(channel.node, static_cast<int>(channel.property));
+        }
+        for (const auto& key : mine) {
+            if (driven.count(key) != 0) return {0};
+        }
+        driven.insert(mine.begin(), mine.end());
+        all.push_back(c);
+    }
+    return all;
 }
 
 }  // namespace dynrt::anim

@@ -125,6 +125,14 @@ struct ScenePoser::Impl {
     std::vector<ObjectPlan> plans;
     double end_time = 0.0;
 
+    /// The time the clips are evaluated at for scene time `t`: t itself, or with
+    /// PoseSettings::loop, t modulo the clips' end time (fmod is exact, so whole periods
+    /// repeat bit for bit).
+    double clip_time(double t) const {
+        if (!settings.loop || !(end_time > 0.0)) return t;
+        return std::fmod(t, end_time);
+    }
+
     /// A non-finite result found while posing one object.
     struct Failure {
         std::size_t vertex = kNoVertex;
@@ -288,7 +296,7 @@ struct ScenePoser::Impl {
     void pose(int frame, PosedScene& out, bool with_motions, bool skip_fixed, bool motion_objects_only) const {
         out.frame = frame;
         out.time_s = static_cast<double>(frame) / settings.fps;
-        nodes.evaluate(out.time_s, out.node_world, out.node_weights);
+        nodes.evaluate(clip_time(out.time_s), out.node_world, out.node_weights);
         const std::size_t count = scene.objects.size();
         out.objects.resize(count);
         std::vector<Failure> failures(count);

@@ -12,6 +12,7 @@
 #include "dynrt/engine/report.h"
 #include "dynrt/engine/scene_loading.h"
 #include "dynrt/engine/sequence.h"
+#include "dynrt/engine/sequence_output.h"
 #include "dynrt/anim/clip_selection.h"
 #include "dynrt/anim/motion_class.h"
 #include "dynrt/anim/procedural_motion.h"
@@ -64,6 +65,7 @@ struct FrameArgs {
     std::vector<std::string> anims;
     std::vector<std::string> treats;
     std::vector<std::string> clips;
+    bool loop = false;
     /// 0: the scene file's own frame rate (BART's `a`), else dynrt::anim::kDefaultFps.
     double fps = 0.0;
     std::string frames;
@@ -73,6 +75,7 @@ struct FrameArgs {
 
 struct RenderArgs : FrameArgs {
     std::string out = "dynrt.png";
+    std::string contact_sheet;
     std::string report;
     std::string aov;
 };
@@ -138,6 +141,9 @@ dynrt::PointLight parse_light(const std::string& text) {
     if (v.size() != 3 && v.size() != 4) {
         throw std::invalid_argument("--light '" + text + "': expected x,y,z or x,y,z,intensity");
     }
+    if (v.size() == 4 && !(v[3] >= 0.0f)) {
+        throw std::invalid_argument("--light '" + text + "': the intensity must be >= 0");
+    }
     return dynrt::PointLight{glm::vec3(v[0], v[1], v[2]), v.size() == 4 ? v[3] : 1.0f};
 }
 
@@ -181,12 +187,45 @@ dynrt::Scene load_animated_scene(const FrameArgs& args, const std::string& sourc
     apply_scene_setup(scene, options);
     dynrt::anim::add_procedural_motions(scene, args.anims);
     options.pose.class_overrides = dynrt::anim::parse_class_overrides(scene, args.treats);
+    std::vector<std::size_t> clips;
     if (!args.clips.empty()) {
-        std::vector<std::size_t> clips;
         for (const std::string& clip : args.clips) clips.push_back(dynrt::anim::find_clip(scene, clip));
-        options.pose.clips = clips;
+    } else {
+        clips = dynrt::anim::default_clips(scene);
+        if (clips.size() == 1 && scene.clips.size() > 1) {
+            std::cout << "clips: playing '" << scene.clips[0].name << "', the first of "
+                      << scene.clips.size() << " that animate the same nodes (";
+            for (std::size_t i = 0; i < scene.clips.size(); ++i) {
+                std::cout << (i ? ", " : "") << "'" << scene.clips[i].name << "'";
+            }
+            std::cout << "); --clip picks others (dynrt info lists them)\n";
+        }
     }
+    options.pose.clips = clips;
+    options.pose.loop = args.loop;
     return scene;
+}
+
+/// The last frame that shows new animation: the chosen clips' end at the frame rate (0 without
+/// clips, whose scenes change only by procedural motions, which never end).
+int animation_end_frame(const dynrt::Scene& scene, const dynrt::anim::PoseSettings& pose) {
+    double end = 0.0;
+    for (const std::size_t c : pose.clips.value_or(std::vector<std::size_t>{})) {
+        end = std::max(end, scene.clips[c].end_time());
+    }
+    return int(std::min(std::ceil(end * pose.fps), double(dynrt::kFrameMax)));
+}
+
+/// Warns on stderr when `range` runs past the end of the scene's animation, whose frames would
+/// repeat its last pose (unless --loop plays it again).
+void warn_past_the_end(const dynrt::Scene& scene, const dynrt::anim::PoseSettings& pose,
+                       const dynrt::FrameRange& range) {
+    if (pose.loop || !pose.clips || pose.clips->empty()) return;
+    const int end = animation_end_frame(scene, pose);
+    if (range.last <= end) return;
+    std::cerr << "warning: frames " << std::max(range.first, end + 1) << "-" << range.last
+              << " are past the end of the animation (frame " << end << " at " << pose.fps
+              << " fps) and repeat its last pose; --loop plays it again\n";
 }
 
 std::string scene_source(const FrameArgs& args) {
@@ -205,10 +244,12 @@ bool uses_scene_camera(const FrameArgs& args, const dynrt::Scene& scene) {
     return args.camera.empty() && scene.setup && !scene.cameras.empty();
 }
 
-/// The camera of frame `frame`: the scene's own when it is used (posed at that frame with
-/// `pose`'s frame rate), else the one --camera describes or the default framing.
+/// The camera of frames `frames`: the scene's own when it is used (posed at the first frame
+/// with `pose`'s frame rate), else the one --camera describes or the default framing, which
+/// frames the scene's bounds over all of `frames` (so moving parts stay in the picture).
 dynrt::Camera camera_for(const dynrt::Scene& scene, const FrameArgs& args,
-                         const dynrt::anim::PoseSettings& pose, int frame = 0) {
+                         const dynrt::anim::PoseSettings& pose, dynrt::FrameRange frames = {}) {
+    const int frame = frames.first;
     if (uses_scene_camera(args, scene)) {
         dynrt::anim::PoseSettings settings;
         settings.fps = pose.fps;
@@ -217,18 +258,21 @@ dynrt::Camera camera_for(const dynrt::Scene& scene, const FrameArgs& args,
         dynrt::anim::pose_scene(scene, settings, frame, posed);
         return dynrt::camera_from_scene(*posed.camera);
     }
-    const dynrt::Camera camera = dynrt::default_camera(dynrt::scene_bounds(scene));
+    const dynrt::Camera camera =
+        dynrt::default_camera(dynrt::sequence_bounds(scene, pose, frames.first, frames.last));
     return args.camera.empty() ? camera : dynrt::parse_camera(args.camera, camera);
 }
 
-/// A one-line progress bar on stderr, redrawn in place; used only when stderr is a terminal.
+/// A one-line progress bar on stderr, redrawn in place, with the time left at the mean pace so
+/// far; used only when stderr is a terminal.
 void draw_progress(int done, int total, double ms_per_frame) {
     constexpr int kWidth = 30;
     const int filled = total > 0 ? done * kWidth / total : kWidth;
+    const double left_s = double(total - done) * ms_per_frame / 1000.0;
     std::cerr << "\r[" << std::string(std::size_t(filled), '#')
               << std::string(std::size_t(kWidth - filled), ' ') << "] " << done << "/" << total
               << " frames, " << std::fixed << std::setprecision(1) << ms_per_frame
-              << " ms/frame" << std::flush;
+              << " ms/frame, " << std::setprecision(0) << left_s << " s left  " << std::flush;
     if (done == total) std::cerr << "\n";
 }
 
@@ -261,51 +305,97 @@ void print_rebuild_summary(std::ostream& out, const std::vector<dynrt::FrameStat
     out << (reasons.empty() ? "\n" : ")\n");
 }
 
+/// Fails before any rendering when the report could not be written afterwards: its folder
+/// missing, or the path a folder.
+void check_report_path(const std::filesystem::path& path) {
+    if (std::filesystem::is_directory(path)) {
+        throw std::invalid_argument("--report " + path.string() + ": is a folder");
+    }
+    const std::filesystem::path parent = path.parent_path();
+    if (!parent.empty() && !std::filesystem::is_directory(parent)) {
+        throw std::invalid_argument("--report " + path.string() + ": folder " + parent.string() +
+                                    " does not exist");
+    }
+}
+
 int run_render(const RenderArgs& args) {
     dynrt::RenderOptions options = render_options(args);
     const std::vector<dynrt::Aov> aovs = dynrt::parse_aov_list(args.aov);
     options.hit_buffers = !aovs.empty();
     const dynrt::FrameRange range =
         args.frames.empty() ? dynrt::FrameRange{} : dynrt::parse_frame_range(args.frames);
-    if (range.count() > 1 && !dynrt::has_frame_number(args.out)) {
+    dynrt::refuse_video(args.out);
+    // One file for the whole sequence: an animated GIF named without a frame number.
+    const bool animated = dynrt::is_animated_image(args.out) && !dynrt::has_frame_number(args.out);
+    if (range.count() > 1 && !dynrt::has_frame_number(args.out) && !animated) {
         throw std::invalid_argument("--out '" + args.out + "': several frames need a frame "
-                                    "number in the name, e.g. 'frames/%04d.png'");
+                                    "number in the name, e.g. 'frames/%04d.png', or an "
+                                    "animated .gif");
     }
+    if (animated && range.count() > 1 && !aovs.empty()) {
+        throw std::invalid_argument("--aov with an animated --out '" + args.out +
+                                    "': AOVs are one file per frame, so they need numbered "
+                                    "frames ('frames/%04d.png')");
+    }
+    if (!args.contact_sheet.empty()) dynrt::check_image_path(args.contact_sheet);
     const std::filesystem::path first_path = dynrt::frame_path(args.out, range.first);
-    // A sequence goes to a folder of its own ('frames/%04d.png'): make it, as renderers do.
-    if (range.count() > 1 && first_path.has_parent_path()) {
-        std::filesystem::create_directories(first_path.parent_path());
-    }
-    dynrt::check_image_path(first_path);
+    // A numbered output ('frames/%04d.png', one frame or many) goes to a folder of its own,
+    // which is made as renderers do, but only once the scene has loaded: a run that fails
+    // before rendering leaves nothing behind. Until then only the format is checked.
+    const bool makes_folder = dynrt::has_frame_number(args.out) && first_path.has_parent_path();
+    dynrt::check_image_path(makes_folder ? first_path.filename() : first_path);
+    if (!args.report.empty()) check_report_path(args.report);
 
     const std::string source = scene_source(args);
     const dynrt::Scene scene = load_animated_scene(args, source, options);
+    warn_past_the_end(scene, options.pose, range);
+    if (makes_folder) {
+        std::filesystem::create_directories(first_path.parent_path());
+        dynrt::check_image_path(first_path);
+    }
     const bool scene_camera = uses_scene_camera(args, scene);
-    const dynrt::Camera fixed_camera = camera_for(scene, args, options.pose);
+    const dynrt::Camera fixed_camera = camera_for(scene, args, options.pose, range);
 
     dynrt::Renderer renderer(options);
     dynrt::RenderedFrame frame;
     std::vector<dynrt::FrameStats> frames;
     const bool progress = range.count() > 1 && isatty(fileno(stderr));
+    std::cout << "dynrt: " << source << ": " << scene.objects.size() << " objects, "
+              << scene.triangle_count() << " triangles, " << options.width << "x"
+              << options.height << ", frames " << range.first << "-" << range.last << " -> "
+              << args.out << std::endl;
     double total_ms = 0.0;
+    std::optional<dynrt::AnimatedImageWriter> gif;
+    if (animated) gif.emplace(args.out, options.pose.fps);
+    std::optional<dynrt::ContactSheet> sheet;
+    if (!args.contact_sheet.empty()) sheet.emplace(range.count());
     for (int f = range.first; f <= range.last; ++f) {
         renderer.update(scene, f);
         const dynrt::Camera camera =
             scene_camera ? dynrt::camera_from_scene(*renderer.posed().camera) : fixed_camera;
         renderer.trace(camera, frame);
         const std::string path = dynrt::frame_path(args.out, f);
-        dynrt::write_image(path, frame);
+        if (gif) {
+            gif->add(frame);
+        } else {
+            dynrt::write_image(path, frame);
+        }
+        if (sheet) sheet->add(f - range.first, frame);
         for (dynrt::Aov aov : aovs) dynrt::write_aov(path, aov, frame);
         frames.push_back(frame.stats);
         total_ms += frame.stats.total_ms;
         if (progress) draw_progress(f - range.first + 1, range.count(), total_ms / double(frames.size()));
     }
 
-    std::cout << "dynrt: " << source << ": " << scene.objects.size() << " objects, "
-              << scene.triangle_count() << " triangles ("
-              << frames.front().degenerate_skipped << " degenerate skipped), "
-              << options.width << "x" << options.height << ", frames " << range.first << "-"
-              << range.last << " -> " << args.out << "\n";
+    if (gif) gif->close();
+    if (sheet) {
+        sheet->write(args.contact_sheet);
+        std::cout << "contact sheet: " << args.contact_sheet << " (" << sheet->size()
+                  << " frames)\n";
+    }
+    if (frames.front().degenerate_skipped > 0) {
+        std::cout << "degenerate triangles skipped: " << frames.front().degenerate_skipped << "\n";
+    }
     print_ignored(std::cout, scene);
     dynrt::print_frame_header(std::cout);
     // A sequence prints its summary; every frame's figures are in the --report file.
@@ -343,9 +433,10 @@ int run_bench_sequence(const BenchArgs& args) {
     const int runs = args.repeat > 0 ? args.repeat : 1;
     const std::string source = scene_source(args);
     const dynrt::Scene scene = load_animated_scene(args, source, options);
+    warn_past_the_end(scene, options.pose, range);
     // The scene's own camera moves with the frames: nullopt asks for it frame by frame.
     std::optional<dynrt::Camera> camera;
-    if (!uses_scene_camera(args, scene)) camera = camera_for(scene, args, options.pose);
+    if (!uses_scene_camera(args, scene)) camera = camera_for(scene, args, options.pose, range);
     std::vector<std::unique_ptr<dynrt::SequenceTracer>> others;
 #if DYNRT_HAVE_EMBREE
     if (args.vs == "embree") {
@@ -453,7 +544,7 @@ int run_bench_error(const BenchArgs& args) {
         bench_configurations(args, base);
     const bool moves = !scene.motions.empty() || !scene.clips.empty();
     const int frame = args.error_frame >= 0 ? args.error_frame : (moves ? 24 : 0);
-    const dynrt::Camera camera = camera_for(scene, args, base.pose, frame);
+    const dynrt::Camera camera = camera_for(scene, args, base.pose, dynrt::FrameRange{frame, frame});
     std::cout << "dynrt bench --error: " << source << ", " << scene.triangle_count()
               << " triangles, " << base.width << "x" << base.height << ", frame " << frame
               << ", " << posed_configs.size() << " configuration(s), median (min-max) of "
@@ -615,13 +706,64 @@ int run_info(const std::string& source) {
               << all.hi.y << ", " << all.hi.z << "]\n"
               << scene.objects.size() << " objects, " << scene.materials.size()
               << " materials, " << scene.lights.size() << " lights\n";
+    // The timeline: frame rate and clips, as render and bench would play them.
+    const double fps = scene.setup ? scene.setup->fps : dynrt::anim::kDefaultFps;
+    std::cout << "frame rate: " << fps << " fps ("
+              << (scene.setup ? "the file's" : "dynrt's default; the file gives none")
+              << "; --fps changes it)\n";
+    if (scene.setup) {
+        std::cout << "sequence: frames 0-" << scene.setup->frame_count - 1 << " (the file's)\n";
+    }
+    if (scene.clips.empty()) {
+        std::cout << "clips: none\n";
+        return 0;
+    }
+    const std::vector<std::size_t> plays = dynrt::anim::default_clips(scene);
+    std::cout << "clips: " << scene.clips.size();
+    if (scene.clips.size() > 1) {
+        std::cout << (plays.size() == 1 ? " (by default only the first plays: they animate the same nodes"
+                                        : " (by default all play together: they animate different nodes")
+                  << "; --clip NAME or index picks)";
+    }
+    std::cout << "\n" << std::left << std::setw(7) << "  index" << "  " << std::setw(32) << "name"
+              << std::right << std::setw(10) << "start s" << std::setw(10) << "end s"
+              << std::setw(12) << "duration s" << "  frames at " << fps << " fps\n";
+    for (std::size_t i = 0; i < scene.clips.size(); ++i) {
+        const dynrt::AnimationClip& clip = scene.clips[i];
+        std::cout << "  " << std::left << std::setw(5) << i << "  " << std::setw(32) << clip.name
+                  << std::right << std::fixed << std::setprecision(3) << std::setw(10)
+                  << clip.start_time() << std::setw(10) << clip.end_time() << std::setw(12)
+                  << clip.end_time() - clip.start_time() << "  "
+                  << int(std::floor(clip.start_time() * fps)) << "-"
+                  << int(std::ceil(clip.end_time() * fps)) << "\n"
+                  << std::defaultfloat;
+    }
     return 0;
 }
 
 }  // namespace
 
+/// The arguments CLI11 names in "The following argument(s) were not expected: a b".
+std::string join_args(const std::string& message) {
+    const std::size_t colon = message.rfind(": ");
+    return colon == std::string::npos ? message : message.substr(colon + 2);
+}
+
+/// CLI11's PositiveNumber prints its range bounds in full (300 digits); this says it plainly.
+const CLI::Validator kPositive(
+    [](std::string& value) -> std::string {
+        double v = 0.0;
+        const auto [ptr, ec] = std::from_chars(value.data(), value.data() + value.size(), v);
+        if (ec != std::errc() || ptr != value.data() + value.size() || !std::isfinite(v) || !(v > 0.0)) {
+            return "'" + value + "' is not a positive number";
+        }
+        return {};
+    },
+    "POSITIVE");
+
 int main(int argc, char** argv) {
     CLI::App app{"dynrt: real-time ray tracing of animated triangle scenes on CPUs"};
+    app.set_version_flag("--version", std::string("dynrt ") + DYNRT_VERSION);
     app.require_subcommand(1);
     int threads = 0;
     app.add_option("--threads", threads, "Worker threads (default: all cores)")
@@ -643,7 +785,7 @@ int main(int argc, char** argv) {
             ->allow_extra_args(false);
         cmd->add_option("--cost-ratio", args.cost_ratio,
                         "SAH intersection:traversal cost (0.1 big shallow leaves, 1 small deep)")
-            ->check(CLI::PositiveNumber)->capture_default_str();
+            ->check(kPositive)->capture_default_str();
         cmd->add_option("--leaf-size", args.leaf_size, "Maximum triangles per leaf")
             ->check(CLI::Range(1u, 1024u))->capture_default_str();
         cmd->add_option("--threads", args.threads, "Worker threads (default: all cores)")
@@ -673,10 +815,13 @@ int main(int argc, char** argv) {
                         "glTF animation to play, by name or index; repeatable (default: all "
                         "clips together)")
             ->allow_extra_args(false);
+        cmd->add_flag("--loop", args.loop,
+                      "Play the clips again from the start when the frames run past their end "
+                      "(default: hold the last pose, with a warning)");
         cmd->add_option("--fps", args.fps,
                         "Frames per second: frame f is time f / fps (default: the scene file's "
                         "own, as BART's 'a' gives it, else 24)")
-            ->check(CLI::PositiveNumber);
+            ->check(kPositive);
         cmd->add_option("--frames", args.frames,
                         "A-B (frames A to B) or N (frames 0 to N-1); default frame 0");
         cmd->add_option("--rebuild-threshold", args.rebuild_threshold,
@@ -685,14 +830,19 @@ int main(int argc, char** argv) {
             ->check(CLI::NonNegativeNumber)->capture_default_str();
         cmd->add_option("--cost-ratio-exploding", args.cost_ratio_exploding,
                         "Cost ratio of the per-frame rebuilds of exploding objects")
-            ->check(CLI::PositiveNumber)->capture_default_str();
+            ->check(kPositive)->capture_default_str();
     };
 
     RenderArgs render;
     CLI::App* render_cmd = app.add_subcommand("render", "Render a scene to an image and report timings");
     add_frame_options(render_cmd, render);
-    render_cmd->add_option("--out", render.out, "Output image; format by extension")
+    render_cmd->add_option("--out", render.out,
+                           "Output image, format by extension; for several frames a numbered "
+                           "name ('frames/%04d.png') or one animated .gif")
         ->capture_default_str();
+    render_cmd->add_option("--contact-sheet", render.contact_sheet,
+                           "Also write the frames as thumbnails in a grid (up to 64, spread "
+                           "over the sequence) to this image");
     render_cmd->add_option("--report", render.report, "Write the frame report as JSON to this file");
     render_cmd->add_option("--aov", render.aov,
                            "Also write float EXRs next to the image: depth,object,prim,normal");
@@ -752,6 +902,12 @@ int main(int argc, char** argv) {
 
     try {
         app.parse(argc, argv);
+    } catch (const CLI::ExtrasError& e) {
+        // CLI11 says "The following argument was not expected: X"; name the rule instead.
+        std::cerr << "dynrt: error: unexpected argument(s) '" << join_args(e.what()) << "': "
+                  << "render, bench and info take one SCENE, and every other value follows its "
+                     "option (see --help)\n";
+        return 1;
     } catch (const CLI::ParseError& e) {
         return app.exit(e);
     }
@@ -767,6 +923,10 @@ int main(int argc, char** argv) {
         if (*render_cmd) return run_render(render);
         if (*bench_cmd) return run_bench(bench);
         return run_info(info_scene);
+    } catch (const std::filesystem::filesystem_error& e) {
+        // Not the library's "filesystem error: ..." but what failed, on which path, and why.
+        std::cerr << "dynrt: error: " << e.path1().string() << ": " << e.code().message() << "\n";
+        return 1;
     } catch (const std::exception& e) {
         std::cerr << "dynrt: error: " << e.what() << "\n";
         return 1;

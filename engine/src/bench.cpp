@@ -33,6 +33,7 @@ void for_each_column(const BenchRow& row, Visit&& visit) {
     visit("cost_ratio", shortest_decimal(row.build.cost_ratio));
     visit("leaf_size_max", row.build.leaf_size_max);
     visit("triangles", row.triangles);
+    visit("update_ms", row.update_ms);
     visit("build_ms", row.build_ms);
     visit("trace_ms", row.trace_ms);
     visit("primary_ms", row.primary_ms);
@@ -249,11 +250,12 @@ BenchRow bench_configuration(const Scene& scene, const Camera& camera,
     RenderedFrame local_frame;
     RenderedFrame& out = last_frame ? *last_frame : local_frame;
     for (int i = 0; i < warmup; ++i) render_frame(renderer, out);
-    std::vector<double> build, trace, primary, shadow, shade, total, mrays;
+    std::vector<double> update_stage, build, trace, primary, shadow, shade, total, mrays;
     for (int i = 0; i < repeat; ++i) {
         render_frame(renderer, out);
         const FrameStats& s = out.stats;
         const double trace_ms = s.primary_ms + s.shadow_ms;
+        update_stage.push_back(s.update_ms);
         build.push_back(s.build_ms);
         trace.push_back(trace_ms);
         primary.push_back(s.primary_ms);
@@ -267,6 +269,7 @@ BenchRow bench_configuration(const Scene& scene, const Camera& camera,
     row.build = options.build;
     row.adaptive_tolerance = options.adaptive_tolerance;
     row.triangles = out.stats.triangles;
+    row.update_ms = spread_of(update_stage);
     row.build_ms = spread_of(build);
     row.trace_ms = spread_of(trace);
     row.primary_ms = spread_of(primary);
@@ -311,7 +314,8 @@ BenchRow bench_configuration(const Scene& scene, const Camera& camera,
 
 void print_bench_table(std::ostream& out, const std::vector<BenchRow>& rows) {
     out << std::left << std::setw(8) << "cost" << std::setw(6) << "leaf" << std::right
-        << std::setw(10) << "tris" << std::setw(22) << "build ms" << std::setw(22) << "trace ms"
+        << std::setw(10) << "tris" << std::setw(22) << "update ms" << std::setw(22) << "build ms"
+        << std::setw(22) << "trace ms"
         << std::setw(22) << "shade ms" << std::setw(22) << "total ms" << std::setw(22)
         << "Mrays/s" << std::setw(9) << "SAH" << std::setw(7) << "leaf" << std::setw(6)
         << "depth" << std::setw(7) << "adapt" << "  " << std::left << std::setw(14) << "culling" << std::right
@@ -323,7 +327,7 @@ void print_bench_table(std::ostream& out, const std::vector<BenchRow>& rows) {
         cost << r.build.cost_ratio;
         out << std::left << std::setw(8) << cost.str() << std::setw(6) << r.build.leaf_size_max
             << std::right << std::setw(10) << r.triangles << ' ' << std::setw(21)
-            << format_spread(r.build_ms, 2) << ' ' << std::setw(21) << format_spread(r.trace_ms, 2)
+            << format_spread(r.update_ms, 2) << ' ' << std::setw(21) << format_spread(r.build_ms, 2) << ' ' << std::setw(21) << format_spread(r.trace_ms, 2)
             << ' ' << std::setw(21) << format_spread(r.shade_ms, 2) << ' ' << std::setw(21)
             << format_spread(r.total_ms, 2) << ' ' << std::setw(21) << format_spread(r.mrays_per_s, 2)
             << std::fixed << std::setprecision(1) << std::setw(9) << r.sah_cost

@@ -109,6 +109,7 @@ public:
         for (std::size_t i = 0; i < model_.materials.size(); ++i) {
             scene.materials.push_back(convert_material(model_.materials[i], i));
         }
+        note_ignored(scene);
 
         std::vector<GltfNodeInstance> instances;
         try {
@@ -273,6 +274,31 @@ private:
     }
 
     std::string name_;
+    /// What the file says that dynrt leaves out, one line each in Scene::ignored (as BART's
+    /// loader does): textures (colour from the factors), and the extensions the file requires
+    /// or uses, none of which dynrt implements.
+    void note_ignored(Scene& scene) const {
+        std::size_t textured = 0;
+        for (const tinygltf::Material& m : model_.materials) {
+            const bool any = m.pbrMetallicRoughness.baseColorTexture.index >= 0 ||
+                             m.pbrMetallicRoughness.metallicRoughnessTexture.index >= 0 ||
+                             m.normalTexture.index >= 0 || m.occlusionTexture.index >= 0 ||
+                             m.emissiveTexture.index >= 0;
+            textured += any ? 1 : 0;
+        }
+        if (textured > 0) {
+            scene.ignored.push_back(cat("textures of ", textured, " material(s) (colour from their factors)"));
+        }
+        for (const std::string& extension : model_.extensionsRequired) {
+            scene.ignored.push_back(cat("required extension ", extension, " (not implemented; rendered without it)"));
+        }
+        for (const std::string& extension : model_.extensionsUsed) {
+            const bool required = std::find(model_.extensionsRequired.begin(), model_.extensionsRequired.end(),
+                                            extension) != model_.extensionsRequired.end();
+            if (!required) scene.ignored.push_back(cat("extension ", extension, " (not implemented)"));
+        }
+    }
+
     const tinygltf::Model& model_;
     std::size_t skipped_ = 0;
 };

@@ -122,12 +122,12 @@ PartSpec parse_part(std::string_view spec, std::string_view text, std::uint64_t 
 
     const std::size_t colon = text.find(':');
     if (colon == std::string_view::npos) {
-        fail(spec, text, "expected kind:N with kind sphere, soup or plane (files must end in .gltf or .glb)");
+        fail(spec, text, "expected kind:N with kind sphere, soup or plane (files must end in .gltf, .glb or .aff)");
     }
     const std::string_view kind = text.substr(0, colon);
     const std::optional<MeshKind> parsed_kind = parse_kind(kind);
     if (!parsed_kind) {
-        fail(spec, text, cat("unknown kind '", kind, "' (expected sphere, soup or plane)"));
+        fail(spec, text, cat("unknown kind '", kind, "' (expected sphere, soup or plane; scene files end in .gltf, .glb or .aff)"));
     }
     part.kind = *parsed_kind;
 

@@ -62,6 +62,26 @@ bvh::Aabb scene_bounds(const Scene& scene) {
     return bounds_of(posed);
 }
 
+bvh::Aabb sequence_bounds(const Scene& scene, const anim::PoseSettings& pose, int first, int last,
+                          int samples) {
+    anim::PoseSettings settings = pose;
+    settings.skip_fixed_positions = false;
+    const anim::ScenePoser poser(scene, settings);
+    const bool moves = !scene.clips.empty() || !scene.motions.empty();
+    const int count = moves && last > first ? std::max(2, std::min(samples, last - first + 1)) : 1;
+    anim::PosedScene posed;
+    bvh::Aabb bounds;
+    for (int i = 0; i < count; ++i) {
+        // Evenly spread, in 64 bits: (last - first) * i can pass INT_MAX.
+        const int frame =
+            count == 1 ? first : first + int(std::int64_t(last - first) * i / (count - 1));
+        poser.pose(frame, posed);
+        const bvh::Aabb b = bounds_of(posed);
+        bounds.extend(b);
+    }
+    return bounds;
+}
+
 std::vector<PointLight> effective_lights(const Scene& scene, const RenderOptions& options) {
     if (!options.lights.empty()) return options.lights;
     if (!scene.lights.empty()) return scene.lights;
@@ -121,13 +141,15 @@ void Renderer::update(const Scene& scene, int frame) {
     // ---- Update: evaluate the animation, then bring every object's tree to this frame ----
     Stopwatch clock;
     s.poser->pose(frame, s.posed);
-    stats.update_ms = clock.lap_ms();
     UpdatePolicy policy;
     policy.build = options_.build;
     policy.exploding_cost_ratio = options_.cost_ratio_exploding;
     policy.rebuild_threshold = options_.rebuild_threshold;
     s.accel.update(scene, *s.poser, s.posed, policy, stats);
     s.update_wall_ms = update_clock.elapsed_ms();
+    // Everything the update did besides building trees (posing, gathering triangles), so that
+    // the stages shown add up to total_ms.
+    stats.update_ms = std::max(0.0, s.update_wall_ms - stats.build_ms);
     // The lights, once per sequence and untimed. After the update, so that bad geometry is
     // reported at the frame asked for (the default light is placed from frame 0's bounds).
     if (s.lights.empty()) s.lights = effective_lights(scene, options_);

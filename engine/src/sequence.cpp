@@ -1,6 +1,7 @@
 #include "dynrt/engine/sequence.h"
 
 #include <charconv>
+#include <limits>
 #include <cstdio>
 #include <stdexcept>
 #include <string>
@@ -8,13 +9,6 @@
 namespace dynrt {
 
 namespace {
-
-bool parse_int(std::string_view text, int& value) {
-    const char* first = text.data();
-    const char* last = text.data() + text.size();
-    const auto [ptr, ec] = std::from_chars(first, last, value);
-    return !text.empty() && ec == std::errc() && ptr == last;
-}
 
 /// The one integer conversion of a pattern: where it starts and ends, and its spec ("%04d").
 struct Conversion {
@@ -67,20 +61,34 @@ FrameRange parse_frame_range(std::string_view text) {
     const std::string message = "--frames '" + std::string(text) +
                                 "': expected A-B (frames A to B, 0 <= A <= B) or N (frames 0 "
                                 "to N-1, N >= 1)";
+    // A whole number, however long: values beyond long long read as its maximum, so that a
+    // far frame gets the message about the bound rather than a syntax error.
+    const auto number = [](std::string_view t, long long& v) {
+        const auto [ptr, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
+        if (ec == std::errc::result_out_of_range) v = std::numeric_limits<long long>::max();
+        return !t.empty() && ptr == t.data() + t.size() &&
+               (ec == std::errc() || ec == std::errc::result_out_of_range);
+    };
+    const auto check_bound = [&](long long last) {
+        if (last > kFrameMax) {
+            throw std::invalid_argument("--frames '" + std::string(text) +
+                                        "': frame numbers above " + std::to_string(kFrameMax) +
+                                        " are not supported");
+        }
+    };
     const std::size_t dash = text.find('-');
-    FrameRange range;
+    long long first = 0, last = 0;
     if (dash == std::string_view::npos) {
-        int n = 0;
-        if (!parse_int(text, n) || n < 1) throw std::invalid_argument(message);
-        range.last = n - 1;
-        return range;
+        if (!number(text, last) || last < 1) throw std::invalid_argument(message);
+        check_bound(last - 1);
+        return FrameRange{0, int(last - 1)};
     }
-    if (!parse_int(text.substr(0, dash), range.first) ||
-        !parse_int(text.substr(dash + 1), range.last) || range.first < 0 ||
-        range.last < range.first) {
+    if (!number(text.substr(0, dash), first) || !number(text.substr(dash + 1), last) ||
+        last < first) {
         throw std::invalid_argument(message);
     }
-    return range;
+    check_bound(last);
+    return FrameRange{int(first), int(last)};
 }
 
 bool has_frame_number(std::string_view pattern) {

@@ -38,6 +38,10 @@ struct PoseSettings {
     /// property. nullopt: every clip of the scene together, in file order. Empty: none (rest
     /// pose). find_clip turns a name into an index.
     std::optional<std::vector<std::size_t>> clips;
+    /// The chosen clips repeat: frame f is evaluated at clip time (f / fps) modulo their end
+    /// time (ScenePoser::end_time), so a sequence longer than the animation plays it again
+    /// rather than holding the last pose. Procedural motions are not wrapped.
+    bool loop = false;
     /// Objects to treat as a more general class than their animation implies (parse them with
     /// parse_class_overrides). Lowering a class is refused.
     std::vector<ClassOverride> class_overrides;

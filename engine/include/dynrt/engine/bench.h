@@ -29,6 +29,8 @@ Spread spread_of(std::vector<double> values);
 struct BenchRow {
     bvh::BuildConfig build;
     std::size_t triangles = 0;
+    /// The frame's update except its builds (FrameStats::update_ms: posing, gathering).
+    Spread update_ms;
     Spread build_ms;
     Spread trace_ms;  ///< primary + shadow rays
     Spread primary_ms;  ///< primary rays alone

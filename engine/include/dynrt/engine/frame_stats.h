@@ -29,7 +29,10 @@ struct FrameStats {
     int frame = 0;
     std::size_t triangles = 0;           ///< triangles in the scene at this frame
     std::size_t degenerate_skipped = 0;  ///< zero-area triangles kept out of the BVH
-    double update_ms = 0;                ///< evaluating the scene at the frame (posing)
+    /// The frame's update except its tree builds: evaluating the scene at the frame (posing),
+    /// gathering and checking the triangles, classifying the objects. With build_ms, primary_ms,
+    /// shadow_ms and shade_ms it makes up total_ms (the rest is per-frame bookkeeping).
+    double update_ms = 0;
     double build_ms = 0;                 ///< BVH construction
     double primary_ms = 0;               ///< tracing camera rays
     double shadow_ms = 0;                ///< tracing shadow rays

@@ -147,6 +147,13 @@ PointLight default_light(const bvh::Aabb& scene_bounds);
 /// World-space bounds of `scene` at frame 0 (for the default camera and light).
 bvh::Aabb scene_bounds(const Scene& scene);
 
+/// World-space bounds of `scene` over frames first..last as `pose` plays them, from at most
+/// `samples` frames spread evenly over the range (first and last included), so that a default
+/// camera framing them keeps moving parts in the picture. A single frame, or a scene without
+/// animation or motions, is posed once.
+bvh::Aabb sequence_bounds(const Scene& scene, const anim::PoseSettings& pose, int first, int last,
+                          int samples = 16);
+
 /// The lights a render of `scene` uses under `options` (see RenderOptions::lights).
 std::vector<PointLight> effective_lights(const Scene& scene, const RenderOptions& options);
 

@@ -34,7 +34,9 @@ void write_report(const std::filesystem::path& path, const RunInfo& run,
 /// Column header of the frame table, then one row per call of print_frame_row.
 void print_frame_header(std::ostream& out);
 void print_frame_row(std::ostream& out, const FrameStats& stats);
-/// Median / min / max rows over `frames` (printed only when there is more than one frame).
+/// The first frame's row ("first": it builds every tree, so it is the cold one), then median,
+/// min and max rows over the frames after it (the steady state). Nothing for a single frame.
+/// (The report file's summary covers every frame.)
 void print_summary(std::ostream& out, const std::vector<FrameStats>& frames);
 
 }  // namespace dynrt

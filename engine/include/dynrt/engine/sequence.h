@@ -10,15 +10,20 @@
 
 namespace dynrt {
 
-/// Frames first..last, both included.
+/// The largest frame number dynrt renders. A frame's time is frame / fps in float, which past
+/// about ten million frames at 24 fps (116 hours) no longer resolves one frame from the next;
+/// the bound also keeps every frame loop (first..last inclusive) clear of int overflow.
+inline constexpr int kFrameMax = 9'999'999;
+
+/// Frames first..last, both included; 0 <= first <= last <= kFrameMax.
 struct FrameRange {
     int first = 0;
     int last = 0;
     int count() const { return last - first + 1; }
 };
 
-/// "A-B" (frames A to B, both included, 0 <= A <= B) or "N" (N frames: 0 to N-1, N >= 1).
-/// Throws std::invalid_argument naming the text.
+/// "A-B" (frames A to B, both included, 0 <= A <= B <= kFrameMax) or "N" (N frames: 0 to N-1,
+/// 1 <= N <= kFrameMax + 1). Throws std::invalid_argument naming the text and the bound.
 FrameRange parse_frame_range(std::string_view text);
 
 /// True when `pattern` holds a printf-style integer conversion for the frame number (%d, with

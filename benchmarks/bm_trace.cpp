@@ -224,6 +224,19 @@ const std::vector<bvh::Ray>& shadow_rays(const SceneInput& input) {
     return rays;
 }
 
+/// Items (rays) and the fraction of hits (closest hit: t finite) or of occluded rays (shadow
+/// rays: t set to 0) in `t`, one value per pixel.
+void set_packet_counters(benchmark::State& state, const std::vector<float>& t, bool shadow) {
+    state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(t.size()));
+    if (shadow) {
+        std::size_t occluded = 0;
+        for (const float v : t) occluded += v == 0.0f ? 1 : 0;
+        state.counters["occluded_fraction"] = double(occluded) / double(t.size());
+    } else {
+        state.counters["hit_fraction"] = hit_fraction(t);
+    }
+}
+
 /// Calls `trace(x0, y0)` for every 16x16 tile, one oneTBB task per tile.
 template <class Trace>
 void for_each_tile(const Trace& trace) {
@@ -270,14 +283,7 @@ void BM_Packet(benchmark::State& state, const std::string& spec) {
         for_each_tile([&](int x0, int y0) { trace(x0, y0, nullptr); });
         benchmark::ClobberMemory();
     }
-    state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(rays.size()));
-    if constexpr (kShadow) {
-        std::size_t occluded = 0;
-        for (const float v : t) occluded += v == 0.0f ? 1 : 0;
-        state.counters["occluded_fraction"] = double(occluded) / double(t.size());
-    } else {
-        state.counters["hit_fraction"] = hit_fraction(t);
-    }
+    set_packet_counters(state, t, kShadow);
     packet::PacketStats work;
     for (int y0 = 0; y0 < kHeight; y0 += kTile) {
         for (int x0 = 0; x0 < kWidth; x0 += kTile) trace(x0, y0, &work);
@@ -327,20 +333,7 @@ void BM_PacketEmbree16(benchmark::State& state, const std::string& spec) {
                     alignas(64) RTCRayHit16 rh;
                     for (int k = 0; k < 16; ++k) {
                         const bvh::Ray& r = rays[std::size_t(by + k / 4) * kWidth + std::size_t(bx + k % 4)];
-                        rh.ray.org_x[k] = r.org.x;
-                        rh.ray.org_y[k] = r.org.y;
-                        rh.ray.org_z[k] = r.org.z;
-                        rh.ray.dir_x[k] = r.dir.x;
-                        rh.ray.dir_y[k] = r.dir.y;
-                        rh.ray.dir_z[k] = r.dir.z;
-                        rh.ray.tnear[k] = r.tmin;
-                        rh.ray.tfar[k] = r.tmax;
-                        rh.ray.time[k] = 0.0f;
-                        rh.ray.mask[k] = ~0u;
-                        rh.ray.id[k] = 0;
-                        rh.ray.flags[k] = 0;
-                        rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
-                        rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+                        embree::set_rtc_ray_hit16(rh, k, r, 0);
                         valid[k] = r.tmin <= r.tmax ? -1 : 0;
                     }
                     if constexpr (kShadow) {
@@ -363,14 +356,7 @@ void BM_PacketEmbree16(benchmark::State& state, const std::string& spec) {
         });
         benchmark::ClobberMemory();
     }
-    state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(rays.size()));
-    if constexpr (kShadow) {
-        std::size_t occluded = 0;
-        for (const float v : t) occluded += v == 0.0f ? 1 : 0;
-        state.counters["occluded_fraction"] = double(occluded) / double(t.size());
-    } else {
-        state.counters["hit_fraction"] = hit_fraction(t);
-    }
+    set_packet_counters(state, t, kShadow);
 }
 void BM_PacketClosestEmbree16(benchmark::State& state, const std::string& spec) {
     BM_PacketEmbree16<false>(state, spec);

@@ -111,16 +111,7 @@ public:
 
     void run() {
         if (accel_.bvh.nodes.empty() || w_.first_chunk > w_.last_chunk) return;
-        const Beam& beam = w_.beam;
-        if (beam.common_octant) {
-            if (beam.common_origin) {
-                run_with<BoxMode::kOctantOrigin>();
-            } else {
-                run_with<BoxMode::kOctant>();
-            }
-        } else {
-            run_with<BoxMode::kGeneral>();
-        }
+        traverse_in_modes(w_.beam, *this);
     }
 
 private:
@@ -129,20 +120,8 @@ private:
         std::uint16_t first, last;
     };
 
-    template <BoxMode M>
-    void run_with() {
-        const Beam& beam = w_.beam;
-        if (beam.common_perm) {
-            if (beam.common_origin) {
-                traverse<M, TriMode::kRelative>();
-            } else {
-                traverse<M, TriMode::kPermuted>();
-            }
-        } else {
-            traverse<M, TriMode::kGeneral>();
-        }
-    }
-
+public:
+    /// The traversal in one pair of modes (traverse_in_modes picks them).
     template <BoxMode BM, TriMode TM>
     void traverse() {
         const bvh::BvhNode* nodes = accel_.bvh.nodes.data();
@@ -230,6 +209,7 @@ private:
         }
     }
 
+private:
     /// Single-ray traversal of the subtree at `root` (whose box the lane hits) for one lane,
     /// continuing from the lane's current hit: the same box and triangle arithmetic (the W = 1
     /// kernels), children nearest first by entry distance as in the single-ray tracer.

@@ -28,6 +28,29 @@ inline constexpr int kBeamMinLanes = 96;
 /// Leaf triangles prepared (culled, permuted) at a time before the SIMD loop.
 inline constexpr int kTriBatch = 16;
 
+/// Calls `traversal.template traverse<BoxMode, TriMode>()` with the fastest modes the packet's
+/// beam allows: a common octant (and origin) for the box test, a common axis permutation (and
+/// origin) for the triangle test.
+template <class Traversal>
+void traverse_in_modes(const Beam& beam, Traversal& traversal) {
+    const auto with_box = [&]<BoxMode BM>() {
+        if (!beam.common_perm) {
+            traversal.template traverse<BM, TriMode::kGeneral>();
+        } else if (beam.common_origin) {
+            traversal.template traverse<BM, TriMode::kRelative>();
+        } else {
+            traversal.template traverse<BM, TriMode::kPermuted>();
+        }
+    };
+    if (!beam.common_octant) {
+        with_box.template operator()<BoxMode::kGeneral>();
+    } else if (beam.common_origin) {
+        with_box.template operator()<BoxMode::kOctantOrigin>();
+    } else {
+        with_box.template operator()<BoxMode::kOctant>();
+    }
+}
+
 /// The range and leaf machinery for one packet trace at W lanes per chunk, closest hit or any
 /// hit (kAnyHit), with or without work counters (kCount). The traversals derive from it.
 template <int W, bool kAnyHit, bool kCount>

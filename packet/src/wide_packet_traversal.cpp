@@ -57,16 +57,7 @@ public:
 
     void run() {
         if (wide_.nodes.empty() || w_.first_chunk > w_.last_chunk) return;
-        const Beam& beam = w_.beam;
-        if (beam.common_octant) {
-            if (beam.common_origin) {
-                run_with<BoxMode::kOctantOrigin>();
-            } else {
-                run_with<BoxMode::kOctant>();
-            }
-        } else {
-            run_with<BoxMode::kGeneral>();
-        }
+        traverse_in_modes(w_.beam, *this);
     }
 
 private:
@@ -79,20 +70,8 @@ private:
         bool entered;
     };
 
-    template <BoxMode M>
-    void run_with() {
-        const Beam& beam = w_.beam;
-        if (beam.common_perm) {
-            if (beam.common_origin) {
-                traverse<M, TriMode::kRelative>();
-            } else {
-                traverse<M, TriMode::kPermuted>();
-            }
-        } else {
-            traverse<M, TriMode::kGeneral>();
-        }
-    }
-
+public:
+    /// The traversal in one pair of modes (traverse_in_modes picks them).
     template <BoxMode BM, TriMode TM>
     void traverse() {
         const Node* nodes = wide_.nodes.data();
@@ -149,6 +128,7 @@ private:
         }
     }
 
+private:
     /// Tests the children of inner node `index` for the chunks [first, last] (early hit, then
     /// early miss) and pushes the ones to visit, nearest on top.
     void push_children(std::uint32_t index, int first, int last) {

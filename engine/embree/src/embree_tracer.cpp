@@ -309,21 +309,7 @@ double EmbreeTracer::intersect16(const Camera& camera, int width, int height, Pi
                 int x, y;
                 valid[lane] = block.pixel(lane, x, y) ? -1 : 0;
                 // Masked-off lanes still get a harmless ray, so no lane holds garbage.
-                const bvh::Ray ray = rays.ray(x, y);
-                rh.ray.org_x[lane] = ray.org.x;
-                rh.ray.org_y[lane] = ray.org.y;
-                rh.ray.org_z[lane] = ray.org.z;
-                rh.ray.dir_x[lane] = ray.dir.x;
-                rh.ray.dir_y[lane] = ray.dir.y;
-                rh.ray.dir_z[lane] = ray.dir.z;
-                rh.ray.tnear[lane] = ray.tmin;
-                rh.ray.tfar[lane] = ray.tmax;
-                rh.ray.time[lane] = 0.0f;
-                rh.ray.mask[lane] = ~0u;
-                rh.ray.id[lane] = unsigned(lane);
-                rh.ray.flags[lane] = 0;
-                rh.hit.geomID[lane] = RTC_INVALID_GEOMETRY_ID;
-                rh.hit.instID[0][lane] = RTC_INVALID_GEOMETRY_ID;
+                set_rtc_ray_hit16(rh, lane, rays.ray(x, y), unsigned(lane));
             }
             rtcIntersect16(valid, scene, &context, &rh);
             for (int lane = 0; lane < kLanes; ++lane) {

@@ -35,6 +35,25 @@ inline RTCRayHit to_rtc_ray_hit(const bvh::Ray& ray) {
     return rh;
 }
 
+/// `ray` in lane `lane` of a 16-ray packet for rtcIntersect16 / rtcOccluded16, the same fields
+/// as to_rtc_ray_hit (ray id `id`).
+inline void set_rtc_ray_hit16(RTCRayHit16& rh, int lane, const bvh::Ray& ray, unsigned id) {
+    rh.ray.org_x[lane] = ray.org.x;
+    rh.ray.org_y[lane] = ray.org.y;
+    rh.ray.org_z[lane] = ray.org.z;
+    rh.ray.dir_x[lane] = ray.dir.x;
+    rh.ray.dir_y[lane] = ray.dir.y;
+    rh.ray.dir_z[lane] = ray.dir.z;
+    rh.ray.tnear[lane] = ray.tmin;
+    rh.ray.tfar[lane] = ray.tmax;
+    rh.ray.time[lane] = 0.0f;
+    rh.ray.mask[lane] = ~0u;
+    rh.ray.id[lane] = id;
+    rh.ray.flags[lane] = 0;
+    rh.hit.geomID[lane] = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0][lane] = RTC_INVALID_GEOMETRY_ID;
+}
+
 /// Embree asks every thread that traces or builds to run with denormals flushed to zero and
 /// read as zero (its device warns otherwise: "This can have a severe performance impact").
 /// The mode is per thread, so it is set for the lifetime of this guard, inside each of

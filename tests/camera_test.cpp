@@ -25,6 +25,21 @@ TEST(Camera, DefaultFramesTheBoundsFromTheDocumentedDirection) {
     EXPECT_EQ(camera.fov_y_deg, 45.0f);
 }
 
+/// A scene collapsed to a point (a zero-scale node) or without triangles still gets a camera
+/// whose eye is not its target, so it renders instead of failing with a misleading error.
+TEST(Camera, DefaultFramesAPointOrAnEmptySceneAtUnitRadius) {
+    bvh::Aabb point;
+    point.extend(glm::vec3(2.0f, 3.0f, 4.0f));
+    const Camera at_point = default_camera(point);
+    EXPECT_EQ(at_point.target, glm::vec3(2.0f, 3.0f, 4.0f));
+    EXPECT_NEAR(glm::length(at_point.eye - at_point.target), 2.5f, 1e-5f);
+    const Camera empty = default_camera(bvh::Aabb{});
+    EXPECT_EQ(empty.target, glm::vec3(0.0f));
+    EXPECT_NEAR(glm::length(empty.eye - empty.target), 2.5f, 1e-5f);
+    EXPECT_NO_THROW(CameraRays(at_point, 16, 16));
+    EXPECT_NO_THROW(CameraRays(empty, 16, 16));
+}
+
 TEST(Camera, RaysFollowTheDocumentedConvention) {
     Camera camera;
     camera.eye = glm::vec3(1.0f, 2.0f, 3.0f);

@@ -11,9 +11,16 @@
 
 namespace dynrt {
 
+Framing framing_of(const bvh::Aabb& scene_bounds) {
+    glm::vec3 c = scene_bounds.center();
+    float r = 0.5f * glm::length(scene_bounds.extent());
+    if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z)) c = glm::vec3(0.0f);
+    if (!std::isfinite(r) || !(r > 0.0f)) r = 1.0f;
+    return Framing{c, r};
+}
+
 Camera default_camera(const bvh::Aabb& scene_bounds) {
-    const glm::vec3 c = scene_bounds.center();
-    const float r = 0.5f * glm::length(scene_bounds.extent());
+    const auto [c, r] = framing_of(scene_bounds);
     Camera camera;
     camera.target = c;
     camera.eye = c + 2.5f * r * glm::normalize(glm::vec3(0.6f, 0.5f, 1.0f));

@@ -51,9 +51,8 @@ bvh::Aabb bounds_of(const anim::PosedScene& posed) {
 }  // namespace
 
 PointLight default_light(const bvh::Aabb& bounds) {
-    const float r = 0.5f * glm::length(bounds.extent());
-    return PointLight{bounds.center() + 4.0f * r * glm::normalize(glm::vec3(-0.5f, 1.0f, 0.8f)),
-                      1.0f};
+    const auto [c, r] = framing_of(bounds);
+    return PointLight{c + 4.0f * r * glm::normalize(glm::vec3(-0.5f, 1.0f, 0.8f)), 1.0f};
 }
 
 bvh::Aabb scene_bounds(const Scene& scene) {

@@ -21,8 +21,18 @@ struct Camera {
 };
 
 /// eye = c + 2.5 R normalize(0.6, 0.5, 1.0), target c, up +Y, fov 45, where c is the box
-/// centre and R half its diagonal.
+/// centre and R half its diagonal. A box that is one point (a scene collapsed by a zero scale)
+/// is framed with R = 1, and an empty one (no triangles) as the unit box around the origin,
+/// so that such a scene renders (empty) instead of failing on a camera whose eye is its target.
 Camera default_camera(const bvh::Aabb& scene_bounds);
+
+/// The centre and radius default_camera and default_light frame: the box's, with the fallbacks
+/// described there.
+struct Framing {
+    glm::vec3 center;
+    float radius;
+};
+Framing framing_of(const bvh::Aabb& scene_bounds);
 
 /// Parses "eye=x,y,z,target=x,y,z,up=x,y,z,fov=deg"; any subset of the keys, in any order,
 /// overriding `base`. Throws std::invalid_argument naming the bad part.

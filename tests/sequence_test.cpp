@@ -90,6 +90,36 @@ TEST(FramePath, RefusesOtherConversions) {
     }
 }
 
+/// Property: any pattern of %, d, digits, flags and other characters is either refused with
+/// invalid_argument by both functions, or formats frames 0 and kFrameMax into paths that
+/// differ exactly when it has a frame number, the larger one's digits in full.
+TEST(FramePath, RandomPatternsFormatOrAreRefused) {
+    std::mt19937 rng(23);
+    const std::string alphabet = "%%%dd0123-+ #.lsxa/_";
+    std::uniform_int_distribution<std::size_t> pick(0, alphabet.size() - 1);
+    std::uniform_int_distribution<int> length(0, 12);
+    int formatted = 0, numbered = 0;
+    for (int i = 0; i < 20000; ++i) {
+        std::string pattern;
+        const int n = length(rng);
+        for (int k = 0; k < n; ++k) pattern += alphabet[pick(rng)];
+        bool has = false;
+        try {
+            has = has_frame_number(pattern);
+        } catch (const std::invalid_argument&) {
+            EXPECT_THROW(frame_path(pattern, 0), std::invalid_argument) << pattern;
+            continue;
+        }
+        const std::string a = frame_path(pattern, 0), b = frame_path(pattern, kFrameMax);
+        ++formatted;
+        numbered += has ? 1 : 0;
+        ASSERT_EQ(a != b, has) << pattern;
+        if (has) ASSERT_NE(b.find(std::to_string(kFrameMax)), std::string::npos) << pattern << " -> " << b;
+    }
+    EXPECT_GT(formatted, 1000);
+    EXPECT_GT(numbered, 100);
+}
+
 TEST(SceneCamera, LooksAlongTheNodesMinusZ) {
     anim::PosedCamera posed;
     posed.eye = {1.0, 2.0, 3.0};

@@ -259,8 +259,8 @@ TEST(Cli, FarFramesAreRefusedAtOnceWithNothingWritten) {
     EXPECT_EQ(std::distance(fs::directory_iterator(dir / "ok"), fs::directory_iterator{}), 2);
 }
 
-/// A sequence seen as one file: an animated GIF with one image per frame, and a contact sheet
-/// of the frames in a grid; video names get a clear refusal saying what to do instead.
+/// A sequence seen as one file: an animated GIF with one image per frame, a contact sheet of
+/// the frames in a grid, and a video.
 TEST(Cli, SequencesGoToAnAnimatedGifAndAContactSheet) {
     const fs::path dir = fresh_dir("sequence_files");
     const fs::path gif = dir / "anim.gif", sheet = dir / "sheet.png";
@@ -284,13 +284,25 @@ TEST(Cli, SequencesGoToAnAnimatedGifAndAContactSheet) {
     grid->close();
     EXPECT_NE(run.output.find("contact sheet: "), std::string::npos) << run.output;
 
-    const CliRun video = run_dynrt("render sphere:10 --res 8x8 --frames 0-1 --out '" +
-                                   (dir / "anim.mp4").string() + "'");
-    EXPECT_NE(video.exit_code, 0);
-    EXPECT_LT(video.exit_code, 128) << video.output;
-    EXPECT_NE(video.output.find("does not write video"), std::string::npos) << video.output;
-    EXPECT_NE(video.output.find("ffmpeg -framerate"), std::string::npos) << video.output;
-    EXPECT_FALSE(fs::exists(dir / "anim.mp4"));
+    // A video goes through ffmpeg when it is installed (every frame in the file, an odd size
+    // padded), else it is refused before rendering with what to do instead.
+    const fs::path mp4 = dir / "anim.mp4";
+    const CliRun video = run_dynrt("render sphere:200 --res 21x13 --anim rigid --frames 0-6 --out '" +
+                                   mp4.string() + "'");
+    if (run_dynrt_command("command -v ffmpeg >/dev/null && command -v ffprobe >/dev/null").exit_code == 0) {
+        ASSERT_EQ(video.exit_code, 0) << video.output;
+        const CliRun probe = run_dynrt_command(
+            "ffprobe -v error -count_frames -select_streams v:0 -show_entries "
+            "stream=nb_read_frames,width,height -of csv=p=0 '" + mp4.string() + "'");
+        EXPECT_EQ(probe.exit_code, 0) << probe.output;
+        EXPECT_EQ(probe.output, "22,14,7\n") << probe.output;
+    } else {
+        EXPECT_NE(video.exit_code, 0);
+        EXPECT_LT(video.exit_code, 128) << video.output;
+        EXPECT_NE(video.output.find("needs the ffmpeg program"), std::string::npos) << video.output;
+        EXPECT_NE(video.output.find("ffmpeg -framerate"), std::string::npos) << video.output;
+        EXPECT_FALSE(fs::exists(mp4));
+    }
 }
 
 /// glTF parts dynrt leaves out are named, as BART's are (skipped without ../shared/scenes).

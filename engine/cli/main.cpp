@@ -39,6 +39,7 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <memory>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
@@ -220,6 +221,13 @@ int animation_end_frame(const dynrt::Scene& scene, const dynrt::anim::PoseSettin
 /// repeat its last pose (unless --loop plays it again).
 void warn_past_the_end(const dynrt::Scene& scene, const dynrt::anim::PoseSettings& pose,
                        const dynrt::FrameRange& range) {
+    // A BART file names its own sequence (`a`): frames beyond it repeat its last state too.
+    if (scene.setup && range.last >= scene.setup->frame_count && !pose.loop) {
+        std::cerr << "warning: frames " << std::max(range.first, scene.setup->frame_count) << "-"
+                  << range.last << " are past the file's own sequence (frames 0-"
+                  << scene.setup->frame_count - 1 << ")\n";
+        return;
+    }
     if (pose.loop || !pose.clips || pose.clips->empty()) return;
     const int end = animation_end_frame(scene, pose);
     if (range.last <= end) return;
@@ -324,13 +332,13 @@ int run_render(const RenderArgs& args) {
     options.hit_buffers = !aovs.empty();
     const dynrt::FrameRange range =
         args.frames.empty() ? dynrt::FrameRange{} : dynrt::parse_frame_range(args.frames);
-    dynrt::refuse_video(args.out);
-    // One file for the whole sequence: an animated GIF named without a frame number.
-    const bool animated = dynrt::is_animated_image(args.out) && !dynrt::has_frame_number(args.out);
+    // One file for the whole sequence: an animated GIF or a video, named without a frame number.
+    const bool animated = dynrt::is_sequence_file(args.out) && !dynrt::has_frame_number(args.out);
+    if (animated) dynrt::check_sequence_file(args.out);
     if (range.count() > 1 && !dynrt::has_frame_number(args.out) && !animated) {
         throw std::invalid_argument("--out '" + args.out + "': several frames need a frame "
                                     "number in the name, e.g. 'frames/%04d.png', or an "
-                                    "animated .gif");
+                                    "animated .gif or a video (.mp4)");
     }
     if (animated && range.count() > 1 && !aovs.empty()) {
         throw std::invalid_argument("--aov with an animated --out '" + args.out +
@@ -365,8 +373,8 @@ int run_render(const RenderArgs& args) {
               << options.height << ", frames " << range.first << "-" << range.last << " -> "
               << args.out << std::endl;
     double total_ms = 0.0;
-    std::optional<dynrt::AnimatedImageWriter> gif;
-    if (animated) gif.emplace(args.out, options.pose.fps);
+    std::unique_ptr<dynrt::SequenceFile> sequence_file;
+    if (animated) sequence_file = dynrt::open_sequence_file(args.out, options.pose.fps);
     std::optional<dynrt::ContactSheet> sheet;
     if (!args.contact_sheet.empty()) sheet.emplace(range.count());
     for (int f = range.first; f <= range.last; ++f) {
@@ -375,8 +383,8 @@ int run_render(const RenderArgs& args) {
             scene_camera ? dynrt::camera_from_scene(*renderer.posed().camera) : fixed_camera;
         renderer.trace(camera, frame);
         const std::string path = dynrt::frame_path(args.out, f);
-        if (gif) {
-            gif->add(frame);
+        if (sequence_file) {
+            sequence_file->add(frame);
         } else {
             dynrt::write_image(path, frame);
         }
@@ -387,7 +395,7 @@ int run_render(const RenderArgs& args) {
         if (progress) draw_progress(f - range.first + 1, range.count(), total_ms / double(frames.size()));
     }
 
-    if (gif) gif->close();
+    if (sequence_file) sequence_file->close();
     if (sheet) {
         sheet->write(args.contact_sheet);
         std::cout << "contact sheet: " << args.contact_sheet << " (" << sheet->size()
@@ -838,7 +846,8 @@ int main(int argc, char** argv) {
     add_frame_options(render_cmd, render);
     render_cmd->add_option("--out", render.out,
                            "Output image, format by extension; for several frames a numbered "
-                           "name ('frames/%04d.png') or one animated .gif")
+                           "name ('frames/%04d.png'), one animated .gif or a video (.mp4, .mov, "
+                           ".mkv, .webm, .avi; needs ffmpeg)")
         ->capture_default_str();
     render_cmd->add_option("--contact-sheet", render.contact_sheet,
                            "Also write the frames as thumbnails in a grid (up to 64, spread "

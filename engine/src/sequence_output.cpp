@@ -6,12 +6,18 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <iterator>
 #include <stdexcept>
 #include <string>
+#include <system_error>
 
 namespace dynrt {
 
@@ -37,69 +43,156 @@ std::vector<std::uint8_t> to_srgb8(const RenderedFrame& frame) {
 
 }  // namespace
 
-bool is_animated_image(const std::filesystem::path& path) { return lower_extension(path) == ".gif"; }
+namespace {
 
-void refuse_video(const std::filesystem::path& path) {
+constexpr const char* kVideoExtensions[] = {".mp4", ".mov", ".mkv", ".webm", ".avi"};
+
+bool is_video(const std::filesystem::path& path) {
     const std::string ext = lower_extension(path);
-    for (const char* video : {".mp4", ".mov", ".mkv", ".webm", ".avi"}) {
-        if (ext != video) continue;
-        throw std::invalid_argument(
-            "--out " + path.string() + ": dynrt does not write video; write numbered frames "
-            "(--out 'frames/%04d.png') and encode them, e.g. ffmpeg -framerate 24 -i "
-            "frames/%04d.png -pix_fmt yuv420p " + path.filename().string() +
-            ", or an animated GIF (--out " + path.stem().string() + ".gif)");
-    }
+    return std::find_if(std::begin(kVideoExtensions), std::end(kVideoExtensions),
+                        [&](const char* v) { return ext == v; }) != std::end(kVideoExtensions);
 }
 
-struct AnimatedImageWriter::Impl {
-    std::filesystem::path path;
-    double fps = 24.0;
-    std::unique_ptr<OIIO::ImageOutput> out;
-    int width = 0, height = 0;
-    bool open = false;
+/// The ffmpeg program on the PATH, or an empty path.
+std::filesystem::path find_ffmpeg() {
+    const char* path = std::getenv("PATH");
+    std::string dirs = path ? path : "";
+    std::size_t start = 0;
+    while (start <= dirs.size()) {
+        const std::size_t colon = std::min(dirs.find(':', start), dirs.size());
+        const std::filesystem::path candidate = std::filesystem::path(dirs.substr(start, colon - start)) / "ffmpeg";
+        std::error_code error;
+        if (colon > start && std::filesystem::is_regular_file(candidate, error) &&
+            ::access(candidate.c_str(), X_OK) == 0) {
+            return candidate;
+        }
+        start = colon + 1;
+    }
+    return {};
+}
+
+/// `text` quoted for the shell: in single quotes, each ' written as '\''.
+std::string shell_quote(const std::string& text) {
+    std::string out = "'";
+    for (const char c : text) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return out + "'";
+}
+
+class GifFile final : public SequenceFile {
+public:
+    GifFile(const std::filesystem::path& path, double fps) : path_(path), fps_(fps) {
+        out_ = OIIO::ImageOutput::create(path.string());
+        if (!out_ || !out_->supports("multiimage") || !out_->supports("appendsubimage")) {
+            throw std::invalid_argument(path.string() + ": this OpenImageIO cannot write several "
+                                        "frames to a GIF; write numbered images ('frames/%04d.png')");
+        }
+    }
+    ~GifFile() override {
+        if (open_) out_->close();  // keeps the frames written so far
+    }
+
+    void add(const RenderedFrame& frame) override {
+        if (open_ && (frame.width != width_ || frame.height != height_)) {
+            throw std::runtime_error(path_.string() + ": every frame must have the first one's size");
+        }
+        OIIO::ImageSpec spec(frame.width, frame.height, 3, OIIO::TypeDesc::UINT8);
+        // GIF stores delays in hundredths of a second; OpenImageIO takes the rate as a ratio.
+        const int rate[2] = {100, std::max(1, int(std::lround(100.0 / fps_)))};
+        spec.attribute("FramesPerSecond", OIIO::TypeDesc::TypeRational, rate);
+        spec.attribute("gif:LoopCount", 0);  // loop for ever
+        const auto mode = open_ ? OIIO::ImageOutput::AppendSubimage : OIIO::ImageOutput::Create;
+        const std::vector<std::uint8_t> pixels = to_srgb8(frame);
+        if (!out_->open(path_.string(), spec, mode) ||
+            !out_->write_image(OIIO::TypeDesc::UINT8, pixels.data())) {
+            throw std::runtime_error(path_.string() + ": " + out_->geterror());
+        }
+        open_ = true;
+        width_ = frame.width;
+        height_ = frame.height;
+    }
+
+    void close() override {
+        if (!open_) throw std::runtime_error(path_.string() + ": no frame was written");
+        open_ = false;
+        if (!out_->close()) throw std::runtime_error(path_.string() + ": " + out_->geterror());
+    }
+
+private:
+    std::filesystem::path path_;
+    double fps_;
+    std::unique_ptr<OIIO::ImageOutput> out_;
+    int width_ = 0, height_ = 0;
+    bool open_ = false;
 };
 
-AnimatedImageWriter::AnimatedImageWriter(const std::filesystem::path& path, double fps)
-    : impl_(std::make_unique<Impl>()) {
-    impl_->path = path;
-    impl_->fps = fps;
-    impl_->out = OIIO::ImageOutput::create(path.string());
-    if (!impl_->out || !impl_->out->supports("multiimage") || !impl_->out->supports("appendsubimage")) {
-        throw std::invalid_argument(path.string() + ": this format cannot hold several frames "
-                                    "(use .gif, or numbered images such as 'frames/%04d.png')");
+/// Raw RGB frames piped into ffmpeg, started at the first frame (whose size it needs).
+class VideoFile final : public SequenceFile {
+public:
+    VideoFile(const std::filesystem::path& path, double fps) : path_(path), fps_(fps) {}
+    ~VideoFile() override {
+        if (pipe_) pclose(pipe_);  // ffmpeg finishes what it got
     }
+
+    void add(const RenderedFrame& frame) override {
+        if (!pipe_) start(frame.width, frame.height);
+        if (frame.width != width_ || frame.height != height_) {
+            throw std::runtime_error(path_.string() + ": every frame must have the first one's size");
+        }
+        const std::vector<std::uint8_t> pixels = to_srgb8(frame);
+        if (std::fwrite(pixels.data(), 1, pixels.size(), pipe_) != pixels.size()) {
+            throw std::runtime_error(path_.string() + ": ffmpeg stopped reading frames");
+        }
+    }
+
+    void close() override {
+        if (!pipe_) throw std::runtime_error(path_.string() + ": no frame was written");
+        const int status = pclose(pipe_);
+        pipe_ = nullptr;
+        if (status != 0) {
+            throw std::runtime_error(path_.string() + ": ffmpeg failed (exit status " +
+                                     std::to_string(status) + "); its messages are above");
+        }
+    }
+
+private:
+    void start(int width, int height) {
+        width_ = width;
+        height_ = height;
+        // yuv420p (what players expect) needs even sizes: pad by one pixel when odd.
+        const std::string command =
+            shell_quote(find_ffmpeg().string()) + " -nostdin -y -loglevel error -f rawvideo -pix_fmt rgb24 -s " +
+            std::to_string(width) + "x" + std::to_string(height) + " -r " + std::to_string(fps_) +
+            " -i - -vf pad=ceil(iw/2)*2:ceil(ih/2)*2 -pix_fmt yuv420p " + shell_quote(path_.string());
+        pipe_ = popen(command.c_str(), "w");
+        if (!pipe_) throw std::runtime_error(path_.string() + ": cannot start ffmpeg");
+    }
+
+    std::filesystem::path path_;
+    double fps_;
+    FILE* pipe_ = nullptr;
+    int width_ = 0, height_ = 0;
+};
+
+}  // namespace
+
+bool is_sequence_file(const std::filesystem::path& path) {
+    return lower_extension(path) == ".gif" || is_video(path);
 }
 
-AnimatedImageWriter::~AnimatedImageWriter() {
-    if (impl_ && impl_->open) impl_->out->close();  // keeps the frames written so far
+void check_sequence_file(const std::filesystem::path& path) {
+    if (!is_video(path) || !find_ffmpeg().empty()) return;
+    throw std::invalid_argument(
+        "--out " + path.string() + ": writing video needs the ffmpeg program, which is not on "
+        "the PATH (Debian: apt-get install ffmpeg); or write an animated GIF (--out " +
+        path.stem().string() + ".gif) or numbered frames (--out 'frames/%04d.png') and encode "
+        "them with ffmpeg -framerate 24 -i frames/%04d.png -pix_fmt yuv420p " +
+        path.filename().string());
 }
 
-void AnimatedImageWriter::add(const RenderedFrame& frame) {
-    Impl& s = *impl_;
-    if (s.open && (frame.width != s.width || frame.height != s.height)) {
-        throw std::runtime_error(s.path.string() + ": every frame must have the first one's size");
-    }
-    OIIO::ImageSpec spec(frame.width, frame.height, 3, OIIO::TypeDesc::UINT8);
-    // GIF stores delays in hundredths of a second; OpenImageIO takes the rate as a ratio.
-    const int hundredths = std::max(1, int(std::lround(100.0 / s.fps)));
-    const int rate[2] = {100, hundredths};
-    spec.attribute("FramesPerSecond", OIIO::TypeDesc::TypeRational, rate);
-    spec.attribute("gif:LoopCount", 0);  // loop for ever
-    const OIIO::ImageOutput::OpenMode mode = s.open ? OIIO::ImageOutput::AppendSubimage : OIIO::ImageOutput::Create;
-    const std::vector<std::uint8_t> pixels = to_srgb8(frame);
-    if (!s.out->open(s.path.string(), spec, mode) || !s.out->write_image(OIIO::TypeDesc::UINT8, pixels.data())) {
-        throw std::runtime_error(s.path.string() + ": " + s.out->geterror());
-    }
-    s.open = true;
-    s.width = frame.width;
-    s.height = frame.height;
-}
-
-void AnimatedImageWriter::close() {
-    Impl& s = *impl_;
-    if (!s.open) throw std::runtime_error(s.path.string() + ": no frame was written");
-    s.open = false;
-    if (!s.out->close()) throw std::runtime_error(s.path.string() + ": " + s.out->geterror());
+std::unique_ptr<SequenceFile> open_sequence_file(const std::filesystem::path& path, double fps) {
+    check_sequence_file(path);
+    if (is_video(path)) return std::make_unique<VideoFile>(path, fps);
+    return std::make_unique<GifFile>(path, fps);
 }
 
 ContactSheet::ContactSheet(int frame_count, int max_frames, int thumb)

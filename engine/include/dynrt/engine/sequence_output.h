@@ -1,7 +1,8 @@
 #pragma once
-// Outputs that take a whole sequence rather than one image per frame: an animated GIF
-// (`--out anim.gif`) and a contact sheet (`--contact-sheet sheet.png`, thumbnails of the
-// frames in a grid). Video formats are recognised so that they get a clear refusal.
+// Outputs that take a whole sequence rather than one image per frame: an animated GIF or a
+// video (`--out anim.gif`, `--out anim.mp4`, the latter through the ffmpeg program when it is
+// installed) and a contact sheet (`--contact-sheet sheet.png`, thumbnails of the frames in a
+// grid).
 
 #include "dynrt/engine/renderer.h"
 
@@ -11,35 +12,30 @@
 
 namespace dynrt {
 
-/// True for an output that holds a whole sequence in one file (.gif).
-bool is_animated_image(const std::filesystem::path& path);
-
-/// Throws std::invalid_argument for a video file name (.mp4, .mov, .mkv, .webm, .avi), saying
-/// what to use instead: dynrt writes numbered images or an animated GIF, which any video tool
-/// turns into a video (the message gives the ffmpeg command).
-void refuse_video(const std::filesystem::path& path);
-
-/// Writes frames one after the other into one animated GIF at `fps` frames per second, looping
-/// for ever, through OpenImageIO. Frames are written as they come (nothing is kept), and must
-/// all have the first one's size. The file is complete after close(); a writer destroyed
-/// without close() (an error part way) leaves what was written.
-class AnimatedImageWriter {
+/// One file that holds a whole sequence, written frame by frame as the frames come (nothing
+/// is kept): an animated GIF through OpenImageIO, or a video through ffmpeg.
+class SequenceFile {
 public:
-    /// Throws std::invalid_argument when OpenImageIO cannot write several frames to `path`.
-    AnimatedImageWriter(const std::filesystem::path& path, double fps);
-    ~AnimatedImageWriter();
-    AnimatedImageWriter(const AnimatedImageWriter&) = delete;
-    AnimatedImageWriter& operator=(const AnimatedImageWriter&) = delete;
-
-    /// Appends one frame (sRGB-encoded, 8 bits). Throws std::runtime_error naming the file.
-    void add(const RenderedFrame& frame);
-    /// Finishes the file. Throws std::runtime_error naming it on failure.
-    void close();
-
-private:
-    struct Impl;
-    std::unique_ptr<Impl> impl_;
+    virtual ~SequenceFile() = default;
+    /// Appends one frame (sRGB-encoded, 8 bits); every frame must have the first one's size.
+    /// Throws std::runtime_error naming the file.
+    virtual void add(const RenderedFrame& frame) = 0;
+    /// Finishes the file. Throws std::runtime_error naming it on failure. A file destroyed
+    /// without close() (an error part way) keeps what was written.
+    virtual void close() = 0;
 };
+
+/// True for names of such files: .gif, and the video formats .mp4, .mov, .mkv, .webm, .avi.
+bool is_sequence_file(const std::filesystem::path& path);
+
+/// Throws std::invalid_argument, before any rendering, when `path` cannot be written as a
+/// sequence file: a video needs the ffmpeg program on the PATH, and the message says how to
+/// install it or what to write instead.
+void check_sequence_file(const std::filesystem::path& path);
+
+/// Opens `path` (a name is_sequence_file accepts) for frames at `fps` frames per second; a
+/// GIF loops for ever, a video is H.264 (or the container's default codec) in yuv420p.
+std::unique_ptr<SequenceFile> open_sequence_file(const std::filesystem::path& path, double fps);
 
 /// Thumbnails of a sequence's frames in a grid, written as one image. Keeps at most
 /// `max_frames` thumbnails (every k-th frame of a longer sequence, k chosen up front from the

@@ -114,7 +114,9 @@ TEST(FramePath, RandomPatternsFormatOrAreRefused) {
         ++formatted;
         numbered += has ? 1 : 0;
         ASSERT_EQ(a != b, has) << pattern;
-        if (has) ASSERT_NE(b.find(std::to_string(kFrameMax)), std::string::npos) << pattern << " -> " << b;
+        if (has) {
+            ASSERT_NE(b.find(std::to_string(kFrameMax)), std::string::npos) << pattern << " -> " << b;
+        }
     }
     EXPECT_GT(formatted, 1000);
     EXPECT_GT(numbered, 100);

@@ -351,7 +351,15 @@ int run_render(const RenderArgs& args) {
     // which is made as renderers do, but only once the scene has loaded: a run that fails
     // before rendering leaves nothing behind. Until then only the format is checked.
     const bool makes_folder = dynrt::has_frame_number(args.out) && first_path.has_parent_path();
-    dynrt::check_image_path(makes_folder ? first_path.filename() : first_path);
+    if (animated) {
+        // A sequence file's format was checked above (a video is not an image format).
+        if (first_path.has_parent_path() && !std::filesystem::is_directory(first_path.parent_path())) {
+            throw std::invalid_argument(args.out + ": folder " + first_path.parent_path().string() +
+                                        " does not exist");
+        }
+    } else {
+        dynrt::check_image_path(makes_folder ? first_path.filename() : first_path);
+    }
     if (!args.report.empty()) check_report_path(args.report);
 
     const std::string source = scene_source(args);

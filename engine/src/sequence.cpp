@@ -99,8 +99,10 @@ std::string frame_path(std::string_view pattern, int frame) {
     const Conversion c = find_conversion(pattern);
     if (c.begin == std::string_view::npos) return unescape(pattern);
     const std::string spec(pattern.substr(c.begin, c.end - c.begin));
-    char number[64];
-    std::snprintf(number, sizeof number, spec.c_str(), frame);
+    // Sized by a first call: a wide field ('%233d') must not be cut short, which would give
+    // every frame the same name.
+    std::string number(std::size_t(std::snprintf(nullptr, 0, spec.c_str(), frame)), '\0');
+    std::snprintf(number.data(), number.size() + 1, spec.c_str(), frame);
     return unescape(pattern.substr(0, c.begin)) + number + unescape(pattern.substr(c.end));
 }
 

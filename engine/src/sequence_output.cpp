@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <csignal>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -131,6 +132,7 @@ public:
     VideoFile(const std::filesystem::path& path, double fps) : path_(path), fps_(fps) {}
     ~VideoFile() override {
         if (pipe_) pclose(pipe_);  // ffmpeg finishes what it got
+        if (previous_sigpipe_ != SIG_ERR) std::signal(SIGPIPE, previous_sigpipe_);
     }
 
     void add(const RenderedFrame& frame) override {
@@ -162,7 +164,10 @@ private:
         const std::string command =
             shell_quote(find_ffmpeg().string()) + " -nostdin -y -loglevel error -f rawvideo -pix_fmt rgb24 -s " +
             std::to_string(width) + "x" + std::to_string(height) + " -r " + std::to_string(fps_) +
-            " -i - -vf pad=ceil(iw/2)*2:ceil(ih/2)*2 -pix_fmt yuv420p " + shell_quote(path_.string());
+            " -i - -vf " + shell_quote("pad=ceil(iw/2)*2:ceil(ih/2)*2") + " -pix_fmt yuv420p " +
+            shell_quote(path_.string());
+        // An ffmpeg that exits early must make fwrite fail (EPIPE), not kill dynrt (SIGPIPE).
+        previous_sigpipe_ = std::signal(SIGPIPE, SIG_IGN);
         pipe_ = popen(command.c_str(), "w");
         if (!pipe_) throw std::runtime_error(path_.string() + ": cannot start ffmpeg");
     }
@@ -171,6 +176,7 @@ private:
     double fps_;
     FILE* pipe_ = nullptr;
     int width_ = 0, height_ = 0;
+    void (*previous_sigpipe_)(int) = SIG_ERR;
 };
 
 }  // namespace

@@ -1,3 +1,4 @@
+#include "dynrt/anim/procedural_motion.h"
 #include "dynrt/engine/renderer.h"
 #include "dynrt/engine/scene_loading.h"
 #include "dynrt/scene/scene_error.h"
@@ -6,6 +7,8 @@
 
 #include <cmath>
 #include <limits>
+#include <string>
+#include <vector>
 
 namespace dynrt {
 namespace {
@@ -29,6 +32,31 @@ Camera looking_down_z() {
     camera.target = glm::vec3(0.0f);
     camera.fov_y_deg = 40.0f;
     return camera;
+}
+
+/// The default framing of a sequence covers where the scene goes, not only frame 0: an
+/// exploding sphere's fragments fly out by f 0.02 R (0.5 .. 1.5) along their normals, so by
+/// frame 45 its box is about twice as wide; the last frame is always among those sampled.
+TEST(Renderer, SequenceBoundsCoverEveryFrameTheSceneMovesThrough) {
+    Scene scene = load_scene("sphere:200@3,0,0,1");
+    const std::vector<std::string> motions = {"explode"};
+    anim::add_procedural_motions(scene, motions);
+    const anim::PoseSettings pose;
+    const bvh::Aabb first = sequence_bounds(scene, pose, 0, 0);
+    const bvh::Aabb all = sequence_bounds(scene, pose, 0, 45);
+    const bvh::Aabb last = sequence_bounds(scene, pose, 45, 45);
+    EXPECT_NEAR(first.lo.x, 2.0f, 1e-3f);
+    EXPECT_NEAR(first.hi.x, 4.0f, 1e-3f);
+    EXPECT_GT(last.hi.x - last.lo.x, 1.5f * (first.hi.x - first.lo.x));
+    for (int a = 0; a < 3; ++a) {
+        EXPECT_LE(all.lo[a], std::min(first.lo[a], last.lo[a]));
+        EXPECT_GE(all.hi[a], std::max(first.hi[a], last.hi[a]));
+    }
+    // A still scene is posed once and gives frame 0's bounds whatever the range.
+    const Scene still = load_scene("sphere:200@3,0,0,1");
+    const bvh::Aabb a = sequence_bounds(still, pose, 0, 0), b = sequence_bounds(still, pose, 0, 1000);
+    EXPECT_EQ(a.lo, b.lo);
+    EXPECT_EQ(a.hi, b.hi);
 }
 
 TEST(Renderer, DegenerateTrianglesAreSkippedAndCounted) {

@@ -204,21 +204,26 @@ bool traverse_octant(const WideBvhOf<N>& wide, ChildRef start, bool from_root, c
     }
 }
 
+/// traverse_octant with counting when `stats` is given.
+template <int N, bool kAnyHit>
+bool traverse_counted(const WideBvhOf<N>& wide, ChildRef start, bool from_root, const Ray& ray,
+                      Hit& hit, WideTraversalStats* stats) {
+    if (stats) return traverse_octant<N, kAnyHit, true>(wide, start, from_root, ray, hit, stats);
+    return traverse_octant<N, kAnyHit, false>(wide, start, from_root, ray, hit, nullptr);
+}
+
 /// A query of the whole tree: none when the ray misses the root box.
 template <int N, bool kAnyHit>
 bool traverse_tree(const WideBvhOf<N>& wide, const Ray& ray, Hit& hit, WideTraversalStats* stats) {
-    if (wide.nodes.empty()) return false;
-    if (stats) return traverse_octant<N, kAnyHit, true>(wide, ChildRef{0, 0}, true, ray, hit, stats);
-    return traverse_octant<N, kAnyHit, false>(wide, ChildRef{0, 0}, true, ray, hit, nullptr);
+    return !wide.nodes.empty() && traverse_counted<N, kAnyHit>(wide, ChildRef{0, 0}, true, ray, hit, stats);
 }
 
 /// A query below one subtree, for a ray that meets its box.
 template <int N, bool kAnyHit>
 bool traverse_subtree(const WideBvhOf<N>& wide, WideSubtree subtree, const Ray& ray, Hit& hit,
                       WideTraversalStats* stats) {
-    const ChildRef start{subtree.child, subtree.blocks};
-    if (stats) return traverse_octant<N, kAnyHit, true>(wide, start, false, ray, hit, stats);
-    return traverse_octant<N, kAnyHit, false>(wide, start, false, ray, hit, nullptr);
+    return traverse_counted<N, kAnyHit>(wide, ChildRef{subtree.child, subtree.blocks}, false, ray,
+                                        hit, stats);
 }
 
 }  // namespace

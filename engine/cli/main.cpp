@@ -313,17 +313,22 @@ void print_rebuild_summary(std::ostream& out, const std::vector<dynrt::FrameStat
     out << (reasons.empty() ? "\n" : ")\n");
 }
 
+/// Fails before any rendering when a file could not be written afterwards because its folder
+/// is missing; `label` names it in the message ("--report r.json").
+void require_folder(const std::filesystem::path& path, const std::string& label) {
+    const std::filesystem::path parent = path.parent_path();
+    if (!parent.empty() && !std::filesystem::is_directory(parent)) {
+        throw std::invalid_argument(label + ": folder " + parent.string() + " does not exist");
+    }
+}
+
 /// Fails before any rendering when the report could not be written afterwards: its folder
 /// missing, or the path a folder.
 void check_report_path(const std::filesystem::path& path) {
     if (std::filesystem::is_directory(path)) {
         throw std::invalid_argument("--report " + path.string() + ": is a folder");
     }
-    const std::filesystem::path parent = path.parent_path();
-    if (!parent.empty() && !std::filesystem::is_directory(parent)) {
-        throw std::invalid_argument("--report " + path.string() + ": folder " + parent.string() +
-                                    " does not exist");
-    }
+    require_folder(path, "--report " + path.string());
 }
 
 int run_render(const RenderArgs& args) {
@@ -353,10 +358,7 @@ int run_render(const RenderArgs& args) {
     const bool makes_folder = dynrt::has_frame_number(args.out) && first_path.has_parent_path();
     if (animated) {
         // A sequence file's format was checked above (a video is not an image format).
-        if (first_path.has_parent_path() && !std::filesystem::is_directory(first_path.parent_path())) {
-            throw std::invalid_argument(args.out + ": folder " + first_path.parent_path().string() +
-                                        " does not exist");
-        }
+        require_folder(first_path, args.out);
     } else {
         dynrt::check_image_path(makes_folder ? first_path.filename() : first_path);
     }

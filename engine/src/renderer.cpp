@@ -55,11 +55,7 @@ PointLight default_light(const bvh::Aabb& bounds) {
     return PointLight{c + 4.0f * r * glm::normalize(glm::vec3(-0.5f, 1.0f, 0.8f)), 1.0f};
 }
 
-bvh::Aabb scene_bounds(const Scene& scene) {
-    anim::PosedScene posed;
-    anim::pose_scene(scene, 0, posed);
-    return bounds_of(posed);
-}
+bvh::Aabb scene_bounds(const Scene& scene) { return sequence_bounds(scene, {}, 0, 0); }
 
 bvh::Aabb sequence_bounds(const Scene& scene, const anim::PoseSettings& pose, int first, int last,
                           int samples) {
@@ -75,8 +71,7 @@ bvh::Aabb sequence_bounds(const Scene& scene, const anim::PoseSettings& pose, in
         const int frame =
             count == 1 ? first : first + int(std::int64_t(last - first) * i / (count - 1));
         poser.pose(frame, posed);
-        const bvh::Aabb b = bounds_of(posed);
-        bounds.extend(b);
+        bounds.extend(bounds_of(posed));
     }
     return bounds;
 }
@@ -138,7 +133,6 @@ void Renderer::update(const Scene& scene, int frame) {
     stats.frame = frame;
 
     // ---- Update: evaluate the animation, then bring every object's tree to this frame ----
-    Stopwatch clock;
     s.poser->pose(frame, s.posed);
     UpdatePolicy policy;
     policy.build = options_.build;

@@ -109,20 +109,37 @@ inline std::uint32_t box_chunk(const Work& w, const bvh::Aabb& box, const NodePl
     return L::bits(tn <= tf * L::splat(kFarScale));
 }
 
-/// The same test for one lane (the early-hit ray).
-inline bool lane_hits_box(const Work& w, const bvh::Aabb& box, int lane) {
-    float tn = w.tnear[lane];
-    float tf = w.tfar[lane];
+/// x in every lane of V, a float (one box) or a SIMD vector of floats (one box per lane):
+/// x - 0 is x exactly, -0 and NaN included.
+template <class V>
+inline V broadcast(float x) {
+    return x - V{};
+}
+
+/// The box test of one lane (the early-hit ray) against boxes with planes lo[axis], hi[axis]:
+/// one box (V = float, a bool back) or one per SIMD lane (a lane mask back), the same
+/// arithmetic either way.
+template <class V>
+inline auto lane_hits_boxes(const Work& w, int lane, const V (&lo)[3], const V (&hi)[3]) {
+    V tn = broadcast<V>(w.tnear[lane]);
+    V tf = broadcast<V>(w.tfar[lane]);
     for (int a = 0; a < 3; ++a) {
         const float inv = w.inv[a][lane];
-        const float o = w.org[a][lane];
+        const V o = broadcast<V>(w.org[a][lane]);
         const bool negative = inv < 0.0f;
-        const float t0 = ((negative ? box.hi[a] : box.lo[a]) - o) * inv;
-        const float t1 = ((negative ? box.lo[a] : box.hi[a]) - o) * inv;
+        const V t0 = ((negative ? hi[a] : lo[a]) - o) * broadcast<V>(inv);
+        const V t1 = ((negative ? lo[a] : hi[a]) - o) * broadcast<V>(inv);
         tn = t0 > tn ? t0 : tn;
         tf = t1 < tf ? t1 : tf;
     }
-    return tn <= tf * kFarScale;
+    return tn <= tf * broadcast<V>(kFarScale);
+}
+
+/// lane_hits_boxes for one box.
+inline bool lane_hits_box(const Work& w, const bvh::Aabb& box, int lane) {
+    const float lo[3] = {box.lo.x, box.lo.y, box.lo.z};
+    const float hi[3] = {box.hi.x, box.hi.y, box.hi.z};
+    return lane_hits_boxes<float>(w, lane, lo, hi);
 }
 
 /// Early miss: true only if no active lane's box test can hit. Lane i's entry distance is the
@@ -132,30 +149,40 @@ inline bool lane_hits_box(const Work& w, const bvh::Aabb& box, int lane) {
 /// [inv_lo, inv_hi]. Likewise the exit distance is at most the largest such product for the
 /// far plane, so entry_lo > exit_hi * kFarScale rules out every lane. Axes without valid
 /// intervals are simply left out, which only weakens the bound. `tfar_hi` bounds the current
-/// tmax of the lanes concerned (those of the node's range). With a common octant, or per axis
-/// with a common sign, the near and far planes are the NodePlanes' (for axes whose sign is not
-/// common the interval is not valid anyway).
-inline bool beam_misses(const Beam& b, const NodePlanes& np, float tfar_hi) {
-    float tn = b.tnear_lo;
-    float tf = tfar_hi;
+/// tmax of the lanes concerned (those of the node's range). `near` and `far` are the planes
+/// for each axis's common sign (on axes whose sign is not common the interval is not valid
+/// anyway), for one box (V = float, a bool back) or one per SIMD lane (a lane mask back).
+template <class V>
+inline auto beam_misses_boxes(const Beam& b, const V (&near)[3], const V (&far)[3], float tfar_hi) {
+    // std::min / std::max's order: NaN-ignoring in the same way.
+    const auto min = [](V x, V y) { return y < x ? y : x; };
+    const auto max = [](V x, V y) { return x < y ? y : x; };
+    V tn = broadcast<V>(b.tnear_lo);
+    V tf = broadcast<V>(tfar_hi);
     for (int a = 0; a < 3; ++a) {
         if (!b.interval_ok[a]) continue;
-        const float i_lo = b.inv_lo[a], i_hi = b.inv_hi[a];
-        float t0, t1;
+        const V i_lo = broadcast<V>(b.inv_lo[a]), i_hi = broadcast<V>(b.inv_hi[a]);
+        V t0, t1;
         if (b.common_origin) {
-            const float n = np.near_rel[a], f = np.far_rel[a];
-            t0 = std::min(n * i_lo, n * i_hi);
-            t1 = std::max(f * i_lo, f * i_hi);
+            const V n = near[a] - broadcast<V>(b.origin[a]), f = far[a] - broadcast<V>(b.origin[a]);
+            t0 = min(n * i_lo, n * i_hi);
+            t1 = max(f * i_lo, f * i_hi);
         } else {
-            const float n_lo = np.near[a] - b.org_hi[a], n_hi = np.near[a] - b.org_lo[a];
-            const float f_lo = np.far[a] - b.org_hi[a], f_hi = np.far[a] - b.org_lo[a];
-            t0 = std::min(std::min(n_lo * i_lo, n_lo * i_hi), std::min(n_hi * i_lo, n_hi * i_hi));
-            t1 = std::max(std::max(f_lo * i_lo, f_lo * i_hi), std::max(f_hi * i_lo, f_hi * i_hi));
+            const V o_lo = broadcast<V>(b.org_lo[a]), o_hi = broadcast<V>(b.org_hi[a]);
+            const V n_lo = near[a] - o_hi, n_hi = near[a] - o_lo;
+            const V f_lo = far[a] - o_hi, f_hi = far[a] - o_lo;
+            t0 = min(min(n_lo * i_lo, n_lo * i_hi), min(n_hi * i_lo, n_hi * i_hi));
+            t1 = max(max(f_lo * i_lo, f_lo * i_hi), max(f_hi * i_lo, f_hi * i_hi));
         }
-        tn = std::max(tn, t0);
-        tf = std::min(tf, t1);
+        tn = max(tn, t0);
+        tf = min(tf, t1);
     }
-    return tn > tf * kFarScale;
+    return tn > tf * broadcast<V>(kFarScale);
+}
+
+/// beam_misses_boxes for one node's planes.
+inline bool beam_misses(const Beam& b, const NodePlanes& np, float tfar_hi) {
+    return beam_misses_boxes<float>(b, np.near, np.far, tfar_hi);
 }
 
 // ---- Triangle tests -------------------------------------------------------------------------

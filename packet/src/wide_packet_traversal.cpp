@@ -47,7 +47,6 @@ class WideTraversal : RangeTracer<W, kAnyHit, kCount> {
     /// N lanes, one per child of a node.
     using C = simd::Lanes<N>;
     using CF = typename C::F;
-    using CI = typename C::I;
     using Node = bvh::WideNode<N>;
 
 public:
@@ -183,60 +182,28 @@ private:
         }
     }
 
-    /// The children of `node` whose boxes `lane` hits (its own Ize box test, on N children at
-    /// once; an early hit only enters a child, so it needs no exactness argument).
+    /// The children of `node` whose boxes `lane` hits (its own Ize box test, lane_hits_boxes on
+    /// N children at once; an early hit only enters a child, so it needs no exactness
+    /// argument).
     std::uint32_t children_hit_by_lane(const Node& node, int lane) const {
         if constexpr (kCount) stats_->ray_box_tests += N;
-        CF tn = C::splat(w_.tnear[lane]);
-        CF tf = C::splat(w_.tfar[lane]);
-        const float* lo[3] = {node.lo_x, node.lo_y, node.lo_z};
-        const float* hi[3] = {node.hi_x, node.hi_y, node.hi_z};
-        for (int a = 0; a < 3; ++a) {
-            const float inv = w_.inv[a][lane];
-            const CF o = C::splat(w_.org[a][lane]);
-            const CF i = C::splat(inv);
-            const bool negative = inv < 0.0f;
-            const CF t0 = (C::load(negative ? hi[a] : lo[a]) - o) * i;
-            const CF t1 = (C::load(negative ? lo[a] : hi[a]) - o) * i;
-            tn = C::max_into(t0, tn);
-            tf = C::min_into(t1, tf);
-        }
-        return C::bits(tn <= tf * C::splat(kFarScale));
+        const CF lo[3] = {C::load(node.lo_x), C::load(node.lo_y), C::load(node.lo_z)};
+        const CF hi[3] = {C::load(node.hi_x), C::load(node.hi_y), C::load(node.hi_z)};
+        return C::bits(lane_hits_boxes<CF>(w_, lane, lo, hi));
     }
 
-    /// The children no active ray can hit: beam_misses (packet_kernels.h) on N children at
-    /// once, the same arithmetic per child (near and far planes by the axis's common sign,
-    /// products at the corners of the origin and reciprocal-direction intervals, NaN-ignoring
-    /// max and min), so the same conservative bound.
+    /// The children no active ray can hit: beam_misses_boxes (packet_kernels.h) on N children
+    /// at once, with each axis's near and far planes by its common sign.
     std::uint32_t children_missed_by_beam(const Node& node, float tfar_hi) const {
         const Beam& b = w_.beam;
-        CF tn = C::splat(b.tnear_lo);
-        CF tf = C::splat(tfar_hi);
         const float* lo[3] = {node.lo_x, node.lo_y, node.lo_z};
         const float* hi[3] = {node.hi_x, node.hi_y, node.hi_z};
-        const auto min = [](CF x, CF y) { return y < x ? y : x; };
-        const auto max = [](CF x, CF y) { return x < y ? y : x; };
+        CF near[3], far[3];
         for (int a = 0; a < 3; ++a) {
-            if (!b.interval_ok[a]) continue;
-            const CF near = C::load(b.negative[a] ? hi[a] : lo[a]);
-            const CF far = C::load(b.negative[a] ? lo[a] : hi[a]);
-            const CF i_lo = C::splat(b.inv_lo[a]), i_hi = C::splat(b.inv_hi[a]);
-            CF t0, t1;
-            if (b.common_origin) {
-                const CF n = near - C::splat(b.origin[a]), f = far - C::splat(b.origin[a]);
-                t0 = min(n * i_lo, n * i_hi);
-                t1 = max(f * i_lo, f * i_hi);
-            } else {
-                const CF o_lo = C::splat(b.org_lo[a]), o_hi = C::splat(b.org_hi[a]);
-                const CF n_lo = near - o_hi, n_hi = near - o_lo;
-                const CF f_lo = far - o_hi, f_hi = far - o_lo;
-                t0 = min(min(n_lo * i_lo, n_lo * i_hi), min(n_hi * i_lo, n_hi * i_hi));
-                t1 = max(max(f_lo * i_lo, f_lo * i_hi), max(f_hi * i_lo, f_hi * i_hi));
-            }
-            tn = max(tn, t0);
-            tf = min(tf, t1);
+            near[a] = C::load(b.negative[a] ? hi[a] : lo[a]);
+            far[a] = C::load(b.negative[a] ? lo[a] : hi[a]);
         }
-        return C::bits(tn > tf * C::splat(kFarScale));
+        return C::bits(beam_misses_boxes<CF>(b, near, far, tfar_hi));
     }
 
     /// The lanes in `lanes[j]` (bits of chunk first + j) continue one by one below `below`

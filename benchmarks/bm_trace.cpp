@@ -406,31 +406,23 @@ void BM_WatertightIntersect(benchmark::State& state) {
         ->Unit(benchmark::kMillisecond)            \
         ->UseRealTime()
 
-DYNRT_TRACE_BENCHMARK(BM_TraceClosestDynrt, sphere_1M, "sphere:1000000");
-DYNRT_TRACE_BENCHMARK(BM_TraceClosestDynrt, soup_1M, "soup:1000000");
-DYNRT_TRACE_BENCHMARK(BM_TraceClosestBinary, sphere_1M, "sphere:1000000");
-DYNRT_TRACE_BENCHMARK(BM_TraceClosestBinary, soup_1M, "soup:1000000");
-DYNRT_TRACE_BENCHMARK(BM_TraceClosestWide4, sphere_1M, "sphere:1000000");
-DYNRT_TRACE_BENCHMARK(BM_TraceClosestWide4, soup_1M, "soup:1000000");
-DYNRT_TRACE_BENCHMARK(BM_TraceClosestWide8, sphere_1M, "sphere:1000000");
-DYNRT_TRACE_BENCHMARK(BM_TraceClosestWide8, soup_1M, "soup:1000000");
+// Every tracing benchmark on both 1M-triangle scenes.
+#define DYNRT_TRACE_BOTH_SCENES(fn)                          \
+    DYNRT_TRACE_BENCHMARK(fn, sphere_1M, "sphere:1000000"); \
+    DYNRT_TRACE_BENCHMARK(fn, soup_1M, "soup:1000000")
+
+DYNRT_TRACE_BOTH_SCENES(BM_TraceClosestDynrt);
+DYNRT_TRACE_BOTH_SCENES(BM_TraceClosestBinary);
+DYNRT_TRACE_BOTH_SCENES(BM_TraceClosestWide4);
+DYNRT_TRACE_BOTH_SCENES(BM_TraceClosestWide8);
+DYNRT_TRACE_BOTH_SCENES(BM_PacketClosestWide);
+DYNRT_TRACE_BOTH_SCENES(BM_PacketClosestBinary);
+DYNRT_TRACE_BOTH_SCENES(BM_PacketOccludedWide);
+DYNRT_TRACE_BOTH_SCENES(BM_PacketOccludedBinary);
 #if DYNRT_HAVE_EMBREE
-DYNRT_TRACE_BENCHMARK(BM_TraceClosestEmbree, sphere_1M, "sphere:1000000");
-DYNRT_TRACE_BENCHMARK(BM_TraceClosestEmbree, soup_1M, "soup:1000000");
-#endif
-DYNRT_TRACE_BENCHMARK(BM_PacketClosestWide, sphere_1M, "sphere:1000000");
-DYNRT_TRACE_BENCHMARK(BM_PacketClosestWide, soup_1M, "soup:1000000");
-DYNRT_TRACE_BENCHMARK(BM_PacketClosestBinary, sphere_1M, "sphere:1000000");
-DYNRT_TRACE_BENCHMARK(BM_PacketClosestBinary, soup_1M, "soup:1000000");
-DYNRT_TRACE_BENCHMARK(BM_PacketOccludedWide, sphere_1M, "sphere:1000000");
-DYNRT_TRACE_BENCHMARK(BM_PacketOccludedWide, soup_1M, "soup:1000000");
-DYNRT_TRACE_BENCHMARK(BM_PacketOccludedBinary, sphere_1M, "sphere:1000000");
-DYNRT_TRACE_BENCHMARK(BM_PacketOccludedBinary, soup_1M, "soup:1000000");
-#if DYNRT_HAVE_EMBREE
-DYNRT_TRACE_BENCHMARK(BM_PacketClosestEmbree16, sphere_1M, "sphere:1000000");
-DYNRT_TRACE_BENCHMARK(BM_PacketClosestEmbree16, soup_1M, "soup:1000000");
-DYNRT_TRACE_BENCHMARK(BM_PacketOccludedEmbree16, sphere_1M, "sphere:1000000");
-DYNRT_TRACE_BENCHMARK(BM_PacketOccludedEmbree16, soup_1M, "soup:1000000");
+DYNRT_TRACE_BOTH_SCENES(BM_TraceClosestEmbree);
+DYNRT_TRACE_BOTH_SCENES(BM_PacketClosestEmbree16);
+DYNRT_TRACE_BOTH_SCENES(BM_PacketOccludedEmbree16);
 #endif
 BENCHMARK(BM_WatertightIntersect);
 

@@ -1,4 +1,4 @@
-// libFuzzer target: BART's AFF scene files (engine/src/aff_parser.h, aff_scene.h,
+// libFuzzer target: BART's AFF scene files (engine/src/loaders/aff_parser.h, aff_scene.h,
 // aff_keyframes.h): arbitrary text parsed, converted to a scene and posed over its frames.
 // README.md ("Fuzzing") says how to run it. Crash inputs become regression tests in
 // tests/data/fuzz_regressions/aff_scene/.

@@ -1,7 +1,7 @@
-// BART's keyframe tracks as samplers (engine/src/aff_keyframes.h): Kochanek-Bartels positions
+// BART's keyframe tracks as samplers (engine/src/loaders/aff_keyframes.h): Kochanek-Bartels positions
 // and squad rotations worked out by hand, then compared with independent transcriptions of
 // BART's kbsplpos.c, kbsplrot.c and quat.c at many times for random keys, and the errors.
-#include "aff_keyframes.h"
+#include "loaders/aff_keyframes.h"
 
 #include <gtest/gtest.h>
 

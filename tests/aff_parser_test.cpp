@@ -1,7 +1,7 @@
-// The AFF parser (engine/src/aff_parser.h): every command on snippets written here, comments,
+// The AFF parser (engine/src/loaders/aff_parser.h): every command on snippets written here, comments,
 // includes relative to the including file, file:line errors; and, when ../shared/scenes/bart
 // is present, the three BART scenes parsed completely.
-#include "aff_parser.h"
+#include "loaders/aff_parser.h"
 
 #include <gtest/gtest.h>
 

@@ -1,10 +1,10 @@
-// BART's AFF model turned into the scene model (engine/src/aff_scene.h): what becomes which
+// BART's AFF model turned into the scene model (engine/src/loaders/aff_scene.h): what becomes which
 // object, node, class, camera and light, checked on snippets the tests write; then the three
 // BART scenes, when ../shared/scenes/bart is there, load, classify as their motion says and
 // render every sampled frame in agreement with the exact reference on their flattened triangles.
 
-#include "aff_parser.h"
-#include "aff_scene.h"
+#include "loaders/aff_parser.h"
+#include "loaders/aff_scene.h"
 #include "image_comparison.h"
 #include "reference_renderer.h"
 #include "reference_tracer.h"

@@ -1,6 +1,6 @@
 // The gnuplot script behind `dynrt bench --plot`: the right data, axes and layout per sweep.
 
-#include "dynrt/engine/bench_plot.h"
+#include "dynrt/bench/bench_plot.h"
 
 #include <gtest/gtest.h>
 

@@ -2,8 +2,8 @@
 // timeline chart of an animated run.
 
 #include "dynrt/anim/procedural_motion.h"
-#include "dynrt/engine/bench_plot.h"
-#include "dynrt/engine/bench_sequence.h"
+#include "dynrt/bench/bench_plot.h"
+#include "dynrt/bench/bench_sequence.h"
 #include "dynrt/engine/scene_loading.h"
 
 #include <gtest/gtest.h>

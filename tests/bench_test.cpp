@@ -1,6 +1,6 @@
 #include "dynrt/anim/procedural_motion.h"
 #include "dynrt/bvh/wide_bvh.h"
-#include "dynrt/engine/bench.h"
+#include "dynrt/bench/bench.h"
 #include "dynrt/engine/scene_loading.h"
 
 #include <gtest/gtest.h>

@@ -1,12 +1,12 @@
-// `dynrt bench --error`'s machinery (tests/reference/error_bench.h): every exact setting (cost
+// `dynrt bench --error`'s machinery (engine/include/dynrt/bench/error_bench.h): every exact setting (cost
 // ratios, packet culling combinations, refit against rebuild on an animated scene) must give
 // zero determined hit differences against the exact reference; that is what "accurate" means
 // for them. The adaptive sweep is not checked here: it is approximate by design.
 
-#include "error_bench.h"
+#include "dynrt/bench/error_bench.h"
 
 #include "dynrt/anim/procedural_motion.h"
-#include "dynrt/engine/bench.h"
+#include "dynrt/bench/bench.h"
 #include "dynrt/engine/camera.h"
 #include "dynrt/engine/renderer.h"
 #include "dynrt/engine/scene_loading.h"

@@ -1,6 +1,6 @@
 // Pixel classification behind `dynrt bench --vs embree`'s hit agreement and --diff-image.
 
-#include "dynrt/engine/hit_agreement.h"
+#include "dynrt/bench/hit_agreement.h"
 
 #include <gtest/gtest.h>
 #include <OpenImageIO/imageio.h>

@@ -1,4 +1,4 @@
-// Pinhole primary rays in SIMD; the arithmetic mirrors engine/src/camera.cpp operation for
+// Pinhole primary rays in SIMD; the arithmetic mirrors engine/src/rendering/camera.cpp operation for
 // operation (glm's normalize is v * (1 / sqrt(dot(v, v))), its dot (x*x + y*y) + z*z).
 
 #include "dynrt/packet/pinhole.h"

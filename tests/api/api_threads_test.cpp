@@ -4,7 +4,7 @@
 // results; and a change made while a query is running is refused with invalid_state instead of
 // racing.
 
-#include "access_guard.h"
+#include "api/access_guard.h"
 #include "api_test_world.h"
 
 #include <gtest/gtest.h>

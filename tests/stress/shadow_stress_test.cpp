@@ -2,7 +2,7 @@
 // rigid object's instance): no self-shadowing acne on a flat grid and a tessellated sphere lit
 // from nearly in the surface's plane, and no light leaking into a closed box lit from outside,
 // with the camera inside, at scales 1e-6 ... 1e6 and far from the origin. Shadow rays run from
-// the light to the hit point pushed off the surface by engine/src/shadow_ray_offset.h.
+// the light to the hit point pushed off the surface by engine/include/dynrt/engine/shadow_ray_offset.h.
 //
 // Acne and leaks are judged against the exact reference renderer: a pixel whose hit and
 // shading the reference says are determined must have the reference's colour; darker is acne,

@@ -7,8 +7,8 @@
 #include "dynrt/packet/pinhole.h"
 #include "dynrt/packet/ray_packet.h"
 #include "dynrt/packet/tiling.h"
-#include "shadow_ray_offset.h"
-#include "stopwatch.h"
+#include "dynrt/engine/shadow_ray_offset.h"
+#include "dynrt/engine/stopwatch.h"
 
 #include <embree3/rtcore.h>
 #include <nlohmann/json.hpp>

@@ -5,10 +5,10 @@
 #include "dynrt/scene/scene.h"
 #include "dynrt/scene/scene_error.h"
 #include "access_guard.h"
-#include "frame_tracer.h"
+#include "rendering/frame_tracer.h"
 #include "ray_batch.h"
-#include "scene_accel.h"
-#include "stopwatch.h"
+#include "update/scene_accel.h"
+#include "dynrt/engine/stopwatch.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>

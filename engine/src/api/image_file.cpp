@@ -3,7 +3,7 @@
 // loads it, which cost an embedding program 0.3-1 s at start-up for one convenience call.
 #include "dynrt/api/engine.h"
 
-#include "srgb.h"
+#include "output/srgb.h"
 
 #define STB_IMAGE_WRITE_STATIC
 #define STB_IMAGE_WRITE_IMPLEMENTATION

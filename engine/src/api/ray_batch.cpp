@@ -4,7 +4,7 @@
 #include "dynrt/bvh/two_level_bvh.h"
 #include "dynrt/packet/ray_packet.h"
 #include "dynrt/packet/two_level_packet.h"
-#include "stopwatch.h"
+#include "dynrt/engine/stopwatch.h"
 
 #include <tbb/combinable.h>
 #include <tbb/parallel_for.h>

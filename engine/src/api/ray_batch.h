@@ -7,7 +7,7 @@
 
 #include "dynrt/api/engine.h"
 #include "dynrt/api/types.h"
-#include "scene_accel.h"
+#include "update/scene_accel.h"
 
 #include <cstdint>
 #include <span>

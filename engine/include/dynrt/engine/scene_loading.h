@@ -36,7 +36,7 @@ Scene load_gltf(const std::filesystem::path& path);
 /// to the including file. Its viewpoint becomes cameras[0] and Scene::setup (image size, frame
 /// rate, frame count, background); `x`/`k` transforms become animated nodes (rigid objects),
 /// `tpa` triangles morphing objects (deformable), the rest static objects, one per material;
-/// textures are ignored. The conversion rules are in engine/src/aff_scene.h. Throws SceneError
+/// textures are ignored. The conversion rules are in engine/src/loaders/aff_scene.h. Throws SceneError
 /// naming the file and line.
 Scene load_aff(const std::filesystem::path& path);
 

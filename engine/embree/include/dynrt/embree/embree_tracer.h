@@ -4,10 +4,10 @@
 // with a dynrt frame. Embree's types stay in the .cpp; this header needs no Embree include.
 
 #include "dynrt/anim/posed_scene.h"
-#include "dynrt/engine/bench.h"
-#include "dynrt/engine/bench_sequence.h"
+#include "dynrt/bench/bench.h"
+#include "dynrt/bench/bench_sequence.h"
 #include "dynrt/engine/camera.h"
-#include "dynrt/engine/hit_agreement.h"
+#include "dynrt/bench/hit_agreement.h"
 #include "dynrt/engine/renderer.h"
 #include "dynrt/scene/scene.h"
 

@@ -4,10 +4,10 @@
 // same frames side by side in the same loop, through the SequenceTracer interface, so every
 // tracer sees the same poses, rays and cache conditions.
 
-#include "dynrt/engine/bench.h"
+#include "dynrt/bench/bench.h"
 #include "dynrt/engine/camera.h"
 #include "dynrt/engine/frame_stats.h"
-#include "dynrt/engine/hit_agreement.h"
+#include "dynrt/bench/hit_agreement.h"
 #include "dynrt/engine/renderer.h"
 #include "dynrt/engine/sequence.h"
 #include "dynrt/scene/scene.h"

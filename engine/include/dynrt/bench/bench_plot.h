@@ -2,7 +2,7 @@
 // Charts of `dynrt bench` results, drawn by gnuplot (Debian's gnuplot-nox, installed by
 // scripts/install-deps.sh) so that nobody has to read a table to see a trend.
 
-#include "dynrt/engine/bench.h"
+#include "dynrt/bench/bench.h"
 #include "dynrt/engine/frame_stats.h"
 
 #include <filesystem>

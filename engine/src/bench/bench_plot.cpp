@@ -1,4 +1,4 @@
-#include "dynrt/engine/bench_plot.h"
+#include "dynrt/bench/bench_plot.h"
 
 #include <spawn.h>
 #include <sys/wait.h>

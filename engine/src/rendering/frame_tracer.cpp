@@ -8,8 +8,8 @@
 #include "dynrt/packet/tiling.h"
 #include "dynrt/packet/two_level_packet.h"
 #include "adaptive_tile.h"
-#include "shadow_ray_offset.h"
-#include "stopwatch.h"
+#include "dynrt/engine/shadow_ray_offset.h"
+#include "dynrt/engine/stopwatch.h"
 #include "tile_shading.h"
 
 #include <tbb/combinable.h>

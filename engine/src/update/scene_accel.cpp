@@ -1,7 +1,7 @@
 #include "scene_accel.h"
 
 #include "dynrt/bvh/refit.h"
-#include "stopwatch.h"
+#include "dynrt/engine/stopwatch.h"
 
 #include <tbb/parallel_for.h>
 

@@ -1,4 +1,4 @@
-#include "dynrt/engine/bench_sequence.h"
+#include "dynrt/bench/bench_sequence.h"
 
 #include "dynrt/engine/report.h"
 

@@ -1,4 +1,4 @@
-#include "dynrt/engine/hit_agreement.h"
+#include "dynrt/bench/hit_agreement.h"
 
 #include "dynrt/engine/image_output.h"
 

@@ -10,8 +10,8 @@
 #include "dynrt/packet/packet_shading.h"
 #include "dynrt/packet/ray_packet.h"
 #include "dynrt/packet/tiling.h"
-#include "scene_accel.h"
-#include "shadow_ray_offset.h"
+#include "update/scene_accel.h"
+#include "dynrt/engine/shadow_ray_offset.h"
 
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>

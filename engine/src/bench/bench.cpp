@@ -1,4 +1,4 @@
-#include "dynrt/engine/bench.h"
+#include "dynrt/bench/bench.h"
 
 #include "dynrt/bvh/wide_bvh.h"
 

@@ -23,7 +23,7 @@
 #include "dynrt/packet/packet_traversal.h"
 #include "dynrt/packet/pinhole.h"
 #include "dynrt/packet/tiling.h"
-#include "scene_accel.h"
+#include "update/scene_accel.h"
 #include "tile_shading.h"
 
 #include <cstddef>

@@ -1,7 +1,7 @@
 #include "adaptive_tile.h"
 
 #include "dynrt/packet/two_level_packet.h"
-#include "stopwatch.h"
+#include "dynrt/engine/stopwatch.h"
 
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>

@@ -3,8 +3,8 @@
 #include "dynrt/anim/posed_scene.h"
 #include "dynrt/packet/packet_shading.h"
 #include "frame_tracer.h"
-#include "scene_accel.h"
-#include "stopwatch.h"
+#include "update/scene_accel.h"
+#include "dynrt/engine/stopwatch.h"
 
 #include <glm/geometric.hpp>
 

@@ -7,7 +7,7 @@
 #include "dynrt/engine/camera.h"
 #include "dynrt/engine/renderer.h"
 #include "dynrt/packet/packet_shading.h"
-#include "scene_accel.h"
+#include "update/scene_accel.h"
 
 #include <cstdint>
 #include <span>

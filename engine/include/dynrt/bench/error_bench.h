@@ -7,7 +7,7 @@
 #include "frame_error.h"
 #include "reference_renderer.h"
 
-#include "dynrt/engine/bench.h"
+#include "dynrt/bench/bench.h"
 #include "dynrt/engine/camera.h"
 #include "dynrt/engine/renderer.h"
 #include "dynrt/scene/scene.h"

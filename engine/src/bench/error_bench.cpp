@@ -1,4 +1,4 @@
-#include "error_bench.h"
+#include "dynrt/bench/error_bench.h"
 
 #include "dynrt/anim/posed_scene.h"
 

@@ -1,0 +1,210 @@
+// The flags render and bench share, and what they make of them (frame_args.h).
+
+#include "frame_args.h"
+
+#include "dynrt/anim/clip_selection.h"
+#include "dynrt/anim/motion_class.h"
+#include "dynrt/anim/posed_scene.h"
+#include "dynrt/anim/procedural_motion.h"
+#include "dynrt/engine/scene_loading.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <iostream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace dynrt::cli {
+
+std::vector<float> parse_floats(const std::string& text, const std::string& what) {
+    std::vector<float> values;
+    std::size_t start = 0;
+    while (true) {
+        const std::size_t comma = std::min(text.find(',', start), text.size());
+        float v = 0.0f;
+        const char* first = text.data() + start;
+        const char* last = text.data() + comma;
+        const auto [ptr, ec] = std::from_chars(first, last, v);
+        if (ec != std::errc() || ptr != last || !std::isfinite(v)) {
+            throw std::invalid_argument(what + " '" + text + "': '" + std::string(first, last) +
+                                        "' is not a finite number");
+        }
+        values.push_back(v);
+        if (comma == text.size()) break;
+        start = comma + 1;
+    }
+    return values;
+}
+
+void parse_resolution(const std::string& text, int& width, int& height) {
+    const std::size_t x = text.find('x');
+    int w = 0, h = 0;
+    const auto parse = [](const char* first, const char* last, int& v) {
+        const auto [ptr, ec] = std::from_chars(first, last, v);
+        return ec == std::errc() && ptr == last;
+    };
+    if (x == std::string::npos || !parse(text.data(), text.data() + x, w) ||
+        !parse(text.data() + x + 1, text.data() + text.size(), h) || w < 1 || h < 1 ||
+        w > 16384 || h > 16384) {
+        throw std::invalid_argument("--res '" + text +
+                                    "': expected WIDTHxHEIGHT, each from 1 to 16384");
+    }
+    width = w;
+    height = h;
+}
+
+dynrt::PointLight parse_light(const std::string& text) {
+    const std::vector<float> v = parse_floats(text, "--light");
+    if (v.size() != 3 && v.size() != 4) {
+        throw std::invalid_argument("--light '" + text + "': expected x,y,z or x,y,z,intensity");
+    }
+    if (v.size() == 4 && !(v[3] >= 0.0f)) {
+        throw std::invalid_argument("--light '" + text + "': the intensity must be >= 0");
+    }
+    return dynrt::PointLight{glm::vec3(v[0], v[1], v[2]), v.size() == 4 ? v[3] : 1.0f};
+}
+
+dynrt::RenderOptions render_options(const FrameArgs& args) {
+    dynrt::RenderOptions options;
+    options.width = options.height = 0;
+    if (!args.res.empty()) parse_resolution(args.res, options.width, options.height);
+    options.build.cost_ratio = args.cost_ratio;
+    options.build.leaf_size_max = args.leaf_size;
+    options.build.wide = args.bvh == "wide";
+    for (const std::string& light : args.lights) options.lights.push_back(parse_light(light));
+    options.tracer = args.tracer == "single" ? dynrt::Tracer::single : dynrt::Tracer::packet;
+    options.packet.culling = dynrt::packet::PacketCulling::parse(args.packet_culling);
+    options.adaptive_tolerance = args.adaptive;
+    options.pose.fps = args.fps;
+    options.rebuild_threshold = args.rebuild_threshold;
+    options.cost_ratio_exploding = args.cost_ratio_exploding;
+    return options;
+}
+
+void apply_scene_setup(const dynrt::Scene& scene, dynrt::RenderOptions& options) {
+    const std::optional<dynrt::SceneSetup>& setup = scene.setup;
+    if (options.width == 0) {
+        options.width = setup ? setup->width : 1024;
+        options.height = setup ? setup->height : 1024;
+    }
+    if (options.pose.fps == 0.0) options.pose.fps = setup ? setup->fps : dynrt::anim::kDefaultFps;
+    if (setup) options.background = setup->background;
+}
+
+dynrt::Scene load_animated_scene(const FrameArgs& args, const std::string& source,
+                                 dynrt::RenderOptions& options) {
+    dynrt::Scene scene = dynrt::load_scene(source);
+    apply_scene_setup(scene, options);
+    dynrt::anim::add_procedural_motions(scene, args.anims);
+    options.pose.class_overrides = dynrt::anim::parse_class_overrides(scene, args.treats);
+    std::vector<std::size_t> clips;
+    if (!args.clips.empty()) {
+        for (const std::string& clip : args.clips) clips.push_back(dynrt::anim::find_clip(scene, clip));
+    } else {
+        clips = dynrt::anim::default_clips(scene);
+        if (clips.size() == 1 && scene.clips.size() > 1) {
+            std::cout << "clips: playing '" << scene.clips[0].name << "', the first of "
+                      << scene.clips.size() << " that animate the same nodes (";
+            for (std::size_t i = 0; i < scene.clips.size(); ++i) {
+                std::cout << (i ? ", " : "") << "'" << scene.clips[i].name << "'";
+            }
+            std::cout << "); --clip picks others (dynrt info lists them)\n";
+        }
+    }
+    options.pose.clips = clips;
+    options.pose.loop = args.loop;
+    return scene;
+}
+
+int animation_end_frame(const dynrt::Scene& scene, const dynrt::anim::PoseSettings& pose) {
+    double end = 0.0;
+    for (const std::size_t c : pose.clips.value_or(std::vector<std::size_t>{})) {
+        end = std::max(end, scene.clips[c].end_time());
+    }
+    return int(std::min(std::ceil(end * pose.fps), double(dynrt::kFrameMax)));
+}
+
+void warn_past_the_end(const dynrt::Scene& scene, const dynrt::anim::PoseSettings& pose,
+                       const dynrt::FrameRange& range) {
+    // A BART file names its own sequence (`a`): frames beyond it repeat its last state too.
+    if (scene.setup && range.last >= scene.setup->frame_count && !pose.loop) {
+        std::cerr << "warning: frames " << std::max(range.first, scene.setup->frame_count) << "-"
+                  << range.last << " are past the file's own sequence (frames 0-"
+                  << scene.setup->frame_count - 1 << ")\n";
+        return;
+    }
+    if (pose.loop || !pose.clips || pose.clips->empty()) return;
+    const int end = animation_end_frame(scene, pose);
+    if (range.last <= end) return;
+    std::cerr << "warning: frames " << std::max(range.first, end + 1) << "-" << range.last
+              << " are past the end of the animation (frame " << end << " at " << pose.fps
+              << " fps) and repeat its last pose; --loop plays it again\n";
+}
+
+std::string scene_source(const FrameArgs& args) {
+    return args.scene.empty() ? dynrt::default_scene_path().string() : args.scene;
+}
+
+bool uses_scene_camera(const FrameArgs& args, const dynrt::Scene& scene) {
+    if (args.camera == "gltf" || args.camera == "scene") {
+        if (scene.cameras.empty()) {
+            throw std::invalid_argument("--camera " + args.camera + ": " + scene.source + " has no camera");
+        }
+        return true;
+    }
+    return args.camera.empty() && scene.setup && !scene.cameras.empty();
+}
+
+dynrt::Camera camera_for(const dynrt::Scene& scene, const FrameArgs& args,
+                         const dynrt::anim::PoseSettings& pose, dynrt::FrameRange frames) {
+    const int frame = frames.first;
+    if (uses_scene_camera(args, scene)) {
+        dynrt::anim::PoseSettings settings;
+        settings.fps = pose.fps;
+        settings.clips = pose.clips;
+        dynrt::anim::PosedScene posed;
+        dynrt::anim::pose_scene(scene, settings, frame, posed);
+        return dynrt::camera_from_scene(*posed.camera);
+    }
+    const dynrt::Camera camera =
+        dynrt::default_camera(dynrt::sequence_bounds(scene, pose, frames.first, frames.last));
+    return args.camera.empty() ? camera : dynrt::parse_camera(args.camera, camera);
+}
+
+void print_ignored(std::ostream& out, const dynrt::Scene& scene) {
+    for (const std::string& what : scene.ignored) out << "ignored: " << what << "\n";
+}
+
+void print_rebuild_summary(std::ostream& out, const std::vector<dynrt::FrameStats>& frames) {
+    std::vector<std::pair<std::string, int>> reasons;
+    int total = 0;
+    std::size_t skipped = 0, refitted = 0;
+    for (const dynrt::FrameStats& f : frames) {
+        skipped += f.objects_skipped;
+        refitted += f.objects_refitted;
+        for (const dynrt::TreeRebuild& r : f.rebuilds) {
+            ++total;
+            auto it = std::find_if(reasons.begin(), reasons.end(),
+                                   [&](const auto& p) { return p.first == r.reason; });
+            if (it == reasons.end()) reasons.emplace_back(r.reason, 1);
+            else ++it->second;
+        }
+    }
+    out << "object updates over " << frames.size() << " frame(s): " << skipped << " skipped, "
+        << refitted << " refitted, " << total << " rebuilt";
+    for (std::size_t i = 0; i < reasons.size(); ++i) {
+        out << (i == 0 ? " (" : ", ") << reasons[i].first << " " << reasons[i].second;
+    }
+    out << (reasons.empty() ? "\n" : ")\n");
+}
+
+void write_text(const std::string& path, const std::string& text) {
+    std::ofstream file(path);
+    file << text;
+    if (!file) throw std::runtime_error(path + ": cannot write");
+}
+
+}  // namespace dynrt::cli

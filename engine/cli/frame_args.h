@@ -1,0 +1,130 @@
+#pragma once
+// What the `dynrt` commands share: the flags of `render` and `bench` (a frame, its view and its
+// build settings), the scene they load with them, its camera, and the summaries they print.
+
+#include "dynrt/engine/camera.h"
+#include "dynrt/engine/frame_stats.h"
+#include "dynrt/engine/renderer.h"
+#include "dynrt/engine/sequence.h"
+#include "dynrt/scene/scene.h"
+
+#include <glm/vec3.hpp>
+
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+namespace dynrt::cli {
+
+/// What `render` and `bench` share: the scene, the view and the build settings.
+struct FrameArgs {
+    std::string scene;
+    /// Empty: the scene file's own image size (BART's `v`), else 1024x1024.
+    std::string res;
+    std::string camera;
+    std::vector<std::string> lights;
+    float cost_ratio = dynrt::bvh::BuildConfig{}.cost_ratio;
+    unsigned leaf_size = dynrt::bvh::BuildConfig{}.leaf_size_max;
+    int threads = 0;
+    std::string tracer = "packet";
+    std::string bvh = "wide";
+    std::string packet_culling = "all";
+    float adaptive = 0.0f;
+    // Animation: which motions, clips and classes, at what rate, which frames.
+    std::vector<std::string> anims;
+    std::vector<std::string> treats;
+    std::vector<std::string> clips;
+    bool loop = false;
+    /// 0: the scene file's own frame rate (BART's `a`), else dynrt::anim::kDefaultFps.
+    double fps = 0.0;
+    std::string frames;
+    double rebuild_threshold = dynrt::RenderOptions{}.rebuild_threshold;
+    float cost_ratio_exploding = dynrt::RenderOptions{}.cost_ratio_exploding;
+};
+
+struct RenderArgs : FrameArgs {
+    std::string out = "dynrt.png";
+    std::string contact_sheet;
+    std::string report;
+    std::string aov;
+};
+
+struct BenchArgs : FrameArgs {
+    /// 0: not given; 5 runs of a still frame, 1 run of a sequence (--frames).
+    int repeat = 0;
+    int warmup = 1;
+    std::vector<std::string> sweeps;
+    std::string csv;
+    std::string json;
+    std::string vs;
+    std::string plot;
+    std::string diff_image;
+    bool hit_buffers = false;
+    /// --error: each configuration's error against the exact reference beside its time.
+    bool error = false;
+    int error_block = 8;
+    /// -1: not given; 24 when the scene moves, else 0.
+    int error_frame = -1;
+};
+
+/// Splits "a,b,c" into finite floats; `what` names the flag in errors.
+std::vector<float> parse_floats(const std::string& text, const std::string& what);
+
+/// Parses --res WIDTHxHEIGHT (each 1..16384).
+void parse_resolution(const std::string& text, int& width, int& height);
+
+/// Parses --light x,y,z[,intensity].
+dynrt::PointLight parse_light(const std::string& text);
+
+/// The options the flags give. The image size and frame rate are left 0 when not given:
+/// load_animated_scene fills them from the scene.
+dynrt::RenderOptions render_options(const FrameArgs& args);
+
+/// What the flags left open, from the scene file when it says (Scene::setup: BART's image
+/// size, frame rate and background), else the defaults: 1024x1024 at 24 fps.
+void apply_scene_setup(const dynrt::Scene& scene, dynrt::RenderOptions& options);
+
+/// The scene with the user's procedural motions added, and the pose settings that name its
+/// objects and clips (class overrides and clip choices are checked against this scene); the
+/// options the flags left open are filled from the scene (apply_scene_setup).
+dynrt::Scene load_animated_scene(const FrameArgs& args, const std::string& source,
+                                 dynrt::RenderOptions& options);
+
+/// The last frame that shows new animation: the chosen clips' end at the frame rate (0 without
+/// clips, whose scenes change only by procedural motions, which never end).
+int animation_end_frame(const dynrt::Scene& scene, const dynrt::anim::PoseSettings& pose);
+
+/// Warns on stderr when `range` runs past the end of the scene's animation, whose frames would
+/// repeat its last pose (unless --loop plays it again).
+void warn_past_the_end(const dynrt::Scene& scene, const dynrt::anim::PoseSettings& pose,
+                       const dynrt::FrameRange& range);
+
+/// The scene argument, or the bundled scene when it is empty.
+std::string scene_source(const FrameArgs& args);
+
+/// `--camera scene` (or `gltf`): the scene's own (animated) camera, evaluated per frame; also
+/// the default for a scene file that sets up its own view (BART's `v`).
+bool uses_scene_camera(const FrameArgs& args, const dynrt::Scene& scene);
+
+/// The camera of frames `frames`: the scene's own when it is used (posed at the first frame
+/// with `pose`'s frame rate), else the one --camera describes or the default framing, which
+/// frames the scene's bounds over all of `frames` (so moving parts stay in the picture).
+dynrt::Camera camera_for(const dynrt::Scene& scene, const FrameArgs& args,
+                         const dynrt::anim::PoseSettings& pose, dynrt::FrameRange frames = {});
+
+/// One line per thing the scene file says that dynrt leaves out (Scene::ignored).
+void print_ignored(std::ostream& out, const dynrt::Scene& scene);
+
+/// "rebuilds: 3 (first build 2, sah degraded 1)", over all frames.
+void print_rebuild_summary(std::ostream& out, const std::vector<dynrt::FrameStats>& frames);
+
+/// Writes `text` to `path`; throws when it cannot.
+void write_text(const std::string& path, const std::string& text);
+
+/// The commands, one file each (render_command.cpp, bench_command.cpp, info_command.cpp);
+/// each returns the process's exit code and throws on bad input.
+int run_render(const RenderArgs& args);
+int run_bench(const BenchArgs& args);
+int run_info(const std::string& source);
+
+}  // namespace dynrt::cli

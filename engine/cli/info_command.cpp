@@ -1,0 +1,85 @@
+// `dynrt info`: a scene's objects, triangles and bounds, its frame rate and clips.
+
+#include "frame_args.h"
+
+#include "dynrt/anim/clip_selection.h"
+#include "dynrt/anim/posed_scene.h"
+#include "dynrt/bvh/triangle.h"
+#include "dynrt/engine/scene_loading.h"
+
+#include <cmath>
+#include <iomanip>
+#include <iostream>
+#include <string>
+#include <vector>
+
+namespace dynrt::cli {
+
+int run_info(const std::string& source) {
+    const dynrt::Scene scene = dynrt::load_scene(source);
+    dynrt::anim::PosedScene posed;
+    dynrt::anim::pose_scene(scene, 0, posed);
+    std::cout << source << "\n";
+    std::cout << std::left << std::setw(40) << "object" << std::right << std::setw(12)
+              << "triangles" << std::setw(12) << "degenerate" << "  bounds (frame 0)\n";
+    dynrt::bvh::Aabb all;
+    std::size_t degenerate_total = 0;
+    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+        const dynrt::Object& object = scene.objects[i];
+        const std::vector<glm::vec3>& p = posed.objects[i].positions;
+        dynrt::bvh::Aabb bounds;
+        std::size_t degenerate = 0;
+        for (const glm::uvec3& t : object.mesh.triangles) {
+            const dynrt::bvh::Triangle tri{p[t.x], p[t.y], p[t.z]};
+            degenerate += dynrt::bvh::is_degenerate(tri);
+            bounds.extend(tri.bounds());
+        }
+        all.extend(bounds);
+        degenerate_total += degenerate;
+        std::cout << std::left << std::setw(40) << object.name << std::right << std::setw(12)
+                  << object.mesh.triangles.size() << std::setw(12) << degenerate << "  ["
+                  << bounds.lo.x << ", " << bounds.lo.y << ", " << bounds.lo.z << "] - ["
+                  << bounds.hi.x << ", " << bounds.hi.y << ", " << bounds.hi.z << "]\n";
+    }
+    std::cout << std::left << std::setw(40) << "total" << std::right << std::setw(12)
+              << scene.triangle_count() << std::setw(12) << degenerate_total << "  ["
+              << all.lo.x << ", " << all.lo.y << ", " << all.lo.z << "] - [" << all.hi.x << ", "
+              << all.hi.y << ", " << all.hi.z << "]\n"
+              << scene.objects.size() << " objects, " << scene.materials.size()
+              << " materials, " << scene.lights.size() << " lights\n";
+    // The timeline: frame rate and clips, as render and bench would play them.
+    const double fps = scene.setup ? scene.setup->fps : dynrt::anim::kDefaultFps;
+    std::cout << "frame rate: " << fps << " fps ("
+              << (scene.setup ? "the file's" : "dynrt's default; the file gives none")
+              << "; --fps changes it)\n";
+    if (scene.setup) {
+        std::cout << "sequence: frames 0-" << scene.setup->frame_count - 1 << " (the file's)\n";
+    }
+    if (scene.clips.empty()) {
+        std::cout << "clips: none\n";
+        return 0;
+    }
+    const std::vector<std::size_t> plays = dynrt::anim::default_clips(scene);
+    std::cout << "clips: " << scene.clips.size();
+    if (scene.clips.size() > 1) {
+        std::cout << (plays.size() == 1 ? " (by default only the first plays: they animate the same nodes"
+                                        : " (by default all play together: they animate different nodes")
+                  << "; --clip NAME or index picks)";
+    }
+    std::cout << "\n" << std::left << std::setw(7) << "  index" << "  " << std::setw(32) << "name"
+              << std::right << std::setw(10) << "start s" << std::setw(10) << "end s"
+              << std::setw(12) << "duration s" << "  frames at " << fps << " fps\n";
+    for (std::size_t i = 0; i < scene.clips.size(); ++i) {
+        const dynrt::AnimationClip& clip = scene.clips[i];
+        std::cout << "  " << std::left << std::setw(5) << i << "  " << std::setw(32) << clip.name
+                  << std::right << std::fixed << std::setprecision(3) << std::setw(10)
+                  << clip.start_time() << std::setw(10) << clip.end_time() << std::setw(12)
+                  << clip.end_time() - clip.start_time() << "  "
+                  << int(std::floor(clip.start_time() * fps)) << "-"
+                  << int(std::ceil(clip.end_time() * fps)) << "\n"
+                  << std::defaultfloat;
+    }
+    return 0;
+}
+
+}  // namespace dynrt::cli

@@ -121,7 +121,7 @@ TEST(AnimatedRender, ReportSaysWhatEachObjectCost) {
                   first.exploding_triangles,
               scene.triangle_count());
     ASSERT_EQ(first.rebuilds.size(), 4u);
-    for (const TreeRebuild& r : first.rebuilds) EXPECT_EQ(r.reason, "first build") << r.name;
+    for (const TreeRebuild& r : first.rebuilds) EXPECT_EQ(r.reason, RebuildReason::first_build) << r.name;
     EXPECT_EQ(first.objects_rebuilt, 4u);
 
     // Frame 1: the plane and the rigid sphere cost no bottom-level work, the wave is refitted,
@@ -133,7 +133,7 @@ TEST(AnimatedRender, ReportSaysWhatEachObjectCost) {
     EXPECT_EQ(second.triangles_refitted, scene.objects[2].mesh.triangles.size());
     ASSERT_EQ(second.rebuilds.size(), 1u);
     EXPECT_EQ(second.rebuilds[0].name, kExplode);
-    EXPECT_EQ(second.rebuilds[0].reason, "exploding");
+    EXPECT_EQ(second.rebuilds[0].reason, RebuildReason::exploding);
     EXPECT_EQ(second.triangles_rebuilt, scene.objects[3].mesh.triangles.size());
 
     // The same frame again: nothing changed, so no object is touched.
@@ -162,7 +162,7 @@ TEST(AnimatedRender, DegradedRefitsAreRebuiltAndSaySo) {
         renderer.render(scene, camera, f, frame);
         EXPECT_EQ(frame.stats.objects_refitted, 1u);
         for (const TreeRebuild& r : frame.stats.rebuilds) {
-            EXPECT_EQ(r.reason, "sah degraded");
+            EXPECT_EQ(r.reason, RebuildReason::sah_degraded);
             EXPECT_GT(r.sah_refitted, r.sah_at_last_build);
             ++degraded;
         }

@@ -179,7 +179,7 @@ void print_ignored(std::ostream& out, const dynrt::Scene& scene) {
 }
 
 void print_rebuild_summary(std::ostream& out, const std::vector<dynrt::FrameStats>& frames) {
-    std::vector<std::pair<std::string, int>> reasons;
+    std::vector<std::pair<dynrt::RebuildReason, int>> reasons;
     int total = 0;
     std::size_t skipped = 0, refitted = 0;
     for (const dynrt::FrameStats& f : frames) {
@@ -196,7 +196,8 @@ void print_rebuild_summary(std::ostream& out, const std::vector<dynrt::FrameStat
     out << "object updates over " << frames.size() << " frame(s): " << skipped << " skipped, "
         << refitted << " refitted, " << total << " rebuilt";
     for (std::size_t i = 0; i < reasons.size(); ++i) {
-        out << (i == 0 ? " (" : ", ") << reasons[i].first << " " << reasons[i].second;
+        out << (i == 0 ? " (" : ", ") << dynrt::rebuild_reason_name(reasons[i].first) << " "
+            << reasons[i].second;
     }
     out << (reasons.empty() ? "\n" : ")\n");
 }

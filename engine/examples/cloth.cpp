@@ -414,7 +414,8 @@ int run(const Options& options) {
         // Why a tree was rebuilt: for the cloth, its refitted tree's SAH cost passed
         // (1 + EngineOptions::rebuild_threshold) times its cost at the last build.
         for (const dynrt::TreeRebuild& rebuild : stats.rebuilds) {
-            std::printf("  rebuilt %s: %s", rebuild.name.c_str(), rebuild.reason.c_str());
+            std::printf("  rebuilt %s: %s", rebuild.name.c_str(),
+                        dynrt::rebuild_reason_name(rebuild.reason));
             if (rebuild.sah_at_last_build > 0.0) {
                 std::printf(" (SAH %.1f -> %.1f)", rebuild.sah_at_last_build, rebuild.sah_refitted);
             }

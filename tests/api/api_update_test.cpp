@@ -19,7 +19,7 @@ namespace {
 std::vector<std::string> rebuild_reasons(const FrameStats& stats, MeshId id) {
     std::vector<std::string> reasons;
     for (const TreeRebuild& r : stats.rebuilds) {
-        if (r.object == id.value) reasons.push_back(r.reason);
+        if (r.object == id.value) reasons.push_back(rebuild_reason_name(r.reason));
     }
     return reasons;
 }

@@ -2,13 +2,14 @@
 
 #include "dynrt/engine/camera.h"
 #include "dynrt/engine/renderer.h"
+#include "dynrt/engine/stopwatch.h"
+#include "dynrt/engine/update_plan.h"
 #include "dynrt/scene/scene.h"
 #include "dynrt/scene/scene_error.h"
 #include "access_guard.h"
-#include "rendering/frame_tracer.h"
 #include "ray_batch.h"
+#include "rendering/frame_tracer.h"
 #include "update/scene_accel.h"
-#include "dynrt/engine/stopwatch.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -37,10 +38,6 @@ static_assert(std::is_standard_layout_v<glm::vec3>);
 namespace {
 
 using api_detail::AccessGuard;
-
-/// Deformable meshes whose refits degrade past the threshold on this many updates in a row are
-/// treated as exploding (Motion::automatic): their refits are wasted work.
-constexpr int kDegradedStepsToExploding = 3;
 
 anim::MotionClass to_class(Motion motion) {
     switch (motion) {
@@ -487,13 +484,11 @@ FrameStats Engine::Impl::update() {
     states.resize(meshes.size());
     for (std::size_t i = 0; i < meshes.size(); ++i) {
         MeshSlot& mesh = meshes[i];
-        anim::MotionClass motion_class = mesh.motion_class;
-        if (mesh.declared == Motion::automatic && !mesh.removed) {
-            if (mesh.transform_changed) motion_class = std::max(motion_class, anim::MotionClass::rigid);
-            if (mesh.positions_changed) {
-                motion_class = std::max(motion_class, anim::MotionClass::deformable);
-            }
-        }
+        const anim::MotionClass motion_class =
+            mesh.declared == Motion::automatic && !mesh.removed
+                ? raise_automatic_class(mesh.motion_class, mesh.transform_changed,
+                                        mesh.positions_changed)
+                : mesh.motion_class;
         classes[i] = motion_class;
         ObjectState& state = states[i];
         state.motion_class = motion_class;
@@ -540,22 +535,17 @@ FrameStats Engine::Impl::update() {
         mesh.settled = true;
         mesh.positions_changed = mesh.transform_changed = mesh.unchecked = false;
     }
-    // Automatic deformable meshes whose refits keep degrading are rebuilt anyway: treat them
-    // as exploding, which skips the refit.
+    // Automatic deformable meshes whose refits keep degrading are rebuilt anyway: the planner
+    // then treats them as exploding, which skips the refit.
     std::vector<bool> degraded(meshes.size(), false);
     for (const TreeRebuild& rebuild : stats.rebuilds) {
-        if (rebuild.reason == std::string("sah degraded")) degraded[rebuild.object] = true;
+        if (rebuild.reason == RebuildReason::sah_degraded) degraded[rebuild.object] = true;
     }
     for (std::size_t i = 0; i < meshes.size(); ++i) {
         MeshSlot& mesh = meshes[i];
-        if (mesh.declared != Motion::automatic ||
-            mesh.motion_class != anim::MotionClass::deformable || !states[i].changed) {
-            continue;
-        }
-        mesh.degraded_steps = degraded[i] ? mesh.degraded_steps + 1 : 0;
-        if (mesh.degraded_steps >= kDegradedStepsToExploding) {
-            mesh.motion_class = anim::MotionClass::exploding;
-        }
+        if (mesh.declared != Motion::automatic) continue;
+        mesh.motion_class = class_after_update(mesh.motion_class, states[i].changed, degraded[i],
+                                               mesh.degraded_steps);
     }
     refresh_materials();
     stats.total_ms = wall.elapsed_ms();

@@ -60,8 +60,8 @@ nlohmann::ordered_json frame_json(const FrameStats& s) {
     // Not a column (no median of reasons): the list of this frame's tree builds.
     j["rebuilds"] = nlohmann::ordered_json::array();
     for (const TreeRebuild& r : s.rebuilds) {
-        nlohmann::ordered_json event = {{"object", r.object}, {"name", r.name}, {"reason", r.reason}};
-        if (r.reason == "sah degraded") {
+        nlohmann::ordered_json event = {{"object", r.object}, {"name", r.name}, {"reason", rebuild_reason_name(r.reason)}};
+        if (r.reason == RebuildReason::sah_degraded) {
             event["sah_refitted"] = r.sah_refitted;
             event["sah_at_last_build"] = r.sah_at_last_build;
         }

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <optional>
 #include <span>
 
 namespace dynrt {
@@ -73,6 +74,7 @@ glm::vec3 transform_point(const glm::mat4& m, const glm::vec3& p) {
 void SceneAccel::clear() {
     objects_.clear();
     static_group_ = ObjectTree{};
+    static_group_known_ = false;
     static_first_.clear();
     static_objects_.clear();
     static_slot_of_.clear();
@@ -134,116 +136,97 @@ void SceneAccel::update(const Scene& scene, std::span<const ObjectState> states,
                         const FixedPositions& fixed, const UpdatePolicy& policy,
                         FrameStats& stats) {
     const std::size_t count = scene.objects.size();
+    // Objects removed: start afresh. Objects added at the end: new to the planner.
     if (objects_.size() > count) clear();
-    if (objects_.size() < count) {
-        // Objects added at the end: built below, and the static group with them if static.
-        objects_.resize(count);
-        object_boxes_.resize(count);
+    history_.resize(objects_.size());
+    for (std::size_t i = 0; i < objects_.size(); ++i) {
+        const ObjectTree& object = objects_[i];
+        history_[i] = TreeHistory{object.known, object.motion_class, object.built};
     }
-    // An object that changed class is built afresh when its tree's space changes (rigid trees
-    // are in object space, the others in world space); deformable and exploding objects keep
-    // theirs. The static group is rebuilt whenever an object joins or leaves it.
-    const auto world_space = [](anim::MotionClass c) { return c != anim::MotionClass::rigid; };
+    const UpdatePlan plan = plan_update(
+        history_, StaticGroupHistory{static_group_known_, static_group_.built}, states);
+    objects_.resize(count);
+    object_boxes_.resize(count);
     for (std::size_t i = 0; i < count; ++i) {
-        ObjectTree& object = objects_[i];
-        const anim::MotionClass now = states[i].motion_class;
-        if (object.known && object.motion_class == now) continue;
-        const bool leaves_group = object.known && object.motion_class == anim::MotionClass::static_;
-        if (object.known && (leaves_group || world_space(object.motion_class) != world_space(now))) {
-            object.built = false;
-            object.measured = false;
-            object.class_changed = true;
-        }
-        if (leaves_group || now == anim::MotionClass::static_) {
-            static_group_.built = false;
-        }
-        if (now != anim::MotionClass::static_) object.first_frame = true;
-        object.motion_class = now;
-        object.known = true;
+        objects_[i].motion_class = states[i].motion_class;
+        objects_[i].known = true;
     }
+
     bvh::BuildConfig exploding_build = policy.build;
     exploding_build.cost_ratio = policy.exploding_cost_ratio;
     const bvh::SahCosts costs = policy.build.sah_costs();
 
     Stopwatch clock;
-    if (!static_group_.built) build_static_group(scene, states, fixed, policy.build, stats);
+    if (plan.rebuild_static_group) {
+        build_static_group(scene, states, fixed, policy.build, plan.static_group_reason, stats);
+    }
     for (std::size_t i = 0; i < count; ++i) {
         ObjectTree& object = objects_[i];
         const ObjectState& pose = states[i];
+        const ObjectPlan& planned = plan.objects[i];
         const Mesh& mesh = scene.objects[i].mesh;
-        object.motion_class = pose.motion_class;
         count_class(pose.motion_class, mesh.triangles.size(), stats);
-        const auto record = [&](const char* reason, double refitted_sah = 0.0) {
+        const auto record = [&](RebuildReason reason, double refitted_sah = 0.0) {
             stats.rebuilds.push_back(TreeRebuild{i, scene.objects[i].name, reason, refitted_sah,
                                                  object.built_sah});
             ++stats.objects_rebuilt;
             stats.triangles_rebuilt += mesh.triangles.size();
         };
+        const bool exploding = pose.motion_class == anim::MotionClass::exploding;
+        const bvh::BuildConfig& config = exploding ? exploding_build : policy.build;
+        if (pose.motion_class == anim::MotionClass::rigid) {
+            // Written whatever the action: the transform is composed in double, its inverse
+            // too, so the ray transform is as exact as float storage allows.
+            object.object_to_world = glm::mat4(pose.transform);
+            object.world_to_object = glm::mat4(glm::inverse(pose.transform));
+        }
 
-        switch (pose.motion_class) {
-            case anim::MotionClass::static_:
-                // In the static group, built above once for all.
-                if (!object.first_frame) ++stats.objects_skipped;
-                object.first_frame = false;
+        switch (planned.action) {
+            case TreeAction::build_in_static_group:  // built above, once for all
                 break;
-            case anim::MotionClass::rigid: {
-                // The transform is composed in double; its inverse too, so the ray transform
-                // is as exact as float storage allows.
-                object.object_to_world = glm::mat4(pose.transform);
-                object.world_to_object = glm::mat4(glm::inverse(pose.transform));
-                if (object.built) {
-                    ++stats.objects_skipped;
-                    break;
-                }
-                clock.lap_ms();
-                assemble(mesh, fixed.object_space(i), object.triangles);
-                stats.update_ms += clock.lap_ms();
-                build(object, policy.build);
-                record(object.class_changed ? "class changed" : "first build");
-                object.class_changed = false;
-                stats.rebuild_ms += clock.lap_ms();
+            case TreeAction::keep:
+            case TreeAction::move_instance:
+                ++stats.objects_skipped;
                 break;
-            }
-            case anim::MotionClass::deformable:
-            case anim::MotionClass::exploding: {
-                const bool exploding = pose.motion_class == anim::MotionClass::exploding;
-                const bvh::BuildConfig& config = exploding ? exploding_build : policy.build;
-                if (object.built && !pose.changed) {
-                    ++stats.objects_skipped;
-                    break;
-                }
+            case TreeAction::rebuild: {
+                const bool had_tree = planned.reason == RebuildReason::exploding;
                 clock.lap_ms();
-                const bool moved = assemble(mesh, pose.world_positions, object.triangles);
+                const bool moved =
+                    assemble(mesh, pose.motion_class == anim::MotionClass::rigid
+                                       ? fixed.object_space(i)
+                                       : pose.world_positions,
+                             object.triangles);
                 stats.update_ms += clock.lap_ms();
-                if (object.built && !moved) {
+                if (had_tree && !moved) {
                     // The animation said it changed; its vertices say otherwise.
                     ++stats.objects_skipped;
                     break;
                 }
-                if (!object.built || exploding) {
-                    record(object.built            ? "exploding"
-                           : object.class_changed ? "class changed"
-                                                  : "first build");
-                    object.class_changed = false;
-                    // Until the build completes the tree does not match the triangles just
-                    // stored: should it throw, the next update must rebuild, not compare.
-                    object.built = false;
-                    build(object, config);
-                    stats.rebuild_ms += clock.lap_ms();
+                record(planned.reason);
+                // The tree does not match the triangles just stored until the build
+                // completes: should it throw, the next update must rebuild, not refit.
+                object.built = false;
+                build(object, config);
+                stats.rebuild_ms += clock.lap_ms();
+                break;
+            }
+            case TreeAction::refit: {
+                clock.lap_ms();
+                const bool moved = assemble(mesh, pose.world_positions, object.triangles);
+                stats.update_ms += clock.lap_ms();
+                if (!moved) {
+                    ++stats.objects_skipped;
                     break;
                 }
-                object.built = false;  // as above, until the refit completes
+                object.built = false;  // until the refit completes (see above)
                 const bvh::RefitResult refit = bvh::refit(object.tree, object.triangles, costs);
                 object.built = !refit.needs_rebuild();
                 stats.refit_ms += clock.lap_ms();
                 ++stats.objects_refitted;
                 stats.triangles_refitted += mesh.triangles.size();
-                if (refit.needs_rebuild()) {
-                    record("degenerate triangle gained area");
-                    build(object, config);
-                    stats.rebuild_ms += clock.lap_ms();
-                } else if (refit.sah_cost > (1.0 + policy.rebuild_threshold) * object.built_sah) {
-                    record("sah degraded", refit.sah_cost);
+                if (const std::optional<RebuildReason> rebuild =
+                        judge_refit(refit, object.built_sah, policy)) {
+                    record(*rebuild, *rebuild == RebuildReason::sah_degraded ? refit.sah_cost : 0.0);
                     build(object, config);
                     stats.rebuild_ms += clock.lap_ms();
                 } else {
@@ -332,7 +315,7 @@ void SceneAccel::update(const Scene& scene, std::span<const ObjectState> states,
 
 void SceneAccel::build_static_group(const Scene& scene, std::span<const ObjectState> states,
                                     const FixedPositions& fixed, const bvh::BuildConfig& config,
-                                    FrameStats& stats) {
+                                    RebuildReason reason, FrameStats& stats) {
     // Static objects never move, so one tree over all of them in world space serves them
     // best: it splits across objects (per-object trees overlap, and rays pay for every
     // overlapping one) and costs the top level a single instance. A scene of static objects
@@ -344,8 +327,7 @@ void SceneAccel::build_static_group(const Scene& scene, std::span<const ObjectSt
     all.clear();
     std::vector<bvh::Triangle> object_triangles;
     Stopwatch clock;
-    const char* reason = static_group_.known ? "static group changed" : "first build";
-    static_group_.known = true;
+    static_group_known_ = true;
     for (std::size_t i = 0; i < scene.objects.size(); ++i) {
         if (states[i].motion_class != anim::MotionClass::static_) continue;
         const Mesh& mesh = scene.objects[i].mesh;
@@ -355,7 +337,6 @@ void SceneAccel::build_static_group(const Scene& scene, std::span<const ObjectSt
         static_slot_of_.insert(static_slot_of_.end(), object_triangles.size(),
                                std::uint32_t(static_objects_.size() - 1));
         objects_[i].group_first = std::uint32_t(all.size());
-        objects_[i].first_frame = true;  // built this update, so not counted as skipped
         bvh::Aabb box;
         for (const bvh::Triangle& t : object_triangles) {
             box.extend(t.v0);

@@ -1,22 +1,13 @@
 #pragma once
 // The acceleration structure of a scene over the frames of a sequence: one bottom-level tree
-// per object, kept from frame to frame and brought up to date by the cheapest action that keeps
-// it correct, and a top level over the objects, rebuilt every frame (it holds a handful of
-// boxes). Per motion class:
-//
-//   static      built once, in world space; never touched again.
-//   rigid       built once, in object space; each frame only its instance transform moves.
-//   deformable  refitted when it changed. Rebuilt when the refitted tree's SAH cost exceeds
-//               the cost at its last build by more than UpdatePolicy::rebuild_threshold (a
-//               refit keeps the topology chosen for the old shape, so quality decays), or
-//               when a refit cannot keep the tree correct (a triangle left out as degenerate
-//               at the build has gained area).
-//   exploding   rebuilt whenever it changed, with a cost ratio of its own.
+// per object, kept from frame to frame and brought up to date by the action the update planner
+// chose for it (dynrt/engine/update_plan.h: what each class gets, and why), and a top level
+// over the objects, rebuilt every frame (it holds a handful of boxes). SceneAccel carries a
+// plan out: it gathers triangles, builds, refits (asking judge_refit whether the refit stands),
+// times each stage and reports it.
 //
 // Static objects share one tree (the static group), built in world space at the first
-// update, so a scene of static objects traces exactly one tree over all its triangles. It is
-// rebuilt only when an object joins or leaves it (the library API raises a mesh's class when
-// its caller starts moving it).
+// update, so a scene of static objects traces exactly one tree over all its triangles.
 //
 // An object whose ObjectState::changed is false costs nothing, so a frame that repeats the
 // previous one does no update work at all. Hits report the object index (scene order) and the
@@ -28,6 +19,7 @@
 #include "dynrt/bvh/triangle_bvh.h"
 #include "dynrt/bvh/two_level_bvh.h"
 #include "dynrt/engine/frame_stats.h"
+#include "dynrt/engine/update_plan.h"
 #include "dynrt/scene/scene.h"
 
 #include <glm/mat4x4.hpp>
@@ -37,33 +29,6 @@
 #include <vector>
 
 namespace dynrt {
-
-/// How SceneAccel updates objects (RenderOptions carries it).
-struct UpdatePolicy {
-    /// Builds of static, rigid and deformable objects.
-    bvh::BuildConfig build;
-    /// Cost ratio of the per-frame rebuilds of exploding objects: a tree built every frame and
-    /// traced once pays its build in every frame, which favours shallower trees than the ratio
-    /// that minimises trace time alone.
-    float exploding_cost_ratio = 0.3f;
-    /// Rebuild a deformable object when its refitted SAH cost exceeds (1 + threshold) times
-    /// the cost at its last build. 0 rebuilds on any degradation; +inf never.
-    double rebuild_threshold = 0.3;
-};
-
-/// One object at one update, as SceneAccel reads it: what a PosedScene says of it, or what the
-/// library API (dynrt/dynrt.h) gathered from its caller.
-struct ObjectState {
-    anim::MotionClass motion_class = anim::MotionClass::static_;
-    /// False when nothing about the object changed since the previous update: it is then
-    /// skipped without reading its vertices (unless its tree must be built).
-    bool changed = true;
-    /// Rigid objects: object to world at this update, in double (ignored for other classes).
-    glm::dmat4 transform{1.0};
-    /// Deformable and exploding objects: world-space positions at this update, indexed as the
-    /// mesh's positions (borrowed for the call; ignored for static and rigid objects).
-    std::span<const glm::vec3> world_positions;
-};
 
 /// The vertices of static and rigid objects, read only when their trees are built.
 class FixedPositions {
@@ -146,23 +111,20 @@ private:
         double built_sah = 0.0;
         double sah = 0.0;
         bvh::BvhStats shape;
+        /// The tree matches the triangles (TreeHistory::built).
         bool built = false;
         /// built_sah, sah and shape describe the current tree (false right after a build).
         bool measured = false;
-        /// Static objects: where their triangles start in the static group, and whether the
-        /// next update is their first (which builds, and so does not skip them).
+        /// Static objects: where their triangles start in the static group.
         std::uint32_t group_first = 0;
-        bool first_frame = true;
-        /// Whether an update has seen the object (so motion_class is the last update's), and
-        /// whether its next build is because its class changed (for the report's reason).
+        /// An update has seen the object (so motion_class is the last update's).
         bool known = false;
-        bool class_changed = false;
     };
 
     void build(ObjectTree& object, const bvh::BuildConfig& config);
     void build_static_group(const Scene& scene, std::span<const ObjectState> objects,
                             const FixedPositions& fixed, const bvh::BuildConfig& config,
-                            FrameStats& stats);
+                            RebuildReason reason, FrameStats& stats);
     /// The instance id of the static group: one past the last object index, so it collides
     /// with no object (ties between instances go to the lower id).
     std::uint32_t static_group_id() const { return std::uint32_t(objects_.size()); }
@@ -182,8 +144,10 @@ private:
     std::vector<bvh::Aabb> object_boxes_;
     /// Scratch for the vertex positions of static objects at their one build.
     std::vector<glm::vec3> positions_;
-    /// Scratch of the PosedScene form of update.
+    /// Scratch of the PosedScene form of update, and the planner's input.
     std::vector<ObjectState> states_;
+    std::vector<TreeHistory> history_;
+    bool static_group_known_ = false;
 };
 
 }  // namespace dynrt

@@ -9,18 +9,37 @@
 
 namespace dynrt {
 
-/// One bottom-level tree built this frame, and why.
+/// Why a bottom-level tree was built (the update planner's reasons, engine/update_plan.h).
+enum class RebuildReason : std::uint8_t {
+    first_build,             ///< the object's first tree
+    class_changed,           ///< its tree moved between object and world space, or left the static group
+    static_group_changed,    ///< a static object's group was rebuilt: an object joined or left it
+    exploding,               ///< rebuilt every frame it moves
+    sah_degraded,            ///< the refit's SAH cost passed the rebuild threshold
+    degenerate_gained_area,  ///< a refit could not keep the tree correct
+};
+
+/// The reason as the report writes it: "first build", "class changed", "static group
+/// changed", "exploding", "sah degraded", "degenerate triangle gained area".
+inline const char* rebuild_reason_name(RebuildReason reason) {
+    switch (reason) {
+        case RebuildReason::first_build: return "first build";
+        case RebuildReason::class_changed: return "class changed";
+        case RebuildReason::static_group_changed: return "static group changed";
+        case RebuildReason::exploding: return "exploding";
+        case RebuildReason::sah_degraded: return "sah degraded";
+        case RebuildReason::degenerate_gained_area: return "degenerate triangle gained area";
+    }
+    return "unknown";
+}
+
+/// One bottom-level tree built this frame, and why. Class changes come from the library API,
+/// whose meshes can be raised to another class.
 struct TreeRebuild {
     std::size_t object = 0;  ///< index in scene order
     std::string name;        ///< the object's name
-    /// "first build", "exploding" (rebuilt every frame it moves), "sah degraded" (the refit's
-    /// SAH cost passed the threshold), "degenerate triangle gained area" (a refit could not
-    /// keep the tree correct), and from the library API, whose meshes can be raised to another
-    /// class: "class changed" (its tree moved between object and world space, or it left the
-    /// static group) and "static group changed" (for each static object, when an object joined
-    /// or left the group).
-    std::string reason;
-    /// For "sah degraded": the refitted tree's SAH cost and the cost at the previous build.
+    RebuildReason reason = RebuildReason::first_build;
+    /// For sah_degraded: the refitted tree's SAH cost and the cost at the previous build.
     double sah_refitted = 0;
     double sah_at_last_build = 0;
 };

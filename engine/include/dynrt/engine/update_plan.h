@@ -1,0 +1,154 @@
+#pragma once
+// The update planner: which action each object's tree gets this frame, decided from what the
+// trees were after the last update and what moved since, before any vertex is read. A pure
+// function of its inputs, so the update matrix (which objects moved x their class x the
+// policy) is unit-tested without trees or a renderer (tests/update_plan_test.cpp), as Embree's
+// verify suite tests its update modes; SceneAccel (engine/src/update/) only carries a plan out.
+//
+// Per motion class (anim/motion_class.h):
+//
+//   static      every static object's triangles are in one world-space tree, the static group,
+//               built at the first update and rebuilt only when an object joins or leaves it
+//               (or its triangles were replaced); otherwise kept.
+//   rigid       built once, in object space; afterwards only its instance transform moves.
+//   deformable  refitted when it changed; judge_refit then keeps the refit or rebuilds: when
+//               the refitted tree's SAH cost exceeds the cost at its last build by more than
+//               UpdatePolicy::rebuild_threshold (a refit keeps the topology chosen for the old
+//               shape, so quality decays), or when a refit cannot keep the tree correct (a
+//               triangle left out as degenerate at the build has gained area).
+//   exploding   rebuilt whenever it changed, with a cost ratio of its own.
+//
+// An object whose class changes keeps its tree when the tree's space stays the same (world
+// space for static-group members aside: deformable and exploding trees are in world space,
+// rigid ones in object space); otherwise it is built afresh ("class changed").
+
+#include "dynrt/anim/motion_class.h"
+#include "dynrt/bvh/binned_sah_builder.h"
+#include "dynrt/bvh/refit.h"
+#include "dynrt/engine/frame_stats.h"
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+namespace dynrt {
+
+/// How objects are updated (RenderOptions carries it; the library API has its own).
+struct UpdatePolicy {
+    /// Builds of static, rigid and deformable objects.
+    bvh::BuildConfig build;
+    /// Cost ratio of the per-frame rebuilds of exploding objects: a tree built every frame and
+    /// traced once pays its build in every frame, which favours shallower trees than the ratio
+    /// that minimises trace time alone.
+    float exploding_cost_ratio = 0.3f;
+    /// Rebuild a deformable object when its refitted SAH cost exceeds (1 + threshold) times
+    /// the cost at its last build. 0 rebuilds on any degradation; +inf never.
+    double rebuild_threshold = 0.3;
+};
+
+/// One object at one update, as the planner and SceneAccel read it: what a PosedScene says of
+/// it, or what the library API (dynrt/dynrt.h) gathered from its caller.
+struct ObjectState {
+    anim::MotionClass motion_class = anim::MotionClass::static_;
+    /// False when nothing about the object changed since the previous update: it is then
+    /// skipped without reading its vertices (unless its tree must be built).
+    bool changed = true;
+    /// Rigid objects: object to world at this update, in double (ignored for other classes).
+    glm::dmat4 transform{1.0};
+    /// Deformable and exploding objects: world-space positions at this update, indexed as the
+    /// mesh's positions (borrowed for the call; ignored for static and rigid objects).
+    std::span<const glm::vec3> world_positions;
+};
+
+/// What the trees of one object were after the last update: the planner's memory.
+struct TreeHistory {
+    /// An update has seen the object (so motion_class is the last update's class).
+    bool known = false;
+    anim::MotionClass motion_class = anim::MotionClass::static_;
+    /// Its own tree matches its triangles (never for static objects, which have none).
+    bool built = false;
+};
+
+/// The same for the static group.
+struct StaticGroupHistory {
+    /// It has been built once (a later build is a change, not the first build).
+    bool known = false;
+    /// It matches its members' triangles: false before the first update and after one of its
+    /// members' triangles were replaced.
+    bool built = false;
+};
+
+/// What an object's tree gets this frame.
+enum class TreeAction : std::uint8_t {
+    /// Nothing: an unchanged object with a tree, or a static object whose group is kept.
+    keep,
+    /// A rigid object with a tree that moved: only its instance transform is written.
+    move_instance,
+    /// A deformable object with a tree that changed: its triangles are gathered and the tree
+    /// refitted; judge_refit then keeps the refit or rebuilds.
+    refit,
+    /// Built from its vertices, for `reason`.
+    rebuild,
+    /// A static object: its triangles go into the static group, rebuilt this frame.
+    build_in_static_group,
+};
+
+/// "keep", "move instance", "refit", "rebuild", "build in static group".
+const char* tree_action_name(TreeAction action);
+
+/// One object's part of a plan.
+struct ObjectPlan {
+    TreeAction action = TreeAction::keep;
+    /// For rebuild and build_in_static_group: why.
+    RebuildReason reason = RebuildReason::first_build;
+    /// Its class changed into static (it joins the static group) or out of it (it leaves).
+    bool joins_static_group = false;
+    bool leaves_static_group = false;
+};
+
+/// One action per object (scene order) and the static group's. Deformable and exploding
+/// objects planned for refit or rebuild are skipped after all (counted as kept) when their
+/// gathered triangles equal the stored ones: the animation said they changed, the vertices
+/// say not. That check reads vertices, so the executor makes it.
+struct UpdatePlan {
+    std::vector<ObjectPlan> objects;
+    /// Whether the static group is rebuilt, and why (first_build or static_group_changed).
+    bool rebuild_static_group = false;
+    RebuildReason static_group_reason = RebuildReason::first_build;
+};
+
+/// Plans the update of `now.size()` objects from their trees' `previous` state (one per
+/// object seen before, scene order; objects past its end are new) and the static group's.
+/// Reads only motion_class and changed of `now`. `previous.size() <= now.size()` (a scene
+/// that lost objects starts afresh, with empty `previous`).
+UpdatePlan plan_update(std::span<const TreeHistory> previous, const StaticGroupHistory& group,
+                       std::span<const ObjectState> now);
+
+/// After a planned refit: whether its result stands (nullopt) or the object is rebuilt, and
+/// why. `sah_at_last_build` is the tree's SAH cost when it was last built.
+std::optional<RebuildReason> judge_refit(const bvh::RefitResult& refit, double sah_at_last_build,
+                                         const UpdatePolicy& policy);
+
+/// Library API meshes declared Motion::automatic start static and are raised by what their
+/// caller changes: a moved transform makes them at least rigid, moved positions at least
+/// deformable; a class is never lowered.
+anim::MotionClass raise_automatic_class(anim::MotionClass current, bool transform_changed,
+                                        bool positions_changed);
+
+/// An automatic deformable mesh whose refits degraded past the threshold this many updates in
+/// a row is rebuilt every time anyway: it is then treated as exploding, which skips the refit.
+inline constexpr int kDegradedStepsToExploding = 3;
+
+/// The class an automatic mesh gets after an update in which it `changed`, with its streak of
+/// updates whose refit degraded (`degraded_steps`, updated here): exploding once the streak
+/// reaches kDegradedStepsToExploding, else `motion_class` unchanged. Only deformable meshes
+/// that changed count; others keep their streak.
+anim::MotionClass class_after_update(anim::MotionClass motion_class, bool changed,
+                                     bool refit_degraded, int& degraded_steps);
+
+}  // namespace dynrt

@@ -48,7 +48,7 @@ TEST(BenchSequence, EveryFrameOfEveryRunIsOneSample) {
     std::vector<int> seen;
     std::vector<std::unique_ptr<SequenceTracer>> others;
     others.push_back(std::make_unique<FakeTracer>(seen));
-    const SequenceBench bench = bench_sequence(scene, default_camera(scene_bounds(scene)), options,
+    const SequenceBench bench = bench_sequence(scene, CameraSource::fixed(default_camera(scene_bounds(scene))), options,
                                                FrameRange{2, 5}, 2, 0, others);
     EXPECT_EQ(seen, (std::vector<int>{2, 3, 4, 5, 2, 3, 4, 5}));
     ASSERT_EQ(bench.rows.size(), 2u);
@@ -122,12 +122,12 @@ k camera
     std::vector<Camera> seen;
     std::vector<std::unique_ptr<SequenceTracer>> others;
     others.push_back(std::make_unique<CameraRecorder>(seen));
-    (void)bench_sequence(scene, std::nullopt, options, FrameRange{0, 3}, 1, 0, others);
+    (void)bench_sequence(scene, CameraSource::scene(), options, FrameRange{0, 3}, 1, 0, others);
     ASSERT_EQ(seen.size(), 4u);
     for (int f = 0; f < 4; ++f) EXPECT_NEAR(seen[std::size_t(f)].eye.z, 10.0 - f, 1e-5) << "frame " << f;
     // A scene without a camera of its own needs a fixed one.
     const Scene plain = load_scene("sphere:20");
-    EXPECT_THROW((void)bench_sequence(plain, std::nullopt, options, FrameRange{0, 1}, 1, 0, others),
+    EXPECT_THROW((void)bench_sequence(plain, CameraSource::scene(), options, FrameRange{0, 1}, 1, 0, others),
                  std::invalid_argument);
 }
 

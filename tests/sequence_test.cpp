@@ -1,5 +1,6 @@
 // Frame ranges, output-path patterns and glTF cameras for sequence rendering.
 
+#include "dynrt/engine/camera.h"
 #include "dynrt/engine/sequence.h"
 
 #include <gtest/gtest.h>

@@ -43,9 +43,7 @@ int run_bench_sequence(const BenchArgs& args) {
     const std::string source = scene_source(args);
     const dynrt::Scene scene = load_animated_scene(args, source, options);
     warn_past_the_end(scene, options.pose, range);
-    // The scene's own camera moves with the frames: nullopt asks for it frame by frame.
-    std::optional<dynrt::Camera> camera;
-    if (!uses_scene_camera(args, scene)) camera = camera_for(scene, args, options.pose, range);
+    const dynrt::CameraSource view = camera_source(scene, args, options.pose, range);
     std::vector<std::unique_ptr<dynrt::SequenceTracer>> others;
 #if DYNRT_HAVE_EMBREE
     if (args.vs == "embree") {
@@ -60,7 +58,7 @@ int run_bench_sequence(const BenchArgs& args) {
               << " frames (" << runs << " run(s)) after " << args.warmup << " warm-up\n";
     print_ignored(std::cout, scene);
     const dynrt::SequenceBench bench =
-        dynrt::bench_sequence(scene, camera, options, range, runs, args.warmup, others);
+        dynrt::bench_sequence(scene, view, options, range, runs, args.warmup, others);
     dynrt::print_sequence_table(std::cout, bench);
     print_rebuild_summary(std::cout, bench.frames);
     if (!args.plot.empty()) {

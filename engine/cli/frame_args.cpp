@@ -158,20 +158,25 @@ bool uses_scene_camera(const FrameArgs& args, const dynrt::Scene& scene) {
     return args.camera.empty() && scene.setup && !scene.cameras.empty();
 }
 
-dynrt::Camera camera_for(const dynrt::Scene& scene, const FrameArgs& args,
-                         const dynrt::anim::PoseSettings& pose, dynrt::FrameRange frames) {
-    const int frame = frames.first;
-    if (uses_scene_camera(args, scene)) {
-        dynrt::anim::PoseSettings settings;
-        settings.fps = pose.fps;
-        settings.clips = pose.clips;
-        dynrt::anim::PosedScene posed;
-        dynrt::anim::pose_scene(scene, settings, frame, posed);
-        return dynrt::camera_from_scene(*posed.camera);
-    }
+dynrt::CameraSource camera_source(const dynrt::Scene& scene, const FrameArgs& args,
+                                  const dynrt::anim::PoseSettings& pose, dynrt::FrameRange frames) {
+    if (uses_scene_camera(args, scene)) return dynrt::CameraSource::scene();
     const dynrt::Camera camera =
         dynrt::default_camera(dynrt::sequence_bounds(scene, pose, frames.first, frames.last));
-    return args.camera.empty() ? camera : dynrt::parse_camera(args.camera, camera);
+    return dynrt::CameraSource::fixed(args.camera.empty() ? camera
+                                                          : dynrt::parse_camera(args.camera, camera));
+}
+
+dynrt::Camera camera_for(const dynrt::Scene& scene, const FrameArgs& args,
+                         const dynrt::anim::PoseSettings& pose, dynrt::FrameRange frames) {
+    const dynrt::CameraSource view = camera_source(scene, args, pose, frames);
+    if (!view.from_scene) return view.camera;
+    dynrt::anim::PoseSettings settings;
+    settings.fps = pose.fps;
+    settings.clips = pose.clips;
+    dynrt::anim::PosedScene posed;
+    dynrt::anim::pose_scene(scene, settings, frames.first, posed);
+    return dynrt::camera_from_scene(*posed.camera);
 }
 
 void print_ignored(std::ostream& out, const dynrt::Scene& scene) {

@@ -106,9 +106,14 @@ std::string scene_source(const FrameArgs& args);
 /// the default for a scene file that sets up its own view (BART's `v`).
 bool uses_scene_camera(const FrameArgs& args, const dynrt::Scene& scene);
 
-/// The camera of frames `frames`: the scene's own when it is used (posed at the first frame
-/// with `pose`'s frame rate), else the one --camera describes or the default framing, which
-/// frames the scene's bounds over all of `frames` (so moving parts stay in the picture).
+/// Where the camera of frames `frames` comes from: the scene's own when it is used (the renderer
+/// reads it from each frame's pose), else the one --camera describes or the default framing,
+/// which frames the scene's bounds over all of `frames` (so moving parts stay in the picture).
+dynrt::CameraSource camera_source(const dynrt::Scene& scene, const FrameArgs& args,
+                                  const dynrt::anim::PoseSettings& pose, dynrt::FrameRange frames);
+
+/// The camera of one frame, `frames.first`, for the still-frame benches, which take a camera:
+/// camera_source's, with the scene's own posed at that frame.
 dynrt::Camera camera_for(const dynrt::Scene& scene, const FrameArgs& args,
                          const dynrt::anim::PoseSettings& pose, dynrt::FrameRange frames = {});
 

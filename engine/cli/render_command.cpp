@@ -97,8 +97,7 @@ int run_render(const RenderArgs& args) {
         std::filesystem::create_directories(first_path.parent_path());
         dynrt::check_image_path(first_path);
     }
-    const bool scene_camera = uses_scene_camera(args, scene);
-    const dynrt::Camera fixed_camera = camera_for(scene, args, options.pose, range);
+    const dynrt::CameraSource view = camera_source(scene, args, options.pose, range);
 
     dynrt::Renderer renderer(options);
     dynrt::RenderedFrame frame;
@@ -114,10 +113,7 @@ int run_render(const RenderArgs& args) {
     std::optional<dynrt::ContactSheet> sheet;
     if (!args.contact_sheet.empty()) sheet.emplace(range.count());
     for (int f = range.first; f <= range.last; ++f) {
-        renderer.update(scene, f);
-        const dynrt::Camera camera =
-            scene_camera ? dynrt::camera_from_scene(*renderer.posed().camera) : fixed_camera;
-        renderer.trace(camera, frame);
+        renderer.render(scene, f, view, frame);
         const std::string path = dynrt::frame_path(args.out, f);
         if (sequence_file) {
             sequence_file->add(frame);

@@ -8,8 +8,7 @@
 #include "dynrt/scene/scene_error.h"
 #include "access_guard.h"
 #include "ray_batch.h"
-#include "rendering/frame_tracer.h"
-#include "update/scene_accel.h"
+#include "rendering/frame_pipeline.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -160,22 +159,17 @@ struct Engine::Impl final : FixedPositions {
     std::vector<MeshSlot> meshes;
     std::size_t live = 0;
 
-    SceneAccel accel;
+    /// The engine's frame path (rendering/frame_pipeline.h): the trees, their update and the
+    /// trace. Renders run one at a time (render_mutex), on its buffers and `frame`.
+    mutable FramePipeline pipeline;
     std::vector<ObjectState> states;
     int step = 0;
     bool updated = false;
     /// An update failed after touching the trees: the next one starts afresh.
     bool broken = false;
-    FrameStats last_update;
-    double update_wall_ms = 0.0;
-    /// The materials of the last update, as the shading kernel reads them.
-    std::vector<packet::PhongMaterial> materials;
-    std::vector<std::int32_t> object_material;
 
     AccessGuard guard;
-    /// Renders run one at a time, on these buffers.
     mutable std::mutex render_mutex;
-    mutable TraceScratch scratch;
     mutable RenderedFrame frame;
 
     template <typename Work>
@@ -274,7 +268,6 @@ struct Engine::Impl final : FixedPositions {
     }
 
     FrameStats update();
-    void refresh_materials();
 
     /// Throws invalid_state unless the last update() succeeded.
     void check_traced(const char* call) const {
@@ -439,11 +432,8 @@ void Engine::set_surface(MeshId id, const Surface& surface) {
     material.diffuse = diffuse;
     material.specular = specular;
     material.shininess = surface.shininess;
-    // Renders shade with the copy the last update made: change it too, so the next render
-    // uses the new material without waiting for an update (no render runs during this call).
-    if (id.value < s.materials.size()) {
-        s.materials[id.value] = packet::PhongMaterial{diffuse, specular, surface.shininess};
-    }
+    // Every render reads the materials as they are, so the next one uses it without waiting
+    // for an update (no render runs during this call).
 }
 
 void Engine::remove_mesh(MeshId id) {
@@ -458,7 +448,7 @@ void Engine::remove_mesh(MeshId id) {
     mesh.world.clear();
     s.scene.objects[id.value].mesh.triangles.clear();
     s.scene.objects[id.value].mesh.triangles.shrink_to_fit();
-    s.accel.invalidate(id.value);
+    s.pipeline.invalidate(id.value);
     --s.live;
 }
 
@@ -476,9 +466,6 @@ FrameStats Engine::update() {
 
 FrameStats Engine::Impl::update() {
     const Stopwatch wall;
-    FrameStats stats;
-    stats.frame = step;
-    Stopwatch clock;
     // ---- Classes, world positions and checks: nothing is changed until all pass ----
     std::vector<anim::MotionClass> classes(meshes.size());
     states.resize(meshes.size());
@@ -517,17 +504,16 @@ FrameStats Engine::Impl::update() {
             check_positions(i, world_positions, "transformed", true);
         }
     }
-    stats.update_ms = clock.lap_ms();
 
     // ---- The trees ----
     // Everything above is checked before the trees are touched. What a build reads later (a
     // borrowed static or rigid buffer, checked as it is read) can still fail the update half
     // way: then the trees are a mix of two steps, so queries are refused until an update
     // succeeds, and that update starts afresh.
-    if (broken) accel.clear();
+    if (broken) pipeline.clear();
     broken = true;
     updated = false;
-    accel.update(scene, states, *this, policy, stats);
+    const FrameStats& stats = pipeline.update(scene, states, *this, policy, step, wall);
     broken = false;
     for (std::size_t i = 0; i < meshes.size(); ++i) {
         MeshSlot& mesh = meshes[i];
@@ -547,22 +533,9 @@ FrameStats Engine::Impl::update() {
         mesh.motion_class = class_after_update(mesh.motion_class, states[i].changed, degraded[i],
                                                mesh.degraded_steps);
     }
-    refresh_materials();
-    stats.total_ms = wall.elapsed_ms();
-    last_update = stats;
-    update_wall_ms = stats.total_ms;
     updated = true;
     ++step;
     return stats;
-}
-
-void Engine::Impl::refresh_materials() {
-    materials.clear();
-    for (const Material& m : scene.materials) {
-        materials.push_back(packet::PhongMaterial{m.diffuse, m.specular, m.shininess});
-    }
-    object_material.clear();
-    for (const Object& object : scene.objects) object_material.push_back(std::int32_t(object.material));
 }
 
 FrameStats Engine::render(const View& view, const ImageView& image,
@@ -607,20 +580,14 @@ FrameStats Engine::render(const View& view, const ImageView& image,
         lights.push_back(PointLight{position, light.intensity});
     }
     if (lights.empty()) {
-        const bvh::Aabb bounds = s.accel.world_bounds();
+        const bvh::Aabb bounds = s.pipeline.accel().world_bounds();
         lights.push_back(bounds.is_empty() ? PointLight{} : default_light(bounds));
     }
 
     const std::lock_guard<std::mutex> lock(s.render_mutex);
     RenderedFrame& frame = s.frame;
     try {
-        s.run([&] {
-            const Stopwatch clock;
-            frame.stats = s.last_update;
-            trace_frame(TraceInputs{s.accel, s.materials, s.object_material, lights}, camera,
-                        options, s.scratch, frame);
-            frame.stats.total_ms = s.update_wall_ms + clock.elapsed_ms();
-        });
+        s.run([&] { s.pipeline.trace(s.scene, camera, options, lights, frame); });
     } catch (const std::invalid_argument& e) {
         throw invalid(std::string("render: ") + e.what());
     }
@@ -634,14 +601,14 @@ QueryStats Engine::intersect(std::span<const Ray> rays, std::span<RayHit> hits) 
     const Impl& s = *impl_;
     const AccessGuard::Read read(s.guard);
     s.check_traced("intersect");
-    return s.run([&] { return api_detail::intersect_batch(s.accel, rays, hits); });
+    return s.run([&] { return api_detail::intersect_batch(s.pipeline.accel(), rays, hits); });
 }
 
 QueryStats Engine::occluded(std::span<const Ray> rays, std::span<std::uint8_t> occluded) const {
     const Impl& s = *impl_;
     const AccessGuard::Read read(s.guard);
     s.check_traced("occluded");
-    return s.run([&] { return api_detail::occluded_batch(s.accel, rays, occluded); });
+    return s.run([&] { return api_detail::occluded_batch(s.pipeline.accel(), rays, occluded); });
 }
 
 }  // namespace dynrt

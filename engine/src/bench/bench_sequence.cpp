@@ -55,25 +55,17 @@ std::string format_spread(const Spread& s) {
 
 }  // namespace
 
-SequenceBench bench_sequence(const Scene& scene, const std::optional<Camera>& camera,
+SequenceBench bench_sequence(const Scene& scene, const CameraSource& view,
                              const RenderOptions& options, FrameRange range, int runs, int warmup,
                              const std::vector<std::unique_ptr<SequenceTracer>>& others) {
     if (runs < 1) throw std::invalid_argument("bench: repeat must be at least 1");
-    if (!camera && scene.cameras.empty()) {
+    if (view.from_scene && scene.cameras.empty()) {
         throw std::invalid_argument("bench: " + scene.source + " has no camera of its own to follow");
     }
     Renderer renderer(options);
     RenderedFrame frame;
-    // Frame f's camera, once the renderer has posed frame f (posing is part of the update).
-    const auto frame_camera = [&] {
-        return camera ? *camera : camera_from_scene(*renderer.posed().camera);
-    };
-    const auto render = [&](int f) {
-        renderer.update(scene, f);
-        const Camera c = frame_camera();
-        renderer.trace(c, frame);
-        return c;
-    };
+    // The renderer poses frame f once and reads the scene's camera, if used, from that pose.
+    const auto render = [&](int f) { return renderer.render(scene, f, view, frame); };
     for (int i = 0; i < warmup; ++i) {
         renderer.reset();
         render(range.first);

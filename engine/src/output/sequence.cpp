@@ -106,13 +106,5 @@ std::string frame_path(std::string_view pattern, int frame) {
     return unescape(pattern.substr(0, c.begin)) + number + unescape(pattern.substr(c.end));
 }
 
-Camera camera_from_scene(const anim::PosedCamera& posed) {
-    Camera camera;
-    camera.eye = glm::vec3(posed.eye);
-    camera.target = glm::vec3(posed.eye + posed.forward);
-    camera.up = glm::vec3(posed.up);
-    camera.fov_y_deg = float(posed.yfov_rad * (180.0 / 3.14159265358979323846));
-    return camera;
-}
 
 }  // namespace dynrt

@@ -119,4 +119,13 @@ CameraRays::CameraRays(const Camera& camera, int width, int height)
 
 bvh::Ray CameraRays::ray(int x, int y) const { return pinhole_.ray(x, y); }
 
+Camera camera_from_scene(const anim::PosedCamera& posed) {
+    Camera camera;
+    camera.eye = glm::vec3(posed.eye);
+    camera.target = glm::vec3(posed.eye + posed.forward);
+    camera.up = glm::vec3(posed.up);
+    camera.fov_y_deg = float(posed.yfov_rad * (180.0 / 3.14159265358979323846));
+    return camera;
+}
+
 }  // namespace dynrt

@@ -2,9 +2,8 @@
 
 #include "dynrt/anim/posed_scene.h"
 #include "dynrt/packet/packet_shading.h"
-#include "frame_tracer.h"
-#include "update/scene_accel.h"
 #include "dynrt/engine/stopwatch.h"
+#include "rendering/frame_pipeline.h"
 
 #include <glm/geometric.hpp>
 
@@ -26,19 +25,33 @@ struct Renderer::State {
     std::optional<anim::ScenePoser> poser;
     std::vector<PointLight> lights;
     anim::PosedScene posed;
-    SceneAccel accel;
-    /// The last update's figures, and its wall time (part of the frame's total).
-    FrameStats update_stats;
-    double update_wall_ms = 0.0;
-    bool updated = false;
-    /// The scene's materials as the shading kernel reads them and each object's material
-    /// index, refreshed per trace (kept to avoid reallocating), and the trace's own buffers.
-    std::vector<packet::PhongMaterial> materials;
-    std::vector<std::int32_t> object_material;
-    TraceScratch scratch;
+    /// The posed frame as the planner reads it.
+    std::vector<ObjectState> states;
+    FramePipeline pipeline;
 };
 
 namespace {
+
+/// A posed frame's static and rigid vertices, from the poser that evaluated it.
+class PoserPositions final : public FixedPositions {
+public:
+    PoserPositions(const anim::ScenePoser& poser, const anim::PosedScene& posed)
+        : poser_(poser), posed_(posed) {}
+    std::span<const glm::vec3> object_space(std::size_t object) const override {
+        return poser_.object_space_positions(object);
+    }
+    std::span<const glm::vec3> world(std::size_t object,
+                                     std::vector<glm::vec3>& scratch) const override {
+        const std::vector<glm::vec3>& posed = posed_.objects[object].positions;
+        if (!posed.empty()) return posed;
+        poser_.fixed_world_positions(object, posed_, scratch);
+        return scratch;
+    }
+
+private:
+    const anim::ScenePoser& poser_;
+    const anim::PosedScene& posed_;
+};
 
 bvh::Aabb bounds_of(const anim::PosedScene& posed) {
     bvh::Aabb bounds;
@@ -99,20 +112,30 @@ Renderer::~Renderer() = default;
 
 void Renderer::reset() {
     State& s = *state_;
-    s.accel.clear();
+    s.pipeline.clear();
     s.poser.reset();
     s.scene = nullptr;
-    s.updated = false;
 }
 
 const anim::PosedScene& Renderer::posed() const {
-    if (!state_->updated) throw std::logic_error("Renderer::posed before any update");
+    if (!state_->pipeline.updated()) throw std::logic_error("Renderer::posed before any update");
     return state_->posed;
 }
 
 void Renderer::render(const Scene& scene, const Camera& camera, int frame, RenderedFrame& out) {
     update(scene, frame);
     trace(camera, out);
+}
+
+Camera Renderer::render(const Scene& scene, int frame, const CameraSource& view,
+                        RenderedFrame& out) {
+    update(scene, frame);
+    if (view.from_scene && !state_->posed.camera) {
+        throw std::logic_error("Renderer::render: " + scene.source + " has no camera of its own");
+    }
+    const Camera camera = view.from_scene ? camera_from_scene(*state_->posed.camera) : view.camera;
+    trace(camera, out);
+    return camera;
 }
 
 void Renderer::update(const Scene& scene, int frame) {
@@ -126,47 +149,31 @@ void Renderer::update(const Scene& scene, int frame) {
         s.lights.clear();
         s.scene = &scene;
     }
-    s.updated = false;
-    const Stopwatch update_clock;
-    FrameStats& stats = s.update_stats;
-    stats = FrameStats{};
-    stats.frame = frame;
+    const Stopwatch frame_clock;
 
-    // ---- Update: evaluate the animation, then bring every object's tree to this frame ----
+    // ---- Pose: evaluate the animation at the frame ----
     s.poser->pose(frame, s.posed);
+    s.states.resize(s.posed.objects.size());
+    for (std::size_t i = 0; i < s.states.size(); ++i) {
+        const anim::PosedObject& pose = s.posed.objects[i];
+        s.states[i] = ObjectState{pose.motion_class, pose.changed, pose.transform, pose.positions};
+    }
+    // ---- Plan and update the trees ----
     UpdatePolicy policy;
     policy.build = options_.build;
     policy.exploding_cost_ratio = options_.cost_ratio_exploding;
     policy.rebuild_threshold = options_.rebuild_threshold;
-    s.accel.update(scene, *s.poser, s.posed, policy, stats);
-    s.update_wall_ms = update_clock.elapsed_ms();
-    // Everything the update did besides building trees (posing, gathering triangles), so that
-    // the stages shown add up to total_ms.
-    stats.update_ms = std::max(0.0, s.update_wall_ms - stats.build_ms);
+    s.pipeline.update(scene, s.states, PoserPositions(*s.poser, s.posed), policy, frame,
+                      frame_clock);
     // The lights, once per sequence and untimed. After the update, so that bad geometry is
     // reported at the frame asked for (the default light is placed from frame 0's bounds).
     if (s.lights.empty()) s.lights = effective_lights(scene, options_);
-    s.updated = true;
 }
 
 void Renderer::trace(const Camera& camera, RenderedFrame& out) {
     State& s = *state_;
-    if (!s.updated) throw std::logic_error("Renderer::trace before any update");
-    const Stopwatch trace_clock;
-    const Scene& scene = *s.scene;
-    // The shading kernel's view of the materials (bookkeeping, outside the stage clocks).
-    s.materials.clear();
-    for (const Material& m : scene.materials) {
-        s.materials.push_back(packet::PhongMaterial{m.diffuse, m.specular, m.shininess});
-    }
-    s.object_material.clear();
-    for (const Object& object : scene.objects) {
-        s.object_material.push_back(std::int32_t(object.material));
-    }
-    out.stats = s.update_stats;
-    trace_frame(TraceInputs{s.accel, s.materials, s.object_material, s.lights}, camera, options_,
-                s.scratch, out);
-    out.stats.total_ms = s.update_wall_ms + trace_clock.elapsed_ms();
+    if (!s.pipeline.updated()) throw std::logic_error("Renderer::trace before any update");
+    s.pipeline.trace(*s.scene, camera, options_, s.lights, out);
 }
 
 }  // namespace dynrt

@@ -89,42 +89,6 @@ void SceneAccel::build(ObjectTree& object, const bvh::BuildConfig& config) {
     object.built = true;
 }
 
-namespace {
-
-/// A posed frame's static and rigid vertices, from the poser that evaluated it.
-class PoserPositions final : public FixedPositions {
-public:
-    PoserPositions(const anim::ScenePoser& poser, const anim::PosedScene& posed)
-        : poser_(poser), posed_(posed) {}
-    std::span<const glm::vec3> object_space(std::size_t object) const override {
-        return poser_.object_space_positions(object);
-    }
-    std::span<const glm::vec3> world(std::size_t object,
-                                     std::vector<glm::vec3>& scratch) const override {
-        const std::vector<glm::vec3>& posed = posed_.objects[object].positions;
-        if (!posed.empty()) return posed;
-        poser_.fixed_world_positions(object, posed_, scratch);
-        return scratch;
-    }
-
-private:
-    const anim::ScenePoser& poser_;
-    const anim::PosedScene& posed_;
-};
-
-}  // namespace
-
-void SceneAccel::update(const Scene& scene, const anim::ScenePoser& poser,
-                        const anim::PosedScene& posed, const UpdatePolicy& policy,
-                        FrameStats& stats) {
-    states_.resize(posed.objects.size());
-    for (std::size_t i = 0; i < states_.size(); ++i) {
-        const anim::PosedObject& pose = posed.objects[i];
-        states_[i] = ObjectState{pose.motion_class, pose.changed, pose.transform, pose.positions};
-    }
-    update(scene, states_, PoserPositions(poser, posed), policy, stats);
-}
-
 void SceneAccel::invalidate(std::size_t object) {
     if (object >= objects_.size()) return;  // not built yet: the next update builds it anyway
     ObjectTree& tree = objects_[object];

@@ -13,7 +13,7 @@
 // previous one does no update work at all. Hits report the object index (scene order) and the
 // triangle index within the object.
 
-#include "dynrt/anim/posed_scene.h"
+#include "dynrt/anim/motion_class.h"
 #include "dynrt/bvh/binned_sah_builder.h"
 #include "dynrt/bvh/triangle.h"
 #include "dynrt/bvh/triangle_bvh.h"
@@ -55,11 +55,6 @@ public:
     /// Throws SceneError for non-finite static positions (from `fixed`).
     void update(const Scene& scene, std::span<const ObjectState> objects,
                 const FixedPositions& fixed, const UpdatePolicy& policy, FrameStats& stats);
-
-    /// The same for a frame `poser` has just evaluated into `posed` (with skip_fixed_positions
-    /// set or not). Throws SceneError naming object and frame for non-finite geometry.
-    void update(const Scene& scene, const anim::ScenePoser& poser, const anim::PosedScene& posed,
-                const UpdatePolicy& policy, FrameStats& stats);
 
     /// Forgets every tree: the next update builds from scratch (another scene, or the same
     /// scene after its objects were edited).
@@ -144,8 +139,7 @@ private:
     std::vector<bvh::Aabb> object_boxes_;
     /// Scratch for the vertex positions of static objects at their one build.
     std::vector<glm::vec3> positions_;
-    /// Scratch of the PosedScene form of update, and the planner's input.
-    std::vector<ObjectState> states_;
+    /// The planner's input (scratch).
     std::vector<TreeHistory> history_;
     bool static_group_known_ = false;
 };

@@ -70,9 +70,9 @@ struct SequenceBench {
 /// Renders frames `range` of `scene` with `options`, `runs` times (each run starts from empty
 /// trees, as a new sequence would), after `warmup` untimed renders of the first frame. Each
 /// frame of each run is one sample. `others` step through the same frames in the same loop,
-/// each right after dynrt, with the same camera. `camera` nullopt: the scene's own camera
-/// (cameras[0]), posed at each frame.
-SequenceBench bench_sequence(const Scene& scene, const std::optional<Camera>& camera,
+/// each right after dynrt, with the same camera, the one `view` gives at each frame.
+/// Throws std::invalid_argument when `view` asks for the scene's own camera and it has none.
+SequenceBench bench_sequence(const Scene& scene, const CameraSource& view,
                              const RenderOptions& options, FrameRange range, int runs, int warmup,
                              const std::vector<std::unique_ptr<SequenceTracer>>& others);
 

@@ -2,6 +2,7 @@
 // Pinhole camera and the exact primary-ray convention (README.md, "Camera convention"), which
 // other tools reproduce to compare images pixel by pixel.
 
+#include "dynrt/anim/posed_scene.h"
 #include "dynrt/bvh/aabb.h"
 #include "dynrt/bvh/ray.h"
 #include "dynrt/packet/pinhole.h"
@@ -33,6 +34,11 @@ struct Framing {
     float radius;
 };
 Framing framing_of(const bvh::Aabb& scene_bounds);
+
+/// The pinhole camera of a scene camera posed at some frame: eye, a target one unit along its
+/// view direction, its up vector and vertical field of view. (The image's own aspect ratio is
+/// used, as for every dynrt camera, not the file's.)
+Camera camera_from_scene(const anim::PosedCamera& posed);
 
 /// Parses "eye=x,y,z,target=x,y,z,up=x,y,z,fov=deg"; any subset of the keys, in any order,
 /// overriding `base`. Throws std::invalid_argument naming the bad part.

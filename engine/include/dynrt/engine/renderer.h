@@ -94,7 +94,22 @@ struct RenderedFrame {
     FrameStats stats;
 };
 
-/// Renders the frames of a scene. Keeps each object's tree from frame to frame and gives it the
+/// Where the frames of a sequence get their camera: one camera for every frame, or the scene's
+/// own (its first camera, evaluated at each frame as the renderer poses it, so it costs no
+/// posing of its own).
+struct CameraSource {
+    bool from_scene = false;
+    /// The camera of every frame, when not from_scene.
+    Camera camera;
+
+    static CameraSource fixed(const Camera& camera) { return CameraSource{false, camera}; }
+    static CameraSource scene() { return CameraSource{true, Camera{}}; }
+};
+
+/// Renders the frames of a scene: the engine's frame loop for scenes (`dynrt render`,
+/// `dynrt bench`, the tests). Each frame is posed once, its camera resolved from the pose, its
+/// trees updated as the update planner decides (dynrt/engine/update_plan.h), then traced and
+/// shaded; the library API runs the same path from its update on (ARCHITECTURE.md). Keeps each object's tree from frame to frame and gives it the
 /// cheapest correct update its motion class allows (static: never touched again; rigid: only
 /// its instance moves; deformable: refit, rebuilt when the refit's SAH cost has degraded past
 /// RenderOptions::rebuild_threshold; exploding: rebuilt), then traces primary and shadow rays
@@ -116,6 +131,12 @@ public:
     /// Throws SceneError for non-finite posed geometry (naming object and frame) and
     /// std::invalid_argument for a degenerate camera or bad pose settings.
     void render(const Scene& scene, const Camera& camera, int frame, RenderedFrame& out);
+
+    /// The same with the camera `view` gives at `frame` (the scene's own camera is read from
+    /// the pose this update makes). Returns the camera the frame was traced with. Throws as
+    /// render above, and std::logic_error when `view` asks for the scene's camera and the scene
+    /// has none.
+    Camera render(const Scene& scene, int frame, const CameraSource& view, RenderedFrame& out);
 
     /// Evaluates `scene` at `frame` and brings the trees up to date. `scene` must stay alive
     /// and unchanged until the next update, reset or destruction.

@@ -1,9 +1,6 @@
 #pragma once
 // Rendering a sequence of frames: which frames (--frames), where each one's image goes (--out
-// 'frames/%04d.png') and the camera a glTF scene animates (--camera gltf).
-
-#include "dynrt/anim/posed_scene.h"
-#include "dynrt/engine/camera.h"
+// 'frames/%04d.png').
 
 #include <string>
 #include <string_view>
@@ -34,10 +31,5 @@ bool has_frame_number(std::string_view pattern);
 /// `pattern` with its frame conversion replaced by `frame` ("frames/%04d.png", 7 ->
 /// "frames/0007.png"); a pattern without one is returned as it is (with "%%" unescaped).
 std::string frame_path(std::string_view pattern, int frame);
-
-/// The pinhole camera of a glTF camera posed at some frame: eye, a target one unit along its
-/// view direction, its up vector and vertical field of view. (The image's own aspect ratio is
-/// used, as for every dynrt camera, not the file's.)
-Camera camera_from_scene(const anim::PosedCamera& posed);
 
 }  // namespace dynrt

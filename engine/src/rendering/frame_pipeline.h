@@ -1,0 +1,70 @@
+#pragma once
+// The one path every frame takes once its objects are posed: plan and carry out the update of
+// the trees (update_plan.h, SceneAccel), trace primary and shadow rays, shade (trace_frame),
+// and the frame's figures. Two front ends feed it: Renderer, which poses a Scene's frames and
+// resolves their camera (`dynrt render`, `dynrt bench`, the tests), and the library API
+// (dynrt/dynrt.h), whose caller moves the meshes. Work that reuses pixels between frames or
+// splits a frame across processes belongs here, so that every front end gets it.
+
+#include "dynrt/engine/camera.h"
+#include "dynrt/engine/frame_stats.h"
+#include "dynrt/engine/renderer.h"
+#include "dynrt/engine/stopwatch.h"
+#include "dynrt/engine/update_plan.h"
+#include "dynrt/packet/packet_shading.h"
+#include "dynrt/scene/scene.h"
+#include "rendering/frame_tracer.h"
+#include "update/scene_accel.h"
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace dynrt {
+
+class FramePipeline {
+public:
+    /// Brings the trees of `scene`'s objects to `states` (one per object, scene order) under
+    /// `policy`, and records the update's figures, which later traces report with theirs.
+    /// `frame_clock` started when the caller began the frame (before posing), so that
+    /// update_ms is everything the update did besides building trees: posing, checks,
+    /// gathering triangles. `scene` and what `states` and `fixed` borrow must stay alive and
+    /// unchanged until the next update. Returns the update's figures. On an exception the
+    /// trees may be half updated: clear() before the next update.
+    const FrameStats& update(const Scene& scene, std::span<const ObjectState> states,
+                             const FixedPositions& fixed, const UpdatePolicy& policy, int frame,
+                             const Stopwatch& frame_clock);
+
+    /// Traces and shades the last update's trees as `camera` sees them under `options` (image
+    /// size, tracer, shading) and `lights`, into `out` (buffers reused). out.stats holds the
+    /// update's figures and the trace's; total_ms is the update's wall time plus the trace's.
+    /// Materials are read from `scene` as it is now. Throws std::logic_error before any update
+    /// and std::invalid_argument for a degenerate camera.
+    void trace(const Scene& scene, const Camera& camera, const RenderOptions& options,
+               std::span<const PointLight> lights, RenderedFrame& out);
+
+    /// Whether an update has completed since construction or clear().
+    bool updated() const { return updated_; }
+    /// The last update's figures.
+    const FrameStats& update_stats() const { return update_stats_; }
+    /// The trees of the last update (for ray queries and bounds).
+    const SceneAccel& accel() const { return accel_; }
+
+    /// Forgets every tree: the next update builds from scratch.
+    void clear();
+    /// Forgets one object's tree (its triangles were replaced).
+    void invalidate(std::size_t object) { accel_.invalidate(object); }
+
+private:
+    SceneAccel accel_;
+    FrameStats update_stats_;
+    double update_wall_ms_ = 0.0;
+    bool updated_ = false;
+    /// The scene's materials as the shading kernel reads them and each object's material index,
+    /// refreshed per trace (kept to avoid reallocating), and the trace's own buffers.
+    std::vector<packet::PhongMaterial> materials_;
+    std::vector<std::int32_t> object_material_;
+    TraceScratch scratch_;
+};
+
+}  // namespace dynrt

@@ -5,9 +5,9 @@
 
 #include "loaders/aff_parser.h"
 #include "loaders/aff_scene.h"
-#include "image_comparison.h"
-#include "reference_renderer.h"
-#include "reference_tracer.h"
+#include "dynrt/reference/image_comparison.h"
+#include "dynrt/reference/reference_renderer.h"
+#include "dynrt/reference/reference_tracer.h"
 
 #include "dynrt/anim/posed_scene.h"
 #include "dynrt/engine/camera.h"

@@ -5,9 +5,9 @@
 // tracers; and the report must say what was done to each object.
 
 #include "gltf_test_file.h"
-#include "image_comparison.h"
-#include "reference_renderer.h"
-#include "reference_tracer.h"
+#include "dynrt/reference/image_comparison.h"
+#include "dynrt/reference/reference_renderer.h"
+#include "dynrt/reference/reference_tracer.h"
 
 #include "dynrt/anim/motion_class.h"
 #include "dynrt/anim/posed_scene.h"

@@ -2,9 +2,9 @@
 // frame_error.h): the sample is stratified and reproducible, a frame agrees with its own
 // scene's reference, and each kind of corruption is counted where it belongs.
 
-#include "frame_error.h"
-#include "reference_renderer.h"
-#include "reference_tracer.h"
+#include "dynrt/reference/frame_error.h"
+#include "dynrt/reference/reference_renderer.h"
+#include "dynrt/reference/reference_tracer.h"
 
 #include "dynrt/anim/posed_scene.h"
 #include "dynrt/engine/camera.h"

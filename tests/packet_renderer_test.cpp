@@ -5,6 +5,7 @@
 
 #include "dynrt/engine/camera.h"
 #include "dynrt/engine/renderer.h"
+#include "dynrt/packet/simd.h"
 #include "dynrt/engine/scene_loading.h"
 
 #include <gtest/gtest.h>

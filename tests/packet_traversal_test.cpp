@@ -13,6 +13,7 @@
 #include "dynrt/engine/renderer.h"
 #include "dynrt/engine/scene_loading.h"
 #include "dynrt/packet/packet_traversal.h"
+#include "dynrt/packet/simd.h"
 #include "dynrt/packet/ray_packet.h"
 #include "dynrt/packet/tiling.h"
 #include "dynrt/scene/scene.h"

@@ -1,9 +1,9 @@
 // Tests of the oracle itself: the reference tracer, the reference renderer and the image
 // comparison, against answers worked out by hand.
 
-#include "image_comparison.h"
-#include "reference_renderer.h"
-#include "reference_tracer.h"
+#include "dynrt/reference/image_comparison.h"
+#include "dynrt/reference/reference_renderer.h"
+#include "dynrt/reference/reference_tracer.h"
 
 #include "dynrt/anim/posed_scene.h"
 

@@ -12,9 +12,9 @@
 // none of them. The Heavy instantiation (the bundled ~50k-triangle scene) is the one a
 // sanitizer run may filter out with --gtest_filter=-Heavy*.
 
-#include "image_comparison.h"
-#include "reference_renderer.h"
-#include "reference_tracer.h"
+#include "dynrt/reference/image_comparison.h"
+#include "dynrt/reference/reference_renderer.h"
+#include "dynrt/reference/reference_tracer.h"
 
 #include "dynrt/anim/posed_scene.h"
 #include "dynrt/engine/camera.h"

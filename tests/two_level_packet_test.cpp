@@ -10,6 +10,7 @@
 
 #include "dynrt/engine/camera.h"
 #include "dynrt/packet/packet_traversal.h"
+#include "dynrt/packet/simd.h"
 #include "dynrt/packet/ray_packet.h"
 #include "dynrt/packet/tiling.h"
 #include "dynrt/packet/two_level_packet.h"

@@ -6,7 +6,7 @@
 // reproduce bit for bit.
 
 #include "bvh_test_geometry.h"
-#include "reference_tracer.h"
+#include "dynrt/reference/reference_tracer.h"
 
 #include "dynrt/anim/posed_scene.h"
 #include "dynrt/bvh/triangle_bvh.h"

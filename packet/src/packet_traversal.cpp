@@ -50,6 +50,8 @@ PacketStats& PacketStats::operator+=(const PacketStats& o) {
     return *this;
 }
 
+int native_simd_lanes() { return simd::kNativeLanes; }
+
 PacketCulling PacketCulling::parse(std::string_view list) {
     if (list == "all") return PacketCulling{};
     if (list == "none" || list.empty()) return PacketCulling::none();

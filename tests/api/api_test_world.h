@@ -10,7 +10,7 @@
 // instance transform; the reference's tolerances (relative to the scene scale) cover that.
 
 #include "dynrt/dynrt.h"
-#include "reference_tracer.h"
+#include "dynrt/reference/reference_tracer.h"
 
 #include "dynrt/anim/posed_scene.h"
 #include "dynrt/scene/scene.h"

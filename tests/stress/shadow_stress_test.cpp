@@ -11,9 +11,9 @@
 #include "stress_geometry.h"
 #include "stress_mode.h"
 
-#include "image_comparison.h"
-#include "reference_renderer.h"
-#include "reference_tracer.h"
+#include "dynrt/reference/image_comparison.h"
+#include "dynrt/reference/reference_renderer.h"
+#include "dynrt/reference/reference_tracer.h"
 
 #include "dynrt/anim/posed_scene.h"
 #include "dynrt/anim/procedural_motion.h"

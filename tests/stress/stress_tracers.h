@@ -5,7 +5,7 @@
 // Plus the counters the suite reports: rays that escape a closed mesh, and disagreements with
 // the exact double-precision reference.
 
-#include "reference_tracer.h"
+#include "dynrt/reference/reference_tracer.h"
 
 #include "dynrt/anim/posed_scene.h"
 #include "dynrt/bvh/triangle_bvh.h"

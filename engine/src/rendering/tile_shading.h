@@ -8,6 +8,7 @@
 #include "dynrt/bvh/two_level_bvh.h"
 #include "dynrt/engine/renderer.h"
 #include "dynrt/packet/packet_shading.h"
+#include "dynrt/packet/simd.h"
 #include "dynrt/packet/ray_packet.h"
 #include "dynrt/packet/tiling.h"
 #include "update/scene_accel.h"
@@ -18,6 +19,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <span>
 #include <vector>

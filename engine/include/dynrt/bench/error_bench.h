@@ -4,8 +4,8 @@
 // The reference depends on the frame and the view, not on the configuration: it is rendered
 // once and shared by every row, and its time is reported apart from theirs.
 
-#include "frame_error.h"
-#include "reference_renderer.h"
+#include "dynrt/reference/frame_error.h"
+#include "dynrt/reference/reference_renderer.h"
 
 #include "dynrt/bench/bench.h"
 #include "dynrt/engine/camera.h"

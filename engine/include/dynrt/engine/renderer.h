@@ -23,7 +23,7 @@
 #include "dynrt/bvh/binned_sah_builder.h"
 #include "dynrt/engine/camera.h"
 #include "dynrt/engine/frame_stats.h"
-#include "dynrt/packet/packet_traversal.h"
+#include "dynrt/packet/packet_config.h"
 #include "dynrt/scene/scene.h"
 
 #include <glm/vec3.hpp>

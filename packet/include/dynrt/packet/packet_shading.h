@@ -12,7 +12,7 @@
 // same bits; only the power is approximate (simd_pow.h).
 
 #include "dynrt/packet/ray_packet.h"
-#include "dynrt/packet/simd.h"
+#include "dynrt/packet/packet_config.h"
 
 #include <glm/vec3.hpp>
 
@@ -52,10 +52,10 @@ struct alignas(64) ShadedColors {
 /// Shades every hit lane of `surface` into `out`. `visible[l]` holds the lanes that light l
 /// lights (n.l > 0 and the shadow ray unoccluded); one mask per light, same order as
 /// `lights`. Every `surface.material` of a hit lane must index `materials`. `lanes` is
-/// simd::kNativeLanes or 1, as PacketConfig::lanes; both give the same bits. Throws
+/// native_simd_lanes() or 1, as PacketConfig::lanes; both give the same bits. Throws
 /// std::invalid_argument for another width or mismatched spans. Thread-safe (no shared state).
 void shade(const SurfacePacket& surface, std::span<const PhongMaterial> materials,
            std::span<const ShadingLight> lights, std::span<const LaneMask> visible,
-           float ambient, ShadedColors& out, int lanes = simd::kNativeLanes);
+           float ambient, ShadedColors& out, int lanes = native_simd_lanes());
 
 }  // namespace dynrt::packet

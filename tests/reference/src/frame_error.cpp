@@ -1,4 +1,4 @@
-#include "frame_error.h"
+#include "dynrt/reference/frame_error.h"
 
 #include <cmath>
 #include <iomanip>

@@ -2,7 +2,7 @@
 // the test itself; this file is organised as: building the flat triangle list and the edge
 // adjacency, the per-triangle test, the coverage argument, and the two queries.
 
-#include "reference_tracer.h"
+#include "dynrt/reference/reference_tracer.h"
 
 #include <glm/geometric.hpp>
 

@@ -3,7 +3,7 @@
 // kind of disagreement and separating what the reference says is determined from what float
 // rounding may legitimately change.
 
-#include "reference_renderer.h"
+#include "dynrt/reference/reference_renderer.h"
 
 #include "dynrt/engine/renderer.h"
 

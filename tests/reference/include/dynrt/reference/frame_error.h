@@ -6,7 +6,7 @@
 // of the image is represented and no regular pattern lines up with the 16x16 tiles or the
 // adaptive sampler's 4-pixel grid.
 
-#include "reference_renderer.h"
+#include "dynrt/reference/reference_renderer.h"
 
 #include "dynrt/engine/renderer.h"
 

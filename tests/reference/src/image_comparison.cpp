@@ -1,4 +1,4 @@
-#include "image_comparison.h"
+#include "dynrt/reference/image_comparison.h"
 
 #include <algorithm>
 #include <cmath>

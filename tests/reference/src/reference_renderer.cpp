@@ -1,4 +1,4 @@
-#include "reference_renderer.h"
+#include "dynrt/reference/reference_renderer.h"
 
 #include <glm/geometric.hpp>
 

@@ -3,7 +3,7 @@
 // (renderer.h, top comment), evaluated in double precision on the exact reference hits, with a
 // per-pixel note of which parts of the answer a float renderer may legitimately get otherwise.
 
-#include "reference_tracer.h"
+#include "dynrt/reference/reference_tracer.h"
 
 #include "dynrt/engine/camera.h"
 #include "dynrt/engine/renderer.h"

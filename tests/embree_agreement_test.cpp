@@ -7,6 +7,7 @@
 
 #if DYNRT_HAVE_EMBREE
 
+#include "dynrt/bench/hit_agreement.h"
 #include "dynrt/embree/embree_tracer.h"
 #include "dynrt/engine/camera.h"
 #include "dynrt/engine/renderer.h"

@@ -12,7 +12,7 @@
 #include "dynrt/engine/scene_loading.h"
 
 #if DYNRT_HAVE_EMBREE
-#include "dynrt/embree/embree_tracer.h"
+#include "dynrt/embree/embree_bench.h"
 #endif
 
 #include <nlohmann/json.hpp>

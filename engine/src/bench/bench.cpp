@@ -75,20 +75,7 @@ double parse_number(const std::string& text, const std::string& sweep) {
     return value;
 }
 
-std::string format_spread(const Spread& s, int precision) {
-    std::ostringstream out;
-    out << std::fixed << std::setprecision(precision) << s.median << " (" << s.min << "-"
-        << s.max << ")";
-    return out.str();
-}
-
 }  // namespace
-
-Spread spread_of(std::vector<double> values) {
-    if (values.empty()) throw std::invalid_argument("spread_of: no values");
-    std::sort(values.begin(), values.end());
-    return Spread{values[(values.size() - 1) / 2], values.front(), values.back()};
-}
 
 std::vector<bvh::BuildConfig> expand_sweeps(const std::vector<std::string>& sweeps,
                                             const bvh::BuildConfig& base) {
@@ -381,7 +368,7 @@ std::string bench_json(const std::vector<BenchRow>& rows) {
         nlohmann::ordered_json j;
         for_each_column(row, [&](const char* key, const auto& value) {
             if constexpr (std::is_same_v<std::decay_t<decltype(value)>, Spread>) {
-                j[key] = {{"median", value.median}, {"min", value.min}, {"max", value.max}};
+                j[key] = spread_json(value);
             } else {
                 j[key] = value;
             }

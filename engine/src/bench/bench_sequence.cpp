@@ -47,12 +47,6 @@ struct Samples {
     }
 };
 
-std::string format_spread(const Spread& s) {
-    std::ostringstream out;
-    out << std::fixed << std::setprecision(2) << s.median << " (" << s.min << "-" << s.max << ")";
-    return out.str();
-}
-
 }  // namespace
 
 SequenceBench bench_sequence(const Scene& scene, const CameraSource& view,
@@ -98,14 +92,10 @@ void print_sequence_table(std::ostream& out, const SequenceBench& bench) {
         << std::setw(24) << "total ms" << '\n';
     const double dynrt_frame = bench.rows.empty() ? 0.0 : bench.rows.front().frame_ms.median;
     for (const SequenceRow& r : bench.rows) {
-        std::ostringstream ratio;
-        ratio << std::fixed << std::setprecision(2);
-        if (r.frame_ms.median > 0.0) ratio << dynrt_frame / r.frame_ms.median;
-        else ratio << "-";
         out << std::left << std::setw(14) << r.tracer << std::right << std::setw(24)
             << format_spread(r.update_ms) << std::setw(24) << format_spread(r.build_ms)
             << std::setw(24) << format_spread(r.trace_ms) << std::setw(26)
-            << format_spread(r.frame_ms) << std::setw(12) << ratio.str();
+            << format_spread(r.frame_ms) << std::setw(12) << format_ratio(dynrt_frame, r.frame_ms.median);
         // A tracer that does not shade (Embree's rows time rays only) shows no shading figures.
         if (r.shade_ms.max > 0.0) {
             out << std::setw(24) << format_spread(r.shade_ms) << std::setw(24) << format_spread(r.total_ms);
@@ -124,21 +114,18 @@ void print_sequence_table(std::ostream& out, const SequenceBench& bench) {
 
 std::string sequence_json(const SequenceBench& bench) {
     nlohmann::ordered_json doc;
-    const auto spread = [](const Spread& s) {
-        return nlohmann::ordered_json{{"median", s.median}, {"min", s.min}, {"max", s.max}};
-    };
     doc["sequence"] = nlohmann::ordered_json::array();
     for (const SequenceRow& r : bench.rows) {
         doc["sequence"].push_back(nlohmann::ordered_json{
             {"tracer", r.tracer},
-            {"update_ms", spread(r.update_ms)},
-            {"build_ms", spread(r.build_ms)},
-            {"trace_ms", spread(r.trace_ms)},
-            {"primary_ms", spread(r.primary_ms)},
-            {"shadow_ms", spread(r.shadow_ms)},
-            {"frame_ms", spread(r.frame_ms)},
-            {"shade_ms", spread(r.shade_ms)},
-            {"total_ms", spread(r.total_ms)},
+            {"update_ms", spread_json(r.update_ms)},
+            {"build_ms", spread_json(r.build_ms)},
+            {"trace_ms", spread_json(r.trace_ms)},
+            {"primary_ms", spread_json(r.primary_ms)},
+            {"shadow_ms", spread_json(r.shadow_ms)},
+            {"frame_ms", spread_json(r.frame_ms)},
+            {"shade_ms", spread_json(r.shade_ms)},
+            {"total_ms", spread_json(r.total_ms)},
             {"hit_object_differs", r.vs_dynrt.object_differs},
             {"hit_prim_only_differs", r.vs_dynrt.prim_only_differs}});
     }

@@ -120,9 +120,6 @@ void print_error_table(std::ostream& out, const std::vector<ErrorRow>& rows) {
         << std::setw(24) << "total ms" << std::setw(14) << "hit differs %" << std::setw(8)
         << "ambig" << std::setw(12) << "RMSE" << std::setw(9) << "PSNR dB" << '\n';
     for (const ErrorRow& r : rows) {
-        std::ostringstream total;
-        total << std::fixed << std::setprecision(2) << r.timing.total_ms.median << " ("
-              << r.timing.total_ms.min << "-" << r.timing.total_ms.max << ")";
         std::ostringstream pct;
         pct << std::fixed << std::setprecision(3) << determined_pct(r.error);
         std::ostringstream rmse;
@@ -130,7 +127,7 @@ void print_error_table(std::ostream& out, const std::vector<ErrorRow>& rows) {
         out << std::left << std::setw(8) << shortest(r.timing.build.cost_ratio) << std::setw(6)
             << r.timing.build.leaf_size_max << std::setw(16) << culling_of(r) << std::setw(9)
             << to_string(r.update) << std::setw(9) << shortest(r.timing.adaptive_tolerance)
-            << std::right << std::setw(24) << total.str() << std::setw(14) << pct.str()
+            << std::right << std::setw(24) << format_spread(r.timing.total_ms) << std::setw(14) << pct.str()
             << std::setw(8)
             << r.error.ambiguous_differs << std::setw(12) << rmse.str() << std::setw(9)
             << format_psnr(r.error.psnr_db) << '\n';

@@ -1,5 +1,7 @@
 #include "dynrt/engine/report.h"
 
+#include "dynrt/engine/spread.h"
+
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -84,12 +86,10 @@ nlohmann::ordered_json summary_json(const std::vector<FrameStats>& frames) {
         });
     }
     for (std::size_t c = 0; c < columns.size(); ++c) {
-        std::vector<double>& v = columns[c];
-        std::sort(v.begin(), v.end());
-        // The lower median for an even count, so integer fields stay values that occurred.
-        median[keys[c]] = v[(v.size() - 1) / 2];
-        lo[keys[c]] = v.front();
-        hi[keys[c]] = v.back();
+        const Spread s = spread_of(std::move(columns[c]));
+        median[keys[c]] = s.median;
+        lo[keys[c]] = s.min;
+        hi[keys[c]] = s.max;
     }
     return {{"median", median}, {"min", lo}, {"max", hi}};
 }

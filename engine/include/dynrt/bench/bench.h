@@ -5,6 +5,7 @@
 #include "dynrt/bvh/binned_sah_builder.h"
 #include "dynrt/engine/camera.h"
 #include "dynrt/engine/renderer.h"
+#include "dynrt/engine/spread.h"
 #include "dynrt/scene/scene.h"
 
 #include <cstddef>
@@ -14,16 +15,6 @@
 #include <vector>
 
 namespace dynrt {
-
-/// Median (the lower one for an even count), min and max of repeated measurements.
-struct Spread {
-    double median = 0;
-    double min = 0;
-    double max = 0;
-};
-
-/// Summarises `values`, which must not be empty.
-Spread spread_of(std::vector<double> values);
 
 /// One configuration's figures over `repeat` renders of the same frame.
 struct BenchRow {

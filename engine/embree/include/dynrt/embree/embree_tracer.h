@@ -1,13 +1,11 @@
 #pragma once
-// Embree 3 side of `dynrt bench --vs embree`: the same posed world-space triangles and the same
-// camera and shadow rays as dynrt's renderer, traced by Embree, timed, and compared hit by hit
-// with a dynrt frame. Embree's types stay in the .cpp; this header needs no Embree include.
+// The Embree 3 adapter of `dynrt bench --vs embree`: the same posed world-space triangles and
+// the same camera and shadow rays as dynrt's renderer, traced by Embree and timed. The bench
+// drivers and tables are in embree_bench.h. Embree's types stay in the .cpp; this header needs
+// no Embree include.
 
 #include "dynrt/anim/posed_scene.h"
-#include "dynrt/bench/bench.h"
-#include "dynrt/bench/bench_sequence.h"
 #include "dynrt/engine/camera.h"
-#include "dynrt/bench/hit_agreement.h"
 #include "dynrt/engine/renderer.h"
 #include "dynrt/scene/scene.h"
 
@@ -103,49 +101,5 @@ private:
     struct State;
     std::unique_ptr<State> state_;
 };
-
-/// One Embree build quality's figures over `repeat` runs after `warmup`.
-struct EmbreeRow {
-    BuildQuality quality = BuildQuality::low;
-    Spread build_ms;        ///< rtcCommitScene only; buffer creation and upload excluded
-    Spread intersect1_ms;   ///< primary rays, one at a time
-    Spread intersect16_ms;  ///< primary rays, 16-ray packets of 4x4 pixels
-    Spread occluded1_ms;    ///< shadow rays, one at a time
-    Spread occluded16_ms;   ///< shadow rays, 16-ray packets of 4x4 pixels
-    Spread mrays_per_s;     ///< (primary + shadow rays) / (intersect16 + occluded16 time)
-    std::size_t shadow_rays = 0;
-    /// Embree's intersect1 hits against the dynrt frame given to bench_embree.
-    HitAgreement vs_dynrt;
-    /// Pixels where intersect16 and intersect1 disagree on object or primitive, plus pixels
-    /// where occluded16 and occluded1 disagree on the number of occluded lights (expected 0).
-    std::size_t packet_vs_single_differs = 0;
-};
-
-/// Benches every build quality on frame 0 of `scene` with `options`' resolution and lights,
-/// and compares each quality's hits with `dynrt_frame` (a dynrt render of the same frame).
-/// If `disagreement` is not null, it receives per pixel the worst disagreement between
-/// `dynrt_frame` and any quality's intersect1 hits (for `--diff-image`).
-std::vector<EmbreeRow> bench_embree(const Scene& scene, const Camera& camera,
-                                    const RenderOptions& options, int repeat, int warmup,
-                                    const RenderedFrame& dynrt_frame,
-                                    std::vector<PixelAgreement>* disagreement = nullptr);
-
-/// The Embree block: one row per quality with the ratios dynrt/Embree taken from `dynrt_row`
-/// (medians: build ms over build ms, primary ms over intersect1 and intersect16 ms, shadow ms
-/// over occluded1 and occluded16 ms), then a "hit agreement" line per quality.
-void print_embree_table(std::ostream& out, const std::vector<EmbreeRow>& rows,
-                        const BenchRow& dynrt_row);
-
-/// Embree stepping through an animated sequence beside dynrt (`bench --frames --vs embree`):
-/// per frame it poses the scene in full (every object's world positions), loads the frame
-/// (load_frame with `quality`: refit or low, Embree's two per-frame options), traces the
-/// camera rays with rtcIntersect16 and the shadow rays with rtcOccluded16 (4x4-pixel packets,
-/// as EmbreeTracer::intersect16 and occluded16 trace them), and compares its
-/// hits with dynrt's. Borrows `scene`.
-std::unique_ptr<SequenceTracer> make_sequence_tracer(const Scene& scene, const RenderOptions& options,
-                                                     BuildQuality quality);
-
-/// The rows as a JSON array (Spreads as {"median", "min", "max"} objects).
-std::string embree_json(const std::vector<EmbreeRow>& rows);
 
 }  // namespace dynrt::embree

@@ -375,7 +375,7 @@ TEST(UpdatePlan, SceneAccelCarriesOutThePlanOverMovedSubsets) {
     policy.rebuild_threshold = std::numeric_limits<double>::infinity();  // refits stand
     SceneAccel accel;
     FrameStats first;
-    accel.update(world.scene, world.states(0xF), world, policy, first);
+    accel.update(world.scene, world.states(0xF), world, policy, first, first);
     EXPECT_EQ(first.objects_rebuilt, kClasses.size());
     for (const TreeRebuild& r : first.rebuilds) EXPECT_EQ(r.reason, RebuildReason::first_build);
     int step = 0;
@@ -386,7 +386,7 @@ TEST(UpdatePlan, SceneAccelCarriesOutThePlanOverMovedSubsets) {
         }
         const std::vector<ObjectState> states = world.states(moved);
         FrameStats stats;
-        accel.update(world.scene, states, world, policy, stats);
+        accel.update(world.scene, states, world, policy, stats, stats);
         const std::string what = "moved mask " + std::to_string(moved);
         const bool deformable_moved = (moved >> 2) & 1u;
         const bool exploding_moved = (moved >> 3) & 1u;
@@ -400,7 +400,7 @@ TEST(UpdatePlan, SceneAccelCarriesOutThePlanOverMovedSubsets) {
         }
         SceneAccel fresh;
         FrameStats fresh_stats;
-        fresh.update(world.scene, states, world, policy, fresh_stats);
+        fresh.update(world.scene, states, world, policy, fresh_stats, fresh_stats);
         expect_same_hits(accel, fresh, what);
     }
 }
@@ -412,9 +412,9 @@ TEST(UpdatePlan, SceneAccelChecksThePlanAgainstTheVertices) {
     UpdatePolicy policy;
     SceneAccel accel;
     FrameStats stats;
-    accel.update(world.scene, world.states(0xF), world, policy, stats);
+    accel.update(world.scene, world.states(0xF), world, policy, stats, stats);
     FrameStats same;
-    accel.update(world.scene, world.states(0xF), world, policy, same);  // "moved", same vertices
+    accel.update(world.scene, world.states(0xF), world, policy, same, same);  // "moved", same vertices
     EXPECT_EQ(same.objects_refitted, 0u);
     EXPECT_EQ(same.objects_rebuilt, 0u);
     EXPECT_EQ(same.objects_skipped, kClasses.size());
@@ -425,7 +425,7 @@ TEST(UpdatePlan, SceneAccelChecksThePlanAgainstTheVertices) {
     std::uniform_real_distribution<float> d(-1.0f, 1.0f);
     for (glm::vec3& p : world.posed[2]) p += glm::vec3(d(rng), d(rng), d(rng));
     FrameStats degraded;
-    accel.update(world.scene, world.states(1u << 2), world, policy, degraded);
+    accel.update(world.scene, world.states(1u << 2), world, policy, degraded, degraded);
     ASSERT_EQ(degraded.rebuilds.size(), 1u);
     EXPECT_EQ(degraded.rebuilds[0].reason, RebuildReason::sah_degraded);
     EXPECT_GT(degraded.rebuilds[0].sah_refitted, degraded.rebuilds[0].sah_at_last_build);

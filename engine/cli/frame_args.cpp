@@ -80,7 +80,7 @@ dynrt::RenderOptions render_options(const FrameArgs& args) {
     options.adaptive_tolerance = args.adaptive;
     options.pose.fps = args.fps;
     options.rebuild_threshold = args.rebuild_threshold;
-    options.cost_ratio_exploding = args.cost_ratio_exploding;
+    options.exploding_cost_ratio = args.cost_ratio_exploding;
     return options;
 }
 

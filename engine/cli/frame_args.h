@@ -39,7 +39,7 @@ struct FrameArgs {
     double fps = 0.0;
     std::string frames;
     double rebuild_threshold = dynrt::RenderOptions{}.rebuild_threshold;
-    float cost_ratio_exploding = dynrt::RenderOptions{}.cost_ratio_exploding;
+    float cost_ratio_exploding = dynrt::RenderOptions{}.exploding_cost_ratio;
 };
 
 struct RenderArgs : FrameArgs {

@@ -562,7 +562,7 @@ FrameStats Engine::render(const View& view, const ImageView& image,
     camera.target = to_glm(view.target);
     camera.up = to_glm(view.up);
     camera.fov_y_deg = view.fov_y_deg;
-    RenderOptions options;
+    TraceSettings options;
     options.width = image.width;
     options.height = image.height;
     options.background = to_glm(settings.background);

@@ -1,5 +1,5 @@
 #pragma once
-// Adaptive image-space sampling of one 16x16 tile (RenderOptions::adaptive_tolerance > 0), the
+// Adaptive image-space sampling of one 16x16 tile (TraceSettings::adaptive_tolerance > 0), the
 // renderer's opt-in approximate mode: trace a sparse grid, and fill the tile by bilinear
 // interpolation when the samples agree, else trace the tile exactly.
 //

@@ -17,7 +17,7 @@ const FrameStats& FramePipeline::update(const Scene& scene, std::span<const Obje
     FrameStats& stats = update_stats_;
     stats = FrameStats{};
     stats.frame = frame;
-    accel_.update(scene, states, fixed, policy, stats);
+    accel_.update(scene, states, fixed, policy, stats, stats);
     update_wall_ms_ = frame_clock.elapsed_ms();
     // Everything the update did besides building trees (posing, checks, gathering triangles),
     // so that the stages shown add up to total_ms.
@@ -27,7 +27,7 @@ const FrameStats& FramePipeline::update(const Scene& scene, std::span<const Obje
     return stats;
 }
 
-void FramePipeline::trace(const Scene& scene, const Camera& camera, const RenderOptions& options,
+void FramePipeline::trace(const Scene& scene, const Camera& camera, const TraceSettings& options,
                           std::span<const PointLight> lights, RenderedFrame& out) {
     if (!updated_) throw std::logic_error("FramePipeline::trace before any update");
     const Stopwatch trace_clock;

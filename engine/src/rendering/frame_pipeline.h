@@ -40,7 +40,7 @@ public:
     /// update's figures and the trace's; total_ms is the update's wall time plus the trace's.
     /// Materials are read from `scene` as it is now. Throws std::logic_error before any update
     /// and std::invalid_argument for a degenerate camera.
-    void trace(const Scene& scene, const Camera& camera, const RenderOptions& options,
+    void trace(const Scene& scene, const Camera& camera, const TraceSettings& options,
                std::span<const PointLight> lights, RenderedFrame& out);
 
     /// Whether an update has completed since construction or clear().

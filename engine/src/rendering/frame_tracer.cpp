@@ -54,7 +54,7 @@ void for_each_tile(int width, int height, PerTile&& per_tile) {
 /// shadow and shading stages.
 void trace_adaptive(const detail::AdaptiveFrame& frame, std::vector<bvh::InstanceHit>& hits,
                     bool count, RenderedFrame& out) {
-    FrameStats& stats = out.stats;
+    TraceStats& stats = out.stats;  // the trace stage fills its part only
     tbb::combinable<detail::AdaptiveTileWork> work;
     tbb::combinable<packet::PacketStats> packet_work;
     const Stopwatch clock;
@@ -93,13 +93,13 @@ void trace_adaptive(const detail::AdaptiveFrame& frame, std::vector<bvh::Instanc
 
 }  // namespace
 
-void trace_frame(const TraceInputs& in, const Camera& camera, const RenderOptions& options,
+void trace_frame(const TraceInputs& in, const Camera& camera, const TraceSettings& options,
                  TraceScratch& scratch, RenderedFrame& out) {
     const std::span<const PointLight> lights = in.lights;
     const int width = options.width, height = options.height;
     const CameraRays rays(camera, width, height);
     const std::size_t pixels = std::size_t(width) * std::size_t(height);
-    FrameStats& stats = out.stats;
+    TraceStats& stats = out.stats;  // the trace stage fills its part only
     const bvh::TwoLevelBvh& accel = in.accel.top_level();
     // The shading kernel's view of the lights (bookkeeping, outside the stage clocks).
     scratch.shading_lights.clear();

@@ -34,11 +34,11 @@ struct TraceScratch {
 };
 
 /// Renders `camera`'s view at options.width x options.height into `out` (its buffers reused),
-/// with options' tracer, culling, adaptive tolerance, lights' shading, background and ambient
-/// (options.lights is ignored: `in.lights` are the lights). Sets the trace's fields of
+/// with options' tracer, culling, adaptive tolerance, background and ambient, lit by
+/// `in.lights`. Sets the trace's fields of
 /// out.stats (primary, shadow and shade ms and rays, rays/s, interpolated pixels, packet work)
 /// and leaves the others as they are. Throws std::invalid_argument for a degenerate camera.
-void trace_frame(const TraceInputs& in, const Camera& camera, const RenderOptions& options,
+void trace_frame(const TraceInputs& in, const Camera& camera, const TraceSettings& options,
                  TraceScratch& scratch, RenderedFrame& out);
 
 }  // namespace dynrt

@@ -159,11 +159,7 @@ void Renderer::update(const Scene& scene, int frame) {
         s.states[i] = ObjectState{pose.motion_class, pose.changed, pose.transform, pose.positions};
     }
     // ---- Plan and update the trees ----
-    UpdatePolicy policy;
-    policy.build = options_.build;
-    policy.exploding_cost_ratio = options_.cost_ratio_exploding;
-    policy.rebuild_threshold = options_.rebuild_threshold;
-    s.pipeline.update(scene, s.states, PoserPositions(*s.poser, s.posed), policy, frame,
+    s.pipeline.update(scene, s.states, PoserPositions(*s.poser, s.posed), options_, frame,
                       frame_clock);
     // The lights, once per sequence and untimed. After the update, so that bad geometry is
     // reported at the frame asked for (the default light is placed from frame 0's bounds).

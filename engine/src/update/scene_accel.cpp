@@ -44,7 +44,7 @@ bool assemble(const Mesh& mesh, std::span<const glm::vec3> positions,
     return changed.load();
 }
 
-void count_class(anim::MotionClass motion_class, std::size_t triangles, FrameStats& stats) {
+void count_class(anim::MotionClass motion_class, std::size_t triangles, UpdateStats& stats) {
     switch (motion_class) {
         case anim::MotionClass::static_:
             ++stats.static_objects;
@@ -98,7 +98,7 @@ void SceneAccel::invalidate(std::size_t object) {
 
 void SceneAccel::update(const Scene& scene, std::span<const ObjectState> states,
                         const FixedPositions& fixed, const UpdatePolicy& policy,
-                        FrameStats& stats) {
+                        UpdateStats& stats, TreeShape& shape) {
     const std::size_t count = scene.objects.size();
     // Objects removed: start afresh. Objects added at the end: new to the planner.
     if (objects_.size() > count) clear();
@@ -252,34 +252,34 @@ void SceneAccel::update(const Scene& scene, std::span<const ObjectState> states,
     for (std::size_t k = 0; k < instance_trees_.size(); ++k) {
         const ObjectTree& object = *instance_trees_[k];
         triangles += object.triangles.size();
-        stats.degenerate_skipped += object.tree.degenerate_skipped;
+        shape.degenerate_skipped += object.tree.degenerate_skipped;
         const bvh::Aabb& box = top_.world_boxes[k];
         if (root_area > 0.0 && !box.is_empty()) sah += double(box.half_area()) / root_area * object.sah;
         nodes += object.shape.nodes;
         leaves += object.shape.leaves;
-        stats.binary_tree_bytes += object.tree.bvh.nodes.size() * sizeof(bvh::BvhNode) +
+        shape.binary_tree_bytes += object.tree.bvh.nodes.size() * sizeof(bvh::BvhNode) +
                                    object.tree.bvh.prim_ids.size() * sizeof(std::uint32_t) +
                                    object.tree.tris.size() * sizeof(bvh::Triangle);
-        stats.wide_tree_bytes += object.tree.wide.bytes();
+        shape.wide_tree_bytes += object.tree.wide.bytes();
         leaf_max = std::max(leaf_max, object.shape.leaf_prims_max);
         depth = std::max(depth, object.shape.depth);
     }
     const bvh::BvhStats top_shape = bvh::compute_stats(top_.top);
-    stats.triangles = triangles;
-    stats.sah_cost = sah;
-    stats.nodes = nodes;
-    stats.leaves = leaves;
-    stats.leaf_tris_mean =
-        leaves > 0 ? double(triangles - stats.degenerate_skipped) / double(leaves) : 0.0;
-    stats.leaf_tris_max = leaf_max;
+    shape.triangles = triangles;
+    shape.sah_cost = sah;
+    shape.nodes = nodes;
+    shape.leaves = leaves;
+    shape.leaf_tris_mean =
+        leaves > 0 ? double(triangles - shape.degenerate_skipped) / double(leaves) : 0.0;
+    shape.leaf_tris_max = leaf_max;
     // Top-level depth (its leaves are the objects) plus the deepest object tree: an upper bound
     // on the longest path, exact for one object.
-    stats.depth = depth + (top_shape.depth > 0 ? top_shape.depth - 1 : 0);
+    shape.depth = depth + (top_shape.depth > 0 ? top_shape.depth - 1 : 0);
 }
 
 void SceneAccel::build_static_group(const Scene& scene, std::span<const ObjectState> states,
                                     const FixedPositions& fixed, const bvh::BuildConfig& config,
-                                    RebuildReason reason, FrameStats& stats) {
+                                    RebuildReason reason, UpdateStats& stats) {
     // Static objects never move, so one tree over all of them in world space serves them
     // best: it splits across objects (per-object trees overlap, and rays pay for every
     // overlapping one) and costs the top level a single instance. A scene of static objects

@@ -44,17 +44,17 @@ public:
 
 class SceneAccel {
 public:
-    /// Brings every object's tree to `objects` (one per scene object, scene order), rebuilds
-    /// the top level and records the work in `stats` (class counts, refit / rebuild /
-    /// top-level ms, skipped objects, rebuilds and why, tree shape). Gathering the triangles
-    /// from the vertices is added to update_ms (it is evaluating the scene, as posing is), not
-    /// to the tree's times. The first call after construction or clear() builds every tree;
-    /// objects added to the end of the scene since the last call are built, and an object
-    /// whose class differs from the last call's is built afresh (and the static group with it
-    /// when it joins or leaves it).
+    /// Carries out the update planner's plan (update_plan.h) for `objects` (one per scene
+    /// object, scene order), rebuilds the top level and records the work in `stats` (class
+    /// counts, refit / rebuild / top-level ms, skipped objects, rebuilds and why) and the
+    /// trees' shape in `shape`. Gathering the triangles from the vertices is added to
+    /// update_ms (it is evaluating the scene, as posing is), not to the tree's times. The first
+    /// call after construction or clear() builds every tree; objects added to the end of the
+    /// scene since the last call are new to the planner.
     /// Throws SceneError for non-finite static positions (from `fixed`).
     void update(const Scene& scene, std::span<const ObjectState> objects,
-                const FixedPositions& fixed, const UpdatePolicy& policy, FrameStats& stats);
+                const FixedPositions& fixed, const UpdatePolicy& policy, UpdateStats& stats,
+                TreeShape& shape);
 
     /// Forgets every tree: the next update builds from scratch (another scene, or the same
     /// scene after its objects were edited).
@@ -119,7 +119,7 @@ private:
     void build(ObjectTree& object, const bvh::BuildConfig& config);
     void build_static_group(const Scene& scene, std::span<const ObjectState> objects,
                             const FixedPositions& fixed, const bvh::BuildConfig& config,
-                            RebuildReason reason, FrameStats& stats);
+                            RebuildReason reason, UpdateStats& stats);
     /// The instance id of the static group: one past the last object index, so it collides
     /// with no object (ties between instances go to the lower id).
     std::uint32_t static_group_id() const { return std::uint32_t(objects_.size()); }

@@ -44,46 +44,15 @@ struct TreeRebuild {
     double sah_at_last_build = 0;
 };
 
-struct FrameStats {
-    int frame = 0;
-    std::size_t triangles = 0;           ///< triangles in the scene at this frame
-    std::size_t degenerate_skipped = 0;  ///< zero-area triangles kept out of the BVH
+/// The update stage's figures: posing and gathering, the trees' builds and refits, what each
+/// object got (update_plan.h) and why.
+struct UpdateStats {
     /// The frame's update except its tree builds: evaluating the scene at the frame (posing),
     /// gathering and checking the triangles, classifying the objects. With build_ms, primary_ms,
     /// shadow_ms and shade_ms it makes up total_ms (the rest is per-frame bookkeeping).
     double update_ms = 0;
-    double build_ms = 0;                 ///< BVH construction
-    double primary_ms = 0;               ///< tracing camera rays
-    double shadow_ms = 0;                ///< tracing shadow rays
-    double shade_ms = 0;                 ///< Phong shading and image assembly
-    double total_ms = 0;                 ///< the whole frame, wall clock
-    std::size_t primary_rays = 0;
-    std::size_t shadow_rays = 0;
-    /// Pixels filled by interpolation instead of traced (RenderOptions::adaptive_tolerance).
-    std::size_t interpolated_pixels = 0;
-    double primary_mrays_per_s = 0;
-    double shadow_mrays_per_s = 0;
-    double sah_cost = 0;                 ///< SAH cost of the tree (bvh::sah_cost)
-    std::size_t nodes = 0;
-    std::size_t leaves = 0;
-    double leaf_tris_mean = 0;
-    std::uint32_t leaf_tris_max = 0;
-    std::uint32_t depth = 0;
-    /// Packet tracer work over primary and shadow rays, counted only when
-    /// RenderOptions::count_packet_work is set (0 otherwise): ray/triangle tests performed, and
-    /// tests the culling stages avoided (packet::PacketStats has the breakdown).
-    std::uint64_t ray_triangle_tests = 0;
-    std::uint64_t ray_triangle_culled = 0;
-    /// Node visits of the same counted trace: packet node visits for the packet tracer; for the
-    /// single-ray tracer, every ray's visits (wide inner nodes and leaves, or binary nodes,
-    /// plus top-level nodes), whose triangle tests are then in ray_triangle_tests.
-    std::uint64_t nodes_visited = 0;
-    /// Memory of the objects' trees: the binary trees (nodes, primitive ids and triangles in
-    /// leaf order) and the wide trees (nodes and triangle blocks; 0 with BuildConfig::wide off).
-    std::size_t binary_tree_bytes = 0;
-    std::size_t wide_tree_bytes = 0;
-
-    // ---- The per-frame update: build_ms = refit_ms + rebuild_ms + top_level_ms ----
+    /// BVH construction: build_ms = refit_ms + rebuild_ms + top_level_ms.
+    double build_ms = 0;
     double refit_ms = 0;      ///< refitting deformable objects' trees
     double rebuild_ms = 0;    ///< building bottom-level trees (first builds included)
     double top_level_ms = 0;  ///< rebuilding the top level over the objects
@@ -105,6 +74,52 @@ struct FrameStats {
     std::size_t triangles_rebuilt = 0;
     /// Every bottom-level build of this frame, and why (JSON report only).
     std::vector<TreeRebuild> rebuilds;
+};
+
+/// The shape of the trees after the update (SAH cost and size of the two levels as one tree).
+struct TreeShape {
+    std::size_t triangles = 0;           ///< triangles in the scene at this frame
+    std::size_t degenerate_skipped = 0;  ///< zero-area triangles kept out of the BVH
+    double sah_cost = 0;                 ///< SAH cost of the tree (bvh::sah_cost)
+    std::size_t nodes = 0;
+    std::size_t leaves = 0;
+    double leaf_tris_mean = 0;
+    std::uint32_t leaf_tris_max = 0;
+    std::uint32_t depth = 0;
+    /// Memory of the objects' trees: the binary trees (nodes, primitive ids and triangles in
+    /// leaf order) and the wide trees (nodes and triangle blocks; 0 with BuildConfig::wide off).
+    std::size_t binary_tree_bytes = 0;
+    std::size_t wide_tree_bytes = 0;
+};
+
+/// The trace stage's figures: primary and shadow rays, shading, and the tracer's work.
+struct TraceStats {
+    double primary_ms = 0;               ///< tracing camera rays
+    double shadow_ms = 0;                ///< tracing shadow rays
+    double shade_ms = 0;                 ///< Phong shading and image assembly
+    std::size_t primary_rays = 0;
+    std::size_t shadow_rays = 0;
+    /// Pixels filled by interpolation instead of traced (TraceSettings::adaptive_tolerance).
+    std::size_t interpolated_pixels = 0;
+    double primary_mrays_per_s = 0;
+    double shadow_mrays_per_s = 0;
+    /// Packet tracer work over primary and shadow rays, counted only when
+    /// TraceSettings::count_packet_work is set (0 otherwise): ray/triangle tests performed, and
+    /// tests the culling stages avoided (packet::PacketStats has the breakdown).
+    std::uint64_t ray_triangle_tests = 0;
+    std::uint64_t ray_triangle_culled = 0;
+    /// Node visits of the same counted trace: packet node visits for the packet tracer; for the
+    /// single-ray tracer, every ray's visits (wide inner nodes and leaves, or binary nodes,
+    /// plus top-level nodes), whose triangle tests are then in ray_triangle_tests.
+    std::uint64_t nodes_visited = 0;
+};
+
+/// One frame's figures: the three stages' parts, each filled by its stage (SceneAccel the
+/// update and the tree shape, trace_frame the trace), and the whole frame's wall time. The
+/// parts are bases, so every figure is read as stats.<field>, as the report's keys name it.
+struct FrameStats : UpdateStats, TreeShape, TraceStats {
+    int frame = 0;
+    double total_ms = 0;  ///< the whole frame, wall clock
 };
 
 }  // namespace dynrt

@@ -23,6 +23,7 @@
 #include "dynrt/bvh/binned_sah_builder.h"
 #include "dynrt/engine/camera.h"
 #include "dynrt/engine/frame_stats.h"
+#include "dynrt/engine/update_plan.h"
 #include "dynrt/packet/packet_config.h"
 #include "dynrt/scene/scene.h"
 
@@ -40,20 +41,11 @@ enum class Tracer {
     single,  ///< one ray at a time (bvh::intersect_closest, bvh::intersect_any)
 };
 
-struct RenderOptions {
+/// How a frame is traced and shaded: the trace stage's settings (FramePipeline::trace, the
+/// library API's render).
+struct TraceSettings {
     int width = 1024;
     int height = 1024;
-    /// Builds of every object's tree (the cost ratio of exploding objects aside).
-    bvh::BuildConfig build;
-    /// How the scene is animated: frame rate, clips, forced motion classes
-    /// (skip_fixed_positions is ignored: the renderer never poses static or rigid vertices
-    /// after their one build).
-    anim::PoseSettings pose;
-    /// Rebuild a deformable object's tree when refitting has raised its SAH cost above
-    /// (1 + rebuild_threshold) times the cost at its last build; otherwise refit.
-    double rebuild_threshold = 0.3;
-    /// Cost ratio of the per-frame rebuilds of exploding objects.
-    float cost_ratio_exploding = 0.3f;
     Tracer tracer = Tracer::packet;
     /// Adaptive sampling (approximate; packet tracer only): 0, the default, traces every
     /// pixel. Above 0 each 16x16 tile is first traced at 9 samples (columns and rows 0, 8 and
@@ -73,12 +65,22 @@ struct RenderOptions {
     /// colour. Off, they are left empty and a frame writes 12 bytes per pixel instead of 36:
     /// on the bundled scene those writes were most of the shading stage's time.
     bool hit_buffers = true;
-    /// Empty: one default light at c + 4 R normalize(-0.5, 1.0, 0.8) (scene box centre c,
-    /// half-diagonal R) unless the scene defines its own.
-    std::vector<PointLight> lights;
     glm::vec3 background{0.05f, 0.06f, 0.08f};
     /// Ambient term, as a fraction of the diffuse colour.
     float ambient = 0.08f;
+};
+
+/// A Renderer's settings, stage by stage: how the trees are updated (UpdatePolicy: build
+/// configuration, exploding objects' cost ratio, rebuild threshold), how frames are traced
+/// (TraceSettings), how the scene is posed, and its lights.
+struct RenderOptions : UpdatePolicy, TraceSettings {
+    /// How the scene is animated: frame rate, clips, forced motion classes
+    /// (skip_fixed_positions is ignored: the renderer never poses static or rigid vertices
+    /// after their one build).
+    anim::PoseSettings pose;
+    /// Empty: one default light at c + 4 R normalize(-0.5, 1.0, 0.8) (scene box centre c,
+    /// half-diagonal R) unless the scene defines its own.
+    std::vector<PointLight> lights;
 };
 
 /// Per-pixel results, row-major with y = 0 the top row.
@@ -86,7 +88,7 @@ struct RenderedFrame {
     int width = 0;
     int height = 0;
     std::vector<glm::vec3> color;   ///< linear RGB
-    // The hit buffers: empty when RenderOptions::hit_buffers is off.
+    // The hit buffers: empty when TraceSettings::hit_buffers is off.
     std::vector<float> depth;       ///< distance from the eye along the unit ray; +inf on a miss
     std::vector<std::int32_t> object;  ///< object index in scene order; -1 on a miss
     std::vector<std::int32_t> prim;    ///< triangle index within the object; -1 on a miss
@@ -112,7 +114,7 @@ struct CameraSource {
 /// shaded; the library API runs the same path from its update on (ARCHITECTURE.md). Keeps each object's tree from frame to frame and gives it the
 /// cheapest correct update its motion class allows (static: never touched again; rigid: only
 /// its instance moves; deformable: refit, rebuilt when the refit's SAH cost has degraded past
-/// RenderOptions::rebuild_threshold; exploding: rebuilt), then traces primary and shadow rays
+/// UpdatePolicy::rebuild_threshold; exploding: rebuilt), then traces primary and shadow rays
 /// through the two-level structure. The trees belong to one scene: rendering another Scene
 /// object starts afresh, and a caller that edits a scene in place between frames must call
 /// reset(). Not thread-safe: one call at a time; each runs in parallel on the caller's oneTBB

@@ -49,7 +49,7 @@ const std::vector<bvh::Ray>& camera_rays(const SceneInput& input) {
     static std::map<std::string, std::vector<bvh::Ray>> cache;
     std::vector<bvh::Ray>& rays = cache[input.spec];
     if (rays.empty()) {
-        const CameraRays camera(default_camera(input.bounds), kWidth, kHeight);
+        const packet::PinholeRays camera(default_camera(input.bounds), kWidth, kHeight);
         rays.reserve(static_cast<std::size_t>(kWidth) * kHeight);
         for (int y = 0; y < kHeight; ++y) {
             for (int x = 0; x < kWidth; ++x) rays.push_back(camera.ray(x, y));

@@ -51,8 +51,7 @@ const Setup& setup_for(const std::string& spec) {
     instance.identity = false;
     bvh::build_top_level(slot->transformed_tlas, {instance});
     const Camera camera = default_camera(input.bounds);
-    slot->pinhole = std::make_unique<packet::PinholeRays>(camera.eye, camera.target, camera.up,
-                                                          camera.fov_y_deg, kWidth, kHeight);
+    slot->pinhole = std::make_unique<packet::PinholeRays>(camera, kWidth, kHeight);
     return *slot;
 }
 

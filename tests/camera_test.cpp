@@ -36,8 +36,8 @@ TEST(Camera, DefaultFramesAPointOrAnEmptySceneAtUnitRadius) {
     const Camera empty = default_camera(bvh::Aabb{});
     EXPECT_EQ(empty.target, glm::vec3(0.0f));
     EXPECT_NEAR(glm::length(empty.eye - empty.target), 2.5f, 1e-5f);
-    EXPECT_NO_THROW(CameraRays(at_point, 16, 16));
-    EXPECT_NO_THROW(CameraRays(empty, 16, 16));
+    EXPECT_NO_THROW(packet::PinholeRays(at_point, 16, 16));
+    EXPECT_NO_THROW(packet::PinholeRays(empty, 16, 16));
 }
 
 TEST(Camera, RaysFollowTheDocumentedConvention) {
@@ -47,7 +47,7 @@ TEST(Camera, RaysFollowTheDocumentedConvention) {
     camera.up = glm::vec3(0.0f, 1.0f, 0.0f);
     camera.fov_y_deg = 60.0f;
     const int w = 37, h = 23;
-    const CameraRays rays(camera, w, h);
+    const packet::PinholeRays rays(camera, w, h);
     // The convention evaluated independently in double.
     const glm::dvec3 fwd = glm::normalize(glm::dvec3(camera.target - camera.eye));
     const glm::dvec3 right = glm::normalize(glm::cross(fwd, glm::dvec3(camera.up)));
@@ -92,12 +92,12 @@ TEST(Camera, RejectsMalformedSpecs) {
 TEST(Camera, RejectsDegenerateViews) {
     Camera same;
     same.target = same.eye;
-    EXPECT_THROW(CameraRays(same, 4, 4), std::invalid_argument);
+    EXPECT_THROW(packet::PinholeRays(same, 4, 4), std::invalid_argument);
     Camera parallel;
     parallel.eye = glm::vec3(0.0f, 5.0f, 0.0f);
     parallel.target = glm::vec3(0.0f);
-    EXPECT_THROW(CameraRays(parallel, 4, 4), std::invalid_argument);
-    EXPECT_THROW(CameraRays(Camera{}, 0, 4), std::invalid_argument);
+    EXPECT_THROW(packet::PinholeRays(parallel, 4, 4), std::invalid_argument);
+    EXPECT_THROW(packet::PinholeRays(Camera{}, 0, 4), std::invalid_argument);
 }
 
 }  // namespace

@@ -1,4 +1,4 @@
-// packet::PinholeRays reproduces dynrt::CameraRays bit for bit: every pixel of random and
+// packet::PinholeRays' SIMD tile rays reproduce its single rays bit for bit: every pixel of random and
 // extreme cameras (1 and 170 degree fields of view, axis-aligned views, far from the origin),
 // in images whose sizes are not multiples of 16, through both the scalar and the SIMD path.
 
@@ -30,8 +30,7 @@ bool same_ray(const bvh::Ray& a, const bvh::Ray& b) {
 void check(const Camera& camera, int width, int height) {
     SCOPED_TRACE(std::to_string(width) + "x" + std::to_string(height) + ", fov " +
                  std::to_string(camera.fov_y_deg));
-    const CameraRays reference(camera, width, height);
-    const PinholeRays pinhole(camera.eye, camera.target, camera.up, camera.fov_y_deg, width, height);
+    const PinholeRays pinhole(camera, width, height);
     const Tiling tiling(width, height);
     auto packet = std::make_unique<RayPacket>();
     for (int i = 0; i < tiling.count(); ++i) {
@@ -40,11 +39,10 @@ void check(const Camera& camera, int width, int height) {
         int active = 0;
         for (int y = tile.y0; y < tile.y1; ++y) {
             for (int x = tile.x0; x < tile.x1; ++x) {
-                const bvh::Ray want = reference.ray(x, y);
+                const bvh::Ray want = pinhole.ray(x, y);
                 const int lane = tile_lane(tile, x, y);
                 ASSERT_TRUE(packet->active.test(lane));
                 ASSERT_TRUE(same_ray(packet->ray(lane), want)) << "SIMD ray of pixel " << x << ", " << y;
-                ASSERT_TRUE(same_ray(pinhole.ray(x, y), want)) << "scalar ray of pixel " << x << ", " << y;
                 ++active;
             }
         }
@@ -52,7 +50,7 @@ void check(const Camera& camera, int width, int height) {
     }
 }
 
-TEST(PinholeRays, MatchCameraRaysBitForBit) {
+TEST(PinholeRays, TilesMatchSingleRaysBitForBit) {
     Camera camera;
     check(camera, 37, 23);
     check(camera, 16, 16);

@@ -177,7 +177,7 @@ struct Totals {
 /// with single rays: closest hits, then shadow rays toward `light` from those hits.
 void check_camera(const Accel& a, const Camera& camera, int width, int height, glm::vec3 light,
                   const std::vector<PacketConfig>& configs, Totals& totals) {
-    const CameraRays rays(camera, width, height);
+    const packet::PinholeRays rays(camera, width, height);
     const Tiling tiling(width, height);
     auto primary = std::make_unique<RayPacket>();
     auto shadow = std::make_unique<RayPacket>();
@@ -375,7 +375,7 @@ TEST(PacketTraversal, EachCullingStageCullsAndResultsStayExact) {
     camera.eye = glm::vec3(0, 0, 4);
     camera.target = glm::vec3(0, 0, 0);
     camera.fov_y_deg = 40.0f;
-    const CameraRays rays(camera, 16, 16);
+    const packet::PinholeRays rays(camera, 16, 16);
     auto packet = std::make_unique<RayPacket>();
     auto hits = std::make_unique<PacketHits>();
     fill_tile(Tile{0, 0, 16, 16}, [&](int x, int y) {
@@ -468,7 +468,7 @@ TEST(PacketTraversal, TiesGoToTheLowerPrimitiveInBothTracers) {
     const glm::vec3 c = a.bounds.center();
     for (const Camera& camera : {default_camera(a.bounds),
                                  look(c + glm::vec3(0.1f, 3.0f, 0.2f), c, 50.0f, glm::vec3(0, 0, 1))}) {
-    const CameraRays rays(camera, 40, 40);
+    const packet::PinholeRays rays(camera, 40, 40);
     for (int i = 0; i < tiling.count(); ++i) {
         fill_tile(tiling.tile(i), [&](int x, int y) { return rays.ray(x, y); }, *packet);
         const auto single = std::make_unique<SingleRay>(a.bvh, *packet);
@@ -508,7 +508,7 @@ TEST(PacketTraversal, TiesGoToTheLowerPrimitiveInBothTracers) {
 /// The comparison itself can fail: a packet result altered in one lane is caught.
 TEST(PacketTraversal, ComparisonDetectsADifference) {
     const Accel a = build_accel(load_scene("sphere:2000"));
-    const CameraRays rays(default_camera(a.bounds), 16, 16);
+    const packet::PinholeRays rays(default_camera(a.bounds), 16, 16);
     auto packet = std::make_unique<RayPacket>();
     auto hits = std::make_unique<PacketHits>();
     fill_tile(Tile{0, 0, 16, 16}, [&](int x, int y) { return rays.ray(x, y); }, *packet);

@@ -87,7 +87,7 @@ int check_packet(const bvh::TwoLevelBvh& tlas, const RayPacket& packet) {
 /// also traced with a random half of its lanes inactive.
 int check_camera(const bvh::TwoLevelBvh& tlas, const Camera& camera, int width, int height,
                  std::mt19937& rng) {
-    const CameraRays rays(camera, width, height);
+    const packet::PinholeRays rays(camera, width, height);
     const Tiling tiling(width, height);
     auto packet = std::make_unique<RayPacket>();
     int hits = 0;
@@ -194,7 +194,7 @@ TEST(TwoLevelPacket, CoincidentInstancesTieToTheLowestObjectAsSingleRays) {
     EXPECT_GT(hits, 1000);
     auto packet = std::make_unique<RayPacket>();
     auto out = std::make_unique<InstanceHits>();
-    const CameraRays rays(Camera{}, 16, 16);
+    const packet::PinholeRays rays(Camera{}, 16, 16);
     fill_tile(Tile{0, 0, 16, 16}, [&](int x, int y) { return rays.ray(x, y); }, *packet);
     intersect_closest(tlas, *packet, *out);
     for (int lane = 0; lane < kPacketRays; ++lane) {
@@ -224,7 +224,7 @@ TEST(TwoLevelPacket, SingleIdentityInstanceEqualsPlainPacketTracer) {
         Camera camera;
         camera.eye = glm::vec3(0.0f) + (k % 2 == 0 ? 1.0f : 8.0f) * bvh::testing::random_direction(rng);
         camera.target = glm::vec3(0.0f);
-        const CameraRays rays(camera, 64, 48);
+        const packet::PinholeRays rays(camera, 64, 48);
         const Tiling tiling(64, 48);
         for (int i = 0; i < tiling.count(); ++i) {
             fill_tile(tiling.tile(i), [&](int x, int y) { return rays.ray(x, y); }, *packet);

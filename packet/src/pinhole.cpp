@@ -1,5 +1,5 @@
-// Pinhole primary rays in SIMD; the arithmetic mirrors engine/src/rendering/camera.cpp operation for
-// operation (glm's normalize is v * (1 / sqrt(dot(v, v))), its dot (x*x + y*y) + z*z).
+// Pinhole primary rays, one at a time and in SIMD, operation for operation the same (glm's
+// normalize is v * (1 / sqrt(dot(v, v))), its dot (x*x + y*y) + z*z).
 
 #include "dynrt/packet/pinhole.h"
 
@@ -10,16 +10,35 @@
 
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 namespace dynrt::packet {
 
-PinholeRays::PinholeRays(glm::vec3 eye, glm::vec3 target, glm::vec3 up, float fov_y_deg,
-                         int width, int height)
-    : eye_(eye), width_(width), height_(height) {
-    fwd_ = glm::normalize(target - eye);
-    right_ = glm::normalize(glm::cross(fwd_, up));
+namespace {
+
+/// `camera`, once it has passed PinholeRays' checks; throws std::invalid_argument otherwise.
+const PinholeCamera& checked(const PinholeCamera& camera, int width, int height) {
+    if (width <= 0 || height <= 0) throw std::invalid_argument("image size must be positive");
+    if (!(camera.fov_y_deg > 0.0f && camera.fov_y_deg < 180.0f)) {
+        throw std::invalid_argument("camera fov must be in (0, 180) degrees");
+    }
+    const glm::vec3 view = camera.target - camera.eye;
+    if (!(glm::length(view) > 0.0f)) throw std::invalid_argument("camera eye equals target");
+    const glm::vec3 side = glm::cross(glm::normalize(view), camera.up);
+    if (!(glm::length(side) > 1e-6f * glm::length(camera.up))) {
+        throw std::invalid_argument("camera up is parallel to the view direction");
+    }
+    return camera;
+}
+
+}  // namespace
+
+PinholeRays::PinholeRays(const PinholeCamera& camera, int width, int height)
+    : eye_(checked(camera, width, height).eye), width_(width), height_(height) {
+    fwd_ = glm::normalize(camera.target - camera.eye);
+    right_ = glm::normalize(glm::cross(fwd_, camera.up));
     up_ = glm::cross(right_, fwd_);
-    tan_half_fov_ = std::tan(glm::radians(fov_y_deg) * 0.5f);
+    tan_half_fov_ = std::tan(glm::radians(camera.fov_y_deg) * 0.5f);
     aspect_ = float(width) / float(height);
 }
 

@@ -247,7 +247,7 @@ FrameLoad EmbreeTracer::load_frame(const Scene& scene, const anim::PosedScene& p
 double EmbreeTracer::intersect1(const Camera& camera, int width, int height, PixelHits& out) {
     if (!state_->scene) throw std::logic_error("EmbreeTracer::intersect1 before build");
     RTCScene scene = state_->scene;
-    const CameraRays rays(camera, width, height);
+    const packet::PinholeRays rays(camera, width, height);
     resize_hits(out, std::size_t(width) * std::size_t(height));
     const Stopwatch clock;
     for_each_tile(width, height, [&](const packet::Tile& tile) {
@@ -256,7 +256,7 @@ double EmbreeTracer::intersect1(const Camera& camera, int width, int height, Pix
         // The tile's rays made in SIMD, as dynrt's single-ray tracer makes them, so both sides
         // pay the same for making rays.
         packet::RayPacket camera_rays;
-        rays.pinhole().fill_tile(tile, camera_rays);
+        rays.fill_tile(tile, camera_rays);
         for (int y = tile.y0; y < tile.y1; ++y) {
             for (int x = tile.x0; x < tile.x1; ++x) {
                 RTCRayHit rh = to_rtc_ray_hit(camera_rays.ray(packet::tile_lane(tile, x, y)));
@@ -276,7 +276,7 @@ double EmbreeTracer::intersect1(const Camera& camera, int width, int height, Pix
 double EmbreeTracer::intersect16(const Camera& camera, int width, int height, PixelHits& out) {
     if (!state_->scene) throw std::logic_error("EmbreeTracer::intersect16 before build");
     RTCScene scene = state_->scene;
-    const CameraRays rays(camera, width, height);
+    const packet::PinholeRays rays(camera, width, height);
     resize_hits(out, std::size_t(width) * std::size_t(height));
     const Stopwatch clock;
     for_each_tile(width, height, [&](const packet::Tile& tile) {
@@ -319,7 +319,7 @@ struct ShadowOrigin {
 
 /// `triangle_of(object, prim)` gives a hit's world-space triangle.
 template <typename TriangleOf>
-ShadowOrigin shadow_origin(const TriangleOf& triangle_of, const CameraRays& rays,
+ShadowOrigin shadow_origin(const TriangleOf& triangle_of, const packet::PinholeRays& rays,
                            const PixelHits& hits, int width, int x, int y) {
     ShadowOrigin o;
     const std::size_t p = std::size_t(y) * width + x;
@@ -358,7 +358,7 @@ double EmbreeTracer::occluded16(const Camera& camera, int width, int height,
     const auto triangle_of = [&s](std::int32_t object, std::int32_t prim) {
         return s.triangle(object, prim);
     };
-    const CameraRays rays(camera, width, height);
+    const packet::PinholeRays rays(camera, width, height);
     reset_counts(occluded, width, height);
     tbb::combinable<std::size_t> counts([] { return std::size_t(0); });
     const Stopwatch clock;
@@ -423,7 +423,7 @@ double EmbreeTracer::occluded1(const Camera& camera, int width, int height,
     const auto triangle_of = [&s](std::int32_t object, std::int32_t prim) {
         return s.triangle(object, prim);
     };
-    const CameraRays rays(camera, width, height);
+    const packet::PinholeRays rays(camera, width, height);
     reset_counts(occluded, width, height);
     tbb::combinable<std::size_t> counts([] { return std::size_t(0); });
     const Stopwatch clock;

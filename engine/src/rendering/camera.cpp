@@ -88,37 +88,6 @@ Camera parse_camera(std::string_view spec, const Camera& base) {
     return camera;
 }
 
-namespace {
-
-/// `camera`, once it has passed CameraRays' checks; throws std::invalid_argument otherwise.
-const Camera& checked(const Camera& camera, int width, int height) {
-    if (width <= 0 || height <= 0) throw std::invalid_argument("image size must be positive");
-    if (!(camera.fov_y_deg > 0.0f && camera.fov_y_deg < 180.0f)) {
-        throw std::invalid_argument("camera fov must be in (0, 180) degrees");
-    }
-    const glm::vec3 view = camera.target - camera.eye;
-    if (!(glm::length(view) > 0.0f)) throw std::invalid_argument("camera eye equals target");
-    const glm::vec3 side = glm::cross(glm::normalize(view), camera.up);
-    if (!(glm::length(side) > 1e-6f * glm::length(camera.up))) {
-        throw std::invalid_argument("camera up is parallel to the view direction");
-    }
-    return camera;
-}
-
-packet::PinholeRays pinhole_of(const Camera& camera, int width, int height) {
-    const Camera& c = checked(camera, width, height);
-    return packet::PinholeRays(c.eye, c.target, c.up, c.fov_y_deg, width, height);
-}
-
-}  // namespace
-
-// The convention's arithmetic lives in one place, packet::PinholeRays, which the packet tracer
-// uses for whole tiles: single rays and packets cannot drift apart.
-CameraRays::CameraRays(const Camera& camera, int width, int height)
-    : pinhole_(pinhole_of(camera, width, height)) {}
-
-bvh::Ray CameraRays::ray(int x, int y) const { return pinhole_.ray(x, y); }
-
 Camera camera_from_scene(const anim::PosedCamera& posed) {
     Camera camera;
     camera.eye = glm::vec3(posed.eye);

@@ -97,7 +97,7 @@ void trace_frame(const TraceInputs& in, const Camera& camera, const TraceSetting
                  TraceScratch& scratch, RenderedFrame& out) {
     const std::span<const PointLight> lights = in.lights;
     const int width = options.width, height = options.height;
-    const CameraRays rays(camera, width, height);
+    const packet::PinholeRays rays(camera, width, height);
     const std::size_t pixels = std::size_t(width) * std::size_t(height);
     TraceStats& stats = out.stats;  // the trace stage fills its part only
     const bvh::TwoLevelBvh& accel = in.accel.top_level();
@@ -127,7 +127,7 @@ void trace_frame(const TraceInputs& in, const Camera& camera, const TraceSetting
 
     if (options.adaptive_tolerance > 0.0f) {
         scratch.hits.resize(pixels);
-        const detail::AdaptiveFrame frame{in.accel, rays.pinhole(), lights, shading,
+        const detail::AdaptiveFrame frame{in.accel, rays, lights, shading,
                                           in.object_material, options.packet,
                                           options.adaptive_tolerance, width};
         trace_adaptive(frame, scratch.hits, options.count_packet_work, out);
@@ -141,7 +141,7 @@ void trace_frame(const TraceInputs& in, const Camera& camera, const TraceSetting
     tbb::combinable<packet::PacketStats> work;
     tbb::combinable<bvh::TraversalStats> single_work;
     if (options.tracer == Tracer::packet) {
-        const packet::PinholeRays& pinhole = rays.pinhole();
+        const packet::PinholeRays& pinhole = rays;
         for_each_tile(width, height, [&](const packet::Tile& tile) {
             packet::RayPacket packet_rays;
             packet::InstanceHits packet_hits;
@@ -160,7 +160,7 @@ void trace_frame(const TraceInputs& in, const Camera& camera, const TraceSetting
         // The camera rays of a tile are made in SIMD, as for packets (the very same rays as
         // rays.ray(x, y), bit for bit), then traced one by one: making each ray on its own (a
         // normalisation per pixel) cost a third as much as tracing it on sphere:1000000.
-        const packet::PinholeRays& pinhole = rays.pinhole();
+        const packet::PinholeRays& pinhole = rays;
         for_each_tile(width, height, [&](const packet::Tile& tile) {
             packet::RayPacket camera_rays;
             pinhole.fill_tile(tile, camera_rays);
@@ -179,7 +179,7 @@ void trace_frame(const TraceInputs& in, const Camera& camera, const TraceSetting
     stats.primary_rays = pixels;
 
     // ---- Shadow rays (one per hit and light on the lit side), then shading ----
-    const packet::PinholeRays& pinhole = rays.pinhole();
+    const packet::PinholeRays& pinhole = rays;
     const packet::Tiling tiling(width, height);
     tbb::combinable<std::size_t> shadow_rays([] { return std::size_t(0); });
     if (options.tracer == Tracer::packet) {

@@ -66,7 +66,7 @@ ReferencePixel shade(const Scene& scene, const ReferenceTracer& tracer, const bv
 ReferenceFrame render_reference(const Scene& scene, const ReferenceTracer& tracer,
                                 const Camera& camera, int width, int height,
                                 const ReferenceShading& shading, const Tolerances& tol) {
-    const CameraRays rays(camera, width, height);  // validates camera and size
+    const packet::PinholeRays rays(camera, width, height);  // validates camera and size
     ReferenceFrame frame;
     frame.width = width;
     frame.height = height;
@@ -89,7 +89,7 @@ std::vector<ReferencePixel> render_reference_pixels(const Scene& scene,
                                                     std::span<const PixelCoord> pixels,
                                                     const ReferenceShading& shading,
                                                     const Tolerances& tol) {
-    const CameraRays rays(camera, width, height);  // validates camera and size
+    const packet::PinholeRays rays(camera, width, height);  // validates camera and size
     for (const PixelCoord& p : pixels) {
         if (p.x < 0 || p.x >= width || p.y < 0 || p.y >= height) {
             throw std::out_of_range("render_reference_pixels: pixel (" + std::to_string(p.x) +

@@ -13,13 +13,10 @@
 
 namespace dynrt {
 
-struct Camera {
-    glm::vec3 eye{0.0f, 0.0f, 5.0f};
-    glm::vec3 target{0.0f};
-    glm::vec3 up{0.0f, 1.0f, 0.0f};
-    /// Vertical field of view in degrees, in (0, 180).
-    float fov_y_deg = 45.0f;
-};
+/// The one camera value: eye, target, up and vertical field of view (packet/pinhole.h), which
+/// the ray generators take directly (packet::PinholeRays: ray(x, y) for single rays,
+/// fill_tile for 16x16 packets; it throws std::invalid_argument for a degenerate camera).
+using Camera = packet::PinholeCamera;
 
 /// eye = c + 2.5 R normalize(0.6, 0.5, 1.0), target c, up +Y, fov 45, where c is the box
 /// centre and R half its diagonal. A box that is one point (a scene collapsed by a zero scale)
@@ -43,20 +40,5 @@ Camera camera_from_scene(const anim::PosedCamera& posed);
 /// Parses "eye=x,y,z,target=x,y,z,up=x,y,z,fov=deg"; any subset of the keys, in any order,
 /// overriding `base`. Throws std::invalid_argument naming the bad part.
 Camera parse_camera(std::string_view spec, const Camera& base);
-
-/// Precomputed basis of a camera for one image size; `ray(x, y)` is the convention's ray of
-/// pixel (x, y), y = 0 the top row: unit direction, starting at the eye.
-class CameraRays {
-public:
-    /// Throws std::invalid_argument for a degenerate camera (eye == target, up parallel to the
-    /// view direction, fov outside (0, 180)) or an empty image.
-    CameraRays(const Camera& camera, int width, int height);
-    bvh::Ray ray(int x, int y) const;
-    /// The same rays a whole 16x16 tile at a time (for the packet tracer).
-    const packet::PinholeRays& pinhole() const { return pinhole_; }
-
-private:
-    packet::PinholeRays pinhole_;
-};
 
 }  // namespace dynrt

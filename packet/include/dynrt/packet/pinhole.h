@@ -1,9 +1,10 @@
 #pragma once
-// Primary rays of a pinhole camera: the camera convention (README.md, "Camera convention")
-// for one pixel (ray; dynrt::CameraRays checks a camera and then delegates to it, so the
-// convention's arithmetic exists once) and for a whole tile packet in SIMD (fill_tile), with
-// the same operations in the same order lane by lane, so both give the same bits
-// (tests/packet_pinhole_test.cpp checks every pixel).
+// The pinhole camera, dynrt's one camera value (dynrt::Camera is this type), and its primary
+// rays: the camera convention (README.md, "Camera convention") for one pixel (ray) and for a
+// whole tile packet in SIMD (fill_tile), with the same operations in the same order lane by
+// lane, so both give the same bits (tests/packet_pinhole_test.cpp checks every pixel). Single
+// rays, packets, the reference renderer and the Embree comparison all take their rays from
+// here, so the convention's arithmetic exists once.
 
 #include "dynrt/bvh/ray.h"
 #include "dynrt/packet/ray_packet.h"
@@ -13,13 +14,21 @@
 
 namespace dynrt::packet {
 
+/// A pinhole camera at `eye` looking at `target`, `up` giving the image's up direction.
+struct PinholeCamera {
+    glm::vec3 eye{0.0f, 0.0f, 5.0f};
+    glm::vec3 target{0.0f};
+    glm::vec3 up{0.0f, 1.0f, 0.0f};
+    /// Vertical field of view in degrees, in (0, 180).
+    float fov_y_deg = 45.0f;
+};
+
+/// A camera's precomputed basis for one image size.
 class PinholeRays {
 public:
-    /// The basis of a camera at `eye` looking at `target` with `up` and a vertical field of
-    /// view of `fov_y_deg` degrees, for a width x height image. Preconditions as for
-    /// dynrt::CameraRays, which validates them (this constructor does not).
-    PinholeRays(glm::vec3 eye, glm::vec3 target, glm::vec3 up, float fov_y_deg, int width,
-                int height);
+    /// Throws std::invalid_argument for a degenerate camera (eye == target, up parallel to the
+    /// view direction, fov outside (0, 180)) or an empty image.
+    PinholeRays(const PinholeCamera& camera, int width, int height);
 
     /// The ray of pixel (x, y), y = 0 the top row, one at a time.
     bvh::Ray ray(int x, int y) const;

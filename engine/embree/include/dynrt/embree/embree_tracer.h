@@ -70,7 +70,7 @@ public:
     /// which Embree answers at the commit by refitting (refit) or rebuilding (the others).
     FrameLoad load_frame(const Scene& scene, const anim::PosedScene& posed, BuildQuality quality);
 
-    /// Primary rays of `camera` at width x height (CameraRays), one rtcIntersect1 per pixel.
+    /// Primary rays of `camera` at width x height (packet::PinholeRays), one rtcIntersect1 per pixel.
     /// Fills `out` and returns the time in ms. Requires a build.
     double intersect1(const Camera& camera, int width, int height, PixelHits& out);
 

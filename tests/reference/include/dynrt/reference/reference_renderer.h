@@ -51,7 +51,7 @@ struct ReferenceFrame {
 };
 
 /// Renders `width` x `height` pixels of `scene` (whose posed geometry `tracer` was built from)
-/// through `camera`, with CameraRays' float rays. At a hit: n the unit geometric normal facing
+/// through `camera`, with packet::PinholeRays' float rays. At a hit: n the unit geometric normal facing
 /// the eye, p = org + t dir from the exact t, and for each light with n . l > 0 a shadow
 /// segment from p to the light excluding the hit triangle (ReferenceTracer::occluded).
 /// Rows run in parallel on the caller's oneTBB arena. Throws std::invalid_argument for a

@@ -2,6 +2,7 @@
 
 #include "dynrt/embree/embree_bench.h"
 
+#include "dynrt/bench/columns.h"
 #include "dynrt/engine/spread.h"
 
 #include <nlohmann/json.hpp>
@@ -10,6 +11,29 @@
 #include <ostream>
 
 namespace dynrt::embree {
+
+namespace {
+
+/// The JSON columns of an Embree row, in output order.
+struct ForEachEmbreeColumn {
+    template <typename Visit>
+    void operator()(const EmbreeRow& r, Visit&& visit) const {
+        visit("quality", std::string(quality_name(r.quality)));
+        visit("build_ms", r.build_ms);
+        visit("intersect1_ms", r.intersect1_ms);
+        visit("intersect16_ms", r.intersect16_ms);
+        visit("occluded1_ms", r.occluded1_ms);
+        visit("occluded16_ms", r.occluded16_ms);
+        visit("mrays_per_s", r.mrays_per_s);
+        visit("shadow_rays", r.shadow_rays);
+        visit("hit_object_differs", r.vs_dynrt.object_differs);
+        visit("hit_prim_only_differs", r.vs_dynrt.prim_only_differs);
+        visit("packet_vs_single_differs", r.packet_vs_single_differs);
+    }
+};
+constexpr ForEachEmbreeColumn for_each_embree_column{};
+
+}  // namespace
 
 void print_embree_table(std::ostream& out, const std::vector<EmbreeRow>& rows,
                         const BenchRow& dynrt_row) {
@@ -48,18 +72,9 @@ void print_embree_table(std::ostream& out, const std::vector<EmbreeRow>& rows,
 std::string embree_json(const std::vector<EmbreeRow>& rows) {
     nlohmann::ordered_json array = nlohmann::ordered_json::array();
     for (const EmbreeRow& r : rows) {
-        array.push_back(nlohmann::ordered_json{
-            {"quality", quality_name(r.quality)},
-            {"build_ms", spread_json(r.build_ms)},
-            {"intersect1_ms", spread_json(r.intersect1_ms)},
-            {"intersect16_ms", spread_json(r.intersect16_ms)},
-            {"occluded1_ms", spread_json(r.occluded1_ms)},
-            {"occluded16_ms", spread_json(r.occluded16_ms)},
-            {"mrays_per_s", spread_json(r.mrays_per_s)},
-            {"shadow_rays", r.shadow_rays},
-            {"hit_object_differs", r.vs_dynrt.object_differs},
-            {"hit_prim_only_differs", r.vs_dynrt.prim_only_differs},
-            {"packet_vs_single_differs", r.packet_vs_single_differs}});
+        nlohmann::ordered_json j;
+        bench_columns::json_fields(j, r, for_each_embree_column);
+        array.push_back(j);
     }
     return array.dump(2);
 }

@@ -1,6 +1,8 @@
 #include "dynrt/bench/bench.h"
 
 #include "dynrt/bvh/wide_bvh.h"
+#include "bench/bench_columns.h"
+#include "dynrt/bench/columns.h"
 
 #include <nlohmann/json.hpp>
 
@@ -15,44 +17,6 @@
 namespace dynrt {
 
 namespace {
-
-/// The float as the double of its shortest decimal form, so a cost ratio of 0.1f is written as
-/// 0.1, not 0.100000001.
-double shortest_decimal(float value) {
-    char text[32];
-    const auto [end, ec] = std::to_chars(text, text + sizeof(text), value);
-    double out = value;
-    std::from_chars(text, end, out);
-    return out;
-}
-
-/// Calls visit(key, value) for every column of a row, in output order: the one list of the
-/// columns, shared by the CSV and JSON writers.
-template <typename Visit>
-void for_each_column(const BenchRow& row, Visit&& visit) {
-    visit("cost_ratio", shortest_decimal(row.build.cost_ratio));
-    visit("leaf_size_max", row.build.leaf_size_max);
-    visit("triangles", row.triangles);
-    visit("update_ms", row.update_ms);
-    visit("build_ms", row.build_ms);
-    visit("trace_ms", row.trace_ms);
-    visit("primary_ms", row.primary_ms);
-    visit("shadow_ms", row.shadow_ms);
-    visit("shade_ms", row.shade_ms);
-    visit("total_ms", row.total_ms);
-    visit("mrays_per_s", row.mrays_per_s);
-    visit("sah_cost", row.sah_cost);
-    visit("leaf_tris_mean", row.leaf_tris_mean);
-    visit("depth", row.depth);
-    visit("adaptive_tolerance", shortest_decimal(row.adaptive_tolerance));
-    visit("packet_culling", row.packet_culling);
-    visit("ray_triangle_tests", row.ray_triangle_tests);
-    visit("ray_triangle_culled", row.ray_triangle_culled);
-    visit("nodes_visited", row.nodes_visited);
-    visit("rays", row.rays);
-    visit("tree_width", row.tree_width);
-    visit("bytes_per_triangle", row.bytes_per_triangle);
-}
 
 std::vector<std::string> split(const std::string& text, char separator) {
     std::vector<std::string> parts;
@@ -333,29 +297,10 @@ void print_bench_table(std::ostream& out, const std::vector<BenchRow>& rows) {
 std::string bench_csv(const std::vector<BenchRow>& rows) {
     std::ostringstream out;
     out << std::setprecision(9);
-    const auto write_header = [&](const BenchRow& row) {
-        bool first = true;
-        for_each_column(row, [&](const char* key, const auto& value) {
-            if constexpr (std::is_same_v<std::decay_t<decltype(value)>, Spread>) {
-                out << (first ? "" : ",") << key << "_median," << key << "_min," << key << "_max";
-            } else {
-                out << (first ? "" : ",") << key;
-            }
-            first = false;
-        });
-        out << '\n';
-    };
-    write_header(rows.empty() ? BenchRow{} : rows.front());
+    bench_columns::csv_header(out, rows.empty() ? BenchRow{} : rows.front(), for_each_column);
+    out << '\n';
     for (const BenchRow& row : rows) {
-        bool first = true;
-        for_each_column(row, [&](const char*, const auto& value) {
-            if constexpr (std::is_same_v<std::decay_t<decltype(value)>, Spread>) {
-                out << (first ? "" : ",") << value.median << ',' << value.min << ',' << value.max;
-            } else {
-                out << (first ? "" : ",") << value;
-            }
-            first = false;
-        });
+        bench_columns::csv_values(out, row, for_each_column);
         out << '\n';
     }
     return out.str();
@@ -366,13 +311,7 @@ std::string bench_json(const std::vector<BenchRow>& rows) {
     doc["rows"] = nlohmann::ordered_json::array();
     for (const BenchRow& row : rows) {
         nlohmann::ordered_json j;
-        for_each_column(row, [&](const char* key, const auto& value) {
-            if constexpr (std::is_same_v<std::decay_t<decltype(value)>, Spread>) {
-                j[key] = spread_json(value);
-            } else {
-                j[key] = value;
-            }
-        });
+        bench_columns::json_fields(j, row, for_each_column);
         doc["rows"].push_back(j);
     }
     return doc.dump(2) + "\n";

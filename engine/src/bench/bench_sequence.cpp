@@ -1,6 +1,7 @@
 #include "dynrt/bench/bench_sequence.h"
 
 #include "dynrt/engine/report.h"
+#include "dynrt/bench/columns.h"
 
 #include <nlohmann/json.hpp>
 
@@ -46,6 +47,25 @@ struct Samples {
         return r;
     }
 };
+
+/// The JSON columns of a sequence row, in output order.
+struct ForEachSequenceColumn {
+    template <typename Visit>
+    void operator()(const SequenceRow& r, Visit&& visit) const {
+        visit("tracer", r.tracer);
+        visit("update_ms", r.update_ms);
+        visit("build_ms", r.build_ms);
+        visit("trace_ms", r.trace_ms);
+        visit("primary_ms", r.primary_ms);
+        visit("shadow_ms", r.shadow_ms);
+        visit("frame_ms", r.frame_ms);
+        visit("shade_ms", r.shade_ms);
+        visit("total_ms", r.total_ms);
+        visit("hit_object_differs", r.vs_dynrt.object_differs);
+        visit("hit_prim_only_differs", r.vs_dynrt.prim_only_differs);
+    }
+};
+constexpr ForEachSequenceColumn for_each_sequence_column{};
 
 }  // namespace
 
@@ -116,18 +136,9 @@ std::string sequence_json(const SequenceBench& bench) {
     nlohmann::ordered_json doc;
     doc["sequence"] = nlohmann::ordered_json::array();
     for (const SequenceRow& r : bench.rows) {
-        doc["sequence"].push_back(nlohmann::ordered_json{
-            {"tracer", r.tracer},
-            {"update_ms", spread_json(r.update_ms)},
-            {"build_ms", spread_json(r.build_ms)},
-            {"trace_ms", spread_json(r.trace_ms)},
-            {"primary_ms", spread_json(r.primary_ms)},
-            {"shadow_ms", spread_json(r.shadow_ms)},
-            {"frame_ms", spread_json(r.frame_ms)},
-            {"shade_ms", spread_json(r.shade_ms)},
-            {"total_ms", spread_json(r.total_ms)},
-            {"hit_object_differs", r.vs_dynrt.object_differs},
-            {"hit_prim_only_differs", r.vs_dynrt.prim_only_differs}});
+        nlohmann::ordered_json j;
+        bench_columns::json_fields(j, r, for_each_sequence_column);
+        doc["sequence"].push_back(j);
     }
     // dynrt's per-frame records, in the --report schema.
     const nlohmann::ordered_json report = nlohmann::ordered_json::parse(report_json(RunInfo{}, bench.frames));

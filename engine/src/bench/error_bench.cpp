@@ -1,6 +1,8 @@
 #include "dynrt/bench/error_bench.h"
 
 #include "dynrt/anim/posed_scene.h"
+#include "bench/bench_columns.h"
+#include "dynrt/bench/columns.h"
 
 #include <nlohmann/json.hpp>
 
@@ -30,20 +32,24 @@ std::string culling_of(const ErrorRow& row) {
 
 double determined_pct(const FrameError& e) { return 100.0 * e.determined_share(); }
 
-/// Calls visit(key, value) for the error columns of a row, in output order.
-template <typename Visit>
-void for_each_error_column(const ErrorRow& row, Visit&& visit) {
-    visit("update", std::string(to_string(row.update)));
-    visit("frame", row.frame);
-    visit("samples", row.error.samples);
-    visit("ambiguous_samples", row.error.ambiguous_samples);
-    visit("hit_differs", row.error.hit_differs);
-    visit("determined_differs", row.error.determined_differs);
-    visit("ambiguous_differs", row.error.ambiguous_differs);
-    visit("hit_differs_determined_pct", determined_pct(row.error));
-    visit("rmse", row.error.rmse);
-    visit("psnr_db", row.error.psnr_db);
-}
+/// Calls visit(key, value) for the error columns of a row, in output order (after the timing
+/// columns of its BenchRow).
+struct ForEachErrorColumn {
+    template <typename Visit>
+    void operator()(const ErrorRow& row, Visit&& visit) const {
+        visit("update", std::string(to_string(row.update)));
+        visit("frame", row.frame);
+        visit("samples", row.error.samples);
+        visit("ambiguous_samples", row.error.ambiguous_samples);
+        visit("hit_differs", row.error.hit_differs);
+        visit("determined_differs", row.error.determined_differs);
+        visit("ambiguous_differs", row.error.ambiguous_differs);
+        visit("hit_differs_determined_pct", determined_pct(row.error));
+        visit("rmse", row.error.rmse);
+        visit("psnr_db", row.error.psnr_db);
+    }
+};
+constexpr ForEachErrorColumn for_each_error_column{};
 
 }  // namespace
 
@@ -144,49 +150,28 @@ void print_reference_line(std::ostream& out, const SampledReference& reference) 
 }
 
 std::string error_csv(const std::vector<ErrorRow>& rows) {
-    std::vector<BenchRow> timings;
-    for (const ErrorRow& r : rows) timings.push_back(r.timing);
-    std::istringstream bench(bench_csv(timings));
     std::ostringstream out;
     out << std::setprecision(9);
-    std::string line;
-    std::getline(bench, line);
-    out << line;
-    for_each_error_column(rows.empty() ? ErrorRow{} : rows.front(),
-                          [&](const char* key, const auto&) { out << ',' << key; });
+    const ErrorRow& first = rows.empty() ? ErrorRow{} : rows.front();
+    bench_columns::csv_header(out, first.timing, for_each_column);
+    bench_columns::csv_header(out, first, for_each_error_column, false);
     out << '\n';
     for (const ErrorRow& row : rows) {
-        std::getline(bench, line);
-        out << line;
-        for_each_error_column(row, [&](const char*, const auto& value) {
-            if constexpr (std::is_same_v<std::decay_t<decltype(value)>, double>) {
-                if (std::isinf(value)) {
-                    out << ",inf";
-                    return;
-                }
-            }
-            out << ',' << value;
-        });
+        bench_columns::csv_values(out, row.timing, for_each_column);
+        bench_columns::csv_values(out, row, for_each_error_column, false);
         out << '\n';
     }
     return out.str();
 }
 
 std::string error_json(const std::vector<ErrorRow>& rows, const SampledReference& reference) {
-    std::vector<BenchRow> timings;
-    for (const ErrorRow& r : rows) timings.push_back(r.timing);
-    nlohmann::ordered_json doc = nlohmann::ordered_json::parse(bench_json(timings));
-    for (std::size_t i = 0; i < rows.size(); ++i) {
-        for_each_error_column(rows[i], [&](const char* key, const auto& value) {
-            if constexpr (std::is_same_v<std::decay_t<decltype(value)>, double>) {
-                // JSON has no infinity: a perfect match's PSNR is null.
-                if (std::isinf(value)) {
-                    doc["rows"][i][key] = nullptr;
-                    return;
-                }
-            }
-            doc["rows"][i][key] = value;
-        });
+    nlohmann::ordered_json doc;
+    doc["rows"] = nlohmann::ordered_json::array();
+    for (const ErrorRow& row : rows) {
+        nlohmann::ordered_json j;
+        bench_columns::json_fields(j, row.timing, for_each_column);
+        bench_columns::json_fields(j, row, for_each_error_column);
+        doc["rows"].push_back(j);
     }
     doc["reference"] = {{"frame", reference.frame},
                         {"width", reference.width},

@@ -107,8 +107,9 @@ void SceneAccel::update(const Scene& scene, std::span<const ObjectState> states,
         const ObjectTree& object = objects_[i];
         history_[i] = TreeHistory{object.known, object.motion_class, object.built};
     }
-    const UpdatePlan plan = plan_update(
-        history_, StaticGroupHistory{static_group_known_, static_group_.built}, states);
+    plan_update(history_, StaticGroupHistory{static_group_known_, static_group_.built}, states,
+                plan_);
+    const UpdatePlan& plan = plan_;
     objects_.resize(count);
     object_boxes_.resize(count);
     for (std::size_t i = 0; i < count; ++i) {
@@ -153,6 +154,8 @@ void SceneAccel::update(const Scene& scene, std::span<const ObjectState> states,
                 ++stats.objects_skipped;
                 break;
             case TreeAction::rebuild: {
+                // Only an exploding object's rebuild replaces a tree that matches its class;
+                // every other rebuild has none to keep.
                 const bool had_tree = planned.reason == RebuildReason::exploding;
                 clock.lap_ms();
                 const bool moved =

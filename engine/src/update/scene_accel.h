@@ -139,8 +139,9 @@ private:
     std::vector<bvh::Aabb> object_boxes_;
     /// Scratch for the vertex positions of static objects at their one build.
     std::vector<glm::vec3> positions_;
-    /// The planner's input (scratch).
+    /// The planner's input and output, reused from frame to frame.
     std::vector<TreeHistory> history_;
+    UpdatePlan plan_;
     bool static_group_known_ = false;
 };
 

@@ -31,77 +31,60 @@ const char* tree_action_name(TreeAction action) {
     return "unknown";
 }
 
+void plan_update(std::span<const TreeHistory> previous, const StaticGroupHistory& group,
+                 std::span<const ObjectState> now, UpdatePlan& plan) {
+    plan.objects.assign(now.size(), ObjectPlan{});
+    plan.rebuild_static_group = !group.built;
+
+    // ---- Every object but the static ones: their actions depend on themselves alone ----
+    for (std::size_t i = 0; i < now.size(); ++i) {
+        const TreeHistory before = i < previous.size() ? previous[i] : TreeHistory{};
+        const ObjectState& state = now[i];
+        const MotionClass c = state.motion_class;
+        ObjectPlan& object = plan.objects[i];
+        // A class change loses the tree when it leaves the static group (static objects have
+        // no tree of their own) or moves it between object and world space.
+        const bool class_changed = before.known && before.motion_class != c;
+        object.leaves_static_group = class_changed && before.motion_class == MotionClass::static_;
+        object.joins_static_group = class_changed && c == MotionClass::static_;
+        const bool tree_lost = object.leaves_static_group ||
+                               (class_changed && world_space(before.motion_class) != world_space(c));
+        // A new static object joins the group as well.
+        if (object.leaves_static_group || object.joins_static_group ||
+            (!before.known && c == MotionClass::static_)) {
+            plan.rebuild_static_group = true;
+        }
+        if (c == MotionClass::static_) continue;  // decided below, with the group
+        if (!before.built || tree_lost) {
+            object.action = TreeAction::rebuild;
+            object.reason = tree_lost ? RebuildReason::class_changed : RebuildReason::first_build;
+        } else if (!state.changed) {
+            object.action = TreeAction::keep;
+        } else if (c == MotionClass::rigid) {
+            object.action = TreeAction::move_instance;
+        } else if (c == MotionClass::exploding) {
+            object.action = TreeAction::rebuild;
+            object.reason = RebuildReason::exploding;
+        } else {
+            object.action = TreeAction::refit;
+        }
+    }
+
+    // ---- The static group: rebuilt with all its members, or kept with them ----
+    if (!plan.rebuild_static_group) return;
+    plan.static_group_reason =
+        group.known ? RebuildReason::static_group_changed : RebuildReason::first_build;
+    for (std::size_t i = 0; i < now.size(); ++i) {
+        if (now[i].motion_class != MotionClass::static_) continue;
+        plan.objects[i].action = TreeAction::build_in_static_group;
+        plan.objects[i].reason = plan.static_group_reason;
+    }
+}
+
 UpdatePlan plan_update(std::span<const TreeHistory> previous, const StaticGroupHistory& group,
                        std::span<const ObjectState> now) {
     UpdatePlan plan;
-    plan.objects.resize(now.size());
-    plan.rebuild_static_group = !group.built;
-
-    // ---- Class changes: which trees are lost, and whether the static group changes ----
-    // `built[i]`: object i still has a tree it may keep, refit or move.
-    std::vector<bool> built(now.size(), false);
-    std::vector<bool> class_changed(now.size(), false);
-    for (std::size_t i = 0; i < now.size(); ++i) {
-        const TreeHistory before = i < previous.size() ? previous[i] : TreeHistory{};
-        const MotionClass c = now[i].motion_class;
-        ObjectPlan& object = plan.objects[i];
-        built[i] = before.built;
-        if (!before.known) {
-            // A new object: a static one joins the group, any other is built below.
-            if (c == MotionClass::static_) plan.rebuild_static_group = true;
-            continue;
-        }
-        if (before.motion_class == c) continue;
-        object.leaves_static_group = before.motion_class == MotionClass::static_;
-        object.joins_static_group = c == MotionClass::static_;
-        if (object.leaves_static_group || world_space(before.motion_class) != world_space(c)) {
-            built[i] = false;
-            class_changed[i] = true;
-        }
-        if (object.leaves_static_group || object.joins_static_group) plan.rebuild_static_group = true;
-    }
-    if (plan.rebuild_static_group) {
-        plan.static_group_reason =
-            group.known ? RebuildReason::static_group_changed : RebuildReason::first_build;
-    }
-
-    // ---- One action per object ----
-    for (std::size_t i = 0; i < now.size(); ++i) {
-        ObjectPlan& object = plan.objects[i];
-        const ObjectState& state = now[i];
-        const RebuildReason first = class_changed[i] ? RebuildReason::class_changed
-                                                     : RebuildReason::first_build;
-        switch (state.motion_class) {
-            case MotionClass::static_:
-                if (plan.rebuild_static_group) {
-                    object.action = TreeAction::build_in_static_group;
-                    object.reason = plan.static_group_reason;
-                }
-                break;
-            case MotionClass::rigid:
-                if (!built[i]) {
-                    object.action = TreeAction::rebuild;
-                    object.reason = first;
-                } else if (state.changed) {
-                    object.action = TreeAction::move_instance;
-                }
-                break;
-            case MotionClass::deformable:
-            case MotionClass::exploding:
-                if (!built[i]) {
-                    object.action = TreeAction::rebuild;
-                    object.reason = first;
-                } else if (!state.changed) {
-                    object.action = TreeAction::keep;
-                } else if (state.motion_class == MotionClass::exploding) {
-                    object.action = TreeAction::rebuild;
-                    object.reason = RebuildReason::exploding;
-                } else {
-                    object.action = TreeAction::refit;
-                }
-                break;
-        }
-    }
+    plan_update(previous, group, now, plan);
     return plan;
 }
 

@@ -111,8 +111,8 @@ struct ObjectPlan {
     bool leaves_static_group = false;
 };
 
-/// One action per object (scene order) and the static group's. Deformable and exploding
-/// objects planned for refit or rebuild are skipped after all (counted as kept) when their
+/// One action per object (scene order) and the static group's. A refit, or an exploding
+/// object's rebuild of the tree it has, is skipped after all (counted as kept) when the
 /// gathered triangles equal the stored ones: the animation said they changed, the vertices
 /// say not. That check reads vertices, so the executor makes it.
 struct UpdatePlan {
@@ -128,6 +128,10 @@ struct UpdatePlan {
 /// that lost objects starts afresh, with empty `previous`).
 UpdatePlan plan_update(std::span<const TreeHistory> previous, const StaticGroupHistory& group,
                        std::span<const ObjectState> now);
+
+/// The same into `plan`, whose storage is reused (SceneAccel plans every frame).
+void plan_update(std::span<const TreeHistory> previous, const StaticGroupHistory& group,
+                 std::span<const ObjectState> now, UpdatePlan& plan);
 
 /// After a planned refit: whether its result stands (nullopt) or the object is rebuilt, and
 /// why. `sah_at_last_build` is the tree's SAH cost when it was last built.

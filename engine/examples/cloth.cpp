@@ -31,7 +31,6 @@
 
 #include <dynrt/dynrt.h>
 
-#include <CLI/CLI.hpp>
 #include <oneapi/tbb/parallel_for.h>
 
 #include <array>
@@ -436,24 +435,22 @@ int run(const Options& options) {
 
 int main(int argc, char** argv) {
     Options options;
-    CLI::App app{"dynrt_example_cloth: a cloth simulation rendered through the dynrt library API"};
-    app.add_option("--grid", options.grid, "cloth vertices per side (triangles: 2 (N-1)^2)")
-        ->check(CLI::Range(2, 4096))->capture_default_str();
-    app.add_option("--steps", options.steps, "simulation steps of 1/60 s")
-        ->check(CLI::Range(0, 1000000))->capture_default_str();
-    app.add_option("--every", options.render_every, "render every K-th step (0: never)")
-        ->check(CLI::Range(0, 1000000))->capture_default_str();
-    app.add_option("--res", options.res, "image size WxH")->capture_default_str();
-    app.add_option("--out", options.out,
-                   "image file pattern with a frame number field, e.g. cloth/%04d.png "
-                   "(default: render but write nothing)");
-    app.add_option("--substeps", options.substeps, "simulation substeps per step")
-        ->check(CLI::Range(1, 1000))->capture_default_str();
-    app.add_option("--iterations", options.iterations, "constraint iterations per substep")
-        ->check(CLI::Range(1, 1000))->capture_default_str();
-    app.add_option("--threads", options.threads, "engine worker threads (0: all cores)")
-        ->check(CLI::Range(0, 1024))->capture_default_str();
-    CLI11_PARSE(app, argc, argv);
+    dynrt_example::CommandLine command_line{
+        "dynrt_example_cloth: a cloth simulation rendered through the dynrt library API"};
+    command_line.add("--grid", options.grid, "cloth vertices per side (triangles: 2 (N-1)^2)", 2,
+                     4096);
+    command_line.add("--steps", options.steps, "simulation steps of 1/60 s", 0, 1000000);
+    command_line.add("--every", options.render_every, "render every K-th step (0: never)", 0,
+                     1000000);
+    command_line.add("--res", options.res, "image size WxH");
+    command_line.add("--out", options.out,
+                     "image file pattern with a frame number field, e.g. cloth/%04d.png "
+                     "(default: render but write nothing)");
+    command_line.add("--substeps", options.substeps, "simulation substeps per step", 1, 1000);
+    command_line.add("--iterations", options.iterations, "constraint iterations per substep", 1,
+                     1000);
+    command_line.add("--threads", options.threads, "engine worker threads (0: all cores)", 0, 1024);
+    if (const int exit_code = command_line.parse(argc, argv); exit_code >= 0) return exit_code;
     try {
         return run(options);
     } catch (const dynrt::Error& e) {

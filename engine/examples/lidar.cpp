@@ -36,7 +36,6 @@
 
 #include <dynrt/dynrt.h>
 
-#include <CLI/CLI.hpp>
 
 #include <chrono>
 #include <cmath>
@@ -353,22 +352,19 @@ int run(const Options& options) {
 
 int main(int argc, char** argv) {
     Options options;
-    CLI::App app{"dynrt_example_lidar: a rotating lidar queried through the dynrt library API"};
-    app.add_option("--steps", options.steps, "revolutions (steps of 0.1 s)")
-        ->check(CLI::Range(0, 1000000))->capture_default_str();
-    app.add_option("--channels", options.channels, "lasers in the vertical fan (-25 to +15 deg)")
-        ->check(CLI::Range(1, 1024))->capture_default_str();
-    app.add_option("--azimuth", options.azimuth, "azimuth steps per revolution")
-        ->check(CLI::Range(1, 1 << 16))->capture_default_str();
-    app.add_option("--threads", options.threads, "engine worker threads (0: all cores)")
-        ->check(CLI::Range(0, 1024))->capture_default_str();
-    app.add_option("--range", options.range_m, "maximum range in metres (the rays' tmax)")
-        ->check(CLI::PositiveNumber)->capture_default_str();
-    app.add_option("--order", options.order, "ray order in the batch (see lidar.cpp)")
-        ->check(CLI::IsMember({"horizon", "firing", "channel"}))->capture_default_str();
-    app.add_option("--out", options.out,
-                   "range image file pattern with a step number field, e.g. lidar/%04d.png");
-    CLI11_PARSE(app, argc, argv);
+    dynrt_example::CommandLine command_line{
+        "dynrt_example_lidar: a rotating lidar queried through the dynrt library API"};
+    command_line.add("--steps", options.steps, "revolutions (steps of 0.1 s)", 0, 1000000);
+    command_line.add("--channels", options.channels, "lasers in the vertical fan (-25 to +15 deg)",
+                     1, 1024);
+    command_line.add("--azimuth", options.azimuth, "azimuth steps per revolution", 1, 1 << 16);
+    command_line.add("--threads", options.threads, "engine worker threads (0: all cores)", 0, 1024);
+    command_line.add("--range", options.range_m, "maximum range in metres (the rays' tmax)");
+    command_line.add("--order", options.order, "ray order in the batch (see lidar.cpp)",
+                     {"horizon", "firing", "channel"});
+    command_line.add("--out", options.out,
+                     "range image file pattern with a step number field, e.g. lidar/%04d.png");
+    if (const int exit_code = command_line.parse(argc, argv); exit_code >= 0) return exit_code;
     try {
         return run(options);
     } catch (const dynrt::Error& e) {

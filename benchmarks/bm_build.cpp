@@ -1,6 +1,8 @@
 // Build throughput of dynrt's binned SAH triangle BVH (Wald 2007) against Embree 3 at
-// RTC_BUILD_QUALITY_MEDIUM, on the procedural scenes of the issue, both on their default
-// thread count (the whole machine). Items are triangles; counters give the tree's quality.
+// RTC_BUILD_QUALITY_MEDIUM, and of dynrt's Morton builder (morton_builder.h) against Embree's
+// at RTC_BUILD_QUALITY_LOW (its Morton builder, what it rebuilds dynamic scenes with), on the
+// procedural scenes of the issues, both on their default thread count (the whole machine).
+// Items are triangles; counters give the tree's quality.
 
 #include "bm_scenes.h"
 
@@ -57,6 +59,57 @@ void BM_BuildTriangleBvh(benchmark::State& state, const std::string& spec) {
 void BM_BuildTriangleBvhRecycled(benchmark::State& state, const std::string& spec) {
     const SceneInput& input = scene_input(spec);
     const bvh::BuildConfig config;
+    bvh::TriangleBvh accel;
+    for (auto _ : state) {
+        const Clock::time_point start = Clock::now();
+        accel = bvh::build_triangle_bvh(input.triangles, config, std::move(accel));
+        state.SetIterationTime(seconds_since(start));
+    }
+    state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(input.triangles.size()));
+    report_tree(state, accel.bvh, config);
+}
+
+bvh::BuildConfig morton_config() {
+    bvh::BuildConfig config;
+    config.method = bvh::BuildMethod::morton;
+    return config;
+}
+
+/// build_triangle_bvh with the Morton builder into fresh storage.
+void BM_BuildMorton(benchmark::State& state, const std::string& spec) {
+    const SceneInput& input = scene_input(spec);
+    const bvh::BuildConfig config = morton_config();
+    bvh::TriangleBvh accel;
+    for (auto _ : state) {
+        const Clock::time_point start = Clock::now();
+        bvh::TriangleBvh built = bvh::build_triangle_bvh(input.triangles, config);
+        state.SetIterationTime(seconds_since(start));
+        accel = std::move(built);
+    }
+    state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(input.triangles.size()));
+    report_tree(state, accel.bvh, config);
+}
+
+/// The Morton builder into the previous iteration's tree: the engine's fast rebuild of an
+/// object every frame. Compare with BM_BuildEmbreeLowRecommit.
+void BM_BuildMortonRecycled(benchmark::State& state, const std::string& spec) {
+    const SceneInput& input = scene_input(spec);
+    const bvh::BuildConfig config = morton_config();
+    bvh::TriangleBvh accel;
+    for (auto _ : state) {
+        const Clock::time_point start = Clock::now();
+        accel = bvh::build_triangle_bvh(input.triangles, config, std::move(accel));
+        state.SetIterationTime(seconds_since(start));
+    }
+    state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(input.triangles.size()));
+    report_tree(state, accel.bvh, config);
+}
+
+/// The Morton builder's binary tree alone (no collapse), recycled.
+void BM_BuildMortonBinaryOnly(benchmark::State& state, const std::string& spec) {
+    const SceneInput& input = scene_input(spec);
+    bvh::BuildConfig config = morton_config();
+    config.wide = false;
     bvh::TriangleBvh accel;
     for (auto _ : state) {
         const Clock::time_point start = Clock::now();
@@ -150,6 +203,40 @@ void BM_BuildEmbreeMedium(benchmark::State& state, const std::string& spec) {
     }
     state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(input.triangles.size()));
 }
+
+/// rtcCommitScene of a fresh scene at RTC_BUILD_QUALITY_LOW (Embree's Morton builder).
+void BM_BuildEmbreeLow(benchmark::State& state, const std::string& spec) {
+    const SceneInput& input = scene_input(spec);
+    for (auto _ : state) {
+        RTCScene scene = make_embree_scene(input, false, nullptr, RTC_BUILD_QUALITY_LOW);
+        const Clock::time_point start = Clock::now();
+        rtcCommitScene(scene);
+        state.SetIterationTime(seconds_since(start));
+        rtcReleaseScene(scene);
+    }
+    state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(input.triangles.size()));
+}
+
+/// Embree rebuilding the same LOW-quality scene every frame, as an animation loop does: the
+/// vertex buffers marked updated, the geometries and the scene committed again (the commits
+/// timed). Embree reuses its scene's storage, as BM_BuildMortonRecycled does.
+void BM_BuildEmbreeLowRecommit(benchmark::State& state, const std::string& spec) {
+    const SceneInput& input = scene_input(spec);
+    RTCScene scene = make_embree_scene(input, false, nullptr, RTC_BUILD_QUALITY_LOW);
+    rtcCommitScene(scene);
+    for (auto _ : state) {
+        const Clock::time_point start = Clock::now();
+        for (unsigned id = 0; id < input.positions.size(); ++id) {
+            RTCGeometry geometry = rtcGetGeometry(scene, id);
+            rtcUpdateGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0);
+            rtcCommitGeometry(geometry);
+        }
+        rtcCommitScene(scene);
+        state.SetIterationTime(seconds_since(start));
+    }
+    rtcReleaseScene(scene);
+    state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(input.triangles.size()));
+}
 #endif
 
 // Two seconds of untimed builds first: the first few builds of a process pay for faulting in
@@ -166,6 +253,12 @@ DYNRT_BUILD_BENCHMARK(BM_BuildTriangleBvh, sphere_1M, "sphere:1000000");
 DYNRT_BUILD_BENCHMARK(BM_BuildTriangleBvh, soup_1M, "soup:1000000");
 DYNRT_BUILD_BENCHMARK(BM_BuildTriangleBvhRecycled, sphere_1M, "sphere:1000000");
 DYNRT_BUILD_BENCHMARK(BM_BuildTriangleBvhRecycled, soup_1M, "soup:1000000");
+DYNRT_BUILD_BENCHMARK(BM_BuildMorton, sphere_1M, "sphere:1000000");
+DYNRT_BUILD_BENCHMARK(BM_BuildMorton, soup_1M, "soup:1000000");
+DYNRT_BUILD_BENCHMARK(BM_BuildMortonRecycled, sphere_1M, "sphere:1000000");
+DYNRT_BUILD_BENCHMARK(BM_BuildMortonRecycled, soup_1M, "soup:1000000");
+DYNRT_BUILD_BENCHMARK(BM_BuildMortonBinaryOnly, sphere_1M, "sphere:1000000");
+DYNRT_BUILD_BENCHMARK(BM_BuildMortonBinaryOnly, soup_1M, "soup:1000000");
 DYNRT_BUILD_BENCHMARK(BM_BuildTriangleBvhBinaryOnly, sphere_1M, "sphere:1000000");
 DYNRT_BUILD_BENCHMARK(BM_BuildTriangleBvhBinaryOnly, soup_1M, "soup:1000000");
 DYNRT_BUILD_BENCHMARK(BM_CollapseToWide8, sphere_1M, "sphere:1000000");
@@ -177,6 +270,10 @@ DYNRT_BUILD_BENCHMARK(BM_BuildBinnedSahFromBoxes, soup_1M, "soup:1000000");
 #if DYNRT_HAVE_EMBREE
 DYNRT_BUILD_BENCHMARK(BM_BuildEmbreeMedium, sphere_1M, "sphere:1000000");
 DYNRT_BUILD_BENCHMARK(BM_BuildEmbreeMedium, soup_1M, "soup:1000000");
+DYNRT_BUILD_BENCHMARK(BM_BuildEmbreeLow, sphere_1M, "sphere:1000000");
+DYNRT_BUILD_BENCHMARK(BM_BuildEmbreeLow, soup_1M, "soup:1000000");
+DYNRT_BUILD_BENCHMARK(BM_BuildEmbreeLowRecommit, sphere_1M, "sphere:1000000");
+DYNRT_BUILD_BENCHMARK(BM_BuildEmbreeLowRecommit, soup_1M, "soup:1000000");
 #endif
 
 }  // namespace

@@ -613,32 +613,6 @@ private:
     std::uint32_t bin_count_max_;
 };
 
-/// Fills the references from the caller's spans and gathers the root bounds in the same pass.
-struct RefFiller {
-    std::span<const Aabb> boxes;
-    std::span<const glm::vec3> centers;
-    ExplicitCenterRef* refs;
-    Aabb box;
-    Aabb center_box;
-
-    RefFiller(std::span<const Aabb> b, std::span<const glm::vec3> c, ExplicitCenterRef* r)
-        : boxes(b), centers(c), refs(r) {}
-    RefFiller(RefFiller& other, tbb::split)
-        : boxes(other.boxes), centers(other.centers), refs(other.refs) {}
-    void operator()(const tbb::blocked_range<std::size_t>& range) {
-        for (std::size_t i = range.begin(); i < range.end(); ++i) {
-            const Aabb& b = boxes[i];
-            refs[i] = ExplicitCenterRef{b.lo, static_cast<std::uint32_t>(i), b.hi, 0, centers[i], 0};
-            box.extend(b);
-            center_box.extend(centers[i]);
-        }
-    }
-    void join(const RefFiller& other) {
-        box.extend(other.box);
-        center_box.extend(other.center_box);
-    }
-};
-
 }  // namespace
 
 void check_config(const BuildConfig& config) {
@@ -690,6 +664,10 @@ template Bvh build_from_prim_refs<ExplicitCenterRef>(ExplicitCenterRef*, std::si
                                                      const std::function<void()>&, Bvh&&);
 
 }  // namespace detail
+
+const char* build_method_name(BuildMethod method) {
+    return method == BuildMethod::morton ? "morton" : "sah";
+}
 
 Bvh build_binned_sah(std::span<const Aabb> boxes, std::span<const glm::vec3> centers,
                      const BuildConfig& config) {

@@ -7,8 +7,12 @@
 
 #include "dynrt/bvh/binned_sah_builder.h"
 
+#include <oneapi/tbb/blocked_range.h>
+#include <oneapi/tbb/parallel_reduce.h>
+
 #include <cstddef>
 #include <functional>
+#include <span>
 
 namespace dynrt::bvh::detail {
 
@@ -27,5 +31,33 @@ Bvh build_from_prim_refs(Ref* refs, std::size_t count, const Aabb& root_box,
 
 /// Throws std::invalid_argument unless cost_ratio > 0, leaf_size_max >= 1 and bin_count >= 2.
 void check_config(const BuildConfig& config);
+
+/// Fills the references from the caller's spans and gathers the root bounds in the same pass
+/// (tbb::parallel_reduce body; build_binned_sah and build_morton).
+struct RefFiller {
+    std::span<const Aabb> boxes;
+    std::span<const glm::vec3> centers;
+    ExplicitCenterRef* refs;
+    Aabb box;
+    Aabb center_box;
+
+    RefFiller(std::span<const Aabb> b, std::span<const glm::vec3> c, ExplicitCenterRef* r)
+        : boxes(b), centers(c), refs(r) {}
+    RefFiller(RefFiller& other, tbb::split)
+        : boxes(other.boxes), centers(other.centers), refs(other.refs) {}
+    void operator()(const tbb::blocked_range<std::size_t>& range) {
+        for (std::size_t i = range.begin(); i < range.end(); ++i) {
+            const Aabb& b = boxes[i];
+            refs[i] = ExplicitCenterRef{b.lo, static_cast<std::uint32_t>(i), b.hi, 0, centers[i], 0};
+            box.extend(b);
+            center_box.extend(centers[i]);
+        }
+    }
+    void join(const RefFiller& other) {
+        box.extend(other.box);
+        center_box.extend(other.center_box);
+    }
+};
+
 
 }  // namespace dynrt::bvh::detail

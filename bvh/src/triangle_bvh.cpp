@@ -5,6 +5,7 @@
 #include "dynrt/bvh/triangle_bvh.h"
 
 #include "binned_sah_core.h"
+#include "morton_core.h"
 #include "float4.h"
 #include "huge_pages.h"
 #include "robust_box_test.h"
@@ -270,16 +271,30 @@ TriangleBvh build_triangle_bvh(std::span<const Triangle> tris, const BuildConfig
 
     // Copy the triangles in leaf order while the builder fills its own output vectors: three
     // serial fills (triangles, nodes, ids) of fresh memory share the threads.
-    const detail::BoxCenterRef* leaf_order = refs.get();
-    accel.bvh = detail::build_from_prim_refs(refs.get(), count, root_box, root_centers, config, [&] {
+    // The triangles in leaf order, gathered while the builder makes its hierarchy.
+    const auto gather_leaf_order = [&](auto id_of) {
         detail::resize_with_huge_pages(accel.tris, count);
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kBlock),
                           [&](const tbb::blocked_range<std::size_t>& r) {
                               for (std::size_t i = r.begin(); i < r.end(); ++i) {
-                                  accel.tris[i] = tris[leaf_order[i].id];
+                                  accel.tris[i] = tris[id_of(i)];
                               }
                           });
-    }, std::move(recycled_tree));
+    };
+    if (config.method == BuildMethod::morton) {
+        accel.bvh = detail::build_morton_from_prim_refs(
+            refs.get(), count, root_box, root_centers, config,
+            [&](std::span<const std::uint32_t> ids) {
+                gather_leaf_order([ids](std::size_t i) { return ids[i]; });
+            },
+            std::move(recycled_tree));
+    } else {
+        const detail::BoxCenterRef* leaf_order = refs.get();
+        accel.bvh = detail::build_from_prim_refs(
+            refs.get(), count, root_box, root_centers, config,
+            [&] { gather_leaf_order([leaf_order](std::size_t i) { return leaf_order[i].id; }); },
+            std::move(recycled_tree));
+    }
     if (config.wide && config.leaf_size_max <= kWideLeafSizeMax) {
         accel.wide = collapse_to_wide<kWideWidth>(accel.bvh, accel.tris, WideCosts{},
                                                   std::move(recycled_wide));

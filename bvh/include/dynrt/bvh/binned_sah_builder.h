@@ -11,6 +11,14 @@
 
 namespace dynrt::bvh {
 
+/// How a tree is built. The binned SAH gives the cheapest trees to trace; the Morton builder
+/// (morton_builder.h) builds several times faster and traces somewhat slower, for objects
+/// rebuilt every frame.
+enum class BuildMethod { binned_sah, morton };
+
+/// "sah" or "morton".
+const char* build_method_name(BuildMethod method);
+
 struct BuildConfig {
     /// Cost of intersecting one primitive in units of one traversal step (the SAH's
     /// C_isect / C_trav). Small values make leaves cheap: 0.1 gives big shallow leaves,
@@ -29,6 +37,9 @@ struct BuildConfig {
     /// bench --bvh binary`); the hits are the same either way. The wide tree is also left out when
     /// leaf_size_max exceeds kWideLeafSizeMax (wide_bvh.h).
     bool wide = true;
+    /// build_triangle_bvh only: the builder. BuildMethod::morton ignores cost_ratio and
+    /// bin_count (its leaves hold at most min(4, leaf_size_max) primitives).
+    BuildMethod method = BuildMethod::binned_sah;
 
     SahCosts sah_costs() const { return SahCosts{1.0f, cost_ratio}; }
 };

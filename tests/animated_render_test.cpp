@@ -19,6 +19,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <filesystem>
 #include <limits>
 #include <string>
 #include <vector>
@@ -44,9 +45,11 @@ Scene animated_scene() {
 struct Variant {
     std::string name;
     Tracer tracer = Tracer::packet;
-    /// 0 rebuilds deformable objects on any degradation; +inf only ever refits.
+    /// With UpdateMethod::threshold: 0 rebuilds deformable objects on any degradation; +inf
+    /// only ever refits.
     double rebuild_threshold = 0.3;
     std::vector<std::string> treat;
+    UpdateMethod method = UpdateMethod::automatic;
 };
 
 void PrintTo(const Variant& v, std::ostream* out) { *out << v.name; }
@@ -64,6 +67,7 @@ TEST_P(AnimatedRender, EveryFrameMatchesTheExactReference) {
     options.height = 40;
     options.tracer = variant.tracer;
     options.rebuild_threshold = variant.rebuild_threshold;
+    options.method = variant.method;
     options.pose.class_overrides = anim::parse_class_overrides(scene, variant.treat);
     const Camera camera = default_camera(scene_bounds(scene));
     Renderer renderer(options);
@@ -89,8 +93,18 @@ INSTANTIATE_TEST_SUITE_P(
         Variant{"single_default", Tracer::single, 0.3, {}},
         Variant{"packet_explode_exploding", Tracer::packet, 0.3, {kExplode + "=exploding"}},
         Variant{"single_explode_exploding", Tracer::single, 0.3, {kExplode + "=exploding"}},
-        Variant{"packet_always_rebuild", Tracer::packet, 0.0, {}},
-        Variant{"packet_never_rebuild", Tracer::packet, std::numeric_limits<double>::infinity(), {}},
+        Variant{"packet_always_rebuild", Tracer::packet, 0.0, {}, UpdateMethod::threshold},
+        Variant{"packet_never_rebuild", Tracer::packet, std::numeric_limits<double>::infinity(), {},
+                UpdateMethod::threshold},
+        // Every update method: the fast (Morton) builder's trees every frame, with the
+        // exploding soup too, the binned SAH builder's every frame, refits only.
+        Variant{"packet_fast", Tracer::packet, 0.3, {}, UpdateMethod::fast},
+        Variant{"single_fast", Tracer::single, 0.3, {}, UpdateMethod::fast},
+        Variant{"packet_fast_exploding", Tracer::packet, 0.3, {kExplode + "=exploding"},
+                UpdateMethod::fast},
+        Variant{"packet_sah", Tracer::packet, 0.3, {}, UpdateMethod::sah},
+        Variant{"packet_refit", Tracer::packet, 0.3, {kExplode + "=exploding"},
+                UpdateMethod::refit},
         Variant{"packet_all_exploding", Tracer::packet, 0.3,
                 {kPlane + "=exploding", kRigid + "=exploding", kWave + "=exploding",
                  kExplode + "=exploding"}},
@@ -152,6 +166,7 @@ TEST(AnimatedRender, DegradedRefitsAreRebuiltAndSaySo) {
     RenderOptions options;
     options.width = 16;
     options.height = 16;
+    options.method = UpdateMethod::threshold;
     options.rebuild_threshold = 0.0;  // any degradation triggers a rebuild
     const Camera camera = default_camera(scene_bounds(scene));
     Renderer renderer(options);
@@ -194,6 +209,76 @@ TEST(AnimatedRender, AnimatedDataThatMovesNoVertexCostsNoRefit) {
     EXPECT_EQ(frame.stats.objects_skipped, 1u);
     EXPECT_EQ(frame.stats.objects_refitted, 0u);
     EXPECT_EQ(frame.stats.objects_rebuilt, 0u);
+}
+
+// A skinned glTF sequence under every update method: the skinned mesh is deformable, so its
+// tree is refitted, rebuilt fast (Morton) or rebuilt with the binned SAH; every frame must
+// still match the reference.
+TEST(AnimatedRender, SkinnedSequenceMatchesTheReferenceUnderEveryMethod) {
+    const std::string path = std::string(DYNRT_SHARED_SCENES_DIR) + "/cesiumman/CesiumMan.glb";
+    if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " does not exist";
+    const Scene scene = load_scene(path);
+    const Camera camera = default_camera(scene_bounds(scene));
+    for (UpdateMethod method : {UpdateMethod::automatic, UpdateMethod::fast, UpdateMethod::sah,
+                                UpdateMethod::refit}) {
+        RenderOptions options;
+        options.width = 40;
+        options.height = 40;
+        options.method = method;
+        Renderer renderer(options);
+        RenderedFrame frame;
+        for (const int f : {0, 5, 10, 17}) {
+            SCOPED_TRACE(std::string(update_method_name(method)) + ", frame " + std::to_string(f));
+            renderer.render(scene, camera, f, frame);
+            anim::PosedScene posed;
+            anim::pose_scene(scene, options.pose, f, posed);
+            const ReferenceTracer tracer(scene, posed);
+            const ImageComparison cmp =
+                compare_images(frame, render_reference(scene, tracer, camera, options.width,
+                                                       options.height, shading_from(scene, options)));
+            EXPECT_TRUE(cmp.passed()) << cmp.summary();
+            EXPECT_GT(cmp.pixels - cmp.hit_mismatches, 0);
+            if (f > 0 && method == UpdateMethod::fast) {
+                ASSERT_EQ(frame.stats.rebuilds.size(), 1u);
+                EXPECT_EQ(frame.stats.rebuilds[0].builder, "morton");
+            }
+        }
+    }
+}
+
+// The automatic method says what it chose for every changed deformable or exploding object,
+// with the predictions behind it; the fixed methods choose nothing.
+TEST(AnimatedRender, AutomaticMethodSaysWhatItChoseAndWhy) {
+    const Scene scene = animated_scene();
+    RenderOptions options;
+    options.width = 24;
+    options.height = 24;
+    const std::vector<std::string> treat{kExplode + "=exploding"};
+    options.pose.class_overrides = anim::parse_class_overrides(scene, treat);
+    const Camera camera = default_camera(scene_bounds(scene));
+    Renderer renderer(options);
+    RenderedFrame frame;
+    renderer.render(scene, camera, 0, frame);
+    EXPECT_TRUE(frame.stats.choices.empty());  // first builds: nothing to choose between
+    renderer.render(scene, camera, 1, frame);
+    ASSERT_EQ(frame.stats.choices.size(), 2u);  // the wave and the exploding soup
+    for (const TreeChoice& c : frame.stats.choices) {
+        if (c.name == kWave) {
+            EXPECT_EQ(c.chosen, "refit");
+            EXPECT_NE(c.why.find("rebuild"), std::string::npos) << c.why;
+        } else {
+            EXPECT_EQ(c.name, kExplode);
+            EXPECT_TRUE(c.chosen == "rebuild (fast)" || c.chosen == "rebuild (sah)") << c.chosen;
+            EXPECT_NE(c.why.find("fast"), std::string::npos) << c.why;
+        }
+    }
+    options.method = UpdateMethod::fast;
+    Renderer fixed(options);
+    fixed.render(scene, camera, 0, frame);
+    fixed.render(scene, camera, 1, frame);
+    EXPECT_TRUE(frame.stats.choices.empty());
+    EXPECT_EQ(frame.stats.objects_refitted, 0u);
+    EXPECT_EQ(frame.stats.objects_rebuilt, 2u);
 }
 
 TEST(AnimatedRender, EditingASceneNeedsReset) {

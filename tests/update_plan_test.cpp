@@ -419,6 +419,7 @@ TEST(UpdatePlan, SceneAccelChecksThePlanAgainstTheVertices) {
     EXPECT_EQ(same.objects_rebuilt, 0u);
     EXPECT_EQ(same.objects_skipped, kClasses.size());
 
+    policy.method = UpdateMethod::threshold;
     policy.rebuild_threshold = 0.0;
     // Scatter the deformable object's vertices: its refitted tree degrades.
     std::mt19937 rng(7);

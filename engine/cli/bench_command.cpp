@@ -61,6 +61,7 @@ int run_bench_sequence(const BenchArgs& args) {
         dynrt::bench_sequence(scene, view, options, range, runs, args.warmup, others);
     dynrt::print_sequence_table(std::cout, bench);
     print_rebuild_summary(std::cout, bench.frames);
+    print_update_choices(std::cout, bench.frames);
     if (!args.plot.empty()) {
         dynrt::plot_timeline(args.plot, bench.frames,
                              "dynrt per frame: " + source + ", " + std::to_string(options.width) +

@@ -80,6 +80,7 @@ dynrt::RenderOptions render_options(const FrameArgs& args) {
     options.adaptive_tolerance = args.adaptive;
     options.pose.fps = args.fps;
     options.rebuild_threshold = args.rebuild_threshold;
+    options.method = *dynrt::parse_update_method(args.update);  // checked by the flag's parser
     options.exploding_cost_ratio = args.cost_ratio_exploding;
     return options;
 }
@@ -205,6 +206,24 @@ void print_rebuild_summary(std::ostream& out, const std::vector<dynrt::FrameStat
             << reasons[i].second;
     }
     out << (reasons.empty() ? "\n" : ")\n");
+}
+
+void print_update_choices(std::ostream& out, const std::vector<dynrt::FrameStats>& frames) {
+    std::size_t refits = 0, fast = 0, sah = 0;
+    for (const dynrt::FrameStats& f : frames) {
+        for (const dynrt::TreeChoice& c : f.choices) {
+            if (c.chosen == "refit") ++refits;
+            else if (c.chosen == "rebuild (fast)") ++fast;
+            else ++sah;
+            if (frames.size() <= 8) {
+                out << "frame " << f.frame << ", " << c.name << ": " << c.chosen << " (" << c.why
+                    << ")\n";
+            }
+        }
+    }
+    if (refits + fast + sah == 0) return;
+    out << "update choices over " << frames.size() << " frame(s): " << refits << " refit, "
+        << fast << " fast rebuild, " << sah << " sah rebuild (each frame's reasons: --report)\n";
 }
 
 void write_text(const std::string& path, const std::string& text) {

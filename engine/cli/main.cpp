@@ -102,9 +102,17 @@ int main(int argc, char** argv) {
             ->check(kPositive);
         cmd->add_option("--frames", args.frames,
                         "A-B (frames A to B) or N (frames 0 to N-1); default frame 0");
+        cmd->add_option("--update", args.update,
+                        "How deformable and exploding objects' trees are updated: auto (refit, "
+                        "fast rebuild or SAH rebuild, whichever the measured build and trace "
+                        "times predict cheaper), threshold (refit, SAH rebuild past "
+                        "--rebuild-threshold), refit, fast (Morton rebuild every frame) or sah")
+            ->check(CLI::IsMember({"auto", "threshold", "refit", "fast", "sah"}))
+            ->capture_default_str();
         cmd->add_option("--rebuild-threshold", args.rebuild_threshold,
-                        "Rebuild a deformable object's tree when refitting has raised its SAH "
-                        "cost by more than this fraction of the cost at its last build")
+                        "With --update threshold: rebuild a deformable object's tree when "
+                        "refitting has raised its SAH cost by more than this fraction of the "
+                        "cost at its last build")
             ->check(CLI::NonNegativeNumber)->capture_default_str();
         cmd->add_option("--cost-ratio-exploding", args.cost_ratio_exploding,
                         "Cost ratio of the per-frame rebuilds of exploding objects")

@@ -144,6 +144,7 @@ int run_render(const RenderArgs& args) {
     }
     dynrt::print_summary(std::cout, frames);
     print_rebuild_summary(std::cout, frames);
+    print_update_choices(std::cout, frames);
     if (!args.report.empty()) {
         const dynrt::RunInfo run{source, options.width, options.height, options.build.cost_ratio,
                                  options.build.leaf_size_max,

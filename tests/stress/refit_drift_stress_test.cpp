@@ -116,7 +116,7 @@ TEST(RefitDriftStress, RendererRefittingForThousandsOfFramesMatchesAFreshRender)
     anim::add_procedural_motions(scene, specs);
     RenderOptions options;
     options.width = options.height = 32;
-    options.rebuild_threshold = std::numeric_limits<double>::infinity();  // refit only
+    options.method = UpdateMethod::refit;  // refit only
     const Camera camera = default_camera(scene_bounds(scene));
     const int frames = int(scaled(3000, 20));
     int compared = 0;

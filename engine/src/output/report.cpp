@@ -63,11 +63,18 @@ nlohmann::ordered_json frame_json(const FrameStats& s) {
     j["rebuilds"] = nlohmann::ordered_json::array();
     for (const TreeRebuild& r : s.rebuilds) {
         nlohmann::ordered_json event = {{"object", r.object}, {"name", r.name}, {"reason", rebuild_reason_name(r.reason)}};
-        if (r.reason == RebuildReason::sah_degraded) {
+        event["builder"] = r.builder;
+        if (r.reason == RebuildReason::sah_degraded || r.reason == RebuildReason::refits_cost_more) {
             event["sah_refitted"] = r.sah_refitted;
             event["sah_at_last_build"] = r.sah_at_last_build;
         }
         j["rebuilds"].push_back(event);
+    }
+    // The automatic update method's choices and the predictions behind them.
+    j["choices"] = nlohmann::ordered_json::array();
+    for (const TreeChoice& c : s.choices) {
+        j["choices"].push_back(
+            {{"object", c.object}, {"name", c.name}, {"chosen", c.chosen}, {"why", c.why}});
     }
     return j;
 }

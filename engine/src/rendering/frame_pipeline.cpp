@@ -44,6 +44,8 @@ void FramePipeline::trace(const Scene& scene, const Camera& camera, const TraceS
     trace_frame(TraceInputs{accel_, materials_, object_material_, lights}, camera, options,
                 scratch_, out);
     out.stats.total_ms = update_wall_ms_ + trace_clock.elapsed_ms();
+    // What the automatic update method predicts the next frames' trace times from.
+    accel_.note_trace_ms(out.stats.primary_ms + out.stats.shadow_ms);
 }
 
 }  // namespace dynrt

@@ -82,11 +82,40 @@ void SceneAccel::clear() {
     object_boxes_.clear();
 }
 
-void SceneAccel::build(ObjectTree& object, const bvh::BuildConfig& config) {
+double SceneAccel::build(ObjectTree& object, const bvh::BuildConfig& config) {
+    const Stopwatch clock;
     object.tree = bvh::build_triangle_bvh(object.triangles, config, std::move(object.tree));
+    const double ms = clock.elapsed_ms();
     // Its SAH cost and shape are measured after the timed work (see update).
     object.measured = false;
     object.built = true;
+    object.built_with = config.method;
+    object.costs.penalty_ms = 0.0;
+    // Small trees say little about the rate: their time is mostly fixed costs.
+    const double per_triangle_ns =
+        object.triangles.size() >= 10000 ? ms * 1e6 / double(object.triangles.size()) : -1.0;
+    if (config.method == bvh::BuildMethod::morton) {
+        object.costs.fast_ms = ms;
+        if (per_triangle_ns > 0.0) rates_.fast_ns = per_triangle_ns;
+    } else {
+        object.costs.sah_ms = ms;
+        if (per_triangle_ns > 0.0) rates_.sah_ns = per_triangle_ns;
+    }
+    return ms;
+}
+
+TraceCost SceneAccel::trace_cost_of(std::size_t i) const {
+    TraceCost cost;
+    cost.trace_ms = last_trace_ms_;
+    if (i >= objects_.size() || i >= object_boxes_.size()) return cost;
+    const ObjectTree& object = objects_[i];
+    const bvh::Aabb& box = object_boxes_[i];
+    if (!object.measured || last_scene_sah_ <= 0.0 || last_root_area_ <= 0.0 || box.is_empty()) {
+        return cost;
+    }
+    cost.share = std::min(1.0, double(box.half_area()) / last_root_area_ * object.sah /
+                                   last_scene_sah_);
+    return cost;
 }
 
 void SceneAccel::invalidate(std::size_t object) {
@@ -108,7 +137,7 @@ void SceneAccel::update(const Scene& scene, std::span<const ObjectState> states,
         history_[i] = TreeHistory{object.known, object.motion_class, object.built};
     }
     plan_update(history_, StaticGroupHistory{static_group_known_, static_group_.built}, states,
-                plan_);
+                policy.method, plan_);
     const UpdatePlan& plan = plan_;
     objects_.resize(count);
     object_boxes_.resize(count);
@@ -131,14 +160,26 @@ void SceneAccel::update(const Scene& scene, std::span<const ObjectState> states,
         const ObjectPlan& planned = plan.objects[i];
         const Mesh& mesh = scene.objects[i].mesh;
         count_class(pose.motion_class, mesh.triangles.size(), stats);
+        const bool exploding = pose.motion_class == anim::MotionClass::exploding;
+        bvh::BuildConfig config = exploding ? exploding_build : policy.build;
+        // Builds are binned SAH unless the method says otherwise: the fast method always uses
+        // the Morton builder, the automatic one where it predicts a lower cost (below).
+        if (policy.method == UpdateMethod::fast) config.method = bvh::BuildMethod::morton;
+        const auto choose = [&](const RebuildChoice& choice, const std::string& why) {
+            config.method = choice.method;
+            stats.choices.push_back(TreeChoice{
+                i, scene.objects[i].name,
+                choice.method == bvh::BuildMethod::morton ? "rebuild (fast)" : "rebuild (sah)",
+                why});
+        };
+        // After any choice: the builder is part of the record.
         const auto record = [&](RebuildReason reason, double refitted_sah = 0.0) {
             stats.rebuilds.push_back(TreeRebuild{i, scene.objects[i].name, reason, refitted_sah,
-                                                 object.built_sah});
+                                                 object.built_sah,
+                                                 bvh::build_method_name(config.method)});
             ++stats.objects_rebuilt;
             stats.triangles_rebuilt += mesh.triangles.size();
         };
-        const bool exploding = pose.motion_class == anim::MotionClass::exploding;
-        const bvh::BuildConfig& config = exploding ? exploding_build : policy.build;
         if (pose.motion_class == anim::MotionClass::rigid) {
             // Written whatever the action: the transform is composed in double, its inverse
             // too, so the ray transform is as exact as float storage allows.
@@ -169,6 +210,11 @@ void SceneAccel::update(const Scene& scene, std::span<const ObjectState> states,
                     ++stats.objects_skipped;
                     break;
                 }
+                if (policy.method == UpdateMethod::automatic && had_tree) {
+                    const RebuildChoice choice = choose_rebuild(
+                        object.costs, mesh.triangles.size(), rates_, trace_cost_of(i));
+                    choose(choice, explain_rebuild(choice));
+                }
                 record(planned.reason);
                 // The tree does not match the triangles just stored until the build
                 // completes: should it throw, the next update must rebuild, not refit.
@@ -191,9 +237,28 @@ void SceneAccel::update(const Scene& scene, std::span<const ObjectState> states,
                 stats.refit_ms += clock.lap_ms();
                 ++stats.objects_refitted;
                 stats.triangles_refitted += mesh.triangles.size();
-                if (const std::optional<RebuildReason> rebuild =
-                        judge_refit(refit, object.built_sah, policy)) {
-                    record(*rebuild, *rebuild == RebuildReason::sah_degraded ? refit.sah_cost : 0.0);
+                std::optional<RebuildReason> rebuild;
+                if (refit.needs_rebuild()) {
+                    rebuild = RebuildReason::degenerate_gained_area;
+                } else if (policy.method == UpdateMethod::threshold) {
+                    rebuild = judge_refit(refit, object.built_sah, policy);
+                } else if (policy.method == UpdateMethod::automatic) {
+                    const RefitJudgement judgement =
+                        judge_refit_cost(refit.sah_cost, object.built_sah, object.costs,
+                                         mesh.triangles.size(), rates_, trace_cost_of(i));
+                    if (judgement.rebuild) {
+                        rebuild = RebuildReason::refits_cost_more;
+                        choose(judgement.choice, explain_refit(judgement));
+                    } else {
+                        object.costs.penalty_ms = judgement.penalty_ms;
+                        stats.choices.push_back(
+                            TreeChoice{i, scene.objects[i].name, "refit", explain_refit(judgement)});
+                    }
+                }
+                if (rebuild) {
+                    const bool degraded = *rebuild == RebuildReason::sah_degraded ||
+                                          *rebuild == RebuildReason::refits_cost_more;
+                    record(*rebuild, degraded ? refit.sah_cost : 0.0);
                     build(object, config);
                     stats.rebuild_ms += clock.lap_ms();
                 } else {
@@ -244,6 +309,13 @@ void SceneAccel::update(const Scene& scene, std::span<const ObjectState> states,
         object.built_sah = object.sah = bvh::sah_cost(object.tree.bvh, costs);
         object.shape = bvh::compute_stats(object.tree.bvh);
         object.measured = true;
+        // How much poorer the Morton tree is than the binned-SAH tree, for the cost model:
+        // measured against this object's last binned-SAH tree.
+        if (object.built_with == bvh::BuildMethod::binned_sah) {
+            object.costs.sah_tree_sah = object.built_sah;
+        } else if (object.costs.sah_tree_sah > 0.0) {
+            object.costs.fast_quality = object.built_sah / object.costs.sah_tree_sah;
+        }
     }
     // SAH cost of the two levels as one tree: the top level's inner nodes, then each object's
     // own cost (relative to its root) weighted by the chance of reaching its world box.
@@ -267,6 +339,8 @@ void SceneAccel::update(const Scene& scene, std::span<const ObjectState> states,
         leaf_max = std::max(leaf_max, object.shape.leaf_prims_max);
         depth = std::max(depth, object.shape.depth);
     }
+    last_scene_sah_ = sah;
+    last_root_area_ = root_area;
     const bvh::BvhStats top_shape = bvh::compute_stats(top_.top);
     shape.triangles = triangles;
     shape.sah_cost = sah;

@@ -66,6 +66,10 @@ public:
 
     const bvh::TwoLevelBvh& top_level() const { return top_; }
 
+    /// The trace time (primary + shadow rays) of the frame just traced on these trees: the
+    /// automatic update method predicts the next frames' trace times from it (update_cost.h).
+    void note_trace_ms(double ms) { last_trace_ms_ = ms; }
+
     /// World-space triangle `prim` of `object` at the last update (for shading hits):
     /// transformed from object space for rigid objects, in float, the same for every caller.
     bvh::Triangle world_triangle(std::size_t object, std::uint32_t prim) const;
@@ -114,9 +118,17 @@ private:
         std::uint32_t group_first = 0;
         /// An update has seen the object (so motion_class is the last update's).
         bool known = false;
+        /// The builder of its current tree, and what its builds and refits measured.
+        bvh::BuildMethod built_with = bvh::BuildMethod::binned_sah;
+        ObjectCosts costs;
     };
 
-    void build(ObjectTree& object, const bvh::BuildConfig& config);
+    /// Builds `object`'s tree from its triangles with `config`'s builder, and records the
+    /// time in its costs and in rates_. Returns the build's milliseconds.
+    double build(ObjectTree& object, const bvh::BuildConfig& config);
+    /// Object `i`'s inputs to the cost model: the last frame's trace time and the object's
+    /// share of it (its weighted SAH over the scene's, from the last update).
+    TraceCost trace_cost_of(std::size_t i) const;
     void build_static_group(const Scene& scene, std::span<const ObjectState> objects,
                             const FixedPositions& fixed, const bvh::BuildConfig& config,
                             RebuildReason reason, UpdateStats& stats);
@@ -143,6 +155,12 @@ private:
     std::vector<TreeHistory> history_;
     UpdatePlan plan_;
     bool static_group_known_ = false;
+    /// The cost model's memory: build rates measured so far, the last frame's trace time, and
+    /// the last update's scene SAH cost and root half area.
+    BuildRates rates_;
+    double last_trace_ms_ = 0.0;
+    double last_scene_sah_ = 0.0;
+    double last_root_area_ = 0.0;
 };
 
 }  // namespace dynrt

@@ -33,6 +33,12 @@ const char* tree_action_name(TreeAction action) {
 
 void plan_update(std::span<const TreeHistory> previous, const StaticGroupHistory& group,
                  std::span<const ObjectState> now, UpdatePlan& plan) {
+    plan_update(previous, group, now, UpdateMethod::threshold, plan);
+}
+
+void plan_update(std::span<const TreeHistory> previous, const StaticGroupHistory& group,
+                 std::span<const ObjectState> now, UpdateMethod method, UpdatePlan& plan) {
+    const bool rebuild_every_frame = method == UpdateMethod::fast || method == UpdateMethod::sah;
     plan.objects.assign(now.size(), ObjectPlan{});
     plan.rebuild_static_group = !group.built;
 
@@ -62,7 +68,10 @@ void plan_update(std::span<const TreeHistory> previous, const StaticGroupHistory
             object.action = TreeAction::keep;
         } else if (c == MotionClass::rigid) {
             object.action = TreeAction::move_instance;
-        } else if (c == MotionClass::exploding) {
+        } else if (rebuild_every_frame) {
+            object.action = TreeAction::rebuild;
+            object.reason = RebuildReason::update_method;
+        } else if (c == MotionClass::exploding && method != UpdateMethod::refit) {
             object.action = TreeAction::rebuild;
             object.reason = RebuildReason::exploding;
         } else {

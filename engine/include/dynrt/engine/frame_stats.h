@@ -17,10 +17,15 @@ enum class RebuildReason : std::uint8_t {
     exploding,               ///< rebuilt every frame it moves
     sah_degraded,            ///< the refit's SAH cost passed the rebuild threshold
     degenerate_gained_area,  ///< a refit could not keep the tree correct
+    /// The refits' predicted extra trace time reached a rebuild's cost (update_cost.h)
+    refits_cost_more,
+    /// The update method rebuilds every frame (`--update fast` or `sah`)
+    update_method,
 };
 
 /// The reason as the report writes it: "first build", "class changed", "static group
-/// changed", "exploding", "sah degraded", "degenerate triangle gained area".
+/// changed", "exploding", "sah degraded", "degenerate triangle gained area", "refits cost
+/// more", "update method".
 inline const char* rebuild_reason_name(RebuildReason reason) {
     switch (reason) {
         case RebuildReason::first_build: return "first build";
@@ -29,6 +34,8 @@ inline const char* rebuild_reason_name(RebuildReason reason) {
         case RebuildReason::exploding: return "exploding";
         case RebuildReason::sah_degraded: return "sah degraded";
         case RebuildReason::degenerate_gained_area: return "degenerate triangle gained area";
+        case RebuildReason::refits_cost_more: return "refits cost more";
+        case RebuildReason::update_method: return "update method";
     }
     return "unknown";
 }
@@ -39,9 +46,22 @@ struct TreeRebuild {
     std::size_t object = 0;  ///< index in scene order
     std::string name;        ///< the object's name
     RebuildReason reason = RebuildReason::first_build;
-    /// For sah_degraded: the refitted tree's SAH cost and the cost at the previous build.
+    /// For sah_degraded and refits_cost_more: the refitted tree's SAH cost and the cost at the
+    /// previous build.
     double sah_refitted = 0;
     double sah_at_last_build = 0;
+    /// The builder: "sah" (binned SAH) or "morton" (the fast builder).
+    std::string builder = "sah";
+};
+
+/// What the update chose for one changed deformable or exploding object under the automatic
+/// method (update_cost.h), and why, e.g. "refit" with "refits' extra trace 3.1 ms so far (0.4
+/// this frame) < rebuild (fast) 35.2 ms".
+struct TreeChoice {
+    std::size_t object = 0;
+    std::string name;
+    std::string chosen;  ///< "refit", "rebuild (fast)" or "rebuild (sah)"
+    std::string why;
 };
 
 /// The update stage's figures: posing and gathering, the trees' builds and refits, what each
@@ -74,6 +94,8 @@ struct UpdateStats {
     std::size_t triangles_rebuilt = 0;
     /// Every bottom-level build of this frame, and why (JSON report only).
     std::vector<TreeRebuild> rebuilds;
+    /// The automatic method's choices this frame, with the predictions behind them.
+    std::vector<TreeChoice> choices;
 };
 
 /// The shape of the trees after the update (SAH cost and size of the two levels as one tree).

@@ -18,6 +18,12 @@
 //               triangle left out as degenerate at the build has gained area).
 //   exploding   rebuilt whenever it changed, with a cost ratio of its own.
 //
+// That is UpdateMethod::threshold. The default, UpdateMethod::automatic, plans the same
+// actions, but SceneAccel judges a deformable object's refit, and picks the builder of every
+// deformable or exploding rebuild, from measured costs (update_cost.h). The fixed methods
+// refit, fast and sah plan a refit, or a rebuild with the Morton or binned SAH builder, for
+// every changed deformable or exploding object.
+//
 // An object whose class changes keeps its tree when the tree's space stays the same (world
 // space for static-group members aside: deformable and exploding trees are in world space,
 // rigid ones in object space); otherwise it is built afresh ("class changed").
@@ -26,6 +32,7 @@
 #include "dynrt/bvh/binned_sah_builder.h"
 #include "dynrt/bvh/refit.h"
 #include "dynrt/engine/frame_stats.h"
+#include "dynrt/engine/update_cost.h"
 
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
@@ -49,6 +56,8 @@ struct UpdatePolicy {
     /// Rebuild a deformable object when its refitted SAH cost exceeds (1 + threshold) times
     /// the cost at its last build. 0 rebuilds on any degradation; +inf never.
     double rebuild_threshold = 0.3;
+    /// How deformable and exploding objects are updated (update_cost.h).
+    UpdateMethod method = UpdateMethod::automatic;
 };
 
 /// One object at one update, as the planner and SceneAccel read it: what a PosedScene says of
@@ -132,6 +141,12 @@ UpdatePlan plan_update(std::span<const TreeHistory> previous, const StaticGroupH
 /// The same into `plan`, whose storage is reused (SceneAccel plans every frame).
 void plan_update(std::span<const TreeHistory> previous, const StaticGroupHistory& group,
                  std::span<const ObjectState> now, UpdatePlan& plan);
+
+/// The same under `method`: refit plans a refit for exploding objects too; fast and sah plan a
+/// rebuild (reason update_method) for every changed deformable or exploding object with a
+/// tree. threshold and automatic plan as above.
+void plan_update(std::span<const TreeHistory> previous, const StaticGroupHistory& group,
+                 std::span<const ObjectState> now, UpdateMethod method, UpdatePlan& plan);
 
 /// After a planned refit: whether its result stands (nullopt) or the object is rebuilt, and
 /// why. `sah_at_last_build` is the tree's SAH cost when it was last built.

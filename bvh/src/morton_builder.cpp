@@ -244,26 +244,26 @@ Bvh build_morton_from_prim_refs(const Ref* refs, std::size_t count, const Aabb& 
                                 const Aabb& root_center_box, const BuildConfig& config,
                                 const std::function<void(std::span<const std::uint32_t>)>&
                                     alongside_output,
-                                Bvh&& recycled) {
+                                MortonBuffers<Ref>& buffers, Bvh&& recycled) {
     (void)root_box;  // the root's box is the union the hierarchy computes
     const MortonGrid grid(root_center_box);
-    auto keys = make_uninitialized_buffer<std::uint64_t>(count);
-    auto scratch = make_uninitialized_buffer<std::uint64_t>(count);
+    buffers.reserve(count);
+    std::uint64_t* const keys = buffers.keys.get();
+    std::uint64_t* const scratch = buffers.other.get();
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kSortBlock),
                       [&](const tbb::blocked_range<std::size_t>& r) {
                           for (std::size_t i = r.begin(); i < r.end(); ++i) {
                               keys[i] = std::uint64_t{grid.code(center_of(refs[i]))} << 32 | i;
                           }
                       });
-    const std::uint64_t* sorted = radix_sort_codes(keys.get(), scratch.get(), count);
+    const std::uint64_t* sorted = radix_sort_codes(keys, scratch, count);
 
     // The refs and codes in Morton order, so the hierarchy reads them sequentially (gathered
     // by the hierarchy itself, the refs' cache misses were the largest part of its time; a
     // flat loop keeps many of them in flight).
-    auto sorted_refs = make_uninitialized_buffer<Ref>(count);
+    Ref* const sorted_refs = buffers.sorted.get();
     // The codes go into the sort's other buffer, no longer needed.
-    std::uint32_t* const codes =
-        reinterpret_cast<std::uint32_t*>(keys.get() == sorted ? scratch.get() : keys.get());
+    std::uint32_t* const codes = reinterpret_cast<std::uint32_t*>(keys == sorted ? scratch : keys);
     Bvh bvh = std::move(recycled);
     bvh.prim_ids.clear();
     resize_with_huge_pages(bvh.prim_ids, count);
@@ -285,7 +285,7 @@ Bvh build_morton_from_prim_refs(const Ref* refs, std::size_t count, const Aabb& 
     bvh.nodes.clear();
     resize_with_huge_pages(bvh.nodes, 2 * count - 1);
     const std::uint32_t leaf_prims = std::min(kLeafPrims, config.leaf_size_max);
-    MortonHierarchy<Ref> hierarchy(sorted_refs.get(), codes, bvh.nodes.data(), leaf_prims);
+    MortonHierarchy<Ref> hierarchy(sorted_refs, codes, bvh.nodes.data(), leaf_prims);
     tbb::parallel_invoke(
         [&] { hierarchy.build(0, 0, static_cast<std::uint32_t>(count)); },
         [&] {
@@ -297,10 +297,12 @@ Bvh build_morton_from_prim_refs(const Ref* refs, std::size_t count, const Aabb& 
 
 template Bvh build_morton_from_prim_refs<BoxCenterRef>(
     const BoxCenterRef*, std::size_t, const Aabb&, const Aabb&, const BuildConfig&,
-    const std::function<void(std::span<const std::uint32_t>)>&, Bvh&&);
+    const std::function<void(std::span<const std::uint32_t>)>&, MortonBuffers<BoxCenterRef>&,
+    Bvh&&);
 template Bvh build_morton_from_prim_refs<ExplicitCenterRef>(
     const ExplicitCenterRef*, std::size_t, const Aabb&, const Aabb&, const BuildConfig&,
-    const std::function<void(std::span<const std::uint32_t>)>&, Bvh&&);
+    const std::function<void(std::span<const std::uint32_t>)>&,
+    MortonBuffers<ExplicitCenterRef>&, Bvh&&);
 
 }  // namespace dynrt::bvh::detail
 
@@ -321,8 +323,9 @@ Bvh build_morton(std::span<const Aabb> boxes, std::span<const glm::vec3> centers
     auto refs = detail::make_uninitialized_buffer<detail::ExplicitCenterRef>(count);
     detail::RefFiller filler(boxes, centers, refs.get());
     tbb::parallel_reduce(tbb::blocked_range<std::size_t>(0, count, 16 * 1024), filler);
+    detail::MortonBuffers<detail::ExplicitCenterRef> buffers;
     return detail::build_morton_from_prim_refs(refs.get(), count, filler.box, filler.center_box,
-                                               config, {});
+                                               config, {}, buffers);
 }
 
 }  // namespace dynrt::bvh

@@ -2,6 +2,7 @@
 // The Morton-order builder's core (morton_builder.cpp), shared by build_morton (caller's boxes
 // and centres) and build_triangle_bvh with BuildMethod::morton (boxes from triangles).
 
+#include "huge_pages.h"
 #include "prim_ref.h"
 
 #include "dynrt/bvh/binned_sah_builder.h"
@@ -9,9 +10,28 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <span>
 
 namespace dynrt::bvh::detail {
+
+/// The builder's working arrays for up to `capacity` primitives: the sort's keys and its
+/// second buffer, and the refs in Morton order. Kept from build to build where a tree is
+/// rebuilt every frame, so the builds write memory that is already faulted in.
+template <class Ref>
+struct MortonBuffers {
+    std::unique_ptr<std::uint64_t[]> keys, other;
+    std::unique_ptr<Ref[]> sorted;
+    std::size_t capacity = 0;
+
+    void reserve(std::size_t count) {
+        if (count <= capacity) return;
+        keys = make_uninitialized_buffer<std::uint64_t>(count);
+        other = make_uninitialized_buffer<std::uint64_t>(count);
+        sorted = make_uninitialized_buffer<Ref>(count);
+        capacity = count;
+    }
+};
 
 /// Builds a tree over `refs[0, count)` in the Morton order of their centres. Unlike the binned
 /// SAH core, the refs are not reordered: the result's prim_ids give the leaf order. Once they
@@ -19,13 +39,30 @@ namespace dynrt::bvh::detail {
 /// with the prim_ids in leaf order (the caller's per-primitive output, such as triangles in
 /// leaf order, overlaps with it). `root_box` must be the union of the refs' boxes and
 /// `root_center_box` the bounds of their centres; `count` >= 1 and < 2^31; `config` checked.
-/// Storage of `recycled` (a tree no longer needed) is reused where large enough. Instantiated
+/// Storage of `recycled` (a tree no longer needed) and of `buffers` is reused where large
+/// enough. Instantiated
 /// for BoxCenterRef and ExplicitCenterRef.
 template <class Ref>
 Bvh build_morton_from_prim_refs(const Ref* refs, std::size_t count, const Aabb& root_box,
                                 const Aabb& root_center_box, const BuildConfig& config,
                                 const std::function<void(std::span<const std::uint32_t>)>&
                                     alongside_output,
-                                Bvh&& recycled = {});
+                                MortonBuffers<Ref>& buffers, Bvh&& recycled = {});
+
+/// The Morton builder's storage kept with a TriangleBvh (TriangleBvh::morton_scratch): its
+/// buffers and build_triangle_bvh's own refs.
+struct MortonScratch {
+    MortonBuffers<BoxCenterRef> buffers;
+    std::unique_ptr<BoxCenterRef[]> refs;
+    std::size_t refs_capacity = 0;
+
+    BoxCenterRef* reserve_refs(std::size_t count) {
+        if (count > refs_capacity) {
+            refs = make_uninitialized_buffer<BoxCenterRef>(count);
+            refs_capacity = count;
+        }
+        return refs.get();
+    }
+};
 
 }  // namespace dynrt::bvh::detail

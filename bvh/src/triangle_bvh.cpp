@@ -237,7 +237,16 @@ TriangleBvh build_triangle_bvh(std::span<const Triangle> tris, const BuildConfig
 
     // Pass 2: references, the skipped ids (block b's start after the b * kBlock - kept ones of
     // the blocks before it) and per-block bounds.
-    auto refs = detail::make_uninitialized_buffer<detail::BoxCenterRef>(count);
+    const bool morton = config.method == BuildMethod::morton;
+    // A copy of a tree shares its scratch: the copy being rebuilt gets its own.
+    if (morton && (!accel.morton_scratch || accel.morton_scratch.use_count() > 1)) {
+        accel.morton_scratch = std::make_shared<detail::MortonScratch>();
+    }
+    if (!morton) accel.morton_scratch.reset();
+    std::unique_ptr<detail::BoxCenterRef[]> own_refs;
+    if (!morton) own_refs = detail::make_uninitialized_buffer<detail::BoxCenterRef>(count);
+    detail::BoxCenterRef* const refs =
+        morton ? accel.morton_scratch->reserve_refs(count) : own_refs.get();
     struct BlockBounds {
         Aabb box, centers;
     };
@@ -281,17 +290,17 @@ TriangleBvh build_triangle_bvh(std::span<const Triangle> tris, const BuildConfig
                               }
                           });
     };
-    if (config.method == BuildMethod::morton) {
+    if (morton) {
         accel.bvh = detail::build_morton_from_prim_refs(
-            refs.get(), count, root_box, root_centers, config,
+            refs, count, root_box, root_centers, config,
             [&](std::span<const std::uint32_t> ids) {
                 gather_leaf_order([ids](std::size_t i) { return ids[i]; });
             },
-            std::move(recycled_tree));
+            accel.morton_scratch->buffers, std::move(recycled_tree));
     } else {
-        const detail::BoxCenterRef* leaf_order = refs.get();
+        const detail::BoxCenterRef* leaf_order = refs;
         accel.bvh = detail::build_from_prim_refs(
-            refs.get(), count, root_box, root_centers, config,
+            refs, count, root_box, root_centers, config,
             [&] { gather_leaf_order([leaf_order](std::size_t i) { return leaf_order[i].id; }); },
             std::move(recycled_tree));
     }

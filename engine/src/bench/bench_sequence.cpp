@@ -106,15 +106,18 @@ SequenceBench bench_sequence(const Scene& scene, const CameraSource& view,
 }
 
 void print_sequence_table(std::ostream& out, const SequenceBench& bench) {
+    // The stages side by side (update, build, primary and shadow rays), then their sum, the
+    // figure compared between tracers.
     out << std::left << std::setw(14) << "tracer" << std::right << std::setw(24) << "update ms"
-        << std::setw(24) << "build/refit ms" << std::setw(24) << "trace ms" << std::setw(26)
-        << "frame ms (no shading)" << std::setw(12) << "dynrt/this" << std::setw(24) << "shade ms"
-        << std::setw(24) << "total ms" << '\n';
+        << std::setw(24) << "build/refit ms" << std::setw(24) << "primary ms" << std::setw(24)
+        << "shadow ms" << std::setw(26) << "frame ms (no shading)" << std::setw(12)
+        << "dynrt/this" << std::setw(24) << "shade ms" << std::setw(24) << "total ms" << '\n';
     const double dynrt_frame = bench.rows.empty() ? 0.0 : bench.rows.front().frame_ms.median;
     for (const SequenceRow& r : bench.rows) {
         out << std::left << std::setw(14) << r.tracer << std::right << std::setw(24)
             << format_spread(r.update_ms) << std::setw(24) << format_spread(r.build_ms)
-            << std::setw(24) << format_spread(r.trace_ms) << std::setw(26)
+            << std::setw(24) << format_spread(r.primary_ms) << std::setw(24)
+            << format_spread(r.shadow_ms) << std::setw(26)
             << format_spread(r.frame_ms) << std::setw(12) << format_ratio(dynrt_frame, r.frame_ms.median);
         // A tracer that does not shade (Embree's rows time rays only) shows no shading figures.
         if (r.shade_ms.max > 0.0) {

@@ -74,6 +74,8 @@ dynrt::RenderOptions render_options(const FrameArgs& args) {
     options.build.cost_ratio = args.cost_ratio;
     options.build.leaf_size_max = args.leaf_size;
     options.build.wide = args.bvh == "wide";
+    options.build.method =
+        args.builder == "morton" ? dynrt::bvh::BuildMethod::morton : dynrt::bvh::BuildMethod::binned_sah;
     for (const std::string& light : args.lights) options.lights.push_back(parse_light(light));
     options.tracer = args.tracer == "single" ? dynrt::Tracer::single : dynrt::Tracer::packet;
     options.packet.culling = dynrt::packet::PacketCulling::parse(args.packet_culling);

@@ -39,6 +39,7 @@ struct FrameArgs {
     double fps = 0.0;
     std::string frames;
     std::string update = "auto";
+    std::string builder = "sah";
     double rebuild_threshold = dynrt::RenderOptions{}.rebuild_threshold;
     float cost_ratio_exploding = dynrt::RenderOptions{}.exploding_cost_ratio;
 };

@@ -102,6 +102,10 @@ int main(int argc, char** argv) {
             ->check(kPositive);
         cmd->add_option("--frames", args.frames,
                         "A-B (frames A to B) or N (frames 0 to N-1); default frame 0");
+        cmd->add_option("--builder", args.builder,
+                        "Builder of the trees that --update does not choose for (static, rigid "
+                        "and first builds): sah (binned SAH) or morton (the fast builder)")
+            ->check(CLI::IsMember({"sah", "morton"}))->capture_default_str();
         cmd->add_option("--update", args.update,
                         "How deformable and exploding objects' trees are updated: auto (refit, "
                         "fast rebuild or SAH rebuild, whichever the measured build and trace "

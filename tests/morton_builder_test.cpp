@@ -73,7 +73,7 @@ std::vector<Ray> rays_for(const std::vector<Triangle>& tris, std::uint32_t seed,
 void expect_same_hits(const std::vector<Triangle>& tris, std::uint32_t leaf_size_max,
                       const std::string& what) {
     const TriangleBvh morton = build_triangle_bvh(tris, morton_config(leaf_size_max));
-    ASSERT_EQ(validate(morton, tris, std::min(leaf_size_max, 4u)), "") << what;
+    ASSERT_EQ(validate(morton, tris, std::min(leaf_size_max, 8u)), "") << what;
     BuildConfig sah_config;
     sah_config.leaf_size_max = leaf_size_max;
     const TriangleBvh sah = build_triangle_bvh(tris, sah_config);
@@ -135,12 +135,12 @@ TEST(MortonBuilder, TreesAreValidOnEveryShapeOfInput) {
         for (std::uint32_t leaf : {1u, 3u, 8u}) {
             SCOPED_TRACE(input.name + ", leaf " + std::to_string(leaf));
             const TriangleBvh accel = build_triangle_bvh(input.tris, morton_config(leaf));
-            EXPECT_EQ(validate(accel, input.tris, std::min(leaf, 4u)), "");
+            EXPECT_EQ(validate(accel, input.tris, std::min(leaf, 8u)), "");
             EXPECT_LE(depth_of(accel.bvh), kMaxDepth);
             // From boxes and centres too.
             const std::vector<Aabb> boxes = boxes_of(input.tris);
             const Bvh bvh = build_morton(boxes, centers_of(boxes), morton_config(leaf));
-            EXPECT_EQ(validate(bvh, boxes, std::min(leaf, 4u)), "");
+            EXPECT_EQ(validate(bvh, boxes, std::min(leaf, 8u)), "");
         }
     }
 }
@@ -186,7 +186,7 @@ TEST(MortonBuilder, RecycledStorageGivesTheSameTree) {
     const TriangleBvh fresh = build_triangle_bvh(small, morton_config());
     TriangleBvh recycled = build_triangle_bvh(big, morton_config());
     recycled = build_triangle_bvh(small, morton_config(), std::move(recycled));
-    EXPECT_EQ(validate(recycled, small, 4), "");
+    EXPECT_EQ(validate(recycled, small, 8), "");
     EXPECT_EQ(recycled.bvh.prim_ids, fresh.bvh.prim_ids);
     EXPECT_EQ(recycled.bvh.nodes.size(), fresh.bvh.nodes.size());
     EXPECT_EQ(sah_cost(recycled.bvh, {}), sah_cost(fresh.bvh, {}));
@@ -196,7 +196,7 @@ TEST(MortonBuilder, DegenerateTrianglesAreSkippedAsByTheSahBuilder) {
     std::vector<Triangle> tris = random_soup(61, 500);
     for (std::size_t i = 0; i < tris.size(); i += 7) tris[i].v2 = tris[i].v0;
     const TriangleBvh accel = build_triangle_bvh(tris, morton_config());
-    EXPECT_EQ(validate(accel, tris, 4), "");
+    EXPECT_EQ(validate(accel, tris, 8), "");
     EXPECT_EQ(accel.degenerate_skipped, (tris.size() + 6) / 7);
     std::vector<Triangle> all_degenerate(10, Triangle{{0, 0, 0}, {1, 1, 1}, {2, 2, 2}});
     const TriangleBvh none = build_triangle_bvh(all_degenerate, morton_config());

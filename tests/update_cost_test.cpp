@@ -48,6 +48,7 @@ TEST(UpdateCost, RefitsAreKeptUntilTheirExtraTraceAddsUpToARebuild) {
     ObjectCosts costs;
     costs.fast_ms = 30.0;
     costs.sah_ms = 200.0;
+    costs.fast_quality = 1.2;
     const TraceCost trace{100.0, 0.5};
     // SAH 10% over the fresh tree's: 100 * 0.5 * 0.1 = 5 ms extra per frame; the cheaper
     // rebuild costs 30 + 100 * 0.5 * 0.2 = 40 ms, so the 8th such frame rebuilds.

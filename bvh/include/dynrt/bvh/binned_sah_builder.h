@@ -38,7 +38,7 @@ struct BuildConfig {
     /// leaf_size_max exceeds kWideLeafSizeMax (wide_bvh.h).
     bool wide = true;
     /// build_triangle_bvh only: the builder. BuildMethod::morton ignores cost_ratio and
-    /// bin_count (its leaves hold at most min(4, leaf_size_max) primitives).
+    /// bin_count (its leaves hold at most min(8, leaf_size_max) primitives).
     BuildMethod method = BuildMethod::binned_sah;
 
     SahCosts sah_costs() const { return SahCosts{1.0f, cost_ratio}; }

@@ -17,7 +17,7 @@ namespace dynrt::bvh {
 /// Builds a tree over `boxes.size()` primitives ordered along the Morton curve through
 /// `centers` (each inside its box). Same contract as build_binned_sah: boxes non-empty and
 /// finite, spans borrowed for the call, the result satisfies `validate` with leaf_size_max
-/// min(4, config.leaf_size_max), its depth is below kMaxDepth, and its prim_ids and tree shape do
+/// min(8, config.leaf_size_max), its depth is below kMaxDepth, and its prim_ids and tree shape do
 /// not depend on thread timing (the order of the nodes in the array may). Ignores
 /// config.method, cost_ratio and bin_count. Throws as build_binned_sah does.
 Bvh build_morton(std::span<const Aabb> boxes, std::span<const glm::vec3> centers,

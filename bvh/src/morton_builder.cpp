@@ -38,6 +38,7 @@
 #include <cstring>
 #include <memory>
 #include <stdexcept>
+#include <type_traits>
 #include <string>
 #include <vector>
 
@@ -144,7 +145,7 @@ std::uint64_t* radix_sort_codes(std::uint64_t* keys, std::uint64_t* scratch, std
 template <class Ref>
 class MortonHierarchy {
 public:
-    MortonHierarchy(const Ref* refs, const std::uint32_t* codes, BvhNode* nodes,
+    MortonHierarchy(const Ref* refs, const std::uint32_t* codes, RawBvhNode* nodes,
                     std::uint32_t leaf_prims)
         : refs_(refs), codes_(codes), nodes_(nodes), leaf_prims_(leaf_prims) {}
 
@@ -187,10 +188,7 @@ private:
             for (std::uint32_t k = begin; k < end; ++k) {
                 box.extend(Aabb{refs_[k].lo, refs_[k].hi});
             }
-            BvhNode& node = nodes_[index];
-            node.box = box;
-            node.first = begin;
-            node.count = end - begin;
+            set_node(index, box, begin, end - begin);
             return box;
         }
         const std::uint32_t split = split_of(begin, end);
@@ -204,11 +202,19 @@ private:
     Aabb set_inner(std::uint32_t index, std::uint32_t first, const Aabb& left, const Aabb& right) {
         Aabb box = left;
         box.extend(right);
-        BvhNode& node = nodes_[index];
-        node.box = box;
-        node.first = first;
-        node.count = 0;
+        set_node(index, box, first, 0);
         return box;
+    }
+
+    void set_node(std::uint32_t index, const Aabb& box, std::uint32_t first,
+                  std::uint32_t count) {
+        RawBvhNode& node = nodes_[index];
+        for (int axis = 0; axis < 3; ++axis) {
+            node.lo[axis] = box.lo[axis];
+            node.hi[axis] = box.hi[axis];
+        }
+        node.first = first;
+        node.count = count;
     }
 
     /// The first position of the right child of [begin, end) (more than one primitive).
@@ -235,7 +241,7 @@ private:
 
     const Ref* refs_;
     const std::uint32_t* codes_;
-    BvhNode* nodes_;
+    RawBvhNode* nodes_;
     std::uint32_t leaf_prims_;
     std::atomic<std::uint32_t> next_{1};
 };
@@ -284,17 +290,26 @@ Bvh build_morton_from_prim_refs(const Ref* refs, std::size_t count, const Aabb& 
                               bvh.prim_ids[i] = ref.id;
                           }
                       });
-    // At most 2n - 1 nodes; the builder uses fewer (leaves hold up to kLeafPrims).
-    bvh.nodes.clear();
-    resize_with_huge_pages(bvh.nodes, 2 * count - 1);
+    // At most 2n - 1 nodes, made in the scratch array; the tree gets the used ones.
     const std::uint32_t leaf_prims = std::min(kLeafPrims, config.leaf_size_max);
-    MortonHierarchy<Ref> hierarchy(sorted_refs, codes, bvh.nodes.data(), leaf_prims);
+    RawBvhNode* const raw = buffers.nodes.get();
+    MortonHierarchy<Ref> hierarchy(sorted_refs, codes, raw, leaf_prims);
     tbb::parallel_invoke(
-        [&] { hierarchy.build(0, 0, static_cast<std::uint32_t>(count)); },
+        [&] {
+            hierarchy.build(0, 0, static_cast<std::uint32_t>(count));
+            const std::size_t used = hierarchy.used();
+            bvh.nodes.clear();
+            resize_with_huge_pages(bvh.nodes, used);
+            static_assert(std::is_trivially_copyable_v<BvhNode>);
+            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, used, kSortBlock),
+                              [&](const tbb::blocked_range<std::size_t>& r) {
+                                  std::memcpy(static_cast<void*>(bvh.nodes.data() + r.begin()),
+                                              raw + r.begin(), r.size() * sizeof(BvhNode));
+                              });
+        },
         [&] {
             if (alongside_output) alongside_output(bvh.prim_ids);
         });
-    bvh.nodes.resize(hierarchy.used());
     return bvh;
 }
 

@@ -18,10 +18,21 @@ namespace dynrt::bvh::detail {
 /// The builder's working arrays for up to `capacity` primitives: the sort's keys and its
 /// second buffer, and the refs in Morton order. Kept from build to build where a tree is
 /// rebuilt every frame, so the builds write memory that is already faulted in.
+/// A BvhNode without default member initialisers, so millions of them can be allocated
+/// without being written: the hierarchy is made in these (up to 2n - 1 of them, most never
+/// used), then the used ones are copied into the tree.
+struct RawBvhNode {
+    float lo[3], hi[3];
+    std::uint32_t first;
+    std::uint32_t count;
+};
+static_assert(sizeof(RawBvhNode) == sizeof(BvhNode));
+
 template <class Ref>
 struct MortonBuffers {
     std::unique_ptr<std::uint64_t[]> keys, other;
     std::unique_ptr<Ref[]> sorted;
+    std::unique_ptr<RawBvhNode[]> nodes;  ///< room for 2 * capacity - 1
     std::size_t capacity = 0;
 
     void reserve(std::size_t count) {
@@ -29,6 +40,7 @@ struct MortonBuffers {
         keys = make_uninitialized_buffer<std::uint64_t>(count);
         other = make_uninitialized_buffer<std::uint64_t>(count);
         sorted = make_uninitialized_buffer<Ref>(count);
+        nodes = make_uninitialized_buffer<RawBvhNode>(2 * count);
         capacity = count;
     }
 };

@@ -66,6 +66,11 @@ public:
 
     const bvh::TwoLevelBvh& top_level() const { return top_; }
 
+    /// Milliseconds the last update spent measuring the trees it built for the report (SAH
+    /// cost and shape, read by later refits but not needed to trace this frame): a frame's
+    /// clock leaves them out.
+    double reporting_ms() const { return reporting_ms_; }
+
     /// World-space triangle `prim` of `object` at the last update (for shading hits):
     /// transformed from object space for rigid objects, in float, the same for every caller.
     bvh::Triangle world_triangle(std::size_t object, std::uint32_t prim) const;
@@ -137,6 +142,7 @@ private:
     std::vector<ObjectTree*> instance_trees_;
     bvh::TwoLevelBvh top_;
     std::vector<bvh::Aabb> object_boxes_;
+    double reporting_ms_ = 0.0;
     /// Scratch for the vertex positions of static objects at their one build.
     std::vector<glm::vec3> positions_;
     /// The planner's input and output, reused from frame to frame.

@@ -5,9 +5,14 @@
 #include "dynrt/engine/stopwatch.h"
 #include "rendering/frame_pipeline.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
+
 #include <glm/geometric.hpp>
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -32,6 +37,25 @@ struct Renderer::State {
 
 namespace {
 
+/// Whether every coordinate is finite: one pass over the exponent bits, in parallel blocks.
+bool all_finite(std::span<const glm::vec3> points) {
+    return tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, points.size(), 16384), true,
+        [&](const tbb::blocked_range<std::size_t>& range, bool finite) {
+            if (!finite) return false;
+            constexpr std::uint32_t kExponent = 0x7f800000u;
+            const auto all_ones = [](float x) {
+                return std::uint32_t((std::bit_cast<std::uint32_t>(x) & kExponent) == kExponent);
+            };
+            std::uint32_t bad = 0;
+            for (std::size_t v = range.begin(); v < range.end(); ++v) {
+                bad |= all_ones(points[v].x) | all_ones(points[v].y) | all_ones(points[v].z);
+            }
+            return bad == 0;
+        },
+        [](bool a, bool b) { return a && b; });
+}
+
 /// A posed frame's static and rigid vertices, from the poser that evaluated it.
 class PoserPositions final : public FixedPositions {
 public:
@@ -44,6 +68,11 @@ public:
                                      std::vector<glm::vec3>& scratch) const override {
         const std::vector<glm::vec3>& posed = posed_.objects[object].positions;
         if (!posed.empty()) return posed;
+        // The usual static object, at the identity: transform * p in double gives every finite
+        // p back (as an equal value), so its own vertices serve, uncopied. Only a non-finite
+        // vertex takes the poser's path, which names it in its error.
+        const std::span<const glm::vec3> local = poser_.object_space_positions(object);
+        if (posed_.objects[object].transform == glm::dmat4(1.0) && all_finite(local)) return local;
         poser_.fixed_world_positions(object, posed_, scratch);
         return scratch;
     }

@@ -8,7 +8,10 @@
 // One frame: time t = frame / fps -> every chosen clip sampled at t (clamped to its keys) ->
 // node local transforms -> node world matrices -> per object: morph weights, joint matrices,
 // world transform -> vertices (morph, then skinning or the world transform, then procedural
-// motions), computed in double and rounded to float once.
+// motions). Static and rigid objects' vertices are computed in double and rounded to float
+// once; moving vertices in float from constants computed once in double (posed_scene.cpp
+// says which), within a few float roundings of the double evaluation. Objects that did not
+// move keep the positions the previous pose() wrote.
 
 #include "dynrt/anim/motion_class.h"
 #include "dynrt/anim/procedural_motion.h"
@@ -18,6 +21,7 @@
 #include <glm/vec3.hpp>
 
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <span>
@@ -62,7 +66,8 @@ struct PosedObject {
     MotionClass motion_class = MotionClass::static_;
     /// False when nothing that moves this object differs from the previous call on this
     /// PosedScene (transform, node transform, joint matrices, morph weights, procedural motion
-    /// frame); true on the first call. Decided without looking at vertices.
+    /// frame); true on the first call. Decided without looking at vertices. When false,
+    /// pose() leaves `positions` as the previous call wrote them (it does not touch them).
     bool changed = true;
 
     /// Its node's world transform at this frame, before procedural motion (Object::transform
@@ -108,6 +113,9 @@ struct PosedScene {
     std::optional<PosedCamera> camera;
     /// Morph weights of every node at this frame, laid out by ScenePoser; working storage.
     std::vector<double> node_weights;
+    /// Which ScenePoser filled it last (0: none). A poser only trusts `changed` and keeps the
+    /// positions of unmoved objects in a PosedScene it filled itself.
+    std::uint64_t poser_id = 0;
 };
 
 /// Evaluates one scene under fixed settings, frame after frame. Construction checks the
@@ -128,7 +136,8 @@ public:
 
     /// Evaluates frame `frame` (any integer; time frame / fps) into `out`, reusing its storage.
     /// `changed` compares with what the previous call left in `out`, so reuse one PosedScene
-    /// per sequence. Throws SceneError naming the object (or camera), frame and vertex when a
+    /// per sequence; the positions of objects not changed are kept, not recomputed, so the
+    /// caller must not modify them between calls. Throws SceneError naming the object (or camera), frame and vertex when a
     /// result is not finite.
     void pose(int frame, PosedScene& out) const;
 

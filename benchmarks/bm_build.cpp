@@ -38,103 +38,66 @@ void report_tree(benchmark::State& state, const bvh::Bvh& tree, const bvh::Build
     state.counters["depth"] = stats.depth;
 }
 
-/// build_triangle_bvh: degenerate filtering, references, tree, triangles in leaf order; the
-/// complete traceable structure, like Embree's commit.
-void BM_BuildTriangleBvh(benchmark::State& state, const std::string& spec) {
+/// Times build_triangle_bvh with `config`, each build into fresh storage (the previous tree
+/// is freed outside the timed region) or, with `recycled`, into the previous iteration's tree,
+/// as the engine rebuilds an object every frame: the same work on storage already faulted in.
+void time_builds(benchmark::State& state, const std::string& spec, const bvh::BuildConfig& config,
+                 bool recycled) {
     const SceneInput& input = scene_input(spec);
-    const bvh::BuildConfig config;
     bvh::TriangleBvh accel;
     for (auto _ : state) {
         const Clock::time_point start = Clock::now();
-        bvh::TriangleBvh built = bvh::build_triangle_bvh(input.triangles, config);
-        state.SetIterationTime(seconds_since(start));
-        accel = std::move(built);  // the previous tree is freed outside the timed region
+        if (recycled) {
+            accel = bvh::build_triangle_bvh(input.triangles, config, std::move(accel));
+            state.SetIterationTime(seconds_since(start));
+        } else {
+            bvh::TriangleBvh built = bvh::build_triangle_bvh(input.triangles, config);
+            state.SetIterationTime(seconds_since(start));
+            accel = std::move(built);
+        }
     }
     state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(input.triangles.size()));
     report_tree(state, accel.bvh, config);
 }
 
-/// build_triangle_bvh into the previous iteration's tree, as the engine rebuilds an exploding
-/// object every frame: the same work on storage that is already faulted in.
-void BM_BuildTriangleBvhRecycled(benchmark::State& state, const std::string& spec) {
-    const SceneInput& input = scene_input(spec);
-    const bvh::BuildConfig config;
-    bvh::TriangleBvh accel;
-    for (auto _ : state) {
-        const Clock::time_point start = Clock::now();
-        accel = bvh::build_triangle_bvh(input.triangles, config, std::move(accel));
-        state.SetIterationTime(seconds_since(start));
-    }
-    state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(input.triangles.size()));
-    report_tree(state, accel.bvh, config);
-}
-
-bvh::BuildConfig morton_config() {
+bvh::BuildConfig config_of(bvh::BuildMethod method, bool wide = true) {
     bvh::BuildConfig config;
-    config.method = bvh::BuildMethod::morton;
+    config.method = method;
+    config.wide = wide;
     return config;
 }
 
-/// build_triangle_bvh with the Morton builder into fresh storage.
+/// build_triangle_bvh: degenerate filtering, references, tree, triangles in leaf order; the
+/// complete traceable structure, like Embree's commit.
+void BM_BuildTriangleBvh(benchmark::State& state, const std::string& spec) {
+    time_builds(state, spec, config_of(bvh::BuildMethod::binned_sah), false);
+}
+
+/// The same into the previous iteration's tree.
+void BM_BuildTriangleBvhRecycled(benchmark::State& state, const std::string& spec) {
+    time_builds(state, spec, config_of(bvh::BuildMethod::binned_sah), true);
+}
+
+/// The Morton builder into fresh storage.
 void BM_BuildMorton(benchmark::State& state, const std::string& spec) {
-    const SceneInput& input = scene_input(spec);
-    const bvh::BuildConfig config = morton_config();
-    bvh::TriangleBvh accel;
-    for (auto _ : state) {
-        const Clock::time_point start = Clock::now();
-        bvh::TriangleBvh built = bvh::build_triangle_bvh(input.triangles, config);
-        state.SetIterationTime(seconds_since(start));
-        accel = std::move(built);
-    }
-    state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(input.triangles.size()));
-    report_tree(state, accel.bvh, config);
+    time_builds(state, spec, config_of(bvh::BuildMethod::morton), false);
 }
 
 /// The Morton builder into the previous iteration's tree: the engine's fast rebuild of an
 /// object every frame. Compare with BM_BuildEmbreeLowRecommit.
 void BM_BuildMortonRecycled(benchmark::State& state, const std::string& spec) {
-    const SceneInput& input = scene_input(spec);
-    const bvh::BuildConfig config = morton_config();
-    bvh::TriangleBvh accel;
-    for (auto _ : state) {
-        const Clock::time_point start = Clock::now();
-        accel = bvh::build_triangle_bvh(input.triangles, config, std::move(accel));
-        state.SetIterationTime(seconds_since(start));
-    }
-    state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(input.triangles.size()));
-    report_tree(state, accel.bvh, config);
+    time_builds(state, spec, config_of(bvh::BuildMethod::morton), true);
 }
 
 /// The Morton builder's binary tree alone (no collapse), recycled.
 void BM_BuildMortonBinaryOnly(benchmark::State& state, const std::string& spec) {
-    const SceneInput& input = scene_input(spec);
-    bvh::BuildConfig config = morton_config();
-    config.wide = false;
-    bvh::TriangleBvh accel;
-    for (auto _ : state) {
-        const Clock::time_point start = Clock::now();
-        accel = bvh::build_triangle_bvh(input.triangles, config, std::move(accel));
-        state.SetIterationTime(seconds_since(start));
-    }
-    state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(input.triangles.size()));
-    report_tree(state, accel.bvh, config);
+    time_builds(state, spec, config_of(bvh::BuildMethod::morton, false), true);
 }
 
 /// build_triangle_bvh without the wide tree (BuildConfig::wide off): what the collapse adds is
 /// the difference to BM_BuildTriangleBvh.
 void BM_BuildTriangleBvhBinaryOnly(benchmark::State& state, const std::string& spec) {
-    const SceneInput& input = scene_input(spec);
-    bvh::BuildConfig config;
-    config.wide = false;
-    bvh::TriangleBvh accel;
-    for (auto _ : state) {
-        const Clock::time_point start = Clock::now();
-        bvh::TriangleBvh built = bvh::build_triangle_bvh(input.triangles, config);
-        state.SetIterationTime(seconds_since(start));
-        accel = std::move(built);
-    }
-    state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(input.triangles.size()));
-    report_tree(state, accel.bvh, config);
+    time_builds(state, spec, config_of(bvh::BuildMethod::binned_sah, false), false);
 }
 
 /// collapse_to_wide alone, of a binary tree built once, at width N, into fresh storage; with

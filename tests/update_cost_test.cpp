@@ -70,6 +70,36 @@ TEST(UpdateCost, RefitsAreKeptUntilTheirExtraTraceAddsUpToARebuild) {
     EXPECT_FALSE(judge_refit_cost(500.0, 0.0, ObjectCosts{}, 10, {}, trace).rebuild);
 }
 
+TEST(UpdateCost, ARefitIsSkippedWhenTheLastOneAloneCostMoreThanARebuild) {
+    ObjectCosts costs;
+    costs.fast_ms = 30.0;
+    costs.sah_ms = 200.0;
+    costs.fast_quality = 1.0;
+    const TraceCost trace{100.0, 1.0};
+    // Nothing known of a refit since the build: refit.
+    EXPECT_FALSE(rebuild_instead_of_refit(costs, 1000, {}, trace).has_value());
+    costs.refit_ms = 5.0;
+    costs.last_extra_ms = 24.0;  // < 30 - 5
+    EXPECT_FALSE(rebuild_instead_of_refit(costs, 1000, {}, trace).has_value());
+    costs.last_extra_ms = 25.0;  // >= 30 - 5
+    const std::optional<RebuildChoice> skip = rebuild_instead_of_refit(costs, 1000, {}, trace);
+    ASSERT_TRUE(skip.has_value());
+    EXPECT_EQ(skip->method, bvh::BuildMethod::morton);
+    EXPECT_NE(explain_skipped_refit(costs, *skip).find("last refit's extra trace 25.0 ms"),
+              std::string::npos);
+}
+
+TEST(UpdateCost, APoorerFastTreeIsJudgedAgainstAFreshTreesTrace) {
+    // The last frame traced a tree degraded to twice its fresh SAH cost: a fresh tree would
+    // have taken half of this object's share, and the fast tree's 30% more is of that half.
+    ObjectCosts costs;
+    costs.fast_ms = 10.0;
+    costs.sah_ms = 100.0;
+    costs.fast_quality = 1.3;
+    const RebuildChoice c = choose_rebuild(costs, 1000, {}, TraceCost{400.0, 1.0, 2.0});
+    EXPECT_NEAR(c.fast_trace_extra_ms, 60.0, 1e-9);
+}
+
 TEST(UpdateCost, PlannerFollowsTheUpdateMethod) {
     using anim::MotionClass;
     const std::vector<TreeHistory> before(4, TreeHistory{true, MotionClass::deformable, true});

@@ -372,6 +372,7 @@ void expect_same_hits(const SceneAccel& updated, const SceneAccel& fresh, const 
 TEST(UpdatePlan, SceneAccelCarriesOutThePlanOverMovedSubsets) {
     MatrixWorld world;
     UpdatePolicy policy;
+    policy.method = UpdateMethod::threshold;
     policy.rebuild_threshold = std::numeric_limits<double>::infinity();  // refits stand
     SceneAccel accel;
     FrameStats first;

@@ -113,6 +113,7 @@ double SceneAccel::build(ObjectTree& object, const bvh::BuildConfig& config) {
     object.built = true;
     object.built_with = config.method;
     object.costs.penalty_ms = 0.0;
+    object.costs.last_extra_ms = -1.0;
     // Small trees say little about the rate: their time is mostly fixed costs.
     const double per_triangle_ns =
         object.triangles.size() >= 10000 ? ms * 1e6 / double(object.triangles.size()) : -1.0;
@@ -137,6 +138,7 @@ TraceCost SceneAccel::trace_cost_of(std::size_t i) const {
     }
     cost.share = std::min(1.0, double(box.half_area()) / last_root_area_ * object.sah /
                                    last_scene_sah_);
+    if (object.built_sah > 0.0) cost.degradation = std::max(1.0, object.sah / object.built_sah);
     return cost;
 }
 
@@ -253,10 +255,23 @@ void SceneAccel::update(const Scene& scene, std::span<const ObjectState> states,
                     ++stats.objects_skipped;
                     break;
                 }
+                if (policy.method == UpdateMethod::automatic) {
+                    if (const std::optional<RebuildChoice> skip = rebuild_instead_of_refit(
+                            object.costs, mesh.triangles.size(), rates_, trace_cost_of(i))) {
+                        choose(*skip, explain_skipped_refit(object.costs, *skip));
+                        record(RebuildReason::refits_cost_more, object.sah);
+                        object.built = false;
+                        build(object, config);
+                        stats.rebuild_ms += clock.lap_ms();
+                        break;
+                    }
+                }
                 object.built = false;  // until the refit completes (see above)
                 const bvh::RefitResult refit = bvh::refit(object.tree, object.triangles, costs);
                 object.built = !refit.needs_rebuild();
-                stats.refit_ms += clock.lap_ms();
+                const double refit_ms = clock.lap_ms();
+                stats.refit_ms += refit_ms;
+                object.costs.refit_ms = refit_ms;
                 ++stats.objects_refitted;
                 stats.triangles_refitted += mesh.triangles.size();
                 std::optional<RebuildReason> rebuild;
@@ -273,6 +288,7 @@ void SceneAccel::update(const Scene& scene, std::span<const ObjectState> states,
                         choose(judgement.choice, explain_refit(judgement));
                     } else {
                         object.costs.penalty_ms = judgement.penalty_ms;
+                        object.costs.last_extra_ms = judgement.extra_ms;
                         stats.choices.push_back(
                             TreeChoice{i, scene.objects[i].name, "refit", explain_refit(judgement)});
                     }

@@ -33,8 +33,8 @@ RebuildChoice choose_rebuild(const ObjectCosts& costs, std::size_t triangles,
     RebuildChoice choice;
     choice.fast_build_ms = costs.fast_ms >= 0.0 ? costs.fast_ms : n * rates.fast_ns * 1e-6;
     choice.sah_build_ms = costs.sah_ms >= 0.0 ? costs.sah_ms : n * rates.sah_ns * 1e-6;
-    choice.fast_trace_extra_ms =
-        trace.trace_ms * trace.share * std::max(0.0, costs.fast_quality - 1.0);
+    choice.fast_trace_extra_ms = trace.trace_ms * trace.share / std::max(1.0, trace.degradation) *
+                                 std::max(0.0, costs.fast_quality - 1.0);
     choice.method = choice.fast_total() < choice.sah_build_ms ? bvh::BuildMethod::morton
                                                               : bvh::BuildMethod::binned_sah;
     return choice;
@@ -50,6 +50,16 @@ RefitJudgement judge_refit_cost(double refit_sah, double fresh_sah, const Object
     j.choice = choose_rebuild(costs, triangles, rates, trace);
     j.rebuild = j.penalty_ms >= j.choice.cost();
     return j;
+}
+
+std::optional<RebuildChoice> rebuild_instead_of_refit(const ObjectCosts& costs,
+                                                      std::size_t triangles,
+                                                      const BuildRates& rates,
+                                                      const TraceCost& trace) {
+    if (costs.last_extra_ms < 0.0 || costs.refit_ms < 0.0) return std::nullopt;
+    const RebuildChoice choice = choose_rebuild(costs, triangles, rates, trace);
+    if (costs.last_extra_ms >= choice.cost() - costs.refit_ms) return choice;
+    return std::nullopt;
 }
 
 namespace {
@@ -72,6 +82,12 @@ std::string explain_rebuild(const RebuildChoice& c) {
                                     c.fast_trace_extra_ms);
     const std::string sah = format("sah %.1f ms", c.sah_build_ms);
     return c.method == bvh::BuildMethod::morton ? fast + " < " + sah : sah + " <= " + fast;
+}
+
+std::string explain_skipped_refit(const ObjectCosts& costs, const RebuildChoice& c) {
+    return format("last refit's extra trace %.1f ms >= rebuild %.1f ms - refit %.1f ms; ",
+                  costs.last_extra_ms, c.cost(), costs.refit_ms) +
+           explain_rebuild(c);
 }
 
 std::string explain_refit(const RefitJudgement& j) {

@@ -68,6 +68,10 @@ struct ObjectCosts {
     double sah_tree_sah = 0.0;
     /// Predicted extra trace time the refits have cost since the last build.
     double penalty_ms = 0.0;
+    /// The last refit's time and its predicted extra trace time (negative: none since the
+    /// last build).
+    double refit_ms = -1.0;
+    double last_extra_ms = -1.0;
 };
 
 /// The frame-wide inputs of a choice.
@@ -77,6 +81,10 @@ struct TraceCost {
     /// The object's share of it: its SAH cost weighted by the chance of reaching its world
     /// box, over the scene's SAH cost (1 for a scene of one object; 0 when unknown).
     double share = 0.0;
+    /// How much the object's tree had degraded in that frame: its SAH cost over its cost
+    /// right after its build (>= 1). A rebuilt tree's trace time is predicted from the
+    /// object's share of the trace divided by this, the share a fresh tree would have had.
+    double degradation = 1.0;
 };
 
 /// The two rebuilds' predicted costs for one object, and the cheaper.
@@ -107,6 +115,15 @@ struct RefitJudgement {
     RebuildChoice choice;
 };
 
+/// Before a refit: whether to skip it and rebuild at once. Trees degrade further with every
+/// refit, so when the last refit's extra trace time alone reached the cheaper rebuild's cost
+/// less a refit's, the next refit is predicted to cost more than rebuilding (geometry that
+/// scrambles quickly, as explode does, is then rebuilt every frame instead of every other).
+std::optional<RebuildChoice> rebuild_instead_of_refit(const ObjectCosts& costs,
+                                                      std::size_t triangles,
+                                                      const BuildRates& rates,
+                                                      const TraceCost& trace);
+
 /// Judges a refit whose tree now has SAH cost `refit_sah` against `fresh_sah`, its cost right
 /// after its last build: rebuild once the accumulated extra trace time reaches the cheaper
 /// rebuild's cost.
@@ -117,6 +134,7 @@ RefitJudgement judge_refit_cost(double refit_sah, double fresh_sah, const Object
 /// The report's sentence for a kept refit ("refit: extra trace 3.1 ms so far < rebuild (fast)
 /// 35.2 ms"), a rebuild after a refit and an exploding object's rebuild.
 std::string explain_refit(const RefitJudgement& judgement);
+std::string explain_skipped_refit(const ObjectCosts& costs, const RebuildChoice& choice);
 std::string explain_rebuild(const RebuildChoice& choice);
 
 }  // namespace dynrt

@@ -35,10 +35,12 @@ for program in tests/dynrt_tests tests/dynrt_stress_tests tests/api/dynrt_api_te
       echo "$name shard $shard/$shards FAILED (log: $log)" >&2
       failed=1
     fi
-    # GoogleTest's own counts; a shard that died before printing them counts as one failure.
+    # GoogleTest's own counts: the passed from its summary, the failed one per "[  FAILED  ]
+    # Name (N ms)" line (with --gtest_brief=1 the summary has no failed count). A shard that
+    # died before printing its summary counts as one failure more.
     shard_passed=$(sed -n 's/^\[  PASSED  \] \([0-9]*\) tests\{0,1\}\..*/\1/p' "$log" | tail -n 1)
-    shard_failed=$(sed -n 's/^\[  FAILED  \] \([0-9]*\) tests\{0,1\}, listed below.*/\1/p' "$log" | tail -n 1)
-    if [ -z "$shard_passed" ] && [ -z "$shard_failed" ]; then shard_failed=1; fi
+    shard_failed=$(grep -cE '^\[  FAILED  \] .* \([0-9]+ ms\)$' "$log" || true)
+    if [ -z "$shard_passed" ]; then shard_failed=$((shard_failed + 1)); fi
     tally "${shard_passed:-0}" "${shard_failed:-0}"
   done
 done

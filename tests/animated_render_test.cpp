@@ -120,6 +120,8 @@ TEST(AnimatedRender, ReportSaysWhatEachObjectCost) {
     // One object of each class: the soup's explode alone would make it deformable.
     options.pose.class_overrides =
         anim::parse_class_overrides(scene, std::vector<std::string>{kExplode + "=exploding"});
+    // Refits stand: a fixed method, since the automatic one's choices depend on measured times.
+    options.method = UpdateMethod::threshold;
     options.rebuild_threshold = std::numeric_limits<double>::infinity();
     const Camera camera = default_camera(scene_bounds(scene));
     Renderer renderer(options);
@@ -264,8 +266,13 @@ TEST(AnimatedRender, AutomaticMethodSaysWhatItChoseAndWhy) {
     ASSERT_EQ(frame.stats.choices.size(), 2u);  // the wave and the exploding soup
     for (const TreeChoice& c : frame.stats.choices) {
         if (c.name == kWave) {
-            EXPECT_EQ(c.chosen, "refit");
-            EXPECT_NE(c.why.find("rebuild"), std::string::npos) << c.why;
+            // Which one depends on the measured times (a slow machine or a sanitizer changes
+            // them); the reason must match the choice either way.
+            if (c.chosen == "refit") {
+                EXPECT_NE(c.why.find(" < rebuild"), std::string::npos) << c.why;
+            } else {
+                EXPECT_NE(c.why.find(">= "), std::string::npos) << c.chosen << ": " << c.why;
+            }
         } else {
             EXPECT_EQ(c.name, kExplode);
             EXPECT_TRUE(c.chosen == "rebuild (fast)" || c.chosen == "rebuild (sah)") << c.chosen;

@@ -80,7 +80,7 @@ TEST(Cli, RenderWritesImageAovsAndReport) {
 TEST(Cli, RenderWritesOneImagePerFrameAndAReportOfEachUpdate) {
     const fs::path dir = fresh_dir("sequence");
     const CliRun run = run_dynrt("render 'plane:2@0,-1,0,3+sphere:200' --anim wave:sphere:200 "
-                                 "--res 24x16 --frames 2-4 --out " + (dir / "f%03d.png").string() +
+                                 "--res 24x16 --frames 2-4 --update threshold --out " + (dir / "f%03d.png").string() +
                                  " --report " + (dir / "r.json").string());
     ASSERT_EQ(run.exit_code, 0) << run.output;
     for (const char* f : {"f002.png", "f003.png", "f004.png"}) EXPECT_TRUE(fs::exists(dir / f)) << f;

@@ -200,8 +200,9 @@ TEST(ExplodeStress, RendererRefitAndRebuildAgreeAtExtremes) {
         RenderOptions refit_options;
         refit_options.width = refit_options.height = 48;
         refit_options.tracer = tracer;
-        refit_options.rebuild_threshold = std::numeric_limits<double>::infinity();  // refit only
+        refit_options.method = UpdateMethod::refit;  // refit only
         RenderOptions rebuild_options = refit_options;
+        rebuild_options.method = UpdateMethod::threshold;  // exploding: rebuilt every frame
         rebuild_options.pose.class_overrides = anim::parse_class_overrides(scene, treat);
         Renderer refit_renderer(refit_options), rebuild_renderer(rebuild_options);
         RenderedFrame a, b;

@@ -249,12 +249,11 @@ private:
 }  // namespace
 
 template <class Ref>
-Bvh build_morton_from_prim_refs(const Ref* refs, std::size_t count, const Aabb& root_box,
+Bvh build_morton_from_prim_refs(const Ref* refs, std::size_t count,
                                 const Aabb& root_center_box, const BuildConfig& config,
                                 const std::function<void(std::span<const std::uint32_t>)>&
                                     alongside_output,
                                 MortonBuffers<Ref>& buffers, Bvh&& recycled) {
-    (void)root_box;  // the root's box is the union the hierarchy computes
     const MortonGrid grid(root_center_box);
     buffers.reserve(count);
     std::uint64_t* const keys = buffers.keys.get();
@@ -314,11 +313,11 @@ Bvh build_morton_from_prim_refs(const Ref* refs, std::size_t count, const Aabb& 
 }
 
 template Bvh build_morton_from_prim_refs<BoxCenterRef>(
-    const BoxCenterRef*, std::size_t, const Aabb&, const Aabb&, const BuildConfig&,
+    const BoxCenterRef*, std::size_t, const Aabb&, const BuildConfig&,
     const std::function<void(std::span<const std::uint32_t>)>&, MortonBuffers<BoxCenterRef>&,
     Bvh&&);
 template Bvh build_morton_from_prim_refs<ExplicitCenterRef>(
-    const ExplicitCenterRef*, std::size_t, const Aabb&, const Aabb&, const BuildConfig&,
+    const ExplicitCenterRef*, std::size_t, const Aabb&, const BuildConfig&,
     const std::function<void(std::span<const std::uint32_t>)>&,
     MortonBuffers<ExplicitCenterRef>&, Bvh&&);
 
@@ -342,8 +341,8 @@ Bvh build_morton(std::span<const Aabb> boxes, std::span<const glm::vec3> centers
     detail::RefFiller filler(boxes, centers, refs.get());
     tbb::parallel_reduce(tbb::blocked_range<std::size_t>(0, count, 16 * 1024), filler);
     detail::MortonBuffers<detail::ExplicitCenterRef> buffers;
-    return detail::build_morton_from_prim_refs(refs.get(), count, filler.box, filler.center_box,
-                                               config, {}, buffers);
+    return detail::build_morton_from_prim_refs(refs.get(), count, filler.center_box, config, {},
+                                               buffers);
 }
 
 }  // namespace dynrt::bvh

@@ -49,13 +49,13 @@ struct MortonBuffers {
 /// SAH core, the refs are not reordered: the result's prim_ids give the leaf order. Once they
 /// are known, `alongside_output` (when set) runs concurrently with the making of the hierarchy,
 /// with the prim_ids in leaf order (the caller's per-primitive output, such as triangles in
-/// leaf order, overlaps with it). `root_box` must be the union of the refs' boxes and
-/// `root_center_box` the bounds of their centres; `count` >= 1 and < 2^31; `config` checked.
+/// leaf order, overlaps with it). `root_center_box` must be the bounds of the refs' centres
+/// (the root's box is the union the hierarchy computes); `count` >= 1 and < 2^31; `config` checked.
 /// Storage of `recycled` (a tree no longer needed) and of `buffers` is reused where large
 /// enough. Instantiated
 /// for BoxCenterRef and ExplicitCenterRef.
 template <class Ref>
-Bvh build_morton_from_prim_refs(const Ref* refs, std::size_t count, const Aabb& root_box,
+Bvh build_morton_from_prim_refs(const Ref* refs, std::size_t count,
                                 const Aabb& root_center_box, const BuildConfig& config,
                                 const std::function<void(std::span<const std::uint32_t>)>&
                                     alongside_output,

@@ -292,7 +292,7 @@ TriangleBvh build_triangle_bvh(std::span<const Triangle> tris, const BuildConfig
     };
     if (morton) {
         accel.bvh = detail::build_morton_from_prim_refs(
-            refs, count, root_box, root_centers, config,
+            refs, count, root_centers, config,
             [&](std::span<const std::uint32_t> ids) {
                 gather_leaf_order([ids](std::size_t i) { return ids[i]; });
             },

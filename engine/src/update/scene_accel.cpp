@@ -104,7 +104,7 @@ void SceneAccel::clear() {
     object_boxes_.clear();
 }
 
-double SceneAccel::build(ObjectTree& object, const bvh::BuildConfig& config) {
+void SceneAccel::build(ObjectTree& object, const bvh::BuildConfig& config) {
     const Stopwatch clock;
     object.tree = bvh::build_triangle_bvh(object.triangles, config, std::move(object.tree));
     const double ms = clock.elapsed_ms();
@@ -124,7 +124,6 @@ double SceneAccel::build(ObjectTree& object, const bvh::BuildConfig& config) {
         object.costs.sah_ms = ms;
         if (per_triangle_ns > 0.0) rates_.sah_ns = per_triangle_ns;
     }
-    return ms;
 }
 
 TraceCost SceneAccel::trace_cost_of(std::size_t i) const {

@@ -124,8 +124,8 @@ private:
     };
 
     /// Builds `object`'s tree from its triangles with `config`'s builder, and records the
-    /// time in its costs and in rates_. Returns the build's milliseconds.
-    double build(ObjectTree& object, const bvh::BuildConfig& config);
+    /// time in its costs and in rates_.
+    void build(ObjectTree& object, const bvh::BuildConfig& config);
     /// Object `i`'s inputs to the cost model: the last frame's trace time and the object's
     /// share of it (its weighted SAH over the scene's, from the last update).
     TraceCost trace_cost_of(std::size_t i) const;

@@ -17,7 +17,8 @@ TEST(Report, JsonHasTheDocumentedSchema) {
     ASSERT_EQ(doc["frames"].size(), 1u);
     for (const char* key : {"frame", "triangles", "update_ms", "build_ms", "primary_ms",
                             "shadow_ms", "shade_ms", "total_ms", "primary_rays", "shadow_rays",
-                            "interpolated_pixels",
+                            "interpolated_pixels", "pixels_traced", "pixels_shadows_retraced",
+                            "pixels_reused", "pixels_filled",
                             "primary_mrays_per_s", "shadow_mrays_per_s", "sah_cost", "nodes",
                             "leaves", "leaf_tris_mean", "leaf_tris_max", "depth"}) {
         EXPECT_TRUE(doc["frames"][0].contains(key)) << key;
@@ -25,6 +26,8 @@ TEST(Report, JsonHasTheDocumentedSchema) {
             EXPECT_TRUE(doc["summary"][which].contains(key)) << which << "." << key;
         }
     }
+    EXPECT_TRUE(doc["frames"][0].contains("reuse_mode"));
+    EXPECT_TRUE(doc["frames"][0].contains("reuse_reason"));
     EXPECT_EQ(doc["frames"][0]["triangles"], 10);
     EXPECT_EQ(doc["frames"][0]["sah_cost"], 7.5);
     EXPECT_EQ(doc["run"]["scene"], "sphere:10");

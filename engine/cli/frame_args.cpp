@@ -80,6 +80,7 @@ dynrt::RenderOptions render_options(const FrameArgs& args) {
     options.tracer = args.tracer == "single" ? dynrt::Tracer::single : dynrt::Tracer::packet;
     options.packet.culling = dynrt::packet::PacketCulling::parse(args.packet_culling);
     options.adaptive_tolerance = args.adaptive;
+    options.reuse = dynrt::parse_reuse(args.reuse);
     options.pose.fps = args.fps;
     options.rebuild_threshold = args.rebuild_threshold;
     options.method = *dynrt::parse_update_method(args.update);  // checked by the flag's parser

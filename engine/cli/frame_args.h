@@ -30,6 +30,9 @@ struct FrameArgs {
     std::string bvh = "wide";
     std::string packet_culling = "all";
     float adaptive = 0.0f;
+    /// Pixel reuse between frames (dynrt/engine/pixel_reuse.h): off, exact, cache[:BUDGET],
+    /// frameless[:BUDGET].
+    std::string reuse = "exact";
     // Animation: which motions, clips and classes, at what rate, which frames.
     std::vector<std::string> anims;
     std::vector<std::string> treats;

@@ -81,6 +81,20 @@ int main(int argc, char** argv) {
                         "Approximate: trace each tile on a sparse grid and interpolate cells "
                         "whose samples agree within this tolerance (packet tracer; 0: exact)")
             ->check(CLI::NonNegativeNumber)->capture_default_str();
+        cmd->add_option("--reuse", args.reuse,
+                        "Reuse of the previous frame's pixels: exact (re-trace only rays that "
+                        "may meet what moved; the same image as off), off, or approximate "
+                        "cache[:BUDGET] (render cache, for moving cameras) and "
+                        "frameless[:BUDGET]; BUDGET is a share of the pixels (0.25) or ms (8ms)")
+            ->check([](const std::string& text) {
+                try {
+                    dynrt::parse_reuse(text);
+                    return std::string();
+                } catch (const std::invalid_argument& e) {
+                    return std::string(e.what());
+                }
+            })
+            ->capture_default_str();
         cmd->add_option("--anim", args.anims,
                         "Procedural motion MOTION[:OBJECT]: rigid, wave or explode, on every "
                         "object or the named one; repeatable")

@@ -30,6 +30,10 @@ void for_each_field(const FrameStats& s, Visit&& visit) {
     visit("primary_rays", s.primary_rays);
     visit("shadow_rays", s.shadow_rays);
     visit("interpolated_pixels", s.interpolated_pixels);
+    visit("pixels_traced", s.pixels_traced);
+    visit("pixels_shadows_retraced", s.pixels_shadows_retraced);
+    visit("pixels_reused", s.pixels_reused);
+    visit("pixels_filled", s.pixels_filled);
     visit("primary_mrays_per_s", s.primary_mrays_per_s);
     visit("shadow_mrays_per_s", s.shadow_mrays_per_s);
     visit("sah_cost", s.sah_cost);
@@ -59,7 +63,10 @@ void for_each_field(const FrameStats& s, Visit&& visit) {
 nlohmann::ordered_json frame_json(const FrameStats& s) {
     nlohmann::ordered_json j;
     for_each_field(s, [&](const char* key, auto value) { j[key] = value; });
-    // Not a column (no median of reasons): the list of this frame's tree builds.
+    // Not columns (no median of reasons): the pixel reuse mode and why the frame re-traced what
+    // it did, and the list of this frame's tree builds.
+    j["reuse_mode"] = s.reuse_mode;
+    j["reuse_reason"] = s.reuse_reason;
     j["rebuilds"] = nlohmann::ordered_json::array();
     for (const TreeRebuild& r : s.rebuilds) {
         nlohmann::ordered_json event = {{"object", r.object}, {"name", r.name}, {"reason", rebuild_reason_name(r.reason)}};

@@ -134,6 +134,19 @@ struct TraceStats {
     /// single-ray tracer, every ray's visits (wide inner nodes and leaves, or binary nodes,
     /// plus top-level nodes), whose triangle tests are then in ray_triangle_tests.
     std::uint64_t nodes_visited = 0;
+    /// Pixel reuse (TraceSettings::reuse, pixel_reuse.h): the mode that ran ("off", "exact",
+    /// "cache", "frameless"), and why the frame was traced in full or what it re-traced (e.g.
+    /// "first frame", "camera moved", "2 objects changed").
+    std::string reuse_mode = "off";
+    std::string reuse_reason;
+    /// Pixels whose primary ray was traced this frame; pixels that kept the previous frame's
+    /// hit but whose shadow rays were traced again (exact); pixels kept from the previous
+    /// frame as they were (exact, frameless) or reprojected into the new view (render cache);
+    /// pixels filled from their neighbours (render cache).
+    std::size_t pixels_traced = 0;
+    std::size_t pixels_shadows_retraced = 0;
+    std::size_t pixels_reused = 0;
+    std::size_t pixels_filled = 0;
 };
 
 /// One frame's figures: the three stages' parts, each filled by its stage (SceneAccel the

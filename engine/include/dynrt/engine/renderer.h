@@ -23,6 +23,7 @@
 #include "dynrt/bvh/binned_sah_builder.h"
 #include "dynrt/engine/camera.h"
 #include "dynrt/engine/frame_stats.h"
+#include "dynrt/engine/pixel_reuse.h"
 #include "dynrt/engine/update_plan.h"
 #include "dynrt/packet/packet_config.h"
 #include "dynrt/scene/scene.h"
@@ -56,6 +57,11 @@ struct TraceSettings {
     /// Larger is faster and less exact. What can still go wrong is in README "Approximate
     /// rendering".
     float adaptive_tolerance = 0.0f;
+    /// How the frame reuses the previous trace's pixels (pixel_reuse.h): exact by default,
+    /// which re-traces only the rays that may meet what changed and gives the same bits as a
+    /// full render. Exact reuse needs the same RenderedFrame as the previous trace, unchanged
+    /// by the caller (RenderedFrame::reuse_stamp); adaptive sampling turns it off.
+    ReuseSettings reuse;
     /// The packet tracer's culling stages and SIMD width (ignored by the single-ray tracer).
     packet::PacketConfig packet;
     /// Count the tracer's work into FrameStats (ray_triangle_tests, nodes_visited and, for the
@@ -94,6 +100,10 @@ struct RenderedFrame {
     std::vector<std::int32_t> prim;    ///< triangle index within the object; -1 on a miss
     std::vector<glm::vec3> normal;  ///< unit geometric normal facing the eye; 0 on a miss
     FrameStats stats;
+    /// Set by the trace that filled this frame: the next trace reuses its pixels only when it
+    /// is the frame that trace wrote (TraceSettings::reuse). A caller that edits the buffers
+    /// between frames sets it to 0, which makes the next trace a full one.
+    std::uint64_t reuse_stamp = 0;
 };
 
 /// Where the frames of a sequence get their camera: one camera for every frame, or the scene's

@@ -153,6 +153,9 @@ int main(int argc, char** argv) {
                            "Also write float EXRs next to the image: depth,object,prim,normal");
 
     BenchArgs bench;
+    // A benchmark times tracing: a still frame timed again would reuse every pixel, and a
+    // comparison with Embree must trace the same rays. `--reuse exact` measures reuse itself.
+    bench.reuse = "off";
     CLI::App* bench_cmd = app.add_subcommand(
         "bench", "Time a scene's frame under one or more build configurations");
     add_frame_options(bench_cmd, bench);

@@ -571,6 +571,7 @@ FrameStats Engine::render(const View& view, const ImageView& image,
     options.background = to_glm(settings.background);
     options.ambient = settings.ambient;
     options.hit_buffers = !image.depth.empty() || !image.mesh.empty();
+    options.reuse.mode = settings.reuse_pixels ? PixelReuse::exact : PixelReuse::off;
     if (!std::isfinite(options.ambient) || !finite(options.background)) {
         throw invalid("render: background and ambient must be finite");
     }

@@ -8,6 +8,13 @@ namespace dynrt {
 void FramePipeline::clear() {
     accel_.clear();
     updated_ = false;
+    reuse_.valid = false;
+    versions_.clear();
+}
+
+void FramePipeline::invalidate(std::size_t object) {
+    accel_.invalidate(object);
+    if (object < versions_.size()) versions_[object] = ++last_version_;
 }
 
 const FrameStats& FramePipeline::update(const Scene& scene, std::span<const ObjectState> states,
@@ -17,6 +24,12 @@ const FrameStats& FramePipeline::update(const Scene& scene, std::span<const Obje
     FrameStats& stats = update_stats_;
     stats = FrameStats{};
     stats.frame = frame;
+    // Versions first: an update that throws half way has still changed what it touched.
+    if (states.size() < versions_.size()) versions_.clear();
+    while (versions_.size() < states.size()) versions_.push_back(++last_version_);
+    for (std::size_t i = 0; i < states.size(); ++i) {
+        if (states[i].changed) versions_[i] = ++last_version_;
+    }
     accel_.update(scene, states, fixed, policy, stats, stats);
     update_wall_ms_ = frame_clock.elapsed_ms();
     // Everything the update did besides building trees (posing, checks, gathering triangles),
@@ -41,8 +54,28 @@ void FramePipeline::trace(const Scene& scene, const Camera& camera, const TraceS
         object_material_.push_back(std::int32_t(object.material));
     }
     out.stats = update_stats_;
-    trace_frame(TraceInputs{accel_, materials_, object_material_, lights}, camera, options,
-                scratch_, out);
+    const TraceInputs inputs{accel_, materials_, object_material_, lights};
+    if (options.reuse.mode == PixelReuse::exact && options.adaptive_tolerance == 0.0f) {
+        const detail::ReuseInputs now{camera,          options,
+                                      lights,          materials_,
+                                      object_material_, accel_.object_world_boxes(),
+                                      versions_,       out.reuse_stamp};
+        const detail::ReusePlan plan = detail::plan_exact_reuse(reuse_, now);
+        detail::trace_frame_reusing(inputs, camera, options, plan, reuse_, scratch_, out);
+        detail::remember_inputs(now, reuse_, out);
+    } else {
+        // Every pixel traced (or sampled, adaptively): nothing is kept for the next frame.
+        reuse_.valid = false;
+        out.reuse_stamp = 0;
+        trace_frame(inputs, camera, options, scratch_, out);
+        out.stats.reuse_mode = pixel_reuse_name(PixelReuse::off);
+        out.stats.reuse_reason =
+            options.adaptive_tolerance > 0.0f ? "adaptive sampling" : "reuse off";
+        out.stats.pixels_traced = out.stats.primary_rays;
+        out.stats.pixels_shadows_retraced = 0;
+        out.stats.pixels_reused = 0;
+        out.stats.pixels_filled = 0;
+    }
     out.stats.total_ms = update_wall_ms_ + trace_clock.elapsed_ms();
     // What the automatic update method predicts the next frames' trace times from.
     accel_.note_trace_ms(out.stats.primary_ms + out.stats.shadow_ms);

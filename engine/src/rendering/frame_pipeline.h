@@ -13,6 +13,7 @@
 #include "dynrt/engine/update_plan.h"
 #include "dynrt/packet/packet_shading.h"
 #include "dynrt/scene/scene.h"
+#include "rendering/exact_reuse.h"
 #include "rendering/frame_tracer.h"
 #include "update/scene_accel.h"
 
@@ -52,8 +53,8 @@ public:
 
     /// Forgets every tree: the next update builds from scratch.
     void clear();
-    /// Forgets one object's tree (its triangles were replaced).
-    void invalidate(std::size_t object) { accel_.invalidate(object); }
+    /// Forgets one object's tree (its triangles were replaced, or it was removed).
+    void invalidate(std::size_t object);
 
 private:
     SceneAccel accel_;
@@ -65,6 +66,11 @@ private:
     std::vector<packet::PhongMaterial> materials_;
     std::vector<std::int32_t> object_material_;
     TraceScratch scratch_;
+    /// Per object, a version that changes whenever its geometry may have (an update that
+    /// said it changed, an invalidation): exact pixel reuse compares them between traces.
+    std::vector<std::uint64_t> versions_;
+    std::uint64_t last_version_ = 0;
+    detail::ReuseMemory reuse_;
 };
 
 }  // namespace dynrt

@@ -134,6 +134,12 @@ struct RenderSettings {
     Vec3 background{0.05f, 0.06f, 0.08f};
     /// Ambient term, as a fraction of the diffuse colour.
     float ambient = 0.08f;
+    /// Exact reuse of the previous render's pixels (README "Reusing pixels between frames"):
+    /// when the view, image size, lights and settings are those of the previous render, only
+    /// the pixels whose rays may meet what changed since (meshes moved, removed, added, or a
+    /// surface changed) are traced again; the image is bit-identical to a full render. False
+    /// traces every pixel.
+    bool reuse_pixels = true;
 };
 
 /// What a ray batch cost. Packet rays were traced in packets (see Engine::intersect); the

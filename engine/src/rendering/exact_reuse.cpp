@@ -1,0 +1,400 @@
+#include "rendering/exact_reuse.h"
+
+#include "dynrt/bvh/triangle_bvh.h"
+#include "dynrt/engine/stopwatch.h"
+#include "dynrt/packet/pinhole.h"
+#include "dynrt/packet/tiling.h"
+#include "dynrt/packet/two_level_packet.h"
+#include "rendering/changed_space.h"
+#include "rendering/tile_shading.h"
+
+#include <tbb/combinable.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+
+namespace dynrt::detail {
+
+namespace {
+
+bool same_camera(const Camera& a, const Camera& b) {
+    return a.eye == b.eye && a.target == b.target && a.up == b.up && a.fov_y_deg == b.fov_y_deg;
+}
+
+/// The settings that decide a pixel's value (the tracers and culling give the same bits, but
+/// the tracer is compared too, so that a comparison of the two always traces both in full).
+bool same_image_settings(const TraceSettings& a, const TraceSettings& b) {
+    return a.width == b.width && a.height == b.height && a.tracer == b.tracer &&
+           a.hit_buffers == b.hit_buffers && a.background == b.background &&
+           a.ambient == b.ambient && a.packet.lanes == b.packet.lanes;
+}
+
+bool same_lights(std::span<const PointLight> a, std::span<const PointLight> b) {
+    return std::equal(a.begin(), a.end(), b.begin(), b.end(), [](const auto& x, const auto& y) {
+        return x.position == y.position && x.intensity == y.intensity;
+    });
+}
+
+bool same_material(const packet::PhongMaterial& a, const packet::PhongMaterial& b) {
+    return a.diffuse == b.diffuse && a.specular == b.specular && a.shininess == b.shininess;
+}
+
+/// Object `i`'s material now and then differ (its index, or the material's values).
+bool material_changed(const ReuseMemory& memory, const ReuseInputs& now, std::size_t i) {
+    const std::int32_t then_index = memory.object_material[i], now_index = now.object_material[i];
+    if (then_index != now_index) return true;
+    const auto index = std::size_t(now_index);
+    if (index >= now.materials.size() || index >= memory.materials.size()) {
+        return index < now.materials.size() || index < memory.materials.size();
+    }
+    return !same_material(memory.materials[index], now.materials[index]);
+}
+
+ReusePlan full(std::string reason) {
+    ReusePlan plan;
+    plan.full = true;
+    plan.reason = std::move(reason);
+    return plan;
+}
+
+float largest_coordinate(const bvh::Aabb& box) {
+    if (box.is_empty()) return 0.0f;
+    float m = 0.0f;
+    for (int a = 0; a < 3; ++a) m = std::max({m, std::fabs(box.lo[a]), std::fabs(box.hi[a])});
+    return m;
+}
+
+float largest_coordinate(const glm::vec3& p) {
+    return std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)});
+}
+
+/// A unique stamp per trace, across pipelines, so a frame written by one pipeline is never
+/// taken for another's.
+std::uint64_t next_stamp() {
+    static std::atomic<std::uint64_t> counter{0};
+    return ++counter;
+}
+
+/// Per thread: how long each stage took on this thread, and what it traced.
+struct TileWork {
+    double primary_ms = 0.0, shadow_ms = 0.0, shade_ms = 0.0;
+    std::size_t primary_rays = 0, shadow_rays = 0, shadows_only = 0;
+};
+
+}  // namespace
+
+ReusePlan plan_exact_reuse(const ReuseMemory& memory, const ReuseInputs& now) {
+    if (!memory.valid) return full("first frame");
+    if (now.frame_stamp == 0 || now.frame_stamp != memory.stamp) {
+        return full("not the frame the last trace wrote");
+    }
+    if (!same_camera(memory.camera, now.camera)) return full("camera moved");
+    if (!same_image_settings(memory.settings, now.settings)) return full("image settings changed");
+    if (!same_lights(memory.lights, now.lights)) return full("lights changed");
+    if (now.object_boxes.size() < memory.object_boxes.size()) {
+        return full("objects removed from the scene");
+    }
+    ReusePlan plan;
+    plan.full = false;
+    std::size_t moved = 0, restyled = 0, added = 0;
+    for (std::size_t i = 0; i < now.object_boxes.size(); ++i) {
+        if (i >= memory.object_boxes.size()) {
+            ++added;
+            plan.changed.push_back(now.object_boxes[i]);
+            continue;
+        }
+        const bool geometry = now.object_versions[i] != memory.object_versions[i];
+        const bool material = !geometry && material_changed(memory, now, i);
+        if (!geometry && !material) continue;
+        ++(geometry ? moved : restyled);
+        plan.changed.push_back(memory.object_boxes[i]);
+        plan.changed.push_back(now.object_boxes[i]);
+    }
+    if (moved + restyled + added == 0) {
+        plan.reason = "nothing changed";
+        return plan;
+    }
+    const auto count = [](std::size_t n, const char* what) {
+        return std::to_string(n) + (n == 1 ? " object " : " objects ") + what;
+    };
+    std::string reason;
+    for (const auto& [n, what] : {std::pair{moved, "changed"}, std::pair{restyled, "changed material"},
+                                  std::pair{added, "added"}}) {
+        if (n == 0) continue;
+        if (!reason.empty()) reason += ", ";
+        reason += count(n, what);
+    }
+    plan.reason = std::move(reason);
+    return plan;
+}
+
+void remember_inputs(const ReuseInputs& now, ReuseMemory& memory, RenderedFrame& out) {
+    memory.camera = now.camera;
+    memory.settings = now.settings;
+    memory.lights.assign(now.lights.begin(), now.lights.end());
+    memory.materials.assign(now.materials.begin(), now.materials.end());
+    memory.object_material.assign(now.object_material.begin(), now.object_material.end());
+    memory.object_boxes.assign(now.object_boxes.begin(), now.object_boxes.end());
+    memory.object_versions.assign(now.object_versions.begin(), now.object_versions.end());
+    memory.stamp = next_stamp();
+    memory.valid = true;
+    out.reuse_stamp = memory.stamp;
+}
+
+void trace_frame_reusing(const TraceInputs& in, const Camera& camera, const TraceSettings& options,
+                         const ReusePlan& plan, ReuseMemory& memory, TraceScratch& scratch,
+                         RenderedFrame& out) {
+    const int width = options.width, height = options.height;
+    const std::size_t pixels = std::size_t(width) * std::size_t(height);
+    const packet::PinholeRays pinhole(camera, width, height);
+    const packet::Tiling tiling(width, height);
+    const std::span<const PointLight> lights = in.lights;
+    const std::size_t light_count = lights.size();
+    const bvh::TwoLevelBvh& accel = in.accel.top_level();
+    TraceStats& stats = out.stats;
+    stats.reuse_mode = pixel_reuse_name(PixelReuse::exact);
+    stats.reuse_reason = plan.reason;
+    stats.interpolated_pixels = 0;
+    stats.pixels_filled = 0;
+
+    scratch.shading_lights.clear();
+    for (const PointLight& light : lights) {
+        scratch.shading_lights.push_back(packet::ShadingLight{light.position, light.intensity});
+    }
+    const TileShading shading{in.materials, scratch.shading_lights, options.ambient,
+                              options.background, options.packet.lanes};
+    // Until remember_inputs: a trace that throws half way leaves nothing to reuse.
+    memory.valid = false;
+    const bool all = plan.full;
+    if (all) {
+        // Nothing to keep: size the frame and the memory for a full trace.
+        out.width = width;
+        out.height = height;
+        out.color.resize(pixels);
+        const std::size_t hit_pixels = options.hit_buffers ? pixels : 0;
+        out.depth.resize(hit_pixels);
+        out.object.resize(hit_pixels);
+        out.prim.resize(hit_pixels);
+        out.normal.resize(hit_pixels);
+        scratch.hits.resize(pixels);
+        const std::size_t tiles = std::size_t(tiling.count());
+        memory.hit_points.assign(tiles, bvh::Aabb{});
+        memory.all_hit.assign(tiles, 0);
+        memory.visible.assign(tiles * light_count, packet::LaneMask{});
+        memory.shadow_ends.assign(tiles * light_count, bvh::Aabb{});
+    }
+    const auto finish = [&](const TileWork& sum, double wall_ms) {
+        const double thread_total = sum.primary_ms + sum.shadow_ms + sum.shade_ms;
+        const double scale = thread_total > 0.0 ? wall_ms / thread_total : 0.0;
+        stats.primary_ms = sum.primary_ms * scale;
+        stats.shadow_ms = sum.shadow_ms * scale;
+        stats.shade_ms = wall_ms - stats.primary_ms - stats.shadow_ms;
+        stats.primary_rays = sum.primary_rays;
+        stats.shadow_rays = sum.shadow_rays;
+        stats.pixels_traced = sum.primary_rays;
+        stats.pixels_shadows_retraced = sum.shadows_only;
+        stats.pixels_reused = pixels - sum.primary_rays - sum.shadows_only;
+        const auto mrays_per_s = [](std::size_t rays, double ms) {
+            return ms > 0.0 ? double(rays) / (ms * 1e3) : 0.0;
+        };
+        stats.primary_mrays_per_s = mrays_per_s(stats.primary_rays, stats.primary_ms);
+        stats.shadow_mrays_per_s = mrays_per_s(stats.shadow_rays, stats.shadow_ms);
+    };
+    if (!all && plan.changed.empty()) {
+        finish(TileWork{}, 0.0);
+        return;
+    }
+
+    // The scale of everything the tests compare: scene, changed boxes, eye and lights.
+    float scale = std::max(largest_coordinate(in.accel.world_bounds()), largest_coordinate(camera.eye));
+    for (const bvh::Aabb& box : plan.changed) scale = std::max(scale, largest_coordinate(box));
+    for (const PointLight& light : lights) scale = std::max(scale, largest_coordinate(light.position));
+    const ChangedSpace space(plan.changed, scale);
+
+    const bool count = options.count_packet_work;
+    tbb::combinable<packet::PacketStats> packet_work;
+    tbb::combinable<bvh::TraversalStats> single_work;
+    tbb::combinable<TileWork> work;
+    const Stopwatch wall;
+    tbb::parallel_for(0, tiling.count(), [&](int t) {
+        const packet::Tile tile = tiling.tile(t);
+        TileWork& tw = work.local();
+        Stopwatch clock;
+        packet::RayPacket rays;
+        pinhole.fill_tile(tile, rays);
+        const packet::LaneMask inside = rays.active;
+
+        // ---- Primary rays that may see something else ----
+        packet::LaneMask primary;
+        if (all) {
+            primary = inside;
+        } else {
+            const glm::vec3 corners[4] = {
+                rays.ray(packet::tile_lane(tile, tile.x0, tile.y0)).dir,
+                rays.ray(packet::tile_lane(tile, tile.x1 - 1, tile.y0)).dir,
+                rays.ray(packet::tile_lane(tile, tile.x0, tile.y1 - 1)).dir,
+                rays.ray(packet::tile_lane(tile, tile.x1 - 1, tile.y1 - 1)).dir};
+            if (space.meets_pyramid(camera.eye, corners) &&
+                (!memory.all_hit[t] || space.meets_hull(camera.eye, memory.hit_points[t]))) {
+                alignas(64) float until[packet::kPacketRays];
+                std::fill(std::begin(until), std::end(until), 0.0f);
+                for (int y = tile.y0; y < tile.y1; ++y) {
+                    for (int x = tile.x0; x < tile.x1; ++x) {
+                        const bvh::InstanceHit& hit = scratch.hits[std::size_t(y) * width + x];
+                        until[packet::tile_lane(tile, x, y)] =
+                            hit.is_hit() ? hit.hit.t : std::numeric_limits<float>::infinity();
+                    }
+                }
+                primary = space.meets_rays(rays, until, inside);
+            }
+        }
+        if (primary.any()) {
+            rays.active = primary;
+            if (options.tracer == Tracer::packet) {
+                packet::InstanceHits packet_hits;
+                packet::intersect_closest(accel, rays, packet_hits, options.packet,
+                                          count ? &packet_work.local() : nullptr);
+                for (int lane = 0; lane < packet::kPacketRays; ++lane) {
+                    if (!primary.test(lane)) continue;
+                    const packet::LanePixel px = packet::tile_pixel(tile, lane);
+                    bvh::InstanceHit& hit = scratch.hits[std::size_t(px.y) * width + px.x];
+                    hit = packet_hits.hit(lane);
+                    in.accel.resolve(hit);
+                }
+            } else {
+                for (int lane = 0; lane < packet::kPacketRays; ++lane) {
+                    if (!primary.test(lane)) continue;
+                    const packet::LanePixel px = packet::tile_pixel(tile, lane);
+                    bvh::InstanceHit& hit = scratch.hits[std::size_t(px.y) * width + px.x];
+                    const bvh::Ray ray = rays.ray(lane);
+                    hit = count ? bvh::intersect_closest(accel, ray, single_work.local())
+                                : bvh::intersect_closest(accel, ray);
+                    in.accel.resolve(hit);
+                }
+            }
+            rays.active = inside;
+            tw.primary_rays += std::size_t(primary.count());
+        }
+        tw.primary_ms += clock.lap_ms();
+
+        // ---- Shadow rays that may see something else ----
+        bool shadows_may_change = false;
+        for (std::size_t l = 0; l < light_count && !shadows_may_change; ++l) {
+            shadows_may_change =
+                space.meets_hull(lights[l].position, memory.shadow_ends[t * light_count + l]);
+        }
+        if (!primary.any() && !shadows_may_change) {
+            tw.shadow_ms += clock.lap_ms();
+            return;  // the tile keeps every pixel
+        }
+        TileShadowOrigins origins;
+        origins.compute(in.accel, scratch.hits, width, tile, rays, in.object_material);
+        if (primary.any()) {
+            bvh::Aabb points;
+            for (int lane = 0; lane < packet::kPacketRays; ++lane) {
+                if (!origins.surface.hit.test(lane)) continue;
+                points.extend(glm::vec3(origins.surface.point[0][lane],
+                                        origins.surface.point[1][lane],
+                                        origins.surface.point[2][lane]));
+            }
+            memory.hit_points[t] = points;
+            memory.all_hit[t] = origins.surface.hit == inside;
+        }
+        std::vector<packet::LaneMask> visible(light_count);
+        packet::LaneMask shadows_only;
+        packet::RayPacket shadow;
+        for (std::size_t l = 0; l < light_count; ++l) {
+            const std::size_t slot = t * light_count + l;
+            origins.rays_to(lights[l], shadow);
+            const packet::LaneMask lit = shadow.active;
+            packet::LaneMask retrace;
+            for (int w = 0; w < packet::kPacketRays / 64; ++w) {
+                retrace.words[w] = lit.words[w] & primary.words[w];
+            }
+            if (space.meets_hull(lights[l].position, memory.shadow_ends[slot])) {
+                // Shadow rays run from the light over t in [0, 1].
+                packet::LaneMask kept = lit;
+                for (int w = 0; w < packet::kPacketRays / 64; ++w) kept.words[w] &= ~primary.words[w];
+                const packet::LaneMask meets = space.meets_rays(shadow, shadow.tmax, kept);
+                for (int w = 0; w < packet::kPacketRays / 64; ++w) {
+                    retrace.words[w] |= meets.words[w];
+                    shadows_only.words[w] |= meets.words[w];
+                }
+            }
+            packet::LaneMask occluded;
+            if (retrace.any()) {
+                shadow.active = retrace;
+                if (options.tracer == Tracer::packet) {
+                    packet::intersect_any(accel, shadow, occluded, options.packet,
+                                          count ? &packet_work.local() : nullptr);
+                } else {
+                    for (int lane = 0; lane < packet::kPacketRays; ++lane) {
+                        if (!retrace.test(lane)) continue;
+                        const bvh::Ray ray = shadow.ray(lane);
+                        const bool blocked = count ? bvh::intersect_any(accel, ray, single_work.local())
+                                                   : bvh::intersect_any(accel, ray);
+                        if (blocked) occluded.set(lane);
+                    }
+                }
+                tw.shadow_rays += std::size_t(retrace.count());
+            }
+            const packet::LaneMask before = memory.visible[slot];
+            packet::LaneMask& now = visible[l];
+            for (int w = 0; w < packet::kPacketRays / 64; ++w) {
+                now.words[w] = (before.words[w] & ~primary.words[w] & ~retrace.words[w]) |
+                               (retrace.words[w] & ~occluded.words[w]);
+            }
+            memory.visible[slot] = now;
+            if (primary.any()) {
+                bvh::Aabb ends;
+                for (int lane = 0; lane < packet::kPacketRays; ++lane) {
+                    if (!lit.test(lane)) continue;
+                    const bvh::Ray ray = shadow.ray(lane);
+                    ends.extend(ray.org + ray.dir);
+                }
+                memory.shadow_ends[slot] = ends;
+            }
+        }
+        tw.shadows_only += std::size_t(shadows_only.count());
+        tw.shadow_ms += clock.lap_ms();
+        if (!primary.any() && !shadows_only.any()) return;  // the same pixels again
+
+        // ---- Shading: the whole tile, the same bits where nothing changed ----
+        packet::ShadedColors colors;
+        shade_tile(shading, tile, origins, visible, scratch.hits, colors, out);
+        tw.shade_ms += clock.lap_ms();
+    });
+    const TileWork sum = work.combine([](TileWork a, const TileWork& b) {
+        a.primary_ms += b.primary_ms;
+        a.shadow_ms += b.shadow_ms;
+        a.shade_ms += b.shade_ms;
+        a.primary_rays += b.primary_rays;
+        a.shadow_rays += b.shadow_rays;
+        a.shadows_only += b.shadows_only;
+        return a;
+    });
+    finish(sum, wall.elapsed_ms());
+    if (count) {
+        const packet::PacketStats total = packet_work.combine(
+            [](packet::PacketStats a, const packet::PacketStats& b) { return a += b; });
+        stats.ray_triangle_tests = total.ray_triangle_tests;
+        stats.ray_triangle_culled = total.culled_active_bounds + total.culled_beam_planes +
+                                    total.culled_triangle_edges + total.culled_near_far;
+        stats.nodes_visited = total.nodes_visited;
+        if (options.tracer == Tracer::single) {
+            const bvh::TraversalStats single = single_work.combine(
+                [](bvh::TraversalStats a, const bvh::TraversalStats& b) {
+                    a.nodes_visited += b.nodes_visited;
+                    a.triangles_tested += b.triangles_tested;
+                    return a;
+                });
+            stats.ray_triangle_tests = single.triangles_tested;
+            stats.nodes_visited = single.nodes_visited;
+        }
+    }
+}
+
+}  // namespace dynrt::detail

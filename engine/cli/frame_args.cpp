@@ -164,6 +164,13 @@ bool uses_scene_camera(const FrameArgs& args, const dynrt::Scene& scene) {
 
 dynrt::CameraSource camera_source(const dynrt::Scene& scene, const FrameArgs& args,
                                   const dynrt::anim::PoseSettings& pose, dynrt::FrameRange frames) {
+    if (args.camera == "still") {
+        // The scene's own camera at the first frame, held there (a still view of an animated
+        // scene, as exact pixel reuse wants); the default framing when it has none.
+        FrameArgs own = args;
+        own.camera = scene.cameras.empty() ? "" : "scene";
+        return dynrt::CameraSource::fixed(camera_for(scene, own, pose, frames));
+    }
     if (uses_scene_camera(args, scene)) return dynrt::CameraSource::scene();
     const dynrt::Camera camera =
         dynrt::default_camera(dynrt::sequence_bounds(scene, pose, frames.first, frames.last));

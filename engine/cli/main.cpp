@@ -57,7 +57,8 @@ int main(int argc, char** argv) {
         cmd->add_option("--camera", args.camera,
                         "eye=x,y,z,target=x,y,z,up=x,y,z,fov=deg (any subset; default framing "
                         "from the scene bounds), or scene (also 'gltf'): the scene's first "
-                        "camera, animated; the default for a BART (.aff) scene");
+                        "camera, animated; the default for a BART (.aff) scene; or still: the "
+                        "scene's camera at the first frame, held still");
         cmd->add_option("--light", args.lights,
                         "Point light x,y,z[,intensity]; repeatable (default: one light above)")
             ->allow_extra_args(false);

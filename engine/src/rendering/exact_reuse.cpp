@@ -6,6 +6,7 @@
 #include "dynrt/packet/tiling.h"
 #include "dynrt/packet/two_level_packet.h"
 #include "rendering/changed_space.h"
+#include "rendering/lane_tracing.h"
 #include "rendering/tile_shading.h"
 
 #include <tbb/combinable.h>
@@ -153,7 +154,6 @@ void trace_frame_reusing(const TraceInputs& in, const Camera& camera, const Trac
     const packet::Tiling tiling(width, height);
     const std::span<const PointLight> lights = in.lights;
     const std::size_t light_count = lights.size();
-    const bvh::TwoLevelBvh& accel = in.accel.top_level();
     TraceStats& stats = out.stats;
     stats.reuse_mode = pixel_reuse_name(PixelReuse::exact);
     stats.reuse_reason = plan.reason;
@@ -251,31 +251,10 @@ void trace_frame_reusing(const TraceInputs& in, const Camera& camera, const Trac
                 primary = space.meets_rays(rays, until, inside);
             }
         }
+        const LaneWork lane_work{count ? &packet_work.local() : nullptr,
+                                 count ? &single_work.local() : nullptr};
         if (primary.any()) {
-            rays.active = primary;
-            if (options.tracer == Tracer::packet) {
-                packet::InstanceHits packet_hits;
-                packet::intersect_closest(accel, rays, packet_hits, options.packet,
-                                          count ? &packet_work.local() : nullptr);
-                for (int lane = 0; lane < packet::kPacketRays; ++lane) {
-                    if (!primary.test(lane)) continue;
-                    const packet::LanePixel px = packet::tile_pixel(tile, lane);
-                    bvh::InstanceHit& hit = scratch.hits[std::size_t(px.y) * width + px.x];
-                    hit = packet_hits.hit(lane);
-                    in.accel.resolve(hit);
-                }
-            } else {
-                for (int lane = 0; lane < packet::kPacketRays; ++lane) {
-                    if (!primary.test(lane)) continue;
-                    const packet::LanePixel px = packet::tile_pixel(tile, lane);
-                    bvh::InstanceHit& hit = scratch.hits[std::size_t(px.y) * width + px.x];
-                    const bvh::Ray ray = rays.ray(lane);
-                    hit = count ? bvh::intersect_closest(accel, ray, single_work.local())
-                                : bvh::intersect_closest(accel, ray);
-                    in.accel.resolve(hit);
-                }
-            }
-            rays.active = inside;
+            trace_primary_lanes(in.accel, options, tile, width, rays, primary, scratch.hits, lane_work);
             tw.primary_rays += std::size_t(primary.count());
         }
         tw.primary_ms += clock.lap_ms();
@@ -326,19 +305,7 @@ void trace_frame_reusing(const TraceInputs& in, const Camera& camera, const Trac
             }
             packet::LaneMask occluded;
             if (retrace.any()) {
-                shadow.active = retrace;
-                if (options.tracer == Tracer::packet) {
-                    packet::intersect_any(accel, shadow, occluded, options.packet,
-                                          count ? &packet_work.local() : nullptr);
-                } else {
-                    for (int lane = 0; lane < packet::kPacketRays; ++lane) {
-                        if (!retrace.test(lane)) continue;
-                        const bvh::Ray ray = shadow.ray(lane);
-                        const bool blocked = count ? bvh::intersect_any(accel, ray, single_work.local())
-                                                   : bvh::intersect_any(accel, ray);
-                        if (blocked) occluded.set(lane);
-                    }
-                }
+                occluded = trace_shadow_lanes(in.accel, options, shadow, retrace, lane_work);
                 tw.shadow_rays += std::size_t(retrace.count());
             }
             const packet::LaneMask before = memory.visible[slot];

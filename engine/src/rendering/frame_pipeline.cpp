@@ -9,6 +9,7 @@ void FramePipeline::clear() {
     accel_.clear();
     updated_ = false;
     reuse_.valid = false;
+    pixel_cache_.valid = false;
     versions_.clear();
 }
 
@@ -55,7 +56,13 @@ void FramePipeline::trace(const Scene& scene, const Camera& camera, const TraceS
     }
     out.stats = update_stats_;
     const TraceInputs inputs{accel_, materials_, object_material_, lights};
-    if (options.reuse.mode == PixelReuse::exact && options.adaptive_tolerance == 0.0f) {
+    if (options.reuse.approximate() && options.adaptive_tolerance == 0.0f) {
+        reuse_.valid = false;
+        out.reuse_stamp = 0;
+        detail::trace_frame_approximate(inputs, camera, options, accel_.object_world_boxes(),
+                                        versions_, pixel_cache_, scratch_, out);
+    } else if (options.reuse.mode == PixelReuse::exact && options.adaptive_tolerance == 0.0f) {
+        pixel_cache_.valid = false;
         const detail::ReuseInputs now{camera,          options,
                                       lights,          materials_,
                                       object_material_, accel_.object_world_boxes(),
@@ -66,6 +73,7 @@ void FramePipeline::trace(const Scene& scene, const Camera& camera, const TraceS
     } else {
         // Every pixel traced (or sampled, adaptively): nothing is kept for the next frame.
         reuse_.valid = false;
+        pixel_cache_.valid = false;
         out.reuse_stamp = 0;
         trace_frame(inputs, camera, options, scratch_, out);
         out.stats.reuse_mode = pixel_reuse_name(PixelReuse::off);

@@ -13,6 +13,7 @@
 #include "dynrt/engine/update_plan.h"
 #include "dynrt/packet/packet_shading.h"
 #include "dynrt/scene/scene.h"
+#include "rendering/approximate_reuse.h"
 #include "rendering/exact_reuse.h"
 #include "rendering/frame_tracer.h"
 #include "update/scene_accel.h"
@@ -71,6 +72,7 @@ private:
     std::vector<std::uint64_t> versions_;
     std::uint64_t last_version_ = 0;
     detail::ReuseMemory reuse_;
+    detail::PixelCache pixel_cache_;
 };
 
 }  // namespace dynrt

@@ -1,0 +1,506 @@
+#include "rendering/approximate_reuse.h"
+
+#include "dynrt/engine/stopwatch.h"
+#include "dynrt/packet/pinhole.h"
+#include "dynrt/packet/tiling.h"
+#include "rendering/changed_space.h"
+#include "rendering/lane_tracing.h"
+#include "rendering/tile_shading.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/combinable.h>
+#include <tbb/parallel_for.h>
+
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <atomic>
+#include <cmath>
+#include <limits>
+
+namespace dynrt::detail {
+
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+/// Rank of a pixel: its age (0..kOldest), then holes, then pixels that must change.
+constexpr int kHoleLevel = 1022, kChangedLevel = 1023, kLevels = 1024;
+/// The side of the square blocks pixels are ranked and traced in (a tile holds 2x2 of them).
+constexpr int kBlock = 8;
+
+/// splitmix64's finaliser: the tie-break of equal ranks, per pixel and frame.
+std::uint32_t hash(std::uint64_t x) {
+    x += 0x9e3779b97f4a7c15ull;
+    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+    x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+    return std::uint32_t((x ^ (x >> 31)) >> 32);
+}
+
+/// World point to pixel under a camera: the inverse of PinholeRays' mapping.
+struct Projection {
+    glm::vec3 eye, fwd, right, up;
+    float tan_half_fov, aspect;
+    int width, height;
+
+    Projection(const Camera& c, int w, int h)
+        : eye(c.eye), fwd(glm::normalize(c.target - c.eye)),
+          right(glm::normalize(glm::cross(fwd, c.up))), up(glm::cross(right, fwd)),
+          tan_half_fov(std::tan(glm::radians(c.fov_y_deg) * 0.5f)), aspect(float(w) / float(h)),
+          width(w), height(h) {}
+
+    /// The pixel the point falls in, or false when it is behind the eye or off the image.
+    bool pixel_of(const glm::vec3& p, int& x, int& y) const {
+        const glm::vec3 v = p - eye;
+        const float z = glm::dot(v, fwd);
+        if (!(z > 0.0f)) return false;
+        const float sx = glm::dot(v, right) / (z * tan_half_fov * aspect);
+        const float sy = glm::dot(v, up) / (z * tan_half_fov);
+        const float fx = (sx + 1.0f) * 0.5f * float(width), fy = (1.0f - sy) * 0.5f * float(height);
+        if (!(fx >= 0.0f && fx < float(width) && fy >= 0.0f && fy < float(height))) return false;
+        x = int(fx);
+        y = int(fy);
+        return true;
+    }
+};
+
+bool same_camera(const Camera& a, const Camera& b) {
+    return a.eye == b.eye && a.target == b.target && a.up == b.up && a.fov_y_deg == b.fov_y_deg;
+}
+
+bool same_lights(std::span<const PointLight> a, std::span<const PointLight> b) {
+    return std::equal(a.begin(), a.end(), b.begin(), b.end(), [](const auto& x, const auto& y) {
+        return x.position == y.position && x.intensity == y.intensity;
+    });
+}
+
+/// One pixel's sample, moved around by reprojection.
+struct Sample {
+    glm::vec3 color, point, normal;
+    std::int32_t object, prim;
+    std::uint8_t age;
+};
+
+Sample empty_sample(const glm::vec3& background) {
+    return Sample{background, glm::vec3(kInf), glm::vec3(0.0f), -1, -1, PixelCache::kEmpty};
+}
+
+Sample sample_at(const PixelCache& c, std::size_t p) {
+    return Sample{c.color[p], c.point[p], c.normal[p], c.object[p], c.prim[p], c.age[p]};
+}
+
+void store(PixelCache& c, std::size_t p, const Sample& s) {
+    c.color[p] = s.color;
+    c.point[p] = s.point;
+    c.normal[p] = s.normal;
+    c.object[p] = s.object;
+    c.prim[p] = s.prim;
+    c.age[p] = s.age;
+}
+
+void resize(PixelCache& c, std::size_t pixels) {
+    c.color.resize(pixels);
+    c.point.resize(pixels);
+    c.normal.resize(pixels);
+    c.object.resize(pixels);
+    c.prim.resize(pixels);
+    c.age.resize(pixels);
+}
+
+struct TileWork {
+    double primary_ms = 0.0, shadow_ms = 0.0, shade_ms = 0.0;
+    std::size_t primary_rays = 0, shadow_rays = 0;
+};
+
+}  // namespace
+
+void trace_frame_approximate(const TraceInputs& in, const Camera& camera,
+                             const TraceSettings& options, std::span<const bvh::Aabb> boxes,
+                             std::span<const std::uint64_t> versions, PixelCache& cache,
+                             TraceScratch& scratch, RenderedFrame& out) {
+    const Stopwatch wall;
+    const int width = options.width, height = options.height;
+    const std::size_t pixels = std::size_t(width) * std::size_t(height);
+    const packet::PinholeRays pinhole(camera, width, height);
+    const packet::Tiling tiling(width, height);
+    const std::span<const PointLight> lights = in.lights;
+    const bool render_cache = options.reuse.mode == PixelReuse::render_cache;
+    TraceStats& stats = out.stats;
+    stats.reuse_mode = pixel_reuse_name(options.reuse.mode);
+    stats.interpolated_pixels = 0;
+
+    // ---- The samples as this frame starts: kept, reprojected or none ----
+    const bool fresh = !cache.valid || cache.settings.width != width ||
+                       cache.settings.height != height || cache.settings.tracer != options.tracer ||
+                       cache.settings.background != options.background ||
+                       cache.settings.ambient != options.ambient ||
+                       boxes.size() < cache.object_boxes.size();
+    const bool moved = !fresh && !same_camera(cache.camera, camera);
+    const bool relit = !fresh && !same_lights(cache.lights, lights);
+    if (fresh) {
+        resize(cache, pixels);
+        const Sample none = empty_sample(options.background);
+        tbb::parallel_for(std::size_t(0), pixels, [&](std::size_t p) { store(cache, p, none); });
+        cache.object_boxes.clear();
+        cache.object_versions.clear();
+        stats.reuse_reason = cache.valid ? "image settings changed" : "first frame";
+    } else if (moved && render_cache) {
+        // Forward reprojection with a depth test: per target pixel the nearest sample wins,
+        // by an atomic minimum over (depth bits, source pixel), the same whatever the order.
+        const Projection to(camera, width, height);
+        std::vector<std::uint64_t> nearest(pixels, ~std::uint64_t{0});
+        tbb::parallel_for(std::size_t(0), pixels, [&](std::size_t p) {
+            if (cache.age[p] == PixelCache::kEmpty || !std::isfinite(cache.point[p].x)) return;
+            int x, y;
+            if (!to.pixel_of(cache.point[p], x, y)) return;
+            const float depth = glm::length(cache.point[p] - camera.eye);
+            const std::uint64_t key = (std::uint64_t(std::bit_cast<std::uint32_t>(depth)) << 32) | p;
+            std::atomic_ref<std::uint64_t> slot(nearest[std::size_t(y) * width + x]);
+            std::uint64_t seen = slot.load(std::memory_order_relaxed);
+            while (key < seen && !slot.compare_exchange_weak(seen, key, std::memory_order_relaxed)) {
+            }
+        });
+        // Gathered into the spare arrays, which then become the cache's.
+        PixelCache& to_cache = cache.spare();
+        resize(to_cache, pixels);
+        const Sample none = empty_sample(options.background);
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pixels, 4096),
+                          [&](const tbb::blocked_range<std::size_t>& range) {
+            for (std::size_t p = range.begin(); p < range.end(); ++p) {
+                if (nearest[p] == ~std::uint64_t{0}) {
+                    store(to_cache, p, none);
+                    continue;
+                }
+                Sample s = sample_at(cache, std::size_t(nearest[p] & 0xffffffffu));
+                s.age = std::uint8_t(std::min<int>(s.age + 1, PixelCache::kOldest));
+                store(to_cache, p, s);
+            }
+        });
+        cache.swap_samples();
+        stats.reuse_reason = "camera moved: reprojected";
+    } else {
+        tbb::parallel_for(std::size_t(0), pixels, [&](std::size_t p) {
+            if (cache.age[p] != PixelCache::kEmpty) {
+                cache.age[p] = std::uint8_t(std::min<int>(cache.age[p] + 1, PixelCache::kOldest));
+            }
+        });
+        stats.reuse_reason = moved ? "camera moved: samples kept in place" : "camera still";
+    }
+    if (relit) {
+        // Every sample's shading is stale: all are refreshed oldest first.
+        for (std::uint8_t& age : cache.age) {
+            if (age != PixelCache::kEmpty) age = PixelCache::kOldest;
+        }
+        stats.reuse_reason += ", lights changed";
+    }
+
+    // ---- What changed since the last frame ----
+    std::vector<std::uint8_t> changed(boxes.size(), 0);
+    std::vector<bvh::Aabb> changed_boxes;
+    for (std::size_t i = 0; i < boxes.size(); ++i) {
+        const bool known = i < cache.object_versions.size();
+        if (known && cache.object_versions[i] == versions[i]) continue;
+        changed[i] = 1;
+        if (known) changed_boxes.push_back(cache.object_boxes[i]);
+        changed_boxes.push_back(boxes[i]);
+    }
+    float scale = 0.0f;
+    for (const bvh::Aabb& b : changed_boxes) {
+        if (b.is_empty()) continue;
+        for (int a = 0; a < 3; ++a) scale = std::max({scale, std::fabs(b.lo[a]), std::fabs(b.hi[a])});
+    }
+    for (int a = 0; a < 3; ++a) scale = std::max(scale, std::fabs(camera.eye[a]));
+    const ChangedSpace space(changed_boxes, scale);
+
+    // ---- Rank every pixel ----
+    const int blocks_x = (width + kBlock - 1) / kBlock, blocks_y = (height + kBlock - 1) / kBlock;
+    const auto block_of = [&](int x, int y) { return std::size_t(y / kBlock) * blocks_x + x / kBlock; };
+    std::vector<std::uint16_t> level(std::size_t(blocks_x) * blocks_y);
+    tbb::combinable<std::array<std::size_t, kLevels>> histograms([] {
+        std::array<std::size_t, kLevels> h{};
+        return h;
+    });
+    tbb::parallel_for(0, tiling.count(), [&](int t) {
+        const packet::Tile tile = tiling.tile(t);
+        packet::LaneMask must;
+        if (!space.empty()) {
+            packet::RayPacket rays;
+            pinhole.fill_tile(tile, rays);
+            const glm::vec3 corners[4] = {
+                rays.ray(packet::tile_lane(tile, tile.x0, tile.y0)).dir,
+                rays.ray(packet::tile_lane(tile, tile.x1 - 1, tile.y0)).dir,
+                rays.ray(packet::tile_lane(tile, tile.x0, tile.y1 - 1)).dir,
+                rays.ray(packet::tile_lane(tile, tile.x1 - 1, tile.y1 - 1)).dir};
+            if (space.meets_pyramid(camera.eye, corners)) {
+                alignas(64) float until[packet::kPacketRays];
+                std::fill(std::begin(until), std::end(until), 0.0f);
+                for (int y = tile.y0; y < tile.y1; ++y) {
+                    for (int x = tile.x0; x < tile.x1; ++x) {
+                        const glm::vec3& q = cache.point[std::size_t(y) * width + x];
+                        // A reprojected point is near, not on, the new ray: a little beyond.
+                        until[packet::tile_lane(tile, x, y)] =
+                            std::isfinite(q.x) ? 1.01f * glm::length(q - camera.eye) : kInf;
+                    }
+                }
+                must = space.meets_rays(rays, until, rays.active);
+            }
+        }
+        // Pixels are ranked, then traced, in 8x8 blocks: a block takes its most urgent pixel's
+        // rank. Scattered single pixels would leave every packet sparse and incoherent (a 25%
+        // budget of random pixels cost as much as tracing all of them on BART kitchen).
+        std::array<std::size_t, kLevels>& histogram = histograms.local();
+        for (int by = tile.y0; by < tile.y1; by += kBlock) {
+            for (int bx = tile.x0; bx < tile.x1; bx += kBlock) {
+                int block_level = 0;
+                for (int y = by; y < std::min(by + kBlock, tile.y1); ++y) {
+                    for (int x = bx; x < std::min(bx + kBlock, tile.x1); ++x) {
+                        const std::size_t p = std::size_t(y) * width + x;
+                        const std::int32_t object = cache.object[p];
+                        const bool shows_change =
+                            cache.age[p] != PixelCache::kEmpty && object >= 0 &&
+                            (std::size_t(object) >= changed.size() || changed[std::size_t(object)]);
+                        const int l = must.test(packet::tile_lane(tile, x, y)) || shows_change
+                                          ? kChangedLevel
+                                          : cache.age[p] == PixelCache::kEmpty ? kHoleLevel
+                                                                                : cache.age[p];
+                        block_level = std::max(block_level, l);
+                    }
+                }
+                level[block_of(bx, by)] = std::uint16_t(block_level);
+                ++histogram[std::size_t(block_level)];
+            }
+        }
+    });
+    std::array<std::size_t, kLevels> histogram{};
+    histograms.combine_each([&](const std::array<std::size_t, kLevels>& h) {
+        for (int l = 0; l < kLevels; ++l) histogram[std::size_t(l)] += h[std::size_t(l)];
+    });
+
+    // ---- The budget, and the rank it reaches ----
+    std::size_t budget = pixels;
+    if (options.reuse.budget_ms > 0.0) {
+        if (cache.ns_per_pixel > 0.0) budget = std::size_t(options.reuse.budget_ms * 1e6 / cache.ns_per_pixel);
+    } else {
+        budget = std::size_t(std::ceil(double(options.reuse.budget_share) * double(pixels)));
+    }
+    // In blocks from here on.
+    budget = (budget + kBlock * kBlock - 1) / (kBlock * kBlock);
+    if (render_cache) budget = std::max(budget, histogram[kChangedLevel]);
+    budget = std::clamp<std::size_t>(budget, 1, level.size());
+    int threshold = kLevels - 1;
+    std::size_t above = 0;
+    while (threshold > 0 && above + histogram[std::size_t(threshold)] < budget) {
+        above += histogram[std::size_t(threshold)];
+        --threshold;
+    }
+    const std::size_t at = histogram[std::size_t(threshold)];
+    // Of the pixels at the threshold rank, this share (as a 32-bit fraction) is taken.
+    const double share_at = at == 0 ? 0.0 : std::min(1.0, double(budget - above) / double(at));
+    const std::uint64_t take_below = std::uint64_t(share_at * 4294967296.0);
+    const std::uint64_t frame_seed = (cache.frames + 1) * 0x632be59bd9b4e019ull;
+    const auto selected = [&](int x, int y) {
+        const std::size_t b = block_of(x, y);
+        return level[b] > threshold || (level[b] == threshold && hash(frame_seed ^ b) < take_below);
+    };
+
+    // ---- The frame as it stands, then the selected pixels traced into it ----
+    out.width = width;
+    out.height = height;
+    out.color.resize(pixels);
+    const std::size_t hit_pixels = options.hit_buffers ? pixels : 0;
+    out.depth.resize(hit_pixels);
+    out.object.resize(hit_pixels);
+    out.prim.resize(hit_pixels);
+    out.normal.resize(hit_pixels);
+    scratch.hits.resize(pixels);
+    tbb::parallel_for(std::size_t(0), pixels, [&](std::size_t p) {
+        out.color[p] = cache.color[p];
+        if (!options.hit_buffers) return;
+        const bool point = cache.age[p] != PixelCache::kEmpty && std::isfinite(cache.point[p].x);
+        out.depth[p] = point ? glm::length(cache.point[p] - camera.eye) : kInf;
+        out.object[p] = point ? cache.object[p] : -1;
+        out.prim[p] = point ? cache.prim[p] : -1;
+        out.normal[p] = point ? cache.normal[p] : glm::vec3(0.0f);
+    });
+    const double prepare_ms = wall.elapsed_ms();
+
+    scratch.shading_lights.clear();
+    for (const PointLight& light : lights) {
+        scratch.shading_lights.push_back(packet::ShadingLight{light.position, light.intensity});
+    }
+    const TileShading shading{in.materials, scratch.shading_lights, options.ambient,
+                              options.background, options.packet.lanes};
+    const bool count = options.count_packet_work;
+    tbb::combinable<packet::PacketStats> packet_work;
+    tbb::combinable<bvh::TraversalStats> single_work;
+    tbb::combinable<TileWork> work;
+    const Stopwatch trace_clock;
+    tbb::parallel_for(0, tiling.count(), [&](int t) {
+        const packet::Tile tile = tiling.tile(t);
+        packet::LaneMask lanes;
+        for (int y = tile.y0; y < tile.y1; ++y) {
+            for (int x = tile.x0; x < tile.x1; ++x) {
+                const std::size_t p = std::size_t(y) * width + x;
+                if (selected(x, y)) lanes.set(packet::tile_lane(tile, x, y));
+                else scratch.hits[p] = bvh::InstanceHit{};  // shaded as a miss, then restored
+            }
+        }
+        if (!lanes.any()) return;
+        TileWork& tw = work.local();
+        Stopwatch clock;
+        const LaneWork lane_work{count ? &packet_work.local() : nullptr,
+                                 count ? &single_work.local() : nullptr};
+        packet::RayPacket rays;
+        pinhole.fill_tile(tile, rays);
+        trace_primary_lanes(in.accel, options, tile, width, rays, lanes, scratch.hits, lane_work);
+        tw.primary_rays += std::size_t(lanes.count());
+        tw.primary_ms += clock.lap_ms();
+
+        TileShadowOrigins origins;
+        origins.compute(in.accel, scratch.hits, width, tile, rays, in.object_material);
+        std::vector<packet::LaneMask> visible(lights.size());
+        packet::RayPacket shadow;
+        for (std::size_t l = 0; l < lights.size(); ++l) {
+            origins.rays_to(lights[l], shadow);
+            const packet::LaneMask lit = shadow.active;
+            if (!lit.any()) continue;
+            const packet::LaneMask occluded = trace_shadow_lanes(in.accel, options, shadow, lit, lane_work);
+            for (int w = 0; w < packet::kPacketRays / 64; ++w) {
+                visible[l].words[w] = lit.words[w] & ~occluded.words[w];
+            }
+            tw.shadow_rays += std::size_t(lit.count());
+        }
+        tw.shadow_ms += clock.lap_ms();
+
+        // Shade the tile, keeping what the pixels not traced already show.
+        struct Kept {
+            glm::vec3 color, normal;
+            float depth;
+            std::int32_t object, prim;
+        };
+        std::array<Kept, packet::kPacketRays> kept;
+        for (int lane = 0; lane < packet::kPacketRays; ++lane) {
+            const packet::LanePixel px = packet::tile_pixel(tile, lane);
+            if (!px.inside || lanes.test(lane)) continue;
+            const std::size_t p = std::size_t(px.y) * width + px.x;
+            kept[std::size_t(lane)] =
+                options.hit_buffers
+                    ? Kept{out.color[p], out.normal[p], out.depth[p], out.object[p], out.prim[p]}
+                    : Kept{out.color[p], glm::vec3(0.0f), 0.0f, 0, 0};
+        }
+        packet::ShadedColors colors;
+        shade_tile(shading, tile, origins, visible, scratch.hits, colors, out);
+        for (int lane = 0; lane < packet::kPacketRays; ++lane) {
+            const packet::LanePixel px = packet::tile_pixel(tile, lane);
+            if (!px.inside) continue;
+            const std::size_t p = std::size_t(px.y) * width + px.x;
+            if (!lanes.test(lane)) {
+                const Kept& k = kept[std::size_t(lane)];
+                out.color[p] = k.color;
+                if (options.hit_buffers) {
+                    out.depth[p] = k.depth;
+                    out.normal[p] = k.normal;
+                    out.object[p] = k.object;
+                    out.prim[p] = k.prim;
+                }
+                continue;
+            }
+            // The traced sample, for the next frames.
+            const bool hit = origins.surface.hit.test(lane);
+            const bvh::InstanceHit& h = scratch.hits[p];
+            store(cache, p,
+                  Sample{out.color[p],
+                         hit ? glm::vec3(origins.surface.point[0][lane], origins.surface.point[1][lane],
+                                         origins.surface.point[2][lane])
+                             : glm::vec3(kInf),
+                         hit ? glm::vec3(origins.surface.normal[0][lane], origins.surface.normal[1][lane],
+                                         origins.surface.normal[2][lane])
+                             : glm::vec3(0.0f),
+                         hit ? std::int32_t(h.object) : -1, hit ? std::int32_t(h.hit.prim) : -1, 0});
+        }
+        tw.shade_ms += clock.lap_ms();
+    });
+    const double trace_ms = trace_clock.elapsed_ms();
+    const TileWork sum = work.combine([](TileWork a, const TileWork& b) {
+        a.primary_ms += b.primary_ms;
+        a.shadow_ms += b.shadow_ms;
+        a.shade_ms += b.shade_ms;
+        a.primary_rays += b.primary_rays;
+        a.shadow_rays += b.shadow_rays;
+        return a;
+    });
+    if (sum.primary_rays > 0) {
+        const double ns = (prepare_ms + trace_ms) * 1e6 / double(sum.primary_rays);
+        cache.ns_per_pixel = cache.ns_per_pixel > 0.0 ? 0.5 * (cache.ns_per_pixel + ns) : ns;
+    }
+
+    // ---- Holes left: the mean of their sampled neighbours, a few passes out ----
+    std::vector<std::uint8_t> known(pixels);
+    tbb::parallel_for(std::size_t(0), pixels,
+                      [&](std::size_t p) { known[p] = cache.age[p] != PixelCache::kEmpty; });
+    const std::size_t holes = pixels - std::size_t(std::count(known.begin(), known.end(), 1));
+    std::size_t filled = 0;
+    for (int pass = 0; pass < 3 && filled < holes; ++pass) {
+        std::vector<std::uint8_t> next = known;
+        tbb::combinable<std::size_t> filled_now([] { return std::size_t(0); });
+        tbb::parallel_for(0, height, [&](int y) {
+            for (int x = 0; x < width; ++x) {
+                const std::size_t p = std::size_t(y) * width + x;
+                if (known[p]) continue;
+                glm::vec3 sum_color(0.0f);
+                int n = 0;
+                for (int dy = -1; dy <= 1; ++dy) {
+                    for (int dx = -1; dx <= 1; ++dx) {
+                        const int nx = x + dx, ny = y + dy;
+                        if (nx < 0 || ny < 0 || nx >= width || ny >= height) continue;
+                        const std::size_t q = std::size_t(ny) * width + nx;
+                        if (!known[q]) continue;
+                        sum_color += out.color[q];
+                        ++n;
+                    }
+                }
+                if (n == 0) continue;
+                out.color[p] = sum_color / float(n);
+                next[p] = 1;
+                ++filled_now.local();
+            }
+        });
+        filled += filled_now.combine(std::plus<>());
+        known.swap(next);
+    }
+
+    // ---- Remember ----
+    cache.valid = true;
+    cache.camera = camera;
+    cache.settings = options;
+    cache.lights.assign(lights.begin(), lights.end());
+    cache.object_boxes.assign(boxes.begin(), boxes.end());
+    cache.object_versions.assign(versions.begin(), versions.end());
+    ++cache.frames;
+
+    const double wall_ms = wall.elapsed_ms();
+    const double thread_total = sum.primary_ms + sum.shadow_ms + sum.shade_ms;
+    const double scale_ms = thread_total > 0.0 ? trace_ms / thread_total : 0.0;
+    // Ranking counts as choosing the primary rays; reprojection and filling as shading.
+    stats.primary_ms = sum.primary_ms * scale_ms + prepare_ms * 0.5;
+    stats.shadow_ms = sum.shadow_ms * scale_ms;
+    stats.shade_ms = wall_ms - stats.primary_ms - stats.shadow_ms;
+    stats.primary_rays = sum.primary_rays;
+    stats.shadow_rays = sum.shadow_rays;
+    stats.pixels_traced = sum.primary_rays;
+    stats.pixels_shadows_retraced = 0;
+    stats.pixels_filled = filled;
+    stats.pixels_reused = pixels - sum.primary_rays - holes;
+    stats.primary_mrays_per_s = stats.primary_ms > 0.0 ? double(stats.primary_rays) / (stats.primary_ms * 1e3) : 0.0;
+    stats.shadow_mrays_per_s = stats.shadow_ms > 0.0 ? double(stats.shadow_rays) / (stats.shadow_ms * 1e3) : 0.0;
+    if (count) {
+        const packet::PacketStats total = packet_work.combine(
+            [](packet::PacketStats a, const packet::PacketStats& b) { return a += b; });
+        stats.ray_triangle_tests = total.ray_triangle_tests;
+        stats.nodes_visited = total.nodes_visited;
+    }
+}
+
+}  // namespace dynrt::detail

@@ -121,7 +121,8 @@ double direct_ssim(const DisplayImage& a, const DisplayImage& b) {
                     cxy += w[i][j] / total * dx * dy;
                 }
             }
-            sum += (2 * mx * my + c1) * (2 * cxy + c2) / ((mx * mx + my * my + c1) * (vx + vy + c2));
+            sum += (2 * mx * my + c1) * (2 * cxy + c2) /
+                   ((mx * mx + my * my + c1) * (vx + vy + c2));
             ++windows;
         }
     }

@@ -82,7 +82,7 @@ TEST(SequenceErrorBench, AdaptiveSamplingShowsItsError) {
         scene, fixed_view(scene), base, {with(base, "off", 0.5f)}, FrameRange{0, 2}, 2, 1);
     ASSERT_EQ(bench.rows.size(), 1u);
     const SequenceErrorRow& row = bench.rows[0];
-    EXPECT_EQ(row.label, "off, adaptive 0.5");
+    EXPECT_EQ(row.label, "off + adaptive 0.5");
     ASSERT_EQ(row.frames.size(), 6u);  // 3 frames, 2 runs
     EXPECT_EQ(row.frames[3].frame, 0);
     EXPECT_TRUE(std::isfinite(row.psnr_db));
@@ -116,7 +116,7 @@ TEST(SequenceErrorBench, TableJsonAndCsvHaveTheDocumentedFields) {
     print_sequence_error_table(table, bench);
     for (const char* text : {"configuration", "ms/frame", "speedup", "PSNR dB", "worst PSNR (fr)",
                              "mean SSIM", "min SSIM (fr)", "wrong %", "max wrong % (fr)",
-                             "traced/frame", "off (full render)", "exact", "off, adaptive 0.5"}) {
+                             "traced/frame", "off (full render)", "exact", "off + adaptive 0.5"}) {
         EXPECT_NE(table.str().find(text), std::string::npos) << text << "\n" << table.str();
     }
     const nlohmann::json doc = nlohmann::json::parse(sequence_error_json(bench));

@@ -29,7 +29,7 @@ std::string shortest(float value) {
 std::string label_of(const RenderOptions& options) {
     std::string label = to_string(options.reuse);
     if (options.adaptive_tolerance > 0.0f) {
-        label += ", adaptive " + shortest(options.adaptive_tolerance);
+        label += " + adaptive " + shortest(options.adaptive_tolerance);
     }
     return label;
 }
@@ -249,13 +249,18 @@ SequenceErrorBench bench_sequence_error(const Scene& scene, const CameraSource& 
 }
 
 void print_sequence_error_table(std::ostream& out, const SequenceErrorBench& bench) {
-    out << std::left << std::setw(24) << "configuration" << std::right << std::setw(24)
+    // The first column as wide as the longest label.
+    std::size_t label_width = std::string("configuration").size();
+    label_width = std::max(label_width, bench.reference.label.size());
+    for (const SequenceErrorRow& r : bench.rows) label_width = std::max(label_width, r.label.size());
+    const int first = int(label_width) + 2;
+    out << std::left << std::setw(first) << "configuration" << std::right << std::setw(24)
         << "ms/frame" << std::setw(9) << "mean ms" << std::setw(9) << "speedup" << std::setw(9)
         << "PSNR dB" << std::setw(18) << "worst PSNR (fr)" << std::setw(10) << "mean SSIM"
         << std::setw(20) << "min SSIM (fr)" << std::setw(9) << "wrong %" << std::setw(18)
         << "max wrong % (fr)" << std::setw(13) << "traced/frame" << '\n';
     const auto line = [&](const SequenceErrorRow& r, bool full) {
-        out << std::left << std::setw(24) << r.label << std::right << std::setw(24)
+        out << std::left << std::setw(first) << r.label << std::right << std::setw(24)
             << format_spread(r.total_ms) << std::setw(9) << fixed(r.mean_ms, 2) << std::setw(9)
             << fixed(r.speedup, 2);
         if (full) {

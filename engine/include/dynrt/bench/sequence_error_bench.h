@@ -36,7 +36,8 @@ struct SequenceErrorFrame {
 /// One configuration over the sequence (every frame of every run is one sample).
 struct SequenceErrorRow {
     /// What distinguishes the configuration: its reuse setting as --reuse reads it, then
-    /// ", adaptive T" when it samples adaptively ("exact", "cache:0.25", "off, adaptive 0.05").
+    /// " + adaptive T" when it samples adaptively ("exact", "cache:0.25", "off + adaptive 0.05");
+    /// no commas, so it stays one CSV field.
     std::string label;
     ReuseSettings reuse;
     float adaptive_tolerance = 0.0f;

@@ -483,7 +483,12 @@ INSTANTIATE_TEST_SUITE_P(
                     BadCall{"bench sphere:10 --error-block 4", "--error"},
                     BadCall{"bench sphere:10 --error-frame 3", "--error"},
                     BadCall{"bench sphere:10 --error --error-block 0", "--error-block"},
-                    BadCall{"bench sphere:10 --error --frames 3", "--error-frame"},
+                    BadCall{"bench sphere:10 --error --frames 3 --error-frame 1",
+                            "--error-frame"},
+                    BadCall{"bench sphere:10 --res 8x8 --error --frames 2", "11x11"},
+                    BadCall{"bench sphere:10 --error --frames 2 --tracer single --sweep "
+                            "adaptive=0.1",
+                            "--tracer single"},
                     BadCall{"bench sphere:10 --error --vs embree", "--vs"},
                     BadCall{"bench sphere:10 --sweep update=rebuild,refit", "--error"},
                     BadCall{"bench sphere:10 --error --sweep update=refit,morph", "morph"},

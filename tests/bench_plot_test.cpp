@@ -102,5 +102,16 @@ TEST(ErrorPlot, ZeroErrorSitsADecadeBelowOnALogAxisAndNarrowRangesStayLinear) {
     EXPECT_THROW(error_plot_script({}, "t", "e.png"), std::invalid_argument);
 }
 
+TEST(ErrorPlot, AxesSayWhatTheyMeasure) {
+    const std::vector<ErrorPoint> points = {{"a", {1, 1, 1}, 0.0}, {"b", {2, 2, 2}, 1e-2}};
+    // By default the still frame's RMSE against the exact reference.
+    EXPECT_TRUE(contains(error_plot_script(points, "t", "e.png"), "set xlabel 'RMSE against"));
+    const std::string s =
+        error_plot_script(points, "t", "e.png", ErrorPlotAxes{"1 - mean SSIM", "ms per frame"});
+    EXPECT_TRUE(contains(s, "set xlabel '1 - mean SSIM'"));
+    EXPECT_TRUE(contains(s, "set ylabel 'ms per frame'"));
+    EXPECT_FALSE(contains(s, "RMSE"));
+}
+
 }  // namespace
 }  // namespace dynrt

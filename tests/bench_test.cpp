@@ -207,6 +207,27 @@ TEST(Bench, AdaptiveAndUpdateSweepsAreTakenOutOfTheBuildSweeps) {
     EXPECT_THROW(take_update_sweep(unknown), std::invalid_argument);
 }
 
+TEST(Bench, ReuseSweepIsTakenOutOfTheBuildSweeps) {
+    std::vector<std::string> sweeps = {"reuse=off,exact,cache:0.25,frameless:8ms", "leaf=4,8"};
+    const std::vector<ReuseSettings> reuses = take_reuse_sweep(sweeps);
+    ASSERT_EQ(reuses.size(), 4u);
+    EXPECT_EQ(reuses[0].mode, PixelReuse::off);
+    EXPECT_EQ(reuses[1].mode, PixelReuse::exact);
+    EXPECT_EQ(reuses[2].mode, PixelReuse::render_cache);
+    EXPECT_EQ(reuses[2].budget_share, 0.25f);
+    EXPECT_EQ(reuses[3].mode, PixelReuse::frameless);
+    EXPECT_EQ(reuses[3].budget_ms, 8.0);
+    EXPECT_EQ(sweeps, (std::vector<std::string>{"leaf=4,8"}));
+    EXPECT_TRUE(take_reuse_sweep(sweeps).empty());
+    for (const char* bad :
+         {"reuse=cache:2", "reuse=exact:0.5", "reuse=sometimes", "reuse=off,,exact", "reuse="}) {
+        std::vector<std::string> s = {bad};
+        EXPECT_THROW(take_reuse_sweep(s), std::invalid_argument) << bad;
+    }
+    std::vector<std::string> twice = {"reuse=off", "reuse=exact"};
+    EXPECT_THROW(take_reuse_sweep(twice), std::invalid_argument);
+}
+
 TEST(Bench, RefitTimesTheMeasuredFrameAfterUpdatingTheFramesBefore) {
     Scene scene = load_scene("sphere:500");
     const std::vector<std::string> wave = {"wave"};

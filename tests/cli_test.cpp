@@ -218,6 +218,50 @@ TEST(Cli, BenchErrorOnAWavingMeshComparesRefitWithRebuild) {
     }
 }
 
+TEST(Cli, BenchFramesErrorComparesReuseAndAdaptiveWithFullRenders) {
+    const fs::path dir = fresh_dir("sequence_error");
+    std::string args = "bench sphere:500 --anim wave --res 32x32 --frames 0-2 --error --sweep "
+                       "reuse=off,exact --sweep adaptive=0,0.5 --json " +
+                       (dir / "s.json").string();
+    if (std::system("command -v gnuplot >/dev/null 2>&1") == 0) {
+        args += " --plot " + (dir / "s.png").string();
+    }
+    const CliRun run = run_dynrt(args);
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+    for (const char* text : {"frames 0-2", "4 configuration(s)", "off (full render)",
+                             "exact + adaptive 0.5", "mean SSIM"}) {
+        EXPECT_NE(run.output.find(text), std::string::npos) << text << "\n" << run.output;
+    }
+    std::ifstream json(dir / "s.json");
+    const nlohmann::json doc = nlohmann::json::parse(json);
+    ASSERT_EQ(doc["rows"].size(), 4u);
+    EXPECT_EQ(doc["rows"][0]["mean_ssim"], 1.0);  // reuse off, no adaptive sampling
+    EXPECT_EQ(doc["rows"][0]["per_frame"].size(), 3u);
+    if (args.find("--plot") != std::string::npos) {
+        EXPECT_GT(fs::file_size(dir / "s.png"), 1000u);
+        std::ifstream script(dir / "s.png.gp");
+        const std::string text((std::istreambuf_iterator<char>(script)), {});
+        EXPECT_NE(text.find("1 - mean SSIM"), std::string::npos);
+        EXPECT_NE(text.find("Pareto front"), std::string::npos);
+    }
+}
+
+TEST(Cli, BenchFramesErrorRefusesWhatItCannotMeasure) {
+    const std::pair<const char*, const char*> cases[] = {
+        {"--frames 0-1 --error --vs embree", "--vs"},
+        {"--frames 0-1 --error --error-frame 1", "--error-frame"},
+        {"--frames 0-1 --error --sweep cost-ratio=0.1,1", "only reuse=... and adaptive=..."},
+        {"--frames 0-1 --error --sweep reuse=cache:2", "reuse=cache:2"},
+        {"--sweep reuse=off,exact", "give --frames A-B and --error"},
+        {"--frames 0-1 --sweep reuse=off,exact", "give --frames A-B and --error"},
+    };
+    for (const auto& [flags, message] : cases) {
+        const CliRun run = run_dynrt(std::string("bench sphere:10 --res 16x16 ") + flags);
+        EXPECT_EQ(run.exit_code, 1) << flags << "\n" << run.output;
+        EXPECT_NE(run.output.find(message), std::string::npos) << flags << "\n" << run.output;
+    }
+}
+
 TEST(Cli, BenchVsAnUnknownTracerIsAnError) {
     const CliRun run = run_dynrt("bench sphere:10 --res 16x16 --repeat 1 --vs optix");
     EXPECT_EQ(run.exit_code, 1) << run.output;
@@ -439,7 +483,12 @@ INSTANTIATE_TEST_SUITE_P(
                     BadCall{"bench sphere:10 --error-block 4", "--error"},
                     BadCall{"bench sphere:10 --error-frame 3", "--error"},
                     BadCall{"bench sphere:10 --error --error-block 0", "--error-block"},
-                    BadCall{"bench sphere:10 --error --frames 3", "--error-frame"},
+                    BadCall{"bench sphere:10 --error --frames 3 --error-frame 1",
+                            "--error-frame"},
+                    BadCall{"bench sphere:10 --res 8x8 --error --frames 2", "11x11"},
+                    BadCall{"bench sphere:10 --error --frames 2 --tracer single --sweep "
+                            "adaptive=0.1",
+                            "--tracer single"},
                     BadCall{"bench sphere:10 --error --vs embree", "--vs"},
                     BadCall{"bench sphere:10 --sweep update=rebuild,refit", "--error"},
                     BadCall{"bench sphere:10 --error --sweep update=refit,morph", "morph"},

@@ -1,5 +1,6 @@
 // `dynrt bench`: a still frame under one or more build configurations (sweeps, --vs embree,
-// --error against the exact reference) or a sequence (--frames).
+// --error against the exact reference) or a sequence (--frames; with --error, its pixel reuse
+// and adaptive configurations against full renders of the same frames).
 
 #include "frame_args.h"
 
@@ -8,6 +9,7 @@
 #include "dynrt/bench/bench_sequence.h"
 #include "dynrt/bench/error_bench.h"
 #include "dynrt/bench/hit_agreement.h"
+#include "dynrt/bench/sequence_error_bench.h"
 #include "dynrt/engine/image_output.h"
 #include "dynrt/engine/scene_loading.h"
 
@@ -137,10 +139,9 @@ dynrt::RenderOptions still_frame_options(const BenchArgs& args) {
 /// `bench --error`: every configuration's time beside its error against the exact reference
 /// of one frame, sampled on one pixel per --error-block square.
 int run_bench_error(const BenchArgs& args) {
-    if (!args.vs.empty() || !args.frames.empty()) {
-        throw std::invalid_argument("bench --error measures one frame against the exact "
-                                    "reference: drop --vs and --frames (pick the frame with "
-                                    "--error-frame)");
+    if (!args.vs.empty()) {
+        throw std::invalid_argument("bench --error measures dynrt against the exact "
+                                    "reference: drop --vs");
     }
     const int repeat = args.repeat > 0 ? args.repeat : 5;
     dynrt::RenderOptions base = still_frame_options(args);
@@ -159,7 +160,8 @@ int run_bench_error(const BenchArgs& args) {
               << repeat << " runs after " << args.warmup << " warm-up\n"
               << std::flush;
     const dynrt::reference::SampledReference reference =
-        dynrt::reference::sample_reference(scene, camera, base, frame, args.error_block);
+        dynrt::reference::sample_reference(scene, camera, base, frame,
+                                           args.error_block > 0 ? args.error_block : 8);
     dynrt::reference::print_reference_line(std::cout, reference);
     std::vector<dynrt::reference::ErrorRow> rows;
     for (const dynrt::reference::ErrorConfiguration& config : posed_configs) {
@@ -182,6 +184,73 @@ int run_bench_error(const BenchArgs& args) {
               << " triangles, " << base.width << "x" << base.height << ", frame " << frame
               << ", " << reference.pixels.size() << " sampled pixels";
         dynrt::plot_error(args.plot, points, title.str());
+        std::cout << "plot: " << args.plot << "\n";
+    }
+    return 0;
+}
+
+/// `bench --frames A-B --error`: each pixel reuse and adaptive configuration renders the
+/// sequence with its own renderer, timed per frame and compared with the full render of every
+/// frame (sequence_error_bench.h).
+int run_bench_sequence_error(const BenchArgs& args) {
+    if (!args.vs.empty() || !args.diff_image.empty()) {
+        throw std::invalid_argument("bench --frames --error compares dynrt's configurations "
+                                    "with its own full renders: drop --vs and --diff-image");
+    }
+    if (args.error_block > 0 || args.error_frame >= 0) {
+        throw std::invalid_argument("bench --frames --error compares every pixel of every "
+                                    "frame: --error-block and --error-frame are for one frame "
+                                    "(--error without --frames)");
+    }
+    std::vector<std::string> sweeps = args.sweeps;
+    std::vector<dynrt::ReuseSettings> reuses = dynrt::take_reuse_sweep(sweeps);
+    std::vector<float> adaptives = dynrt::take_adaptive_sweep(sweeps);
+    if (!sweeps.empty()) {
+        throw std::invalid_argument("--sweep '" + sweeps.front() + "': with --frames --error "
+                                    "only reuse=... and adaptive=... are swept");
+    }
+    dynrt::RenderOptions base = render_options(args);
+    const dynrt::FrameRange range = dynrt::parse_frame_range(args.frames);
+    const int runs = args.repeat > 0 ? args.repeat : 1;
+    const std::string source = scene_source(args);
+    const dynrt::Scene scene = load_animated_scene(args, source, base);
+    warn_past_the_end(scene, base.pose, range);
+    const dynrt::CameraSource view = camera_source(scene, args, base.pose, range);
+    if (reuses.empty()) reuses.push_back(base.reuse);
+    if (adaptives.empty()) adaptives.push_back(base.adaptive_tolerance);
+    std::vector<dynrt::RenderOptions> configs;
+    for (const dynrt::ReuseSettings& reuse : reuses) {
+        for (float adaptive : adaptives) {
+            if (adaptive > 0.0f && base.tracer != dynrt::Tracer::packet) {
+                throw std::invalid_argument("adaptive sampling (--adaptive, --sweep "
+                                            "adaptive=...) is the packet tracer's; drop "
+                                            "--tracer single");
+            }
+            dynrt::RenderOptions config = base;
+            config.reuse = reuse;
+            config.adaptive_tolerance = adaptive;
+            configs.push_back(config);
+        }
+    }
+    std::cout << "dynrt bench --error: " << source << ", " << scene.triangle_count()
+              << " triangles, " << base.width << "x" << base.height << ", frames "
+              << range.first << "-" << range.last << ", " << configs.size()
+              << " configuration(s) against the full render (reuse off) of every frame, "
+              << runs << " run(s) after " << args.warmup << " warm-up\n"
+              << std::flush;
+    print_ignored(std::cout, scene);
+    const dynrt::SequenceErrorBench bench =
+        dynrt::bench_sequence_error(scene, view, base, configs, range, runs, args.warmup);
+    dynrt::print_sequence_error_table(std::cout, bench);
+    if (!args.csv.empty()) write_text(args.csv, dynrt::sequence_error_csv(bench));
+    if (!args.json.empty()) write_text(args.json, dynrt::sequence_error_json(bench));
+    if (!args.plot.empty()) {
+        std::ostringstream title;
+        title << "dynrt bench --frames " << range.first << "-" << range.last << " --error: "
+              << source << ", " << scene.triangle_count() << " triangles, " << base.width
+              << "x" << base.height;
+        dynrt::plot_error(args.plot, dynrt::sequence_error_points(bench), title.str(),
+                          {dynrt::kSequenceErrorAxis, "ms per frame (median, bars min-max)"});
         std::cout << "plot: " << args.plot << "\n";
     }
     return 0;
@@ -210,7 +279,13 @@ int run_bench(const BenchArgs& args) {
     if (!args.plot.empty() && std::filesystem::path(args.plot).extension() != ".png") {
         throw std::invalid_argument("--plot '" + args.plot + "': charts are written as .png");
     }
-    if (args.error) return run_bench_error(args);
+    if (sweeps_parameter(args, "reuse") && !(args.error && !args.frames.empty())) {
+        throw std::invalid_argument("--sweep reuse=...: pixel reuse works across frames and "
+                                    "is measured by its error: give --frames A-B and --error");
+    }
+    if (args.error) {
+        return args.frames.empty() ? run_bench_error(args) : run_bench_sequence_error(args);
+    }
     if (!args.frames.empty()) return run_bench_sequence(args);
     if (!args.anims.empty() || !args.treats.empty() || !args.clips.empty()) {
         // Refused rather than ignored: a still frame would time something other than asked.

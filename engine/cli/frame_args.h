@@ -67,7 +67,8 @@ struct BenchArgs : FrameArgs {
     bool hit_buffers = false;
     /// --error: each configuration's error against the exact reference beside its time.
     bool error = false;
-    int error_block = 8;
+    /// 0: not given; 8 (one frame, --error without --frames).
+    int error_block = 0;
     /// -1: not given; 24 when the scene moves, else 0.
     int error_frame = -1;
 };

@@ -170,7 +170,10 @@ int main(int argc, char** argv) {
                           "cost-ratio=V1,V2,..., leaf=N1,N2,..., culling=C1,C2,... (packet "
                           "culling, '+' joining stages: culling=none,ab,ab+bp,ab+bp+nf), "
                           "adaptive=T1,T2,... (tolerances, packet tracer) or, with --error, "
-                          "update=rebuild,refit; repeatable, combined as a cross product")
+                          "update=rebuild,refit; with --frames and --error, only "
+                          "reuse=off,exact,cache:0.25,frameless:8ms,... (pixel reuse modes "
+                          "and budgets) and adaptive=...; repeatable, combined as a cross "
+                          "product")
         ->allow_extra_args(false);
     bench_cmd->add_option("--csv", bench.csv, "Also write the rows as CSV to this file");
     bench_cmd->add_option("--json", bench.json,
@@ -194,11 +197,13 @@ int main(int argc, char** argv) {
         "Also measure each configuration's error against the exact reference image of the "
         "same frame (on sampled pixels): share of hits that differ, RMSE and PSNR; --plot then "
         "draws total ms against RMSE with the Pareto front. Allows --anim, --treat and --clip "
-        "without --frames");
+        "without --frames. With --frames A-B: every frame of each reuse/adaptive "
+        "configuration against the full render of that frame (PSNR, SSIM, wrong pixels); "
+        "--plot draws ms per frame against 1 - mean SSIM");
     bench_cmd->add_option("--error-block", bench.error_block,
                           "With --error: one sampled pixel, chosen at random, per BxB block "
-                          "(1: every pixel)")
-        ->check(CLI::Range(1, 1024))->capture_default_str()->needs(error_flag);
+                          "(1: every pixel; default 8; not with --frames)")
+        ->check(CLI::Range(1, 1024))->needs(error_flag);
     bench_cmd->add_option("--error-frame", bench.error_frame,
                           "With --error: the frame measured (default 24 when the scene moves, "
                           "else 0); with --sweep update=refit the frames before it are updated "

@@ -162,6 +162,18 @@ std::vector<float> take_adaptive_sweep(std::vector<std::string>& sweeps) {
     return values;
 }
 
+std::vector<ReuseSettings> take_reuse_sweep(std::vector<std::string>& sweeps) {
+    std::vector<ReuseSettings> values;
+    for (const std::string& item : take_sweep(sweeps, "reuse")) {
+        try {
+            values.push_back(parse_reuse(item));
+        } catch (const std::invalid_argument& e) {
+            throw std::invalid_argument("--sweep 'reuse=" + item + "': " + e.what());
+        }
+    }
+    return values;
+}
+
 const char* to_string(BenchUpdate update) {
     return update == BenchUpdate::refit ? "refit" : "rebuild";
 }

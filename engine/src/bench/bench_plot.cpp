@@ -186,7 +186,7 @@ std::vector<std::size_t> pareto_front(const std::vector<ErrorPoint>& points) {
 }
 
 std::string error_plot_script(const std::vector<ErrorPoint>& points, const std::string& title,
-                              const std::filesystem::path& png) {
+                              const std::filesystem::path& png, const ErrorPlotAxes& axes) {
     if (points.empty()) throw std::invalid_argument("error plot: no points to plot");
     double smallest = 0.0, largest = 0.0;
     for (const ErrorPoint& p : points) {
@@ -209,10 +209,9 @@ std::string error_plot_script(const std::vector<ErrorPoint>& points, const std::
         << single_quoted(png.string() + ".gp")
         << "\nset terminal pngcairo size 1000,620 noenhanced font ',11'\nset output "
         << single_quoted(png.string()) << "\nset title " << single_quoted(title)
-        << "\nset grid\nset key top right\n"
-           "set xlabel 'RMSE against the exact reference (linear RGB, sampled pixels)'\n"
-           "set ylabel 'total ms per frame (median, bars min-max)'\nset yrange [0:*]\n"
-           "set offsets graph 0.05, graph 0.25, graph 0.05, graph 0.02\n";
+        << "\nset grid\nset key top right\nset xlabel " << single_quoted(axes.x)
+        << "\nset ylabel " << single_quoted(axes.y)
+        << "\nset yrange [0:*]\nset offsets graph 0.05, graph 0.25, graph 0.05, graph 0.02\n";
     if (log_x) {
         out << "set logscale x 10\nset format x '%.0e'\n";
     } else {
@@ -247,8 +246,8 @@ std::string error_plot_script(const std::vector<ErrorPoint>& points, const std::
 }
 
 void plot_error(const std::filesystem::path& png, const std::vector<ErrorPoint>& points,
-                const std::string& title) {
-    run_gnuplot(png, error_plot_script(points, title, png));
+                const std::string& title, const ErrorPlotAxes& axes) {
+    run_gnuplot(png, error_plot_script(points, title, png, axes));
 }
 
 std::string timeline_plot_script(const std::vector<FrameStats>& frames, const std::string& title,

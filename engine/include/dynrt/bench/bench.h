@@ -75,6 +75,12 @@ packet::PacketCulling parse_culling_item(const std::string& item);
 /// adaptive swept twice.
 std::vector<float> take_adaptive_sweep(std::vector<std::string>& sweeps);
 
+/// Takes the pixel reuse sweep, if any, out of `sweeps`: "reuse=off,exact,cache:0.25,
+/// frameless:8ms" gives the TraceSettings::reuse values in order, each read by parse_reuse.
+/// No reuse sweep gives {}. Throws std::invalid_argument for an empty list, an item
+/// parse_reuse refuses, or reuse swept twice.
+std::vector<ReuseSettings> take_reuse_sweep(std::vector<std::string>& sweeps);
+
 /// How the trees of the measured frame come about.
 enum class BenchUpdate {
     /// Renderer::reset() before the frame: every tree is built from scratch.

@@ -33,7 +33,14 @@ void plot_bench(const std::filesystem::path& png, const std::vector<BenchRow>& r
 struct ErrorPoint {
     std::string label;  ///< what distinguishes the configuration, written beside its point
     Spread total_ms;
-    double error = 0.0;  ///< RMSE against the exact reference, >= 0
+    double error = 0.0;  ///< the chart's error measure (ErrorPlotAxes::x), >= 0
+};
+
+/// What the axes of the chart of run time against error measure.
+struct ErrorPlotAxes {
+    /// `bench --error` (a still frame): RMSE against the exact reference.
+    std::string x = "RMSE against the exact reference (linear RGB, sampled pixels)";
+    std::string y = "total ms per frame (median, bars min-max)";
 };
 
 /// Indices (ascending) of the points on the Pareto front: those no other point beats, that is,
@@ -45,12 +52,13 @@ std::vector<std::size_t> pareto_front(const std::vector<ErrorPoint>& points);
 /// joined by a line. The x axis is logarithmic when the non-zero errors span a factor of 8 or
 /// more; points with error 0 are then drawn at a tenth of the smallest non-zero error, their
 /// label saying "(0)". Throws std::invalid_argument if `points` is empty.
+/// `axes` names what x and y measure.
 std::string error_plot_script(const std::vector<ErrorPoint>& points, const std::string& title,
-                              const std::filesystem::path& png);
+                              const std::filesystem::path& png, const ErrorPlotAxes& axes = {});
 
 /// Writes error_plot_script as "<png>.gp" and runs gnuplot, as plot_bench does.
 void plot_error(const std::filesystem::path& png, const std::vector<ErrorPoint>& points,
-                const std::string& title);
+                const std::string& title, const ErrorPlotAxes& axes = {});
 
 /// A gnuplot script drawing the per-frame stacked timeline of an animated run into `png`: per
 /// frame, one bar split into update (animation), refit, rebuild, top level, primary rays,

@@ -15,6 +15,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -403,6 +404,56 @@ TEST(UpdatePlan, SceneAccelCarriesOutThePlanOverMovedSubsets) {
         FrameStats fresh_stats;
         fresh.update(world.scene, states, world, policy, fresh_stats, fresh_stats);
         expect_same_hits(accel, fresh, what);
+    }
+}
+
+// An object's parts (the boxes exact pixel reuse tests rays against) hold each of its
+// triangles whole, in world space, whatever its class, and are tighter than its one box.
+TEST(UpdatePlan, ObjectPartsHoldEveryTriangle) {
+    MatrixWorld world;
+    UpdatePolicy policy;
+    SceneAccel accel;
+    FrameStats stats;
+    accel.update(world.scene, world.states(0xF), world, policy, stats, stats);
+    for (std::size_t i = 0; i < kClasses.size(); ++i) world.pose(i, 3);
+    // A rigid object's parts are its tree's boxes carried to world space: turn it too.
+    world.transforms[1] = glm::rotate(world.transforms[1], 0.7, glm::dvec3(0.3, 1.0, 0.2));
+    accel.update(world.scene, world.states(0xF), world, policy, stats, stats);
+    for (std::size_t i = 0; i < kClasses.size(); ++i) {
+        SCOPED_TRACE(name(kClasses[i]));
+        std::vector<bvh::Aabb> one, parts;
+        accel.object_world_parts(i, 1, one);
+        ASSERT_EQ(one.size(), 1u);
+        EXPECT_EQ(one[0].lo, accel.object_world_boxes()[i].lo);
+        accel.object_world_parts(i, 8, parts);
+        ASSERT_LE(parts.size(), 8u);
+        // Static objects share the static group's tree: their box is all there is.
+        ASSERT_EQ(parts.size(), kClasses[i] == MotionClass::static_ ? 1u : 8u);
+        const auto in_box = [](const glm::vec3& v, const bvh::Aabb& p, float pad) {
+            return glm::all(glm::greaterThanEqual(v, p.lo - pad)) && glm::all(glm::lessThanEqual(v, p.hi + pad));
+        };
+        if (kClasses[i] == MotionClass::rigid || kClasses[i] == MotionClass::deformable) {
+            // The sheets' parts leave most of their box out: points of the box, at random.
+            std::mt19937 rng(5);
+            std::uniform_real_distribution<float> u(0.0f, 1.0f);
+            int covered = 0;
+            for (int k = 0; k < 2000; ++k) {
+                const glm::vec3 q = one[0].lo + glm::vec3(u(rng), u(rng), u(rng)) * (one[0].hi - one[0].lo);
+                covered += std::any_of(parts.begin(), parts.end(),
+                                       [&](const bvh::Aabb& p) { return in_box(q, p, 0.0f); });
+            }
+            EXPECT_LT(covered, 1400);
+        }
+        const std::size_t triangles = world.scene.objects[i].mesh.triangles.size();
+        for (std::uint32_t prim = 0; prim < triangles; ++prim) {
+            const bvh::Triangle t = accel.world_triangle(i, prim);
+            // Rounding of the corner transform is what the changed space pads for.
+            const float pad = 1e-5f;
+            const bool held = std::any_of(parts.begin(), parts.end(), [&](const bvh::Aabb& p) {
+                return in_box(t.v0, p, pad) && in_box(t.v1, p, pad) && in_box(t.v2, p, pad);
+            });
+            EXPECT_TRUE(held) << "triangle " << prim;
+        }
     }
 }
 

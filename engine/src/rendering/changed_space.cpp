@@ -64,64 +64,109 @@ packet::LaneMask ChangedSpace::meets_rays(const packet::RayPacket& rays, const f
     return out;
 }
 
-bool ChangedSpace::meets_hull(const glm::vec3& apex, const bvh::Aabb& points) const {
-    if (points.is_empty()) return false;
+namespace {
+
+/// Whether the hull of `apex` and `points` may meet `box` (see meets_hull).
+bool hull_meets_box(const glm::vec3& apex, const bvh::Aabb& points, float pad, const bvh::Aabb& box) {
     // The hull is the union over s in [0, 1] of the box apex + s (points - apex), whose extent
     // on each axis is [apex + s (lo - apex), apex + s (hi - apex)]. It meets a box when some s
     // satisfies, on every axis, apex + s (lo - apex) <= box.hi and apex + s (hi - apex) >=
     // box.lo: two linear inequalities in s per axis.
-    for (const bvh::Aabb& box : boxes_) {
-        double s_lo = 0.0, s_hi = 1.0;
-        // k s <= r
-        const auto at_most = [&](double k, double r) {
-            if (k > 0.0) s_hi = std::min(s_hi, r / k);
-            else if (k < 0.0) s_lo = std::max(s_lo, r / k);
-            else if (r < 0.0) s_lo = 2.0;  // never
-        };
-        for (int a = 0; a < 3; ++a) {
-            const double p = apex[a];
-            at_most(double(points.lo[a]) - pad_ - p, double(box.hi[a]) - p);
-            at_most(-(double(points.hi[a]) + pad_ - p), -(double(box.lo[a]) - p));
+    double s_lo = 0.0, s_hi = 1.0;
+    // k s <= r
+    const auto at_most = [&](double k, double r) {
+        if (k > 0.0) s_hi = std::min(s_hi, r / k);
+        else if (k < 0.0) s_lo = std::max(s_lo, r / k);
+        else if (r < 0.0) s_lo = 2.0;  // never
+    };
+    for (int a = 0; a < 3; ++a) {
+        const double p = apex[a];
+        at_most(double(points.lo[a]) - pad - p, double(box.hi[a]) - p);
+        at_most(-(double(points.hi[a]) + pad - p), -(double(box.lo[a]) - p));
+    }
+    return s_lo <= s_hi;
+}
+
+/// The pyramid from an apex as inward side planes (and the plane across its axis), in double.
+struct Pyramid {
+    glm::dvec3 apex, normals[5];
+    int planes = 4;
+
+    Pyramid(const glm::vec3& apex_point, const glm::vec3 (&corners)[4]) : apex(apex_point) {
+        // The side planes through the apex and consecutive corners, facing inwards (a tile
+        // gives the corners as (x0,y0), (x1,y0), (x0,y1), (x1,y1): reordered to a cycle). With
+        // an apex angle below 180 degrees the four half-spaces hold exactly the forward
+        // pyramid. A box is outside when it lies wholly behind one of them (or the axis plane
+        // below); a degenerate plane (a tile one pixel wide) culls nothing.
+        const glm::dvec3 c[4] = {glm::dvec3(corners[0]), glm::dvec3(corners[1]),
+                                 glm::dvec3(corners[3]), glm::dvec3(corners[2])};
+        const glm::dvec3 axis = c[0] + c[1] + c[2] + c[3];
+        for (int i = 0; i < 4; ++i) {
+            glm::dvec3 n = glm::cross(c[i], c[(i + 1) % 4]);
+            if (glm::dot(n, axis) < 0.0) n = -n;
+            normals[i] = n;
         }
-        if (s_lo <= s_hi) return true;
+        // Per-plane tests alone let through boxes that straddle the side planes' backward
+        // extensions; the plane through the apex across the axis cuts those off. It bounds the
+        // pyramid when every corner is in front of it (so is every combination of them).
+        bool axis_plane = true;
+        for (const glm::dvec3& corner : c) axis_plane = axis_plane && glm::dot(corner, axis) > 0.0;
+        if (axis_plane) {
+            normals[4] = axis;
+            planes = 5;
+        }
+    }
+
+    bool may_meet(const bvh::Aabb& box) const {
+        for (int i = 0; i < planes; ++i) {
+            const glm::dvec3& n = normals[i];
+            // The box corner furthest along n.
+            const glm::dvec3 far(n.x >= 0.0 ? box.hi.x : box.lo.x, n.y >= 0.0 ? box.hi.y : box.lo.y,
+                                 n.z >= 0.0 ? box.hi.z : box.lo.z);
+            if (glm::dot(n, far - apex) < 0.0) return false;
+        }
+        return true;
+    }
+};
+
+}  // namespace
+
+bool ChangedSpace::meets_hull(const glm::vec3& apex, const bvh::Aabb& points) const {
+    if (points.is_empty()) return false;
+    for (const bvh::Aabb& box : boxes_) {
+        if (hull_meets_box(apex, points, pad_, box)) return true;
     }
     return false;
 }
 
 bool ChangedSpace::meets_pyramid(const glm::vec3& apex, const glm::vec3 (&corners)[4]) const {
-    // The side planes through the apex and consecutive corners, facing inwards (a tile gives
-    // the corners as (x0,y0), (x1,y0), (x0,y1), (x1,y1): reordered to a cycle). With an apex
-    // angle below 180 degrees the four half-spaces hold exactly the forward pyramid. A box is
-    // outside when it lies wholly behind one of them (or the axis plane below); a degenerate plane (a tile one pixel
-    // wide) culls nothing.
-    const glm::dvec3 c[4] = {glm::dvec3(corners[0]), glm::dvec3(corners[1]),
-                             glm::dvec3(corners[3]), glm::dvec3(corners[2])};
-    const glm::dvec3 axis = c[0] + c[1] + c[2] + c[3];
-    glm::dvec3 normals[4];
-    for (int i = 0; i < 4; ++i) {
-        glm::dvec3 n = glm::cross(c[i], c[(i + 1) % 4]);
-        if (glm::dot(n, axis) < 0.0) n = -n;
-        normals[i] = n;
-    }
-    // Per-plane tests alone let through boxes that straddle the side planes' backward
-    // extensions; the plane through the apex across the axis cuts those off. It bounds the
-    // pyramid when every corner is in front of it (so is every combination of them).
-    bool axis_plane = true;
-    for (const glm::dvec3& corner : c) axis_plane = axis_plane && glm::dot(corner, axis) > 0.0;
-    const glm::dvec3 e(apex);
+    const Pyramid pyramid(apex, corners);
     for (const bvh::Aabb& box : boxes_) {
-        bool outside = false;
-        for (int i = 0; i < 5 && !outside; ++i) {
-            if (i == 4 && !axis_plane) break;
-            const glm::dvec3& n = i < 4 ? normals[i] : axis;
-            // The box corner furthest along n.
-            const glm::dvec3 far(n.x >= 0.0 ? box.hi.x : box.lo.x, n.y >= 0.0 ? box.hi.y : box.lo.y,
-                                 n.z >= 0.0 ? box.hi.z : box.lo.z);
-            outside = glm::dot(n, far - e) < 0.0;
-        }
-        if (!outside) return true;
+        if (pyramid.may_meet(box)) return true;
     }
     return false;
+}
+
+bool ChangedSpace::select_pyramid(const glm::vec3& apex, const glm::vec3 (&corners)[4],
+                                  ChangedSpace& out) const {
+    out.pad_ = pad_;
+    out.boxes_.clear();
+    const Pyramid pyramid(apex, corners);
+    for (const bvh::Aabb& box : boxes_) {
+        if (pyramid.may_meet(box)) out.boxes_.push_back(box);
+    }
+    return !out.boxes_.empty();
+}
+
+bool ChangedSpace::select_hull(const glm::vec3& apex, const bvh::Aabb& points,
+                               ChangedSpace& out) const {
+    out.pad_ = pad_;
+    out.boxes_.clear();
+    if (points.is_empty()) return false;
+    for (const bvh::Aabb& box : boxes_) {
+        if (hull_meets_box(apex, points, pad_, box)) out.boxes_.push_back(box);
+    }
+    return !out.boxes_.empty();
 }
 
 }  // namespace dynrt::detail

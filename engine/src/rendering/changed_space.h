@@ -47,6 +47,15 @@ public:
     /// the directions lie in it.
     bool meets_pyramid(const glm::vec3& apex, const glm::vec3 (&corners)[4]) const;
 
+    /// The boxes of this space that may meet the pyramid (as meets_pyramid) or the hull (as
+    /// meets_hull), as a space of their own with the same padding, written into `out` (its
+    /// storage reused): a tile's rays are then tested against the few boxes near it only.
+    /// Returns whether any box is kept.
+    bool select_pyramid(const glm::vec3& apex, const glm::vec3 (&corners)[4], ChangedSpace& out) const;
+    bool select_hull(const glm::vec3& apex, const bvh::Aabb& points, ChangedSpace& out) const;
+
+    ChangedSpace() = default;
+
 private:
     std::vector<bvh::Aabb> boxes_;
     float pad_ = 0.0f;

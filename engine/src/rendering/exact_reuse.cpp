@@ -54,6 +54,17 @@ bool material_changed(const ReuseMemory& memory, const ReuseInputs& now, std::si
     return !same_material(memory.materials[index], now.materials[index]);
 }
 
+/// The most boxes (objects' parts) a plan tests rays against; see plan_exact_reuse.
+constexpr std::size_t kMostChangedParts = 4096;
+
+/// Object i's parts when they were recorded, else its one box.
+void add_parts(std::span<const std::vector<bvh::Aabb>> parts, std::span<const bvh::Aabb> boxes,
+               std::size_t i, std::vector<bvh::Aabb>& out) {
+    // An object with triangles has at least one part; none recorded means its box.
+    if (i < parts.size() && !parts[i].empty()) out.insert(out.end(), parts[i].begin(), parts[i].end());
+    else out.push_back(boxes[i]);
+}
+
 ReusePlan full(std::string reason) {
     ReusePlan plan;
     plan.full = true;
@@ -101,19 +112,26 @@ ReusePlan plan_exact_reuse(const ReuseMemory& memory, const ReuseInputs& now) {
     ReusePlan plan;
     plan.full = false;
     std::size_t moved = 0, restyled = 0, added = 0;
+    std::vector<bvh::Aabb> coarse;
     for (std::size_t i = 0; i < now.object_boxes.size(); ++i) {
         if (i >= memory.object_boxes.size()) {
             ++added;
-            plan.changed.push_back(now.object_boxes[i]);
+            add_parts(now.object_parts, now.object_boxes, i, plan.changed);
+            coarse.push_back(now.object_boxes[i]);
             continue;
         }
         const bool geometry = now.object_versions[i] != memory.object_versions[i];
         const bool material = !geometry && material_changed(memory, now, i);
         if (!geometry && !material) continue;
         ++(geometry ? moved : restyled);
-        plan.changed.push_back(memory.object_boxes[i]);
-        plan.changed.push_back(now.object_boxes[i]);
+        add_parts(memory.object_parts, memory.object_boxes, i, plan.changed);
+        add_parts(now.object_parts, now.object_boxes, i, plan.changed);
+        coarse.push_back(memory.object_boxes[i]);
+        coarse.push_back(now.object_boxes[i]);
     }
+    // Every tile tests its pyramid against every box: past a few thousand, the objects' own
+    // boxes (fewer, looser) are cheaper to test than their parts.
+    if (plan.changed.size() > kMostChangedParts) plan.changed.swap(coarse);
     if (moved + restyled + added == 0) {
         plan.reason = "nothing changed";
         return plan;
@@ -138,6 +156,17 @@ void remember_inputs(const ReuseInputs& now, ReuseMemory& memory, RenderedFrame&
     memory.lights.assign(now.lights.begin(), now.lights.end());
     memory.materials.assign(now.materials.begin(), now.materials.end());
     memory.object_material.assign(now.object_material.begin(), now.object_material.end());
+    // Parts only of the objects whose geometry changed since they were recorded: each
+    // object's parts stay paired with the version they were taken at.
+    const std::size_t had = memory.object_parts.size();
+    memory.object_parts.resize(now.object_parts.size());
+    for (std::size_t i = 0; i < now.object_parts.size(); ++i) {
+        if (i < had && i < memory.object_versions.size() && i < now.object_versions.size() &&
+            memory.object_versions[i] == now.object_versions[i]) {
+            continue;
+        }
+        memory.object_parts[i] = now.object_parts[i];
+    }
     memory.object_boxes.assign(now.object_boxes.begin(), now.object_boxes.end());
     memory.object_versions.assign(now.object_versions.begin(), now.object_versions.end());
     memory.stamp = next_stamp();
@@ -218,6 +247,8 @@ void trace_frame_reusing(const TraceInputs& in, const Camera& camera, const Trac
     tbb::combinable<packet::PacketStats> packet_work;
     tbb::combinable<bvh::TraversalStats> single_work;
     tbb::combinable<TileWork> work;
+    // Per thread, the changed boxes near the tile at hand (storage reused across tiles).
+    tbb::combinable<ChangedSpace> nearby;
     const Stopwatch wall;
     tbb::parallel_for(0, tiling.count(), [&](int t) {
         const packet::Tile tile = tiling.tile(t);
@@ -226,6 +257,7 @@ void trace_frame_reusing(const TraceInputs& in, const Camera& camera, const Trac
         packet::RayPacket rays;
         pinhole.fill_tile(tile, rays);
         const packet::LaneMask inside = rays.active;
+        ChangedSpace& near = nearby.local();
 
         // ---- Primary rays that may see something else ----
         packet::LaneMask primary;
@@ -237,8 +269,9 @@ void trace_frame_reusing(const TraceInputs& in, const Camera& camera, const Trac
                 rays.ray(packet::tile_lane(tile, tile.x1 - 1, tile.y0)).dir,
                 rays.ray(packet::tile_lane(tile, tile.x0, tile.y1 - 1)).dir,
                 rays.ray(packet::tile_lane(tile, tile.x1 - 1, tile.y1 - 1)).dir};
-            if (space.meets_pyramid(camera.eye, corners) &&
-                (!memory.all_hit[t] || space.meets_hull(camera.eye, memory.hit_points[t]))) {
+            // Only the boxes the tile's pyramid may meet are tested further.
+            if (space.select_pyramid(camera.eye, corners, near) &&
+                (!memory.all_hit[t] || near.meets_hull(camera.eye, memory.hit_points[t]))) {
                 alignas(64) float until[packet::kPacketRays];
                 std::fill(std::begin(until), std::end(until), 0.0f);
                 for (int y = tile.y0; y < tile.y1; ++y) {
@@ -248,7 +281,7 @@ void trace_frame_reusing(const TraceInputs& in, const Camera& camera, const Trac
                             hit.is_hit() ? hit.hit.t : std::numeric_limits<float>::infinity();
                     }
                 }
-                primary = space.meets_rays(rays, until, inside);
+                primary = near.meets_rays(rays, until, inside);
             }
         }
         const LaneWork lane_work{count ? &packet_work.local() : nullptr,
@@ -293,11 +326,11 @@ void trace_frame_reusing(const TraceInputs& in, const Camera& camera, const Trac
             for (int w = 0; w < packet::kPacketRays / 64; ++w) {
                 retrace.words[w] = lit.words[w] & primary.words[w];
             }
-            if (space.meets_hull(lights[l].position, memory.shadow_ends[slot])) {
+            if (space.select_hull(lights[l].position, memory.shadow_ends[slot], near)) {
                 // Shadow rays run from the light over t in [0, 1].
                 packet::LaneMask kept = lit;
                 for (int w = 0; w < packet::kPacketRays / 64; ++w) kept.words[w] &= ~primary.words[w];
-                const packet::LaneMask meets = space.meets_rays(shadow, shadow.tmax, kept);
+                const packet::LaneMask meets = near.meets_rays(shadow, shadow.tmax, kept);
                 for (int w = 0; w < packet::kPacketRays / 64; ++w) {
                     retrace.words[w] |= meets.words[w];
                     shadows_only.words[w] |= meets.words[w];

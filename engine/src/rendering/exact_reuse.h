@@ -45,6 +45,9 @@ struct ReuseMemory {
     /// Per object: its world box and its geometry version (FramePipeline) at that trace.
     std::vector<bvh::Aabb> object_boxes;
     std::vector<std::uint64_t> object_versions;
+    /// Per object: the world boxes of a cut through its tree at that trace (the boxes a
+    /// change is tested against, tighter than object_boxes; SceneAccel::object_world_parts).
+    std::vector<std::vector<bvh::Aabb>> object_parts;
     /// Per tile: the box of its hit points and whether every pixel hit; per tile and light
     /// (tile * lights + l): the lanes the light reached, and the box of its shadow rays' ends.
     std::vector<bvh::Aabb> hit_points;
@@ -63,6 +66,9 @@ struct ReuseInputs {
     std::span<const bvh::Aabb> object_boxes;
     std::span<const std::uint64_t> object_versions;
     std::uint64_t frame_stamp;  ///< the RenderedFrame's reuse_stamp
+    /// Per object, its parts now (ReuseMemory::object_parts); objects past its end are
+    /// tested as their box.
+    std::span<const std::vector<bvh::Aabb>> object_parts;
 };
 
 /// What the trace does: all of it, or the rays meeting `changed` (none when it is empty).

@@ -13,6 +13,18 @@ void FramePipeline::clear() {
     versions_.clear();
 }
 
+void FramePipeline::refresh_parts() {
+    const std::size_t count = versions_.size();
+    parts_.resize(count);
+    parts_versions_.resize(count, 0);
+    for (std::size_t i = 0; i < count; ++i) {
+        if (parts_versions_[i] == versions_[i]) continue;
+        parts_[i].clear();
+        accel_.object_world_parts(i, kPartsPerObject, parts_[i]);
+        parts_versions_[i] = versions_[i];
+    }
+}
+
 void FramePipeline::invalidate(std::size_t object) {
     accel_.invalidate(object);
     if (object < versions_.size()) versions_[object] = ++last_version_;
@@ -63,10 +75,12 @@ void FramePipeline::trace(const Scene& scene, const Camera& camera, const TraceS
                                         versions_, pixel_cache_, scratch_, out);
     } else if (options.reuse.mode == PixelReuse::exact && options.adaptive_tolerance == 0.0f) {
         pixel_cache_.valid = false;
+        refresh_parts();
         const detail::ReuseInputs now{camera,          options,
                                       lights,          materials_,
                                       object_material_, accel_.object_world_boxes(),
-                                      versions_,       out.reuse_stamp};
+                                      versions_,       out.reuse_stamp,
+                                      parts_};
         const detail::ReusePlan plan = detail::plan_exact_reuse(reuse_, now);
         detail::trace_frame_reusing(inputs, camera, options, plan, reuse_, scratch_, out);
         detail::remember_inputs(now, reuse_, out);

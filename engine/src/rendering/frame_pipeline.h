@@ -71,6 +71,14 @@ private:
     /// said it changed, an invalidation): exact pixel reuse compares them between traces.
     std::vector<std::uint64_t> versions_;
     std::uint64_t last_version_ = 0;
+    /// Per object, the world boxes of a cut through its tree (SceneAccel::object_world_parts)
+    /// and the version they were taken at: refreshed for exact reuse when the version moves.
+    std::vector<std::vector<bvh::Aabb>> parts_;
+    std::vector<std::uint64_t> parts_versions_;
+    /// Boxes per object: 16 follow a skinned figure's limbs closely enough that a still
+    /// camera re-traces about half the pixels its one box covers (CesiumMan, Fox).
+    static constexpr std::size_t kPartsPerObject = 16;
+    void refresh_parts();
     detail::ReuseMemory reuse_;
     detail::PixelCache pixel_cache_;
 };

@@ -453,6 +453,56 @@ bvh::Triangle SceneAccel::world_triangle(std::size_t object, std::uint32_t prim)
                          transform_point(o.object_to_world, t.v2)};
 }
 
+void SceneAccel::object_world_parts(std::size_t i, std::size_t max_parts,
+                                    std::vector<bvh::Aabb>& out) const {
+    if (i >= object_boxes_.size() || object_boxes_[i].is_empty()) return;
+    const bool own_tree = i < objects_.size() && objects_[i].built &&
+                          objects_[i].motion_class != anim::MotionClass::static_ &&
+                          !objects_[i].tree.bvh.empty();
+    if (!own_tree || max_parts <= 1) {
+        out.push_back(object_boxes_[i]);
+        return;
+    }
+    const ObjectTree& o = objects_[i];
+    const std::vector<bvh::BvhNode>& nodes = o.tree.bvh.nodes;
+    // Best first: split the inner node of largest surface area until the cut has max_parts
+    // nodes or only leaves. The cut is small (max_parts), so a linear search picks the node.
+    std::vector<std::uint32_t> cut{0};
+    while (cut.size() < max_parts) {
+        std::size_t best = cut.size();
+        float best_area = -1.0f;
+        for (std::size_t k = 0; k < cut.size(); ++k) {
+            const bvh::BvhNode& node = nodes[cut[k]];
+            if (node.is_leaf()) continue;
+            const float area = node.box.half_area();
+            if (area > best_area) {
+                best_area = area;
+                best = k;
+            }
+        }
+        if (best == cut.size()) break;
+        const std::uint32_t left = nodes[cut[best]].first;
+        cut[best] = left;
+        cut.push_back(left + 1);
+    }
+    const bool rigid = o.motion_class == anim::MotionClass::rigid;
+    for (const std::uint32_t n : cut) {
+        const bvh::Aabb& box = nodes[n].box;
+        if (box.is_empty()) continue;
+        if (!rigid) {
+            out.push_back(box);
+            continue;
+        }
+        bvh::Aabb world;
+        for (int c = 0; c < 8; ++c) {
+            const glm::vec3 corner((c & 1) ? box.hi.x : box.lo.x, (c & 2) ? box.hi.y : box.lo.y,
+                                   (c & 4) ? box.hi.z : box.lo.z);
+            world.extend(transform_point(o.object_to_world, corner));
+        }
+        out.push_back(world);
+    }
+}
+
 bvh::Aabb SceneAccel::world_bounds() const {
     bvh::Aabb bounds;
     for (const bvh::Aabb& box : top_.world_boxes) {

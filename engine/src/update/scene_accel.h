@@ -96,6 +96,14 @@ public:
     /// theirs; adaptive sampling uses it to tell which objects can reach into a cell.
     const std::vector<bvh::Aabb>& object_world_boxes() const { return object_boxes_; }
 
+    /// Appends to `out` up to `max_parts` world-space boxes that together hold object `i`'s
+    /// triangles at the last update: the boxes of a cut through its own tree, split largest
+    /// surface first (Goldsmith and Salmon's area measure), transformed to world space for a
+    /// rigid object. Tighter than its one box, so that exact pixel reuse re-traces only the
+    /// rays that pass near its triangles. An object without a tree of its own (static, or
+    /// not built) gives its world box; one without triangles gives nothing.
+    void object_world_parts(std::size_t i, std::size_t max_parts, std::vector<bvh::Aabb>& out) const;
+
 private:
     struct ObjectTree {
         /// The triangles the tree was built or refitted from, in the mesh's order: world space

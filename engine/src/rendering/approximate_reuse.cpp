@@ -76,7 +76,8 @@ bool same_lights(std::span<const PointLight> a, std::span<const PointLight> b) {
     });
 }
 
-/// One pixel's sample, moved around by reprojection.
+/// One pixel's sample, moved around by reprojection: for a hit its world point, for a miss
+/// (object -1) the direction of its ray.
 struct Sample {
     glm::vec3 color, point, normal;
     std::int32_t object, prim;
@@ -84,7 +85,7 @@ struct Sample {
 };
 
 Sample empty_sample(const glm::vec3& background) {
-    return Sample{background, glm::vec3(kInf), glm::vec3(0.0f), -1, -1, PixelCache::kEmpty};
+    return Sample{background, glm::vec3(0.0f), glm::vec3(0.0f), -1, -1, PixelCache::kEmpty};
 }
 
 Sample sample_at(const PixelCache& c, std::size_t p) {
@@ -152,10 +153,13 @@ void trace_frame_approximate(const TraceInputs& in, const Camera& camera,
         const Projection to(camera, width, height);
         std::vector<std::uint64_t> nearest(pixels, ~std::uint64_t{0});
         tbb::parallel_for(std::size_t(0), pixels, [&](std::size_t p) {
-            if (cache.age[p] == PixelCache::kEmpty || !std::isfinite(cache.point[p].x)) return;
+            if (cache.age[p] == PixelCache::kEmpty) return;
+            // A miss keeps its direction, a point at infinity: it lands where that direction
+            // is seen from the new eye, behind every hit.
+            const bool hit = cache.object[p] >= 0;
             int x, y;
-            if (!to.pixel_of(cache.point[p], x, y)) return;
-            const float depth = glm::length(cache.point[p] - camera.eye);
+            if (!to.pixel_of(hit ? cache.point[p] : camera.eye + cache.point[p], x, y)) return;
+            const float depth = hit ? glm::length(cache.point[p] - camera.eye) : kInf;
             const std::uint64_t key = (std::uint64_t(std::bit_cast<std::uint32_t>(depth)) << 32) | p;
             std::atomic_ref<std::uint64_t> slot(nearest[std::size_t(y) * width + x]);
             std::uint64_t seen = slot.load(std::memory_order_relaxed);
@@ -241,7 +245,9 @@ void trace_frame_approximate(const TraceInputs& in, const Camera& camera,
                         const glm::vec3& q = cache.point[std::size_t(y) * width + x];
                         // A reprojected point is near, not on, the new ray: a little beyond.
                         until[packet::tile_lane(tile, x, y)] =
-                            std::isfinite(q.x) ? 1.01f * glm::length(q - camera.eye) : kInf;
+                            cache.object[std::size_t(y) * width + x] >= 0
+                                ? 1.01f * glm::length(q - camera.eye)
+                                : kInf;
                     }
                 }
                 must = space.meets_rays(rays, until, rays.active);
@@ -295,14 +301,27 @@ void trace_frame_approximate(const TraceInputs& in, const Camera& camera,
         above += histogram[std::size_t(threshold)];
         --threshold;
     }
-    const std::size_t at = histogram[std::size_t(threshold)];
-    // Of the pixels at the threshold rank, this share (as a 32-bit fraction) is taken.
-    const double share_at = at == 0 ? 0.0 : std::min(1.0, double(budget - above) / double(at));
-    const std::uint64_t take_below = std::uint64_t(share_at * 4294967296.0);
+    // Of the blocks at the threshold rank, those with the smallest hashes fill the budget
+    // exactly: a random draw per frame, reproducible, and never short of the budget.
     const std::uint64_t frame_seed = (cache.frames + 1) * 0x632be59bd9b4e019ull;
+    const std::size_t need = budget - std::min(budget, above);
+    std::uint64_t cutoff = 0;  // blocks at the threshold rank with hash < cutoff are taken
+    if (need > 0) {
+        std::vector<std::uint32_t> hashes;
+        hashes.reserve(histogram[std::size_t(threshold)]);
+        for (std::size_t b = 0; b < level.size(); ++b) {
+            if (level[b] == threshold) hashes.push_back(hash(frame_seed ^ b));
+        }
+        if (need >= hashes.size()) {
+            cutoff = std::uint64_t{1} << 32;
+        } else {
+            std::nth_element(hashes.begin(), hashes.begin() + std::ptrdiff_t(need), hashes.end());
+            cutoff = hashes[need];
+        }
+    }
     const auto selected = [&](int x, int y) {
         const std::size_t b = block_of(x, y);
-        return level[b] > threshold || (level[b] == threshold && hash(frame_seed ^ b) < take_below);
+        return level[b] > threshold || (level[b] == threshold && hash(frame_seed ^ b) < cutoff);
     };
 
     // ---- The frame as it stands, then the selected pixels traced into it ----
@@ -318,7 +337,7 @@ void trace_frame_approximate(const TraceInputs& in, const Camera& camera,
     tbb::parallel_for(std::size_t(0), pixels, [&](std::size_t p) {
         out.color[p] = cache.color[p];
         if (!options.hit_buffers) return;
-        const bool point = cache.age[p] != PixelCache::kEmpty && std::isfinite(cache.point[p].x);
+        const bool point = cache.age[p] != PixelCache::kEmpty && cache.object[p] >= 0;
         out.depth[p] = point ? glm::length(cache.point[p] - camera.eye) : kInf;
         out.object[p] = point ? cache.object[p] : -1;
         out.prim[p] = point ? cache.prim[p] : -1;
@@ -414,7 +433,7 @@ void trace_frame_approximate(const TraceInputs& in, const Camera& camera,
                   Sample{out.color[p],
                          hit ? glm::vec3(origins.surface.point[0][lane], origins.surface.point[1][lane],
                                          origins.surface.point[2][lane])
-                             : glm::vec3(kInf),
+                             : rays.ray(lane).dir,
                          hit ? glm::vec3(origins.surface.normal[0][lane], origins.surface.normal[1][lane],
                                          origins.surface.normal[2][lane])
                              : glm::vec3(0.0f),

@@ -152,5 +152,42 @@ TEST(ApiReuse, EveryStepMatchesAFullRenderBitForBit) {
     EXPECT_GT(reused, std::size_t(kWidth) * kHeight * 3);
 }
 
+// A mesh removed (or given new triangles) between updates: a render before the update still
+// traces the last update's trees, and the render after it must not keep the removed mesh's
+// pixels.
+TEST(ApiReuse, RemovalSeenByTheRenderAfterTheUpdate) {
+    Twins twins;
+    const MeshData ball = sphere({0.0f, 0.0f, 0.0f}, 0.8f);
+    const MeshData floor = sheet(0.0f, 0.0f, 0.0f, 8.0f, 8);
+    const Transform lying = Transform::rotation({1.0f, 0.0f, 0.0f}, -1.5707964f, {0.0f, -1.0f, 0.0f});
+    twins.both([&](Engine& e) { return add(e, "floor", floor, Motion::static_, lying, {0.7f, 0.7f, 0.6f}); });
+    const MeshId gone = twins.both([&](Engine& e) {
+        return add(e, "ball", ball, Motion::rigid, Transform::translation({0.0f, 0.0f, 0.0f}),
+                   {0.9f, 0.2f, 0.2f});
+    });
+    View view;
+    view.eye = {0.0f, 2.5f, 6.0f};
+    view.target = {0.0f, -0.5f, 0.0f};
+    RenderSettings settings;
+    settings.lights = {Light{{2.0f, 6.0f, 3.0f}, 1.0f}};
+    RenderSettings full_settings = settings;
+    full_settings.reuse_pixels = false;
+    const auto render_both = [&](const char* what) {
+        SCOPED_TRACE(what);
+        Image with_reuse, without;
+        const FrameStats stats = twins.reusing.render(view, with_reuse.view(), settings);
+        twins.full.render(view, without.view(), full_settings);
+        EXPECT_TRUE(same_bits(with_reuse, without)) << stats.reuse_reason;
+        return with_reuse;
+    };
+    twins.both([](Engine& e) { e.update(); return 0; });
+    const Image before = render_both("first render");
+    twins.both([&](Engine& e) { e.remove_mesh(gone); return 0; });
+    render_both("removed, not yet updated");
+    twins.both([](Engine& e) { e.update(); return 0; });
+    const Image after = render_both("updated");
+    EXPECT_FALSE(same_bits(before, after));  // the ball is gone from the image
+}
+
 }  // namespace
 }  // namespace dynrt::api_test

@@ -11,6 +11,7 @@ void FramePipeline::clear() {
     reuse_.valid = false;
     pixel_cache_.valid = false;
     versions_.clear();
+    invalidated_.clear();
 }
 
 void FramePipeline::refresh_parts() {
@@ -28,6 +29,9 @@ void FramePipeline::refresh_parts() {
 void FramePipeline::invalidate(std::size_t object) {
     accel_.invalidate(object);
     if (object < versions_.size()) versions_[object] = ++last_version_;
+    // The trees change at the next update, not now: a trace before it still shows the object
+    // as it was, so the update bumps the version again.
+    invalidated_.push_back(object);
 }
 
 const FrameStats& FramePipeline::update(const Scene& scene, std::span<const ObjectState> states,
@@ -43,6 +47,10 @@ const FrameStats& FramePipeline::update(const Scene& scene, std::span<const Obje
     for (std::size_t i = 0; i < states.size(); ++i) {
         if (states[i].changed) versions_[i] = ++last_version_;
     }
+    for (const std::size_t i : invalidated_) {
+        if (i < versions_.size()) versions_[i] = ++last_version_;
+    }
+    invalidated_.clear();
     accel_.update(scene, states, fixed, policy, stats, stats);
     update_wall_ms_ = frame_clock.elapsed_ms();
     // Everything the update did besides building trees (posing, checks, gathering triangles),

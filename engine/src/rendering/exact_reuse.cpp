@@ -260,24 +260,32 @@ void trace_frame_reusing(const TraceInputs& in, const Camera& camera, const Trac
         const packet::Tile tile = tiling.tile(t);
         TileWork& tw = work.local();
         Stopwatch clock;
+        // The tile's rays are made only when a test needs them: most tiles of a frame that
+        // reuses pixels are decided by their corner rays alone, and filling 256 rays for each
+        // was most of the cost of such a frame.
         packet::RayPacket rays;
-        pinhole.fill_tile(tile, rays);
-        const packet::LaneMask inside = rays.active;
+        bool filled = false;
+        const auto fill = [&] {
+            if (!filled) pinhole.fill_tile(tile, rays);
+            filled = true;
+        };
         ChangedSpace& near = nearby.local();
 
         // ---- Primary rays that may see something else ----
         packet::LaneMask primary;
         if (all) {
-            primary = inside;
+            fill();
+            primary = rays.active;
         } else {
-            const glm::vec3 corners[4] = {
-                rays.ray(packet::tile_lane(tile, tile.x0, tile.y0)).dir,
-                rays.ray(packet::tile_lane(tile, tile.x1 - 1, tile.y0)).dir,
-                rays.ray(packet::tile_lane(tile, tile.x0, tile.y1 - 1)).dir,
-                rays.ray(packet::tile_lane(tile, tile.x1 - 1, tile.y1 - 1)).dir};
+            // The corner pixels' rays (padding covers their rounding against fill_tile's).
+            const glm::vec3 corners[4] = {pinhole.ray(tile.x0, tile.y0).dir,
+                                          pinhole.ray(tile.x1 - 1, tile.y0).dir,
+                                          pinhole.ray(tile.x0, tile.y1 - 1).dir,
+                                          pinhole.ray(tile.x1 - 1, tile.y1 - 1).dir};
             // Only the boxes the tile's pyramid may meet are tested further.
             if (space.select_pyramid(camera.eye, corners, near) &&
                 (!memory.all_hit[t] || near.meets_hull(camera.eye, memory.hit_points[t]))) {
+                fill();
                 alignas(64) float until[packet::kPacketRays];
                 std::fill(std::begin(until), std::end(until), 0.0f);
                 for (int y = tile.y0; y < tile.y1; ++y) {
@@ -287,7 +295,7 @@ void trace_frame_reusing(const TraceInputs& in, const Camera& camera, const Trac
                             hit.is_hit() ? hit.hit.t : std::numeric_limits<float>::infinity();
                     }
                 }
-                primary = near.meets_rays(rays, until, inside);
+                primary = near.meets_rays(rays, until, rays.active);
             }
         }
         const LaneWork lane_work{count ? &packet_work.local() : nullptr,
@@ -308,6 +316,7 @@ void trace_frame_reusing(const TraceInputs& in, const Camera& camera, const Trac
             tw.shadow_ms += clock.lap_ms();
             return;  // the tile keeps every pixel
         }
+        fill();
         TileShadowOrigins origins;
         origins.compute(in.accel, scratch.hits, width, tile, rays, in.object_material);
         if (primary.any()) {
@@ -319,7 +328,7 @@ void trace_frame_reusing(const TraceInputs& in, const Camera& camera, const Trac
                                         origins.surface.point[2][lane]));
             }
             memory.hit_points[t] = points;
-            memory.all_hit[t] = origins.surface.hit == inside;
+            memory.all_hit[t] = origins.surface.hit == rays.active;
         }
         std::vector<packet::LaneMask> visible(light_count);
         packet::LaneMask shadows_only;

@@ -26,10 +26,17 @@ namespace dynrt::detail {
 namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
-/// Rank of a pixel: its age (0..kOldest), then holes, then pixels that must change.
-constexpr int kHoleLevel = 1022, kChangedLevel = 1023, kLevels = 1024;
+/// Rank of a block: the age of its oldest pixel (0..kOldest); above, a block with holes,
+/// kHoleLevel plus the number of its holes (the emptiest first); on top, one that must change.
+constexpr int kHoleLevel = 512, kChangedLevel = 1023, kLevels = 1024;
 /// The side of the square blocks pixels are ranked and traced in (a tile holds 2x2 of them).
 constexpr int kBlock = 8;
+/// A hole with at least this many sampled neighbours (of 8) is a crack, kept as a sample.
+constexpr int kCrackNeighbours = 6;
+/// A block with at least 1 / kHoleShare of its pixels holes ranks as a hole.
+constexpr int kHoleShare = 8;
+/// Depth culling: a neighbour nearer than this share of a sample's depth is in front of it.
+constexpr float kDepthCullRatio = 0.9f;
 
 /// splitmix64's finaliser: the tie-break of equal ranks, per pixel and frame.
 std::uint32_t hash(std::uint64_t x) {
@@ -151,7 +158,8 @@ void trace_frame_approximate(const TraceInputs& in, const Camera& camera,
         // Forward reprojection with a depth test: per target pixel the nearest sample wins,
         // by an atomic minimum over (depth bits, source pixel), the same whatever the order.
         const Projection to(camera, width, height);
-        std::vector<std::uint64_t> nearest(pixels, ~std::uint64_t{0});
+        std::vector<std::uint64_t>& nearest = cache.nearest_scratch;
+        nearest.assign(pixels, ~std::uint64_t{0});
         tbb::parallel_for(std::size_t(0), pixels, [&](std::size_t p) {
             if (cache.age[p] == PixelCache::kEmpty) return;
             // A miss keeps its direction, a point at infinity: it lands where that direction
@@ -180,6 +188,35 @@ void trace_frame_approximate(const TraceInputs& in, const Camera& camera,
                 Sample s = sample_at(cache, std::size_t(nearest[p] & 0xffffffffu));
                 s.age = std::uint8_t(std::min<int>(s.age + 1, PixelCache::kOldest));
                 store(to_cache, p, s);
+            }
+        });
+        // Depth culling (Walter et al. 1999, section 4.3): forward reprojection leaves cracks
+        // in a surface that comes nearer, and what lies behind it shows through them. A sample
+        // much farther than most of its neighbours is such a point: dropped, it becomes a hole
+        // that the fill below closes from the surface around it.
+        std::vector<float>& depth = to_cache.depth_scratch;
+        depth.resize(pixels);
+        tbb::parallel_for(std::size_t(0), pixels, [&](std::size_t p) {
+            depth[p] = to_cache.age[p] == PixelCache::kEmpty ? -1.0f
+                       : to_cache.object[p] < 0        ? kInf
+                                                       : glm::length(to_cache.point[p] - camera.eye);
+        });
+        tbb::parallel_for(0, height, [&](int y) {
+            for (int x = 0; x < width; ++x) {
+                const std::size_t p = std::size_t(y) * width + x;
+                const float d = depth[p];
+                if (d < 0.0f) continue;
+                int nearer = 0;
+                for (int dy = -1; dy <= 1; ++dy) {
+                    for (int dx = -1; dx <= 1; ++dx) {
+                        const int nx = x + dx, ny = y + dy;
+                        if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= width || ny >= height) continue;
+                        const float n = depth[std::size_t(ny) * width + nx];
+                        nearer += n >= 0.0f && n < kDepthCullRatio * d;
+                    }
+                }
+                // Six of eight: a sample at a silhouette has three to five nearer neighbours.
+                if (nearer >= 6) to_cache.age[p] = PixelCache::kEmpty;
             }
         });
         cache.swap_samples();
@@ -259,21 +296,27 @@ void trace_frame_approximate(const TraceInputs& in, const Camera& camera,
         std::array<std::size_t, kLevels>& histogram = histograms.local();
         for (int by = tile.y0; by < tile.y1; by += kBlock) {
             for (int bx = tile.x0; bx < tile.x1; bx += kBlock) {
-                int block_level = 0;
+                // A block ranks as a hole when a good part of it is one: scattered cracks
+                // are filled well from their neighbours, and would otherwise put nearly every
+                // block of a moving view above the oldest.
+                int block_level = 0, holes = 0, inside = 0;
                 for (int y = by; y < std::min(by + kBlock, tile.y1); ++y) {
                     for (int x = bx; x < std::min(bx + kBlock, tile.x1); ++x) {
                         const std::size_t p = std::size_t(y) * width + x;
                         const std::int32_t object = cache.object[p];
+                        const bool empty = cache.age[p] == PixelCache::kEmpty;
                         const bool shows_change =
-                            cache.age[p] != PixelCache::kEmpty && object >= 0 &&
+                            !empty && object >= 0 &&
                             (std::size_t(object) >= changed.size() || changed[std::size_t(object)]);
+                        ++inside;
+                        holes += empty;
                         const int l = must.test(packet::tile_lane(tile, x, y)) || shows_change
                                           ? kChangedLevel
-                                          : cache.age[p] == PixelCache::kEmpty ? kHoleLevel
-                                                                                : cache.age[p];
+                                          : empty ? 0 : cache.age[p];
                         block_level = std::max(block_level, l);
                     }
                 }
+                if (block_level < kHoleLevel && holes * kHoleShare >= inside) block_level = kHoleLevel + holes;
                 level[block_of(bx, by)] = std::uint16_t(block_level);
                 ++histogram[std::size_t(block_level)];
             }
@@ -456,13 +499,60 @@ void trace_frame_approximate(const TraceInputs& in, const Camera& camera,
     }
 
     // ---- Holes left: the mean of their sampled neighbours, a few passes out ----
-    std::vector<std::uint8_t> known(pixels);
+    std::vector<std::uint8_t>& known = cache.known_scratch;
+    known.resize(pixels);
     tbb::parallel_for(std::size_t(0), pixels,
                       [&](std::size_t p) { known[p] = cache.age[p] != PixelCache::kEmpty; });
     const std::size_t holes = pixels - std::size_t(std::count(known.begin(), known.end(), 1));
+    // A crack (a hole amid samples, where a nearing surface spread its samples apart) is kept
+    // as a sample of the render cache: the nearest neighbour's surface (object, triangle,
+    // normal, age) at the mean point of the neighbours on that surface, with the mean colour.
+    // Otherwise the same cracks open again at every reprojection and take the budget.
+    const auto keep_crack = [&](int x, int y) {
+        const std::size_t p = std::size_t(y) * width + x;
+        std::size_t nearest = p;
+        float nearest_depth = kInf;
+        for (int dy = -1; dy <= 1; ++dy) {
+            for (int dx = -1; dx <= 1; ++dx) {
+                const int nx = x + dx, ny = y + dy;
+                if (nx < 0 || ny < 0 || nx >= width || ny >= height) continue;
+                const std::size_t q = std::size_t(ny) * width + nx;
+                if (!known[q]) continue;
+                const float d = cache.object[q] < 0 ? kInf : glm::length(cache.point[q] - camera.eye);
+                if (nearest == p || d < nearest_depth) {
+                    nearest = q;
+                    nearest_depth = d;
+                }
+            }
+        }
+        if (nearest == p) return;
+        glm::vec3 point(0.0f);
+        int on_surface = 0;
+        for (int dy = -1; dy <= 1; ++dy) {
+            for (int dx = -1; dx <= 1; ++dx) {
+                const int nx = x + dx, ny = y + dy;
+                if (nx < 0 || ny < 0 || nx >= width || ny >= height) continue;
+                const std::size_t q = std::size_t(ny) * width + nx;
+                if (!known[q] || cache.object[q] != cache.object[nearest]) continue;
+                if (cache.object[q] >= 0 &&
+                    kDepthCullRatio * glm::length(cache.point[q] - camera.eye) > nearest_depth) {
+                    continue;
+                }
+                point += cache.point[q];
+                ++on_surface;
+            }
+        }
+        Sample s = sample_at(cache, nearest);
+        s.color = out.color[p];
+        s.point = point / float(on_surface);
+        if (s.object < 0) s.point = glm::normalize(s.point);  // a mean direction
+        // Written at once: this pass reads only pixels that were known when it started.
+        store(cache, p, s);
+    };
     std::size_t filled = 0;
     for (int pass = 0; pass < 3 && filled < holes; ++pass) {
-        std::vector<std::uint8_t> next = known;
+        std::vector<std::uint8_t>& next = cache.next_scratch;
+        next = known;
         tbb::combinable<std::size_t> filled_now([] { return std::size_t(0); });
         tbb::parallel_for(0, height, [&](int y) {
             for (int x = 0; x < width; ++x) {
@@ -484,6 +574,7 @@ void trace_frame_approximate(const TraceInputs& in, const Camera& camera,
                 out.color[p] = sum_color / float(n);
                 next[p] = 1;
                 ++filled_now.local();
+                if (pass == 0 && render_cache && n >= kCrackNeighbours) keep_crack(x, y);
             }
         });
         filled += filled_now.combine(std::plus<>());

@@ -41,6 +41,11 @@ struct PixelCache {
     std::vector<std::int32_t> object, prim;
     /// Frames since the pixel was traced (saturating), kEmpty for no sample.
     std::vector<std::uint8_t> age;
+    /// Per pixel depth for depth culling after reprojection (scratch, kept to reuse).
+    std::vector<float> depth_scratch;
+    /// Per-frame working arrays, kept so that a frame writes memory already faulted in.
+    std::vector<std::uint64_t> nearest_scratch;
+    std::vector<std::uint8_t> known_scratch, next_scratch;
     std::vector<bvh::Aabb> object_boxes;
     std::vector<std::uint64_t> object_versions;
     /// Measured cost of one traced pixel (ns of wall clock), for budgets in ms; 0 unknown.

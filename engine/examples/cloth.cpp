@@ -57,6 +57,7 @@ struct Options {
     int substeps = 6;
     int iterations = 1;   ///< constraint iterations per substep
     int threads = 0;      ///< EngineOptions::threads
+    int reuse = 1;        ///< RenderSettings::reuse_pixels (1: re-trace only what the cloth changed)
 };
 
 // ---- The scene's fixed geometry -----------------------------------------------------------
@@ -359,6 +360,7 @@ int run(const Options& options) {
     const dynrt::View view{{2.9f, 2.1f, 3.4f}, {0.0f, 0.45f, 0.0f}, {0.0f, 1.0f, 0.0f}, 45.0f};
     dynrt::RenderSettings settings;
     settings.lights.push_back({{-2.0f, 5.0f, 3.0f}, 0.9f});
+    settings.reuse_pixels = options.reuse != 0;
     std::vector<float> rgb(std::size_t(width) * std::size_t(height) * 3);
     const dynrt::ImageView image{width, height, rgb};
 
@@ -373,7 +375,8 @@ int run(const Options& options) {
                 "refit_ms", "rebuild_ms", "top_level_ms", "total_ms", "ref/reb", "trace_ms");
 
     constexpr float kDt = 1.0f / 60.0f;
-    std::vector<double> sim_ms, update_ms, refit_ms, rebuild_ms, top_ms, trace_ms, engine_ms;
+    std::vector<double> sim_ms, update_ms, refit_ms, rebuild_ms, top_ms, trace_ms, engine_ms,
+        traced_share;
     std::size_t rebuilds = 0, images = 0;
     for (int step = 1; step <= options.steps; ++step) {
         const auto sim_start = std::chrono::steady_clock::now();
@@ -398,6 +401,7 @@ int run(const Options& options) {
             const dynrt::FrameStats frame = engine.render(view, image, settings);
             const double ms = frame.primary_ms + frame.shadow_ms + frame.shade_ms;
             trace_ms.push_back(ms);
+            traced_share.push_back(double(frame.pixels_traced) / (double(width) * height));
             std::snprintf(trace, sizeof trace, "%.2f", ms);
             if (!options.out.empty()) {
                 const std::string path = dynrt_example::frame_path(options.out, step);
@@ -424,10 +428,10 @@ int run(const Options& options) {
 
     std::printf("median over %d steps: sim %.2f ms, update total %.2f ms (update_ms %.2f, "
                 "refit %.2f, rebuild %.2f, top level %.3f), trace %.2f ms (%zu renders at "
-                "%dx%d); %zu rebuilds; %zu images written\n",
+                "%dx%d, %.1f%% of the pixels traced); %zu rebuilds; %zu images written\n",
                 options.steps, median(sim_ms), median(engine_ms), median(update_ms),
                 median(refit_ms), median(rebuild_ms), median(top_ms), median(trace_ms),
-                trace_ms.size(), width, height, rebuilds, images);
+                trace_ms.size(), width, height, 100.0 * median(traced_share), rebuilds, images);
     return 0;
 }
 
@@ -450,6 +454,8 @@ int main(int argc, char** argv) {
     command_line.add("--iterations", options.iterations, "constraint iterations per substep", 1,
                      1000);
     command_line.add("--threads", options.threads, "engine worker threads (0: all cores)", 0, 1024);
+    command_line.add("--reuse", options.reuse,
+                     "1: re-trace only the pixels the moving cloth may change (exact), 0: all", 0, 1);
     if (const int exit_code = command_line.parse(argc, argv); exit_code >= 0) return exit_code;
     try {
         return run(options);

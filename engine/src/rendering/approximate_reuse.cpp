@@ -31,6 +31,8 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr int kHoleLevel = 512, kChangedLevel = 1023, kLevels = 1024;
 /// The side of the square blocks pixels are ranked and traced in (a tile holds 2x2 of them).
 constexpr int kBlock = 8;
+/// The most changed boxes whose rays the ranking tests (see trace_frame_approximate).
+constexpr std::size_t kMostChangedBoxes = 1024;
 /// A hole with at least this many sampled neighbours (of 8) is a crack, kept as a sample.
 constexpr int kCrackNeighbours = 6;
 /// A block with at least 1 / kHoleShare of its pixels holes ranks as a hole.
@@ -115,6 +117,19 @@ void resize(PixelCache& c, std::size_t pixels) {
     c.object.resize(pixels);
     c.prim.resize(pixels);
     c.age.resize(pixels);
+}
+
+/// Calls f(q) for every pixel q of the 3x3 block around (x, y) that is inside the image,
+/// (x, y) itself left out.
+template <typename F>
+void for_each_neighbour(int x, int y, int width, int height, F&& f) {
+    for (int dy = -1; dy <= 1; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) {
+            const int nx = x + dx, ny = y + dy;
+            if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= width || ny >= height) continue;
+            f(std::size_t(ny) * std::size_t(width) + std::size_t(nx));
+        }
+    }
 }
 
 struct TileWork {
@@ -207,14 +222,9 @@ void trace_frame_approximate(const TraceInputs& in, const Camera& camera,
                 const float d = depth[p];
                 if (d < 0.0f) continue;
                 int nearer = 0;
-                for (int dy = -1; dy <= 1; ++dy) {
-                    for (int dx = -1; dx <= 1; ++dx) {
-                        const int nx = x + dx, ny = y + dy;
-                        if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= width || ny >= height) continue;
-                        const float n = depth[std::size_t(ny) * width + nx];
-                        nearer += n >= 0.0f && n < kDepthCullRatio * d;
-                    }
-                }
+                for_each_neighbour(x, y, width, height, [&](std::size_t q) {
+                    nearer += depth[q] >= 0.0f && depth[q] < kDepthCullRatio * d;
+                });
                 // Six of eight: a sample at a silhouette has three to five nearer neighbours.
                 if (nearer >= 6) to_cache.age[p] = PixelCache::kEmpty;
             }
@@ -253,7 +263,13 @@ void trace_frame_approximate(const TraceInputs& in, const Camera& camera,
         for (int a = 0; a < 3; ++a) scale = std::max({scale, std::fabs(b.lo[a]), std::fabs(b.hi[a])});
     }
     for (int a = 0; a < 3; ++a) scale = std::max(scale, std::fabs(camera.eye[a]));
+    // Every tile is tested against every box: past kMostChangedBoxes (BART robots: 3,600)
+    // the tests cost more than tracing, and pixels rank as changed only by the object their
+    // sample shows (an approximation: an object moving into a pixel is seen once it is
+    // traced for its age or as a hole).
+    if (changed_boxes.size() > kMostChangedBoxes) changed_boxes.clear();
     const ChangedSpace space(changed_boxes, scale);
+    tbb::combinable<ChangedSpace> nearby;
 
     // ---- Rank every pixel ----
     const int blocks_x = (width + kBlock - 1) / kBlock, blocks_y = (height + kBlock - 1) / kBlock;
@@ -274,7 +290,8 @@ void trace_frame_approximate(const TraceInputs& in, const Camera& camera,
                 rays.ray(packet::tile_lane(tile, tile.x1 - 1, tile.y0)).dir,
                 rays.ray(packet::tile_lane(tile, tile.x0, tile.y1 - 1)).dir,
                 rays.ray(packet::tile_lane(tile, tile.x1 - 1, tile.y1 - 1)).dir};
-            if (space.meets_pyramid(camera.eye, corners)) {
+            ChangedSpace& near = nearby.local();
+            if (space.select_pyramid(camera.eye, corners, near)) {
                 alignas(64) float until[packet::kPacketRays];
                 std::fill(std::begin(until), std::end(until), 0.0f);
                 for (int y = tile.y0; y < tile.y1; ++y) {
@@ -287,7 +304,7 @@ void trace_frame_approximate(const TraceInputs& in, const Camera& camera,
                                 : kInf;
                     }
                 }
-                must = space.meets_rays(rays, until, rays.active);
+                must = near.meets_rays(rays, until, rays.active);
             }
         }
         // Pixels are ranked, then traced, in 8x8 blocks: a block takes its most urgent pixel's
@@ -512,36 +529,26 @@ void trace_frame_approximate(const TraceInputs& in, const Camera& camera,
         const std::size_t p = std::size_t(y) * width + x;
         std::size_t nearest = p;
         float nearest_depth = kInf;
-        for (int dy = -1; dy <= 1; ++dy) {
-            for (int dx = -1; dx <= 1; ++dx) {
-                const int nx = x + dx, ny = y + dy;
-                if (nx < 0 || ny < 0 || nx >= width || ny >= height) continue;
-                const std::size_t q = std::size_t(ny) * width + nx;
-                if (!known[q]) continue;
-                const float d = cache.object[q] < 0 ? kInf : glm::length(cache.point[q] - camera.eye);
-                if (nearest == p || d < nearest_depth) {
-                    nearest = q;
-                    nearest_depth = d;
-                }
+        for_each_neighbour(x, y, width, height, [&](std::size_t q) {
+            if (!known[q]) return;
+            const float d = cache.object[q] < 0 ? kInf : glm::length(cache.point[q] - camera.eye);
+            if (nearest == p || d < nearest_depth) {
+                nearest = q;
+                nearest_depth = d;
             }
-        }
+        });
         if (nearest == p) return;
         glm::vec3 point(0.0f);
         int on_surface = 0;
-        for (int dy = -1; dy <= 1; ++dy) {
-            for (int dx = -1; dx <= 1; ++dx) {
-                const int nx = x + dx, ny = y + dy;
-                if (nx < 0 || ny < 0 || nx >= width || ny >= height) continue;
-                const std::size_t q = std::size_t(ny) * width + nx;
-                if (!known[q] || cache.object[q] != cache.object[nearest]) continue;
-                if (cache.object[q] >= 0 &&
-                    kDepthCullRatio * glm::length(cache.point[q] - camera.eye) > nearest_depth) {
-                    continue;
-                }
-                point += cache.point[q];
-                ++on_surface;
+        for_each_neighbour(x, y, width, height, [&](std::size_t q) {
+            if (!known[q] || cache.object[q] != cache.object[nearest]) return;
+            if (cache.object[q] >= 0 &&
+                kDepthCullRatio * glm::length(cache.point[q] - camera.eye) > nearest_depth) {
+                return;
             }
-        }
+            point += cache.point[q];
+            ++on_surface;
+        });
         Sample s = sample_at(cache, nearest);
         s.color = out.color[p];
         s.point = point / float(on_surface);
@@ -560,16 +567,11 @@ void trace_frame_approximate(const TraceInputs& in, const Camera& camera,
                 if (known[p]) continue;
                 glm::vec3 sum_color(0.0f);
                 int n = 0;
-                for (int dy = -1; dy <= 1; ++dy) {
-                    for (int dx = -1; dx <= 1; ++dx) {
-                        const int nx = x + dx, ny = y + dy;
-                        if (nx < 0 || ny < 0 || nx >= width || ny >= height) continue;
-                        const std::size_t q = std::size_t(ny) * width + nx;
-                        if (!known[q]) continue;
-                        sum_color += out.color[q];
-                        ++n;
-                    }
-                }
+                for_each_neighbour(x, y, width, height, [&](std::size_t q) {
+                    if (!known[q]) return;
+                    sum_color += out.color[q];
+                    ++n;
+                });
                 if (n == 0) continue;
                 out.color[p] = sum_color / float(n);
                 next[p] = 1;

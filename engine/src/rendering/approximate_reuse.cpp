@@ -119,6 +119,16 @@ void resize(PixelCache& c, std::size_t pixels) {
     c.age.resize(pixels);
 }
 
+/// Calls f(p) for every pixel index p < pixels, in parallel chunks (one call per chunk to the
+/// scheduler, not per pixel).
+template <typename F>
+void for_each_pixel(std::size_t pixels, F&& f) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pixels, 8192),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                          for (std::size_t p = range.begin(); p < range.end(); ++p) f(p);
+                      });
+}
+
 /// Calls f(q) for every pixel q of the 3x3 block around (x, y) that is inside the image,
 /// (x, y) itself left out.
 template <typename F>
@@ -165,7 +175,7 @@ void trace_frame_approximate(const TraceInputs& in, const Camera& camera,
     if (fresh) {
         resize(cache, pixels);
         const Sample none = empty_sample(options.background);
-        tbb::parallel_for(std::size_t(0), pixels, [&](std::size_t p) { store(cache, p, none); });
+        for_each_pixel(pixels, [&](std::size_t p) { store(cache, p, none); });
         cache.object_boxes.clear();
         cache.object_versions.clear();
         stats.reuse_reason = cache.valid ? "image settings changed" : "first frame";
@@ -175,7 +185,7 @@ void trace_frame_approximate(const TraceInputs& in, const Camera& camera,
         const Projection to(camera, width, height);
         std::vector<std::uint64_t>& nearest = cache.nearest_scratch;
         nearest.assign(pixels, ~std::uint64_t{0});
-        tbb::parallel_for(std::size_t(0), pixels, [&](std::size_t p) {
+        for_each_pixel(pixels, [&](std::size_t p) {
             if (cache.age[p] == PixelCache::kEmpty) return;
             // A miss keeps its direction, a point at infinity: it lands where that direction
             // is seen from the new eye, behind every hit.
@@ -189,50 +199,57 @@ void trace_frame_approximate(const TraceInputs& in, const Camera& camera,
             while (key < seen && !slot.compare_exchange_weak(seen, key, std::memory_order_relaxed)) {
             }
         });
-        // Gathered into the spare arrays, which then become the cache's.
+        // Gathered into the spare arrays, which then become the cache's, with each sample's
+        // depth (-1 for none) for the depth culling below.
         PixelCache& to_cache = cache.spare();
         resize(to_cache, pixels);
+        std::vector<float>& depth = to_cache.depth_scratch;
+        depth.resize(pixels);
         const Sample none = empty_sample(options.background);
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pixels, 4096),
                           [&](const tbb::blocked_range<std::size_t>& range) {
             for (std::size_t p = range.begin(); p < range.end(); ++p) {
                 if (nearest[p] == ~std::uint64_t{0}) {
                     store(to_cache, p, none);
+                    depth[p] = -1.0f;
                     continue;
                 }
                 Sample s = sample_at(cache, std::size_t(nearest[p] & 0xffffffffu));
                 s.age = std::uint8_t(std::min<int>(s.age + 1, PixelCache::kOldest));
                 store(to_cache, p, s);
+                depth[p] = s.object < 0 ? kInf : glm::length(s.point - camera.eye);
             }
         });
         // Depth culling (Walter et al. 1999, section 4.3): forward reprojection leaves cracks
         // in a surface that comes nearer, and what lies behind it shows through them. A sample
         // much farther than most of its neighbours is such a point: dropped, it becomes a hole
         // that the fill below closes from the surface around it.
-        std::vector<float>& depth = to_cache.depth_scratch;
-        depth.resize(pixels);
-        tbb::parallel_for(std::size_t(0), pixels, [&](std::size_t p) {
-            depth[p] = to_cache.age[p] == PixelCache::kEmpty ? -1.0f
-                       : to_cache.object[p] < 0        ? kInf
-                                                       : glm::length(to_cache.point[p] - camera.eye);
-        });
+        const auto nearer = [&](float n, float d) { return int(n >= 0.0f && n < kDepthCullRatio * d); };
         tbb::parallel_for(0, height, [&](int y) {
+            const float* row = &depth[std::size_t(y) * width];
             for (int x = 0; x < width; ++x) {
-                const std::size_t p = std::size_t(y) * width + x;
-                const float d = depth[p];
+                const float d = row[x];
                 if (d < 0.0f) continue;
-                int nearer = 0;
-                for_each_neighbour(x, y, width, height, [&](std::size_t q) {
-                    nearer += depth[q] >= 0.0f && depth[q] < kDepthCullRatio * d;
-                });
+                int count = 0;
+                if (x > 0 && y > 0 && x + 1 < width && y + 1 < height) {
+                    // Inside the image: the eight neighbours without bounds checks.
+                    const float* up = row - width;
+                    const float* down = row + width;
+                    count = nearer(up[x - 1], d) + nearer(up[x], d) + nearer(up[x + 1], d) +
+                            nearer(row[x - 1], d) + nearer(row[x + 1], d) +
+                            nearer(down[x - 1], d) + nearer(down[x], d) + nearer(down[x + 1], d);
+                } else {
+                    for_each_neighbour(x, y, width, height,
+                                       [&](std::size_t q) { count += nearer(depth[q], d); });
+                }
                 // Six of eight: a sample at a silhouette has three to five nearer neighbours.
-                if (nearer >= 6) to_cache.age[p] = PixelCache::kEmpty;
+                if (count >= 6) to_cache.age[std::size_t(y) * width + x] = PixelCache::kEmpty;
             }
         });
         cache.swap_samples();
         stats.reuse_reason = "camera moved: reprojected";
     } else {
-        tbb::parallel_for(std::size_t(0), pixels, [&](std::size_t p) {
+        for_each_pixel(pixels, [&](std::size_t p) {
             if (cache.age[p] != PixelCache::kEmpty) {
                 cache.age[p] = std::uint8_t(std::min<int>(cache.age[p] + 1, PixelCache::kOldest));
             }
@@ -394,7 +411,7 @@ void trace_frame_approximate(const TraceInputs& in, const Camera& camera,
     out.prim.resize(hit_pixels);
     out.normal.resize(hit_pixels);
     scratch.hits.resize(pixels);
-    tbb::parallel_for(std::size_t(0), pixels, [&](std::size_t p) {
+    for_each_pixel(pixels, [&](std::size_t p) {
         out.color[p] = cache.color[p];
         if (!options.hit_buffers) return;
         const bool point = cache.age[p] != PixelCache::kEmpty && cache.object[p] >= 0;
@@ -518,8 +535,7 @@ void trace_frame_approximate(const TraceInputs& in, const Camera& camera,
     // ---- Holes left: the mean of their sampled neighbours, a few passes out ----
     std::vector<std::uint8_t>& known = cache.known_scratch;
     known.resize(pixels);
-    tbb::parallel_for(std::size_t(0), pixels,
-                      [&](std::size_t p) { known[p] = cache.age[p] != PixelCache::kEmpty; });
+    for_each_pixel(pixels, [&](std::size_t p) { known[p] = cache.age[p] != PixelCache::kEmpty; });
     const std::size_t holes = pixels - std::size_t(std::count(known.begin(), known.end(), 1));
     // A crack (a hole amid samples, where a nearing surface spread its samples apart) is kept
     // as a sample of the render cache: the nearest neighbour's surface (object, triangle,
@@ -560,8 +576,9 @@ void trace_frame_approximate(const TraceInputs& in, const Camera& camera,
     for (int pass = 0; pass < 3 && filled < holes; ++pass) {
         std::vector<std::uint8_t>& next = cache.next_scratch;
         next = known;
-        tbb::combinable<std::size_t> filled_now([] { return std::size_t(0); });
+        std::atomic<std::size_t> filled_now{0};
         tbb::parallel_for(0, height, [&](int y) {
+            std::size_t filled_in_row = 0;
             for (int x = 0; x < width; ++x) {
                 const std::size_t p = std::size_t(y) * width + x;
                 if (known[p]) continue;
@@ -575,11 +592,12 @@ void trace_frame_approximate(const TraceInputs& in, const Camera& camera,
                 if (n == 0) continue;
                 out.color[p] = sum_color / float(n);
                 next[p] = 1;
-                ++filled_now.local();
+                ++filled_in_row;
                 if (pass == 0 && render_cache && n >= kCrackNeighbours) keep_crack(x, y);
             }
+            filled_now += filled_in_row;
         });
-        filled += filled_now.combine(std::plus<>());
+        filled += filled_now.load();
         known.swap(next);
     }
 

@@ -10,13 +10,15 @@
 //                 Buffering Considered Harmful", with the priorities of Dayal et al. 2005: the
 //                 samples stay where they were traced, and the budget refreshes them.
 //
-// Each frame ranks the pixels: those whose ray may meet what changed since the last frame
-// (changed_space.h) or that show an object that changed, then holes, then the oldest. Ties are
-// broken by a hash of pixel and frame, so the refresh order is randomised but reproducible.
-// The render cache always traces the first class (moving objects are never shown stale) and
-// the budget on top; frameless traces the budget in rank order. What is still a hole after
-// the trace is filled from its traced or reprojected neighbours (3x3 mean, a few passes), else
-// the background. A budget in ms becomes a pixel count from the measured cost of a traced
+// Each frame ranks 8x8 blocks of pixels: those whose ray may meet what changed since the last
+// frame (changed_space.h) or that show an object that changed, then blocks with many holes,
+// then the oldest. Ties are broken by a hash of block and frame, so the refresh order is
+// randomised but reproducible. The render cache traces the larger of the budget and the first
+// class (moving objects are never shown stale); frameless traces the budget in rank order.
+// The render cache culls reprojected samples seen through cracks by depth (Walter et al.,
+// section 4.3). What is still a hole after the trace is filled from its traced or reprojected
+// neighbours (3x3 mean, a few passes), else the background; the render cache keeps filled
+// cracks as samples. A budget in ms becomes a pixel count from the measured cost of a traced
 // pixel in the previous frames.
 
 #include "dynrt/bvh/aabb.h"

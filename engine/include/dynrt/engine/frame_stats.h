@@ -142,7 +142,7 @@ struct TraceStats {
     /// Pixels whose primary ray was traced this frame; pixels that kept the previous frame's
     /// hit but whose shadow rays were traced again (exact); pixels kept from the previous
     /// frame as they were (exact, frameless) or reprojected into the new view (render cache);
-    /// pixels filled from their neighbours (render cache).
+    /// pixels filled from their neighbours (render cache and frameless).
     std::size_t pixels_traced = 0;
     std::size_t pixels_shadows_retraced = 0;
     std::size_t pixels_reused = 0;

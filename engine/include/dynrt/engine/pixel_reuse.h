@@ -2,12 +2,13 @@
 // How a frame reuses the pixels of the frame before it (FramePipeline; README "Reusing pixels
 // between frames"). Consecutive frames of an animation mostly repeat each other:
 //
-//   exact         (the default) when the camera, the lights, the image settings and the
-//                 materials are those of the previous trace, a pixel can change only if its
-//                 primary ray, or one of its shadow rays, meets the space that changed: the
-//                 old or new world box of an object that moved. Only those rays are traced
-//                 again; every other pixel keeps the previous frame's values. The frame is
-//                 bit-identical to a full render. Anything else changed: a full render.
+//   exact         (the default) when the camera, the lights and the image settings are
+//                 those of the previous trace, a pixel can change only if its primary ray, or
+//                 one of its shadow rays, meets the space that changed: boxes around the old
+//                 and new triangles of an object that moved or changed material. Only those
+//                 rays are traced again; every other pixel keeps the previous frame's values.
+//                 The frame is bit-identical to a full render. Anything else changed: a full
+//                 render.
 //   render_cache  (approximate; Walter, Drettakis and Parker 1999) when the camera moves, the
 //                 previous frame's hit points are reprojected into the new view with a depth
 //                 test; pixels that meet moved objects, holes and disocclusions are traced

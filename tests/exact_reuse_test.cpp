@@ -20,6 +20,7 @@
 #include <filesystem>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace dynrt {
@@ -196,6 +197,35 @@ TEST(ExactReuse, WhatForcesAFullTrace) {
     sampled.render(scene, camera, 0, frame);
     EXPECT_EQ(frame.stats.reuse_mode, "off");
     EXPECT_EQ(frame.reuse_stamp, 0u);
+}
+
+// A camera that keeps moving is traced plainly after the first move (recording reuse memory
+// would be wasted); when it holds still, one frame records again and the next reuses. Every
+// frame is the full render's.
+TEST(ExactReuse, MovingCameraTracesPlainlyThenReusesWhenItStops) {
+    const Scene scene = moving_scene();
+    const Camera start = default_camera(scene_bounds(scene));
+    RenderOptions options;
+    options.width = options.height = 48;
+    options.method = UpdateMethod::threshold;
+    Renderer renderer(options);
+    options.reuse.mode = PixelReuse::off;
+    Renderer full(options);
+    RenderedFrame frame, reference;
+    const std::vector<std::pair<float, std::string>> steps = {
+        {0.0f, "first frame"},   {0.1f, "camera moved"}, {0.2f, "camera moving"},
+        {0.3f, "camera moving"}, {0.3f, "first frame"},  {0.3f, "3 objects changed"},
+        {0.4f, "camera moved"},  {0.4f, "3 objects changed"}};
+    for (std::size_t i = 0; i < steps.size(); ++i) {
+        SCOPED_TRACE("step " + std::to_string(i));
+        Camera camera = start;
+        camera.eye.x += steps[i].first;
+        renderer.render(scene, camera, int(i), frame);
+        full.render(scene, camera, int(i), reference);
+        expect_same_frame(frame, reference);
+        EXPECT_EQ(frame.stats.reuse_reason, steps[i].second);
+        EXPECT_EQ(frame.stats.reuse_mode, "exact");
+    }
 }
 
 TEST(ExactReuse, ParsesItsSettings) {

@@ -44,6 +44,19 @@ bool same_bits(const Image& a, const Image& b) {
            a.mesh == b.mesh;
 }
 
+/// The view both tests look from, and its light: with pixel reuse and without.
+struct Shot {
+    View view;
+    RenderSettings settings, full_settings;
+    Shot() {
+        view.eye = {0.0f, 2.5f, 6.0f};
+        view.target = {0.0f, -0.5f, 0.0f};
+        settings.lights = {Light{{2.0f, 6.0f, 3.0f}, 1.0f}};
+        full_settings = settings;
+        full_settings.reuse_pixels = false;
+    }
+};
+
 MeshId add(Engine& e, const std::string& name, const MeshData& m, Motion motion,
            const Transform& transform, Vec3 colour) {
     MeshDesc desc;
@@ -56,13 +69,18 @@ MeshId add(Engine& e, const std::string& name, const MeshData& m, Motion motion,
     return e.add_mesh(desc);
 }
 
-TEST(ApiReuse, EveryStepMatchesAFullRenderBitForBit) {
-    Twins twins;
+/// The floor both tests stand their meshes on, lying at y = -1.
+void add_floor(Twins& twins) {
     const MeshData floor = sheet(0.0f, 0.0f, 0.0f, 8.0f, 8);
-    const MeshData ball = sphere({0.0f, 0.0f, 0.0f}, 0.5f);
-    const MeshData cloth = sheet(0.0f, 0.0f, 0.0f, 1.5f, 10);
     const Transform lying = Transform::rotation({1.0f, 0.0f, 0.0f}, -1.5707964f, {0.0f, -1.0f, 0.0f});
     twins.both([&](Engine& e) { return add(e, "floor", floor, Motion::static_, lying, {0.7f, 0.7f, 0.6f}); });
+}
+
+TEST(ApiReuse, EveryStepMatchesAFullRenderBitForBit) {
+    Twins twins;
+    const MeshData ball = sphere({0.0f, 0.0f, 0.0f}, 0.5f);
+    const MeshData cloth = sheet(0.0f, 0.0f, 0.0f, 1.5f, 10);
+    add_floor(twins);
     const MeshId mover = twins.both([&](Engine& e) {
         return add(e, "ball", ball, Motion::rigid, Transform::translation({-1.5f, 0.0f, 0.0f}),
                    {0.9f, 0.2f, 0.2f});
@@ -77,13 +95,10 @@ TEST(ApiReuse, EveryStepMatchesAFullRenderBitForBit) {
                    {0.9f, 0.9f, 0.2f});
     });
 
-    View view;
-    view.eye = {0.0f, 2.5f, 6.0f};
-    view.target = {0.0f, -0.5f, 0.0f};
-    RenderSettings settings;
-    settings.lights = {Light{{2.0f, 6.0f, 3.0f}, 1.0f}};
-    RenderSettings full_settings = settings;
-    full_settings.reuse_pixels = false;
+    Shot shot;
+    const View& view = shot.view;
+    RenderSettings& settings = shot.settings;
+    RenderSettings& full_settings = shot.full_settings;
 
     std::size_t reused = 0;
     for (int step = 0; step < 12; ++step) {
@@ -158,25 +173,17 @@ TEST(ApiReuse, EveryStepMatchesAFullRenderBitForBit) {
 TEST(ApiReuse, RemovalSeenByTheRenderAfterTheUpdate) {
     Twins twins;
     const MeshData ball = sphere({0.0f, 0.0f, 0.0f}, 0.8f);
-    const MeshData floor = sheet(0.0f, 0.0f, 0.0f, 8.0f, 8);
-    const Transform lying = Transform::rotation({1.0f, 0.0f, 0.0f}, -1.5707964f, {0.0f, -1.0f, 0.0f});
-    twins.both([&](Engine& e) { return add(e, "floor", floor, Motion::static_, lying, {0.7f, 0.7f, 0.6f}); });
+    add_floor(twins);
     const MeshId gone = twins.both([&](Engine& e) {
         return add(e, "ball", ball, Motion::rigid, Transform::translation({0.0f, 0.0f, 0.0f}),
                    {0.9f, 0.2f, 0.2f});
     });
-    View view;
-    view.eye = {0.0f, 2.5f, 6.0f};
-    view.target = {0.0f, -0.5f, 0.0f};
-    RenderSettings settings;
-    settings.lights = {Light{{2.0f, 6.0f, 3.0f}, 1.0f}};
-    RenderSettings full_settings = settings;
-    full_settings.reuse_pixels = false;
+    const Shot shot;
     const auto render_both = [&](const char* what) {
         SCOPED_TRACE(what);
         Image with_reuse, without;
-        const FrameStats stats = twins.reusing.render(view, with_reuse.view(), settings);
-        twins.full.render(view, without.view(), full_settings);
+        const FrameStats stats = twins.reusing.render(shot.view, with_reuse.view(), shot.settings);
+        twins.full.render(shot.view, without.view(), shot.full_settings);
         EXPECT_TRUE(same_bits(with_reuse, without)) << stats.reuse_reason;
         return with_reuse;
     };

@@ -103,7 +103,7 @@ ReusePlan plan_exact_reuse(const ReuseMemory& memory, const ReuseInputs& now) {
     if (now.frame_stamp == 0 || now.frame_stamp != memory.stamp) {
         return full("not the frame the last trace wrote");
     }
-    if (!same_camera(memory.camera, now.camera)) return full("camera moved");
+    if (!same_camera(memory.camera, now.camera)) return full(kCameraMoved);
     if (!same_image_settings(memory.settings, now.settings)) return full("image settings changed");
     if (!same_lights(memory.lights, now.lights)) return full("lights changed");
     if (now.object_boxes.size() < memory.object_boxes.size()) {

@@ -79,6 +79,9 @@ struct ReusePlan {
     std::vector<bvh::Aabb> changed;
 };
 
+/// ReusePlan::reason of a full trace because the camera moved.
+inline constexpr const char* kCameraMoved = "camera moved";
+
 ReusePlan plan_exact_reuse(const ReuseMemory& memory, const ReuseInputs& now);
 
 /// Traces the frame as `plan` says into `out` (its pixels kept where nothing changed), sets

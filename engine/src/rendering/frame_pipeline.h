@@ -82,6 +82,10 @@ private:
     static constexpr std::size_t kPartsPerObject = 16;
     void refresh_parts();
     detail::ReuseMemory reuse_;
+    /// Exact reuse: the last trace was a full one because the camera had moved, and its
+    /// camera (a camera that keeps moving is traced without recording reuse memory).
+    bool camera_moving_ = false;
+    Camera last_camera_;
     detail::PixelCache pixel_cache_;
 };
 

@@ -5,6 +5,7 @@
 #include "dynrt/packet/tiling.h"
 #include "rendering/changed_space.h"
 #include "rendering/lane_tracing.h"
+#include "rendering/same_view.h"
 #include "rendering/tile_shading.h"
 
 #include <tbb/blocked_range.h>
@@ -74,16 +75,6 @@ struct Projection {
         return true;
     }
 };
-
-bool same_camera(const Camera& a, const Camera& b) {
-    return a.eye == b.eye && a.target == b.target && a.up == b.up && a.fov_y_deg == b.fov_y_deg;
-}
-
-bool same_lights(std::span<const PointLight> a, std::span<const PointLight> b) {
-    return std::equal(a.begin(), a.end(), b.begin(), b.end(), [](const auto& x, const auto& y) {
-        return x.position == y.position && x.intensity == y.intensity;
-    });
-}
 
 /// One pixel's sample, moved around by reprojection: for a hit its world point, for a miss
 /// (object -1) the direction of its ray.

@@ -7,6 +7,7 @@
 #include "dynrt/packet/two_level_packet.h"
 #include "rendering/changed_space.h"
 #include "rendering/lane_tracing.h"
+#include "rendering/same_view.h"
 #include "rendering/tile_shading.h"
 
 #include <tbb/combinable.h>
@@ -21,22 +22,12 @@ namespace dynrt::detail {
 
 namespace {
 
-bool same_camera(const Camera& a, const Camera& b) {
-    return a.eye == b.eye && a.target == b.target && a.up == b.up && a.fov_y_deg == b.fov_y_deg;
-}
-
 /// The settings that decide a pixel's value (the tracers and culling give the same bits, but
 /// the tracer is compared too, so that a comparison of the two always traces both in full).
 bool same_image_settings(const TraceSettings& a, const TraceSettings& b) {
     return a.width == b.width && a.height == b.height && a.tracer == b.tracer &&
            a.hit_buffers == b.hit_buffers && a.background == b.background &&
            a.ambient == b.ambient && a.packet.lanes == b.packet.lanes;
-}
-
-bool same_lights(std::span<const PointLight> a, std::span<const PointLight> b) {
-    return std::equal(a.begin(), a.end(), b.begin(), b.end(), [](const auto& x, const auto& y) {
-        return x.position == y.position && x.intensity == y.intensity;
-    });
 }
 
 bool same_material(const packet::PhongMaterial& a, const packet::PhongMaterial& b) {

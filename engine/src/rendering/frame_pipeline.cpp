@@ -1,5 +1,7 @@
 #include "rendering/frame_pipeline.h"
 
+#include "rendering/same_view.h"
+
 #include <algorithm>
 #include <stdexcept>
 
@@ -15,14 +17,6 @@ void FramePipeline::clear() {
     invalidated_.clear();
 }
 
-namespace {
-
-bool same_camera(const Camera& a, const Camera& b) {
-    return a.eye == b.eye && a.target == b.target && a.up == b.up && a.fov_y_deg == b.fov_y_deg;
-}
-
-}  // namespace
-
 void FramePipeline::refresh_parts() {
     const std::size_t count = versions_.size();
     parts_.resize(count);
@@ -37,9 +31,8 @@ void FramePipeline::refresh_parts() {
 
 void FramePipeline::invalidate(std::size_t object) {
     accel_.invalidate(object);
-    if (object < versions_.size()) versions_[object] = ++last_version_;
-    // The trees change at the next update, not now: a trace before it still shows the object
-    // as it was, so the update bumps the version again.
+    // The trees change at the next update, not now (a trace before it still shows the object
+    // as it was): that update moves the object's version.
     invalidated_.push_back(object);
 }
 
@@ -85,27 +78,18 @@ void FramePipeline::trace(const Scene& scene, const Camera& camera, const TraceS
     }
     out.stats = update_stats_;
     const TraceInputs inputs{accel_, materials_, object_material_, lights};
-    if (options.reuse.approximate() && options.adaptive_tolerance == 0.0f) {
+    const bool approximate = options.reuse.approximate() && options.adaptive_tolerance == 0.0f;
+    const bool exact = options.reuse.mode == PixelReuse::exact && options.adaptive_tolerance == 0.0f;
+    // The camera moved at the last trace and moves again: a full trace either way, and
+    // recording what exact reuse needs per tile cost 9% of it over BART kitchen's path. Traced
+    // plainly; once the camera holds still for a frame, that frame records again.
+    const bool camera_moving = exact && camera_moving_ && !detail::same_camera(camera, last_camera_);
+    if (approximate) {
         reuse_.valid = false;
         out.reuse_stamp = 0;
         detail::trace_frame_approximate(inputs, camera, options, accel_.object_world_boxes(),
                                         versions_, pixel_cache_, scratch_, out);
-    } else if (options.reuse.mode == PixelReuse::exact && options.adaptive_tolerance == 0.0f &&
-               camera_moving_ && !same_camera(camera, last_camera_)) {
-        // The camera moved at the last trace and moves again: a full trace either way, and
-        // recording what reuse needs per tile cost 9% of it over BART kitchen's path. Traced
-        // plainly; once the camera holds still for a frame, that frame records again.
-        pixel_cache_.valid = false;
-        reuse_.valid = false;
-        out.reuse_stamp = 0;
-        trace_frame(inputs, camera, options, scratch_, out);
-        out.stats.reuse_mode = pixel_reuse_name(PixelReuse::exact);
-        out.stats.reuse_reason = "camera moving";
-        out.stats.pixels_traced = out.stats.primary_rays;
-        out.stats.pixels_shadows_retraced = 0;
-        out.stats.pixels_reused = 0;
-        out.stats.pixels_filled = 0;
-    } else if (options.reuse.mode == PixelReuse::exact && options.adaptive_tolerance == 0.0f) {
+    } else if (exact && !camera_moving) {
         pixel_cache_.valid = false;
         refresh_parts();
         const detail::ReuseInputs now{camera,          options,
@@ -123,15 +107,16 @@ void FramePipeline::trace(const Scene& scene, const Camera& camera, const TraceS
         pixel_cache_.valid = false;
         out.reuse_stamp = 0;
         trace_frame(inputs, camera, options, scratch_, out);
-        out.stats.reuse_mode = pixel_reuse_name(PixelReuse::off);
-        out.stats.reuse_reason =
-            options.adaptive_tolerance > 0.0f ? "adaptive sampling" : "reuse off";
+        out.stats.reuse_mode = pixel_reuse_name(camera_moving ? PixelReuse::exact : PixelReuse::off);
+        out.stats.reuse_reason = camera_moving                       ? "camera moving"
+                                 : options.adaptive_tolerance > 0.0f ? "adaptive sampling"
+                                                                     : "reuse off";
         out.stats.pixels_traced = out.stats.primary_rays;
         out.stats.pixels_shadows_retraced = 0;
         out.stats.pixels_reused = 0;
         out.stats.pixels_filled = 0;
     }
-    if (options.reuse.mode != PixelReuse::exact) camera_moving_ = false;
+    if (!exact) camera_moving_ = false;
     last_camera_ = camera;
     out.stats.total_ms = update_wall_ms_ + trace_clock.elapsed_ms();
     // What the automatic update method predicts the next frames' trace times from.

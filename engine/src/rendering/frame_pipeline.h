@@ -71,7 +71,7 @@ private:
     /// said it changed, an invalidation): exact pixel reuse compares them between traces.
     std::vector<std::uint64_t> versions_;
     std::uint64_t last_version_ = 0;
-    /// Objects invalidated since the last update: their versions move again when it runs.
+    /// Objects invalidated since the last update: their versions move when it runs.
     std::vector<std::size_t> invalidated_;
     /// Per object, the world boxes of a cut through its tree (SceneAccel::object_world_parts)
     /// and the version they were taken at: refreshed for exact reuse when the version moves.

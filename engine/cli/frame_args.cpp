@@ -80,6 +80,8 @@ dynrt::RenderOptions render_options(const FrameArgs& args) {
     options.tracer = args.tracer == "single" ? dynrt::Tracer::single : dynrt::Tracer::packet;
     options.packet.culling = dynrt::packet::PacketCulling::parse(args.packet_culling);
     options.adaptive_tolerance = args.adaptive;
+    options.secondary.max_depth = args.depth;
+    options.secondary.cutoff = args.cutoff;
     options.reuse = dynrt::parse_reuse(args.reuse);
     options.pose.fps = args.fps;
     options.rebuild_threshold = args.rebuild_threshold;

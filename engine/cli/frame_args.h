@@ -30,6 +30,9 @@ struct FrameArgs {
     std::string bvh = "wide";
     std::string packet_culling = "all";
     float adaptive = 0.0f;
+    /// Whitted secondary rays (TraceSettings::secondary): deepest bounce and path-weight cut-off.
+    int depth = dynrt::SecondaryRays{}.max_depth;
+    float cutoff = dynrt::SecondaryRays{}.cutoff;
     /// Pixel reuse between frames (dynrt/engine/pixel_reuse.h): off, exact, cache[:BUDGET],
     /// frameless[:BUDGET].
     std::string reuse = "exact";

@@ -82,6 +82,14 @@ int main(int argc, char** argv) {
                         "Approximate: trace each tile on a sparse grid and interpolate cells "
                         "whose samples agree within this tolerance (packet tracer; 0: exact)")
             ->check(CLI::NonNegativeNumber)->capture_default_str();
+        cmd->add_option("--depth", args.depth,
+                        "Deepest reflection or refraction bounce traced (Whitted; 0: camera and "
+                        "shadow rays only). Frames with secondary rays trace every pixel")
+            ->check(CLI::Range(0, 64))->capture_default_str();
+        cmd->add_option("--cutoff", args.cutoff,
+                        "A reflection or refraction ray is traced only while a channel of its "
+                        "path's weight is at least this")
+            ->check(CLI::Range(0.0, 1.0))->capture_default_str();
         cmd->add_option("--reuse", args.reuse,
                         "Reuse of the previous frame's pixels: exact (re-trace only rays that "
                         "may meet what moved; the same image as off), off, or approximate "

@@ -143,6 +143,7 @@ int run_render(const RenderArgs& args) {
         for (const dynrt::FrameStats& f : frames) dynrt::print_frame_row(std::cout, f);
     }
     dynrt::print_summary(std::cout, frames);
+    dynrt::print_secondary_summary(std::cout, frames);
     print_rebuild_summary(std::cout, frames);
     print_update_choices(std::cout, frames);
     if (!args.report.empty()) {

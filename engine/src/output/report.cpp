@@ -36,6 +36,14 @@ void for_each_field(const FrameStats& s, Visit&& visit) {
     visit("pixels_filled", s.pixels_filled);
     visit("primary_mrays_per_s", s.primary_mrays_per_s);
     visit("shadow_mrays_per_s", s.shadow_mrays_per_s);
+    visit("secondary_ms", s.secondary_ms);
+    visit("reflection_rays", s.reflection_rays);
+    visit("refraction_rays", s.refraction_rays);
+    visit("reflection_mrays_per_s", s.reflection_mrays_per_s);
+    visit("refraction_mrays_per_s", s.refraction_mrays_per_s);
+    visit("secondary_shadow_rays", s.secondary_shadow_rays);
+    visit("secondary_packet_rays", s.secondary_packet_rays);
+    visit("secondary_single_rays", s.secondary_single_rays);
     visit("sah_cost", s.sah_cost);
     visit("nodes", s.nodes);
     visit("leaves", s.leaves);
@@ -65,6 +73,8 @@ nlohmann::ordered_json frame_json(const FrameStats& s) {
     for_each_field(s, [&](const char* key, auto value) { j[key] = value; });
     // Not columns (no median of reasons): the pixel reuse mode and why the frame re-traced what
     // it did, and the list of this frame's tree builds.
+    // Reflection and refraction rays per depth (index 0: depth 1); empty without any.
+    j["secondary_rays_per_depth"] = s.secondary_rays_per_depth;
     j["reuse_mode"] = s.reuse_mode;
     j["reuse_reason"] = s.reuse_reason;
     j["rebuilds"] = nlohmann::ordered_json::array();
@@ -181,6 +191,41 @@ void print_summary(std::ostream& out, const std::vector<FrameStats>& frames) {
                   j["shade_ms"], j["total_ms"], j["primary_mrays_per_s"], j["sah_cost"],
                   j["nodes"], j["leaf_tris_mean"], j["leaf_tris_max"], j["depth"]);
     }
+}
+
+void print_secondary_summary(std::ostream& out, const std::vector<FrameStats>& frames) {
+    if (frames.empty()) return;
+    const auto median = [&](auto field) {
+        std::vector<double> values;
+        for (const FrameStats& f : frames) values.push_back(double(field(f)));
+        return spread_of(std::move(values)).median;
+    };
+    if (median([](const FrameStats& f) { return f.reflection_rays + f.refraction_rays; }) == 0.0) {
+        return;
+    }
+    const double in_packets = median([](const FrameStats& f) { return f.secondary_packet_rays; });
+    const double one_by_one = median([](const FrameStats& f) { return f.secondary_single_rays; });
+    out << std::fixed << std::setprecision(0) << "secondary rays (median per frame): reflection "
+        << median([](const FrameStats& f) { return f.reflection_rays; }) << " at "
+        << std::setprecision(2) << median([](const FrameStats& f) { return f.reflection_mrays_per_s; })
+        << " Mrays/s, refraction " << std::setprecision(0)
+        << median([](const FrameStats& f) { return f.refraction_rays; }) << " at "
+        << std::setprecision(2) << median([](const FrameStats& f) { return f.refraction_mrays_per_s; })
+        << " Mrays/s (camera rays "
+        << median([](const FrameStats& f) { return f.primary_mrays_per_s; }) << "); "
+        << std::setprecision(0) << 100.0 * in_packets / std::max(1.0, in_packets + one_by_one)
+        << "% in packets; shadow rays at their hits "
+        << median([](const FrameStats& f) { return f.secondary_shadow_rays; }) << "; "
+        << std::setprecision(2) << median([](const FrameStats& f) { return f.secondary_ms; })
+        << " ms\n  rays per depth:";
+    std::size_t depths = 0;
+    for (const FrameStats& f : frames) depths = std::max(depths, f.secondary_rays_per_depth.size());
+    for (std::size_t k = 0; k < depths; ++k) {
+        out << ' ' << (k + 1) << ": " << std::setprecision(0) << median([&](const FrameStats& f) {
+            return k < f.secondary_rays_per_depth.size() ? f.secondary_rays_per_depth[k] : 0;
+        });
+    }
+    out << '\n';
 }
 
 }  // namespace dynrt

@@ -77,9 +77,15 @@ void FramePipeline::trace(const Scene& scene, const Camera& camera, const TraceS
         object_material_.push_back(std::int32_t(object.material));
     }
     out.stats = update_stats_;
-    const TraceInputs inputs{accel_, materials_, object_material_, lights};
-    const bool approximate = options.reuse.approximate() && options.adaptive_tolerance == 0.0f;
-    const bool exact = options.reuse.mode == PixelReuse::exact && options.adaptive_tolerance == 0.0f;
+    const TraceInputs inputs{accel_, materials_, object_material_, lights, scene.materials};
+    // A reflection or refraction can show any object from any pixel whose hit spawns one, which
+    // neither the reuse modes' tests nor adaptive sampling's interpolation account for: a frame
+    // with secondary rays traces every pixel.
+    const bool secondary = detail::any_secondary(scene.materials, options.secondary);
+    const bool approximate = options.reuse.approximate() && options.adaptive_tolerance == 0.0f &&
+                             !secondary;
+    const bool exact = options.reuse.mode == PixelReuse::exact &&
+                       options.adaptive_tolerance == 0.0f && !secondary;
     // The camera moved at the last trace and moves again: a full trace either way, and
     // recording what exact reuse needs per tile cost 9% of it over BART kitchen's path. Traced
     // plainly; once the camera holds still for a frame, that frame records again.
@@ -106,9 +112,17 @@ void FramePipeline::trace(const Scene& scene, const Camera& camera, const TraceS
         reuse_.valid = false;
         pixel_cache_.valid = false;
         out.reuse_stamp = 0;
-        trace_frame(inputs, camera, options, scratch_, out);
+        if (secondary && options.adaptive_tolerance > 0.0f) {
+            TraceSettings every_pixel = options;
+            every_pixel.adaptive_tolerance = 0.0f;
+            trace_frame(inputs, camera, every_pixel, scratch_, out);
+        } else {
+            trace_frame(inputs, camera, options, scratch_, out);
+        }
+        const bool reuse_asked = options.reuse.mode != PixelReuse::off || options.adaptive_tolerance > 0.0f;
         out.stats.reuse_mode = pixel_reuse_name(camera_moving ? PixelReuse::exact : PixelReuse::off);
         out.stats.reuse_reason = camera_moving                       ? "camera moving"
+                                 : secondary && reuse_asked           ? "secondary rays"
                                  : options.adaptive_tolerance > 0.0f ? "adaptive sampling"
                                                                      : "reuse off";
         out.stats.pixels_traced = out.stats.primary_rays;

@@ -16,7 +16,9 @@
 #include <tbb/parallel_for.h>
 
 #include <cstdint>
+#include <algorithm>
 #include <functional>
+#include <optional>
 #include <vector>
 
 namespace dynrt {
@@ -24,7 +26,7 @@ namespace dynrt {
 namespace {
 
 using detail::ShadowOrigin;
-using detail::shade_tile;
+using detail::shade_lanes;
 using detail::TileShading;
 using detail::TileShadowOrigins;
 
@@ -114,6 +116,11 @@ void trace_frame(const TraceInputs& in, const Camera& camera, const TraceSetting
         stats.primary_mrays_per_s = mrays_per_s(stats.primary_rays, stats.primary_ms);
         stats.shadow_mrays_per_s = mrays_per_s(stats.shadow_rays, stats.shadow_ms);
     };
+    stats.secondary_ms = 0.0;
+    stats.reflection_rays = stats.refraction_rays = 0;
+    stats.reflection_mrays_per_s = stats.refraction_mrays_per_s = 0.0;
+    stats.secondary_shadow_rays = stats.secondary_packet_rays = stats.secondary_single_rays = 0;
+    stats.secondary_rays_per_depth.clear();
     const TileShading shading{in.materials, scratch.shading_lights, options.ambient,
                               options.background, options.packet.lanes};
     out.width = width;
@@ -180,6 +187,33 @@ void trace_frame(const TraceInputs& in, const Camera& camera, const TraceSetting
 
     // ---- Shadow rays (one per hit and light on the lit side), then shading ----
     const packet::PinholeRays& pinhole = rays;
+    // ---- ... and the reflection and refraction rays of each tile after its shading ----
+    const bool secondary = detail::any_secondary(in.scene_materials, options.secondary);
+    std::optional<detail::SecondaryFrame> secondary_frame;
+    if (secondary) {
+        secondary_frame.emplace(detail::SecondaryFrame{
+            in.accel, lights, shading, in.scene_materials, in.object_material,
+            options.secondary, options.packet, options.tracer == Tracer::single, count});
+    }
+    tbb::combinable<detail::SecondaryWork> secondary_work;
+    tbb::combinable<double> single_shade_ms([] { return 0.0; });
+    double single_shadow_ms = 0.0;
+    // The shadow and shading loop's wall time is split between shadow_ms, shade_ms and
+    // secondary_ms in proportion to the workers' time in each (secondary work times itself).
+    double secondary_scale = 0.0;
+    const auto split_stages = [&](double wall_ms, double shadow_thread_ms, double shade_thread_ms) {
+        double secondary_thread_ms = 0.0;
+        if (secondary) {
+            secondary_work.combine_each([&](const detail::SecondaryWork& w) {
+                secondary_thread_ms += w.reflection_ms + w.refraction_ms + w.shadow_ms + w.other_ms;
+            });
+        }
+        const double thread_total = shadow_thread_ms + shade_thread_ms + secondary_thread_ms;
+        const double scale = thread_total > 0.0 ? wall_ms / thread_total : 0.0;
+        stats.shadow_ms = thread_total > 0.0 ? shadow_thread_ms * scale : wall_ms;
+        stats.shade_ms = wall_ms - stats.shadow_ms;  // secondary_ms is taken out of it below
+        secondary_scale = scale;
+    };
     const packet::Tiling tiling(width, height);
     tbb::combinable<std::size_t> shadow_rays([] { return std::size_t(0); });
     if (options.tracer == Tracer::packet) {
@@ -193,6 +227,9 @@ void trace_frame(const TraceInputs& in, const Camera& camera, const TraceSetting
         struct StageThreadMs {
             double shadow = 0.0, shade = 0.0;
         };
+        // Reflection and refraction rays, traced in the same task after the tile's shading
+        // (secondary_rays.h): their thread time is split out of the stage's wall time by the
+        // same proportion.
         tbb::combinable<StageThreadMs> thread_ms;
         tbb::combinable<std::vector<packet::LaneMask>> visible_buffers;
         tbb::parallel_for(0, tiling.count(), [&](int i) {
@@ -220,16 +257,20 @@ void trace_frame(const TraceInputs& in, const Camera& camera, const TraceSetting
             StageThreadMs& ms = thread_ms.local();
             ms.shadow += task_clock.lap_ms();
             packet::ShadedColors colors;
-            shade_tile(shading, tile, origins, visible, scratch.hits, colors, out);
+            shade_lanes(shading, origins, visible, colors);
+            if (secondary) {
+                ms.shade += task_clock.lap_ms();
+                detail::add_secondary(*secondary_frame, origins, colors, secondary_work.local());
+                task_clock.lap_ms();  // the secondary work times itself
+            }
+            detail::write_tile(shading, tile, origins, scratch.hits, colors, out);
             ms.shade += task_clock.lap_ms();
         });
         const double wall_ms = clock.lap_ms();
         const StageThreadMs sum = thread_ms.combine([](StageThreadMs a, const StageThreadMs& b) {
             return StageThreadMs{a.shadow + b.shadow, a.shade + b.shade};
         });
-        const double thread_total = sum.shadow + sum.shade;
-        stats.shadow_ms = thread_total > 0.0 ? wall_ms * (sum.shadow / thread_total) : wall_ms;
-        stats.shade_ms = wall_ms - stats.shadow_ms;
+        split_stages(wall_ms, sum.shadow, sum.shade);
     } else {
         scratch.visible.assign(pixels * lights.size(), 0);
         for_each_pixel_in_tiles(width, height, [&](int x, int y, std::size_t p) {
@@ -249,6 +290,7 @@ void trace_frame(const TraceInputs& in, const Camera& camera, const TraceSetting
             shadow_rays.local() += traced;
         });
         stats.shadow_ms = clock.lap_ms();
+        single_shadow_ms = stats.shadow_ms;
         // The same shading kernel as the packet tracer, so both render the same bits; the
         // normals and hit points are recomputed per tile (as the shadow stage computed them).
         tbb::combinable<std::vector<packet::LaneMask>> visible_buffers;
@@ -270,9 +312,28 @@ void trace_frame(const TraceInputs& in, const Camera& camera, const TraceSetting
                 }
             }
             packet::ShadedColors colors;
-            shade_tile(shading, tile, origins, visible, scratch.hits, colors, out);
+            Stopwatch task_clock;
+            shade_lanes(shading, origins, visible, colors);
+            if (secondary) {
+                single_shade_ms.local() += task_clock.lap_ms();
+                detail::add_secondary(*secondary_frame, origins, colors, secondary_work.local());
+                task_clock.lap_ms();  // the secondary work times itself
+            }
+            detail::write_tile(shading, tile, origins, scratch.hits, colors, out);
+            single_shade_ms.local() += task_clock.lap_ms();
         });
-        stats.shade_ms = clock.lap_ms();
+        const double wall_ms = clock.lap_ms();
+        split_stages(wall_ms, 0.0, single_shade_ms.combine(std::plus<>()));
+        stats.shadow_ms = single_shadow_ms;
+    }
+    if (secondary) {
+        stats.secondary_rays_per_depth.clear();
+        detail::report_secondary(secondary_work.combine([](detail::SecondaryWork a,
+                                                           const detail::SecondaryWork& b) {
+                                     return a += b;
+                                 }),
+                                 secondary_scale, stats);
+        stats.shade_ms = std::max(0.0, stats.shade_ms - stats.secondary_ms);
     }
     stats.shadow_rays = shadow_rays.combine(std::plus<>());
     if (count) {

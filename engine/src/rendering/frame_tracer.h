@@ -7,6 +7,7 @@
 #include "dynrt/engine/camera.h"
 #include "dynrt/engine/renderer.h"
 #include "dynrt/packet/packet_shading.h"
+#include "rendering/secondary_rays.h"
 #include "update/scene_accel.h"
 
 #include <cstdint>
@@ -22,6 +23,10 @@ struct TraceInputs {
     std::span<const packet::PhongMaterial> materials;
     const std::vector<std::int32_t>& object_material;
     std::span<const PointLight> lights;
+    /// The scene's materials, for their reflection and refraction terms; empty, or none of
+    /// them reflecting or transmitting, or TraceSettings::secondary.max_depth 0: no secondary
+    /// rays.
+    std::span<const Material> scene_materials = {};
 };
 
 /// Buffers a trace fills and the next one reuses (one per concurrent trace).
@@ -34,8 +39,9 @@ struct TraceScratch {
 };
 
 /// Renders `camera`'s view at options.width x options.height into `out` (its buffers reused),
-/// with options' tracer, culling, adaptive tolerance, background and ambient, lit by
-/// `in.lights`. Sets the trace's fields of
+/// with options' tracer, culling, adaptive tolerance, secondary rays, background and ambient,
+/// lit by `in.lights`. Adaptive sampling ignores the secondary rays: callers turn it off when
+/// a frame has some (FramePipeline::trace does). Sets the trace's fields of
 /// out.stats (primary, shadow and shade ms and rays, rays/s, interpolated pixels, packet work)
 /// and leaves the others as they are. Throws std::invalid_argument for a degenerate camera.
 void trace_frame(const TraceInputs& in, const Camera& camera, const TraceSettings& options,

@@ -74,21 +74,17 @@ struct TileShadowOrigins {
     packet::SurfacePacket surface;  ///< hit mask, point, normal, view, material
     alignas(64) float origin[3][packet::kPacketRays];
 
+    /// Lanes whose ray met the back of its triangle (against the winding normal (v1 - v0) x
+    /// (v2 - v0), which `surface.normal` was turned from): a refracted ray leaves the inside.
+    packet::LaneMask back_hit;
+    /// Per lane, triangle_magnitude of the hit triangle (for offsets along the normal).
+    alignas(64) float magnitude[packet::kPacketRays];
+
     /// `primary` holds the tile's camera rays (lane tile_lane(tile, x, y)); object i has
     /// material object_material[i].
     void compute(const SceneAccel& accel, const std::vector<bvh::InstanceHit>& hits, int width,
                  const packet::Tile& tile, const packet::RayPacket& primary,
                  const std::vector<std::int32_t>& object_material) {
-        packet::LaneMask& hit = surface.hit;
-        using L = packet::simd::Lanes<packet::simd::kNativeLanes>;
-        using F = L::F;
-        using I = L::I;
-        constexpr int W = packet::simd::kNativeLanes;
-        // Gather each hit's triangle and barycentrics into lanes; lanes without a hit get a
-        // harmless triangle and are never used.
-        alignas(64) float v[9][packet::kPacketRays];
-        alignas(64) float bary[2][packet::kPacketRays];
-        constexpr float kHarmless[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
         // The hit triangles are scattered through large arrays: request them all before
         // reading any, so the cache misses overlap.
         for (int y = tile.y0; y < tile.y1; ++y) {
@@ -100,25 +96,51 @@ struct TileShadowOrigins {
                 __builtin_prefetch(t + sizeof(bvh::Triangle) - 1);
             }
         }
+        compute_lanes(
+            accel,
+            [&](int lane) -> const bvh::InstanceHit* {
+                const packet::LanePixel px = packet::tile_pixel(tile, lane);
+                if (!px.inside) return nullptr;
+                const bvh::InstanceHit& h = hits[std::size_t(px.y) * width + px.x];
+                return h.is_hit() ? &h : nullptr;
+            },
+            primary, object_material);
+    }
+
+    /// The same for any packet of rays: `hit_of(lane)` gives the lane's resolved hit, or null
+    /// for a lane without one; `rays` holds the rays that made them (their directions turn the
+    /// normals, and their negations are the view vectors, so they must be unit length).
+    template <typename HitOf>
+    void compute_lanes(const SceneAccel& accel, HitOf&& hit_of, const packet::RayPacket& rays,
+                       const std::vector<std::int32_t>& object_material) {
+        packet::LaneMask& hit = surface.hit;
+        using L = packet::simd::Lanes<packet::simd::kNativeLanes>;
+        using F = L::F;
+        using I = L::I;
+        constexpr int W = packet::simd::kNativeLanes;
+        // Gather each hit's triangle and barycentrics into lanes; lanes without a hit get a
+        // harmless triangle and are never used.
+        alignas(64) float v[9][packet::kPacketRays];
+        alignas(64) float bary[2][packet::kPacketRays];
+        constexpr float kHarmless[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
         hit = packet::LaneMask{};
+        back_hit = packet::LaneMask{};
         for (int lane = 0; lane < packet::kPacketRays; ++lane) {
-            const packet::LanePixel px = packet::tile_pixel(tile, lane);
-            const bvh::Hit* h = nullptr;
+            const bvh::InstanceHit* ih = hit_of(lane);
             float coords[9];
-            if (px.inside && hits[std::size_t(px.y) * width + px.x].is_hit()) {
-                const bvh::InstanceHit& ih = hits[std::size_t(px.y) * width + px.x];
-                h = &ih.hit;
+            if (ih != nullptr) {
                 hit.set(lane);
-                const bvh::Triangle tri = accel.world_triangle(ih.object, ih.hit.prim);
+                const bvh::Triangle tri = accel.world_triangle(ih->object, ih->hit.prim);
                 std::memcpy(coords, &tri, sizeof coords);
-                surface.material[lane] = object_material[ih.object];
+                surface.material[lane] = object_material[ih->object];
             } else {
                 std::memcpy(coords, kHarmless, sizeof coords);
             }
             for (int k = 0; k < 9; ++k) v[k][lane] = coords[k];
-            bary[0][lane] = h ? h->u : 0.0f;
-            bary[1][lane] = h ? h->v : 0.0f;
+            bary[0][lane] = ih ? ih->hit.u : 0.0f;
+            bary[1][lane] = ih ? ih->hit.v : 0.0f;
         }
+        const packet::RayPacket& primary = rays;
         const float* dir_in[3] = {primary.dir_x, primary.dir_y, primary.dir_z};
         for (int base = 0; base < packet::kPacketRays; base += W) {
             if (hit.extract(base, W) == 0) continue;
@@ -138,6 +160,8 @@ struct TileShadowOrigins {
             const F d[3] = {L::load(dir_in[0] + base), L::load(dir_in[1] + base),
                             L::load(dir_in[2] + base)};
             const I flip = (nv[0] * d[0] + nv[1] * d[1] + nv[2] * d[2]) > L::splat(0.0f);
+            back_hit.words[base >> 6] |= std::uint64_t(L::bits(flip) & hit.extract(base, W))
+                                         << (base & 63);
             for (int a = 0; a < 3; ++a) {
                 nv[a] = L::select(flip, -nv[a], nv[a]);
                 L::store(surface.view[a] + base, -d[a]);
@@ -146,13 +170,14 @@ struct TileShadowOrigins {
             const F u = L::load(bary[0] + base), w = L::load(bary[1] + base);
             const F b0 = L::splat(1.0f) - u - w;
             // triangle_magnitude: the largest |coordinate| of the three vertices.
-            F magnitude = L::splat(0.0f);
+            F magnitude_lanes = L::splat(0.0f);
             for (const F* vertex : {v0, v1, v2}) {
                 for (int a = 0; a < 3; ++a) {
                     const F m = L::abs(vertex[a]);
-                    magnitude = L::select(m > magnitude, m, magnitude);
+                    magnitude_lanes = L::select(m > magnitude_lanes, m, magnitude_lanes);
                 }
             }
+            L::store(magnitude + base, magnitude_lanes);
             for (int a = 0; a < 3; ++a) {
                 const F p = b0 * v0[a] + u * v1[a] + w * v2[a];
                 // offset_along_normal, with its constants (256 ulps per unit of normal,
@@ -161,11 +186,11 @@ struct TileShadowOrigins {
                 const I ulps = L::truncate(L::splat(kShadowIntScale) * nv[a]);
                 const I bits = L::bits_of(p);
                 const F moved = L::float_of(bits + L::select(p < L::splat(0.0f), -ulps, ulps));
-                const F near_origin = p + L::splat(kShadowFloatScale) * magnitude * nv[a];
+                const F near_origin = p + L::splat(kShadowFloatScale) * magnitude_lanes * nv[a];
                 L::store(surface.normal[a] + base, nv[a]);
                 L::store(surface.point[a] + base, p);
                 L::store(origin[a] + base,
-                         L::select(L::abs(p) < L::splat(kShadowOrigin) * magnitude, near_origin, moved));
+                         L::select(L::abs(p) < L::splat(kShadowOrigin) * magnitude_lanes, near_origin, moved));
             }
         }
     }
@@ -229,18 +254,24 @@ inline void write_miss(RenderedFrame& out, std::size_t p) {
     out.normal[p] = glm::vec3(0.0f);
 }
 
-/// Shades one tile's hits (packet::shade; `visible[l]`: the lanes light l reaches) and writes
-/// every pixel of the tile into `out`, whose buffers are already sized: colour, depth, object,
-/// prim and normal, or the background and the miss values. `colors` is scratch.
-inline void shade_tile(const TileShading& shading, const packet::Tile& tile,
-                const TileShadowOrigins& origins, std::span<const packet::LaneMask> visible,
-                const std::vector<bvh::InstanceHit>& hits, packet::ShadedColors& colors,
-                RenderedFrame& out) {
+/// Shades one tile's hit lanes into `colors` (packet::shade; `visible[l]`: the lanes light l
+/// reaches); other lanes are left as they are.
+inline void shade_lanes(const TileShading& shading, const TileShadowOrigins& origins,
+                        std::span<const packet::LaneMask> visible, packet::ShadedColors& colors) {
     const packet::SurfacePacket& surface = origins.surface;
     if (surface.hit.any()) {
         packet::shade(surface, shading.materials, shading.lights, visible, shading.ambient, colors,
                       shading.lanes);
     }
+}
+
+/// Writes every pixel of the tile into `out`, whose buffers are already sized: colour (from
+/// `colors` on the hit lanes), depth, object, prim and normal, or the background and the miss
+/// values.
+inline void write_tile(const TileShading& shading, const packet::Tile& tile,
+                       const TileShadowOrigins& origins, const std::vector<bvh::InstanceHit>& hits,
+                       const packet::ShadedColors& colors, RenderedFrame& out) {
+    const packet::SurfacePacket& surface = origins.surface;
     const bool hit_buffers = !out.depth.empty();
     for (int y = tile.y0; y < tile.y1; ++y) {
         for (int x = tile.x0; x < tile.x1; ++x) {
@@ -263,6 +294,16 @@ inline void shade_tile(const TileShading& shading, const packet::Tile& tile,
                              surface.normal[2][lane]};
         }
     }
+}
+
+/// Shades one tile's hits (shade_lanes) and writes every pixel of the tile into `out`
+/// (write_tile). `colors` is scratch.
+inline void shade_tile(const TileShading& shading, const packet::Tile& tile,
+                       const TileShadowOrigins& origins, std::span<const packet::LaneMask> visible,
+                       const std::vector<bvh::InstanceHit>& hits, packet::ShadedColors& colors,
+                       RenderedFrame& out) {
+    shade_lanes(shading, origins, visible, colors);
+    write_tile(shading, tile, origins, hits, colors, out);
 }
 
 }  // namespace dynrt::detail

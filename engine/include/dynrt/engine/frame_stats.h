@@ -134,6 +134,20 @@ struct TraceStats {
     /// single-ray tracer, every ray's visits (wide inner nodes and leaves, or binary nodes,
     /// plus top-level nodes), whose triangle tests are then in ray_triangle_tests.
     std::uint64_t nodes_visited = 0;
+    /// Whitted reflection and refraction rays (TraceSettings::secondary): the stage's share of
+    /// the frame's wall time (the rays, their hits' shadow rays and shading), the rays of each
+    /// kind and their rates (closest-hit tracing only, the stage's share of wall time spent
+    /// on them), the shadow rays cast at their hits, how many were traced in packets and one
+    /// at a time, and the rays per depth (index 0: depth 1, the camera rays' bounces).
+    double secondary_ms = 0;
+    std::size_t reflection_rays = 0;
+    std::size_t refraction_rays = 0;
+    double reflection_mrays_per_s = 0;
+    double refraction_mrays_per_s = 0;
+    std::size_t secondary_shadow_rays = 0;
+    std::size_t secondary_packet_rays = 0;
+    std::size_t secondary_single_rays = 0;
+    std::vector<std::size_t> secondary_rays_per_depth;
     /// Pixel reuse (TraceSettings::reuse, pixel_reuse.h): the mode that ran ("off", "exact",
     /// "cache", "frameless"), and why the frame was traced in full or what it re-traced (e.g.
     /// "first frame", "camera moved", "2 objects changed").

@@ -13,6 +13,30 @@
 // 6 * 2^-24 per light): the reference renderer's double-precision colours are matched within
 // tests/reference's colour tolerance, not bit for bit.
 //
+// Secondary rays (Whitted 1980, "An Improved Illumination Model for Shaded Display"), when
+// TraceSettings::secondary.max_depth > 0 and a hit's material has reflectance kr or
+// transmittance kt (dynrt::Material). At a hit of a ray with unit direction d, facing normal n
+// as above, hit point P from the barycentrics and m = triangle_magnitude of the triangle:
+//   the ray enters the surface when the winding normal (v1 - v0) x (v2 - v0) points against d
+//   (then n is the winding normal) and leaves it otherwise; eta = 1 / ior entering, ior
+//   leaving; cos_i = -d.n; sin2_t = eta^2 (1 - cos_i^2); cos_t = sqrt(1 - sin2_t).
+//   kt = 0: reflected weight wr = kr, no refraction.
+//   kt > 0 and sin2_t > 1 (total internal reflection): wr = kr + kt, no refraction.
+//   kt > 0 otherwise: the exact Fresnel reflectance of unpolarised light at a dielectric,
+//   F = (rs^2 + rp^2) / 2, rs = (eta cos_i - cos_t) / (eta cos_i + cos_t),
+//   rp = (cos_i - eta cos_t) / (cos_i + eta cos_t) (0 when ior is 1: a matched interface
+//   reflects nothing, which Schlick's approximation misses at grazing angles);
+//   wr = kr + F kt, refracted weight wt = (1 - F) kt.
+//   color(ray) = local(hit) + wr color(reflected ray) + wt color(refracted ray), where local
+//   is the Phong formula above with v = -d, and a miss gives the background.
+//   reflected ray: origin offset_along_normal(P, n, m), direction normalize(d - 2 (d.n) n);
+//   refracted ray: origin offset_along_normal(P, -n, m), direction
+//   normalize(eta d + (eta cos_i - cos_t) n); both with t in [0, +inf).
+// Camera rays have depth 0 and a ray spawned at a hit of a depth-k ray has depth k + 1; a ray
+// is traced only when its depth is <= max_depth and the product of the weights along its path
+// has a channel >= secondary.cutoff. Every hit at every depth casts shadow rays as above;
+// transmissive surfaces block light like opaque ones (no caustics, no coloured shadows).
+//
 // Two tracers give identical frames (hits, shadows, hence every output buffer, bit for bit):
 // the packet tracer (the default), which traces each 16x16 tile as one 256-ray packet and its
 // shadow rays toward each light as another (packet/), and the single-ray tracer
@@ -42,6 +66,20 @@ enum class Tracer {
     single,  ///< one ray at a time (bvh::intersect_closest, bvh::intersect_any)
 };
 
+/// Whitted reflection and refraction rays (the model is at the top of this file).
+struct SecondaryRays {
+    /// Deepest ray traced: 0 traces camera and shadow rays only; 5 follows a camera ray
+    /// through up to five mirror or glass bounces.
+    int max_depth = 5;
+    /// A ray is traced only when a channel of its path's weight is at least this (1/256: it
+    /// could not change an 8-bit pixel by more than one step).
+    float cutoff = 1.0f / 256.0f;
+    /// A tile's secondary rays of one kind and bounce are traced as one packet when at least
+    /// this many of them share a direction octant; otherwise one by one (bvh::intersect_*),
+    /// which gives the same bits. 0 always uses packets; above 256 never.
+    int min_packet_rays = 32;
+};
+
 /// How a frame is traced and shaded: the trace stage's settings (FramePipeline::trace, the
 /// library API's render).
 struct TraceSettings {
@@ -62,6 +100,8 @@ struct TraceSettings {
     /// full render. Exact reuse needs the same RenderedFrame as the previous trace, unchanged
     /// by the caller (RenderedFrame::reuse_stamp); adaptive sampling turns it off.
     ReuseSettings reuse;
+    /// Reflection and refraction rays (the model is at the top of this file).
+    SecondaryRays secondary;
     /// The packet tracer's culling stages and SIMD width (ignored by the single-ray tracer).
     packet::PacketConfig packet;
     /// Count the tracer's work into FrameStats (ray_triangle_tests, nodes_visited and, for the

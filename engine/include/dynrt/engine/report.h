@@ -38,5 +38,9 @@ void print_frame_row(std::ostream& out, const FrameStats& stats);
 /// min and max rows over the frames after it (the steady state). Nothing for a single frame.
 /// (The report file's summary covers every frame.)
 void print_summary(std::ostream& out, const std::vector<FrameStats>& frames);
+/// The reflection and refraction rays, medians over the frames: rays and Mrays/s of each kind
+/// beside the camera rays' rate, rays per depth, the share traced in packets, the shadow rays
+/// at their hits and the stage's ms. Nothing when no frame traced any.
+void print_secondary_summary(std::ostream& out, const std::vector<FrameStats>& frames);
 
 }  // namespace dynrt

@@ -24,12 +24,26 @@
 
 namespace dynrt {
 
-/// Phong material. Colours are linear RGB in [0, 1].
+/// Phong material with Whitted's mirror and transmission terms (the model is in
+/// dynrt/engine/renderer.h). Colours and weights are linear RGB in [0, 1].
 struct Material {
     std::string name;
     glm::vec3 diffuse{0.8f};
     glm::vec3 specular{0.2f};
     float shininess = 32.0f;
+    /// Weight of the mirror-reflected ray's colour (0: no reflection ray).
+    glm::vec3 reflectance{0.0f};
+    /// Weight of the refracted ray's colour before Fresnel (0: opaque).
+    glm::vec3 transmittance{0.0f};
+    /// Index of refraction of the inside (the side the triangles' winding normal points away
+    /// from) relative to the outside; > 0 and finite.
+    float ior = 1.0f;
+
+    /// Whether a hit on this material spawns reflection or refraction rays.
+    bool traces_secondary() const {
+        return reflectance.x > 0.0f || reflectance.y > 0.0f || reflectance.z > 0.0f ||
+               transmittance.x > 0.0f || transmittance.y > 0.0f || transmittance.z > 0.0f;
+    }
 };
 
 /// A triangle mesh in object space. `triangles` index into `positions`.

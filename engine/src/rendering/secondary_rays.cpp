@@ -1,0 +1,318 @@
+#include "rendering/secondary_rays.h"
+
+#include "dynrt/bvh/two_level_bvh.h"
+#include "dynrt/engine/shadow_ray_offset.h"
+#include "dynrt/engine/stopwatch.h"
+#include "dynrt/packet/two_level_packet.h"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <limits>
+#include <memory>
+
+namespace dynrt::detail {
+
+SecondaryWork& SecondaryWork::operator+=(const SecondaryWork& o) {
+    reflection_rays += o.reflection_rays;
+    refraction_rays += o.refraction_rays;
+    shadow_rays += o.shadow_rays;
+    packet_rays += o.packet_rays;
+    single_rays += o.single_rays;
+    if (rays_per_depth.size() < o.rays_per_depth.size()) rays_per_depth.resize(o.rays_per_depth.size(), 0);
+    for (std::size_t k = 0; k < o.rays_per_depth.size(); ++k) rays_per_depth[k] += o.rays_per_depth[k];
+    reflection_ms += o.reflection_ms;
+    refraction_ms += o.refraction_ms;
+    shadow_ms += o.shadow_ms;
+    other_ms += o.other_ms;
+    packet_work += o.packet_work;
+    single_work.nodes_visited += o.single_work.nodes_visited;
+    single_work.triangles_tested += o.single_work.triangles_tested;
+    return *this;
+}
+
+bool any_secondary(std::span<const Material> materials, const SecondaryRays& settings) {
+    if (settings.max_depth <= 0) return false;
+    return std::any_of(materials.begin(), materials.end(),
+                       [](const Material& m) { return m.traces_secondary(); });
+}
+
+namespace {
+
+using packet::kPacketRays;
+using packet::LaneMask;
+using packet::RayPacket;
+
+enum class Kind { reflection, refraction };
+
+/// One bounce still to trace: a tile's rays of one kind and depth, each in its pixel's lane,
+/// with its path's weight.
+struct Bounce {
+    RayPacket rays;
+    alignas(64) float weight[3][kPacketRays];
+    int depth = 0;
+    Kind kind = Kind::reflection;
+};
+
+/// A thread's buffers, kept across tiles (a bounce is 13 KiB; the stack holds at most two
+/// per depth).
+struct Scratch {
+    std::vector<std::unique_ptr<Bounce>> stack;
+    std::size_t top = 0;
+    packet::InstanceHits packet_hits;
+    bvh::InstanceHit hits[kPacketRays];
+    TileShadowOrigins origins;
+    RayPacket shadow;
+    std::vector<LaneMask> visible;
+    packet::ShadedColors local;
+    alignas(64) float weight[3][kPacketRays];
+
+    Bounce& push() {
+        if (top == stack.size()) stack.push_back(std::make_unique<Bounce>());
+        Bounce& b = *stack[top++];
+        b.rays.clear();
+        return b;
+    }
+};
+
+Scratch& thread_scratch() {
+    thread_local Scratch scratch;
+    return scratch;
+}
+
+float max_channel(const glm::vec3& v) { return std::max(v.x, std::max(v.y, v.z)); }
+
+/// The reflected and refracted weights and directions at one hit (renderer.h's model).
+struct Split {
+    glm::vec3 wr{0.0f}, wt{0.0f};
+    glm::vec3 reflected{0.0f}, refracted{0.0f};
+};
+
+Split split_at(const Material& m, const glm::vec3& d, const glm::vec3& n, bool back_hit) {
+    Split s;
+    const float d_dot_n = glm::dot(d, n);
+    s.reflected = glm::normalize(d - 2.0f * d_dot_n * n);
+    s.wr = m.reflectance;
+    const bool transmits = m.transmittance.x > 0.0f || m.transmittance.y > 0.0f || m.transmittance.z > 0.0f;
+    if (!transmits) return s;
+    const float eta = back_hit ? m.ior : 1.0f / m.ior;
+    const float cos_i = -d_dot_n;
+    const float sin2_t = eta * eta * (1.0f - cos_i * cos_i);
+    if (sin2_t > 1.0f) {  // total internal reflection
+        s.wr += m.transmittance;
+        return s;
+    }
+    const float cos_t = std::sqrt(1.0f - sin2_t);
+    const float rs = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+    const float rp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+    // A ray in the surface's plane (cos_i = 0) reflects fully (and would divide 0 by 0).
+    const float fresnel = cos_i > 0.0f ? 0.5f * (rs * rs + rp * rp) : 1.0f;
+    s.wr += fresnel * m.transmittance;
+    s.wt = (1.0f - fresnel) * m.transmittance;
+    s.refracted = glm::normalize(eta * d + (eta * cos_i - cos_t) * n);
+    return s;
+}
+
+void set_lane(RayPacket& rays, int lane, const glm::vec3& org, const glm::vec3& dir) {
+    bvh::Ray ray;
+    ray.org = org;
+    ray.dir = dir;
+    ray.tmin = 0.0f;
+    ray.tmax = std::numeric_limits<float>::infinity();
+    rays.set_ray(lane, ray);
+}
+
+/// Pushes the reflection and refraction bounces spawned at `origins`' hit lanes, whose paths
+/// weigh `weight` and whose rays had depth `depth` - 1.
+void spawn(const SecondaryFrame& f, const TileShadowOrigins& origins,
+           const float (&weight)[3][kPacketRays], int depth, Scratch& s) {
+    if (depth > f.settings.max_depth) return;
+    const packet::SurfacePacket& surface = origins.surface;
+    Bounce* reflection = nullptr;
+    Bounce* refraction = nullptr;
+    for (int w = 0; w < kPacketRays / 64; ++w) {
+        for (std::uint64_t bits = surface.hit.words[w]; bits != 0; bits &= bits - 1) {
+            const int lane = w * 64 + std::countr_zero(bits);
+            const Material& m = f.materials[std::size_t(surface.material[lane])];
+            if (!m.traces_secondary()) continue;
+            const glm::vec3 d(-surface.view[0][lane], -surface.view[1][lane], -surface.view[2][lane]);
+            const glm::vec3 n(surface.normal[0][lane], surface.normal[1][lane], surface.normal[2][lane]);
+            const glm::vec3 path(weight[0][lane], weight[1][lane], weight[2][lane]);
+            const Split split = split_at(m, d, n, origins.back_hit.test(lane));
+            const glm::vec3 wr = path * split.wr, wt = path * split.wt;
+            if (max_channel(wr) >= f.settings.cutoff) {
+                if (reflection == nullptr) {
+                    reflection = &s.push();
+                    reflection->depth = depth;
+                    reflection->kind = Kind::reflection;
+                }
+                const glm::vec3 org(origins.origin[0][lane], origins.origin[1][lane], origins.origin[2][lane]);
+                set_lane(reflection->rays, lane, org, split.reflected);
+                for (int c = 0; c < 3; ++c) reflection->weight[c][lane] = wr[c];
+            }
+            if (max_channel(wt) >= f.settings.cutoff) {
+                if (refraction == nullptr) {
+                    refraction = &s.push();
+                    refraction->depth = depth;
+                    refraction->kind = Kind::refraction;
+                }
+                const glm::vec3 point(surface.point[0][lane], surface.point[1][lane], surface.point[2][lane]);
+                set_lane(refraction->rays, lane, offset_along_normal(point, -n, origins.magnitude[lane]),
+                         split.refracted);
+                for (int c = 0; c < 3; ++c) refraction->weight[c][lane] = wt[c];
+            }
+        }
+    }
+}
+
+/// Closest hits of `rays`' active lanes into s.hits (resolved to scene objects): lanes of one
+/// direction octant go as a packet when there are at least min_packet_rays of them.
+void trace_closest(const SecondaryFrame& f, RayPacket& rays, Scratch& s, SecondaryWork& work) {
+    const bvh::TwoLevelBvh& tlas = f.accel.top_level();
+    LaneMask octant[8];
+    for (int w = 0; w < kPacketRays / 64; ++w) {
+        for (std::uint64_t bits = rays.active.words[w]; bits != 0; bits &= bits - 1) {
+            const int lane = w * 64 + std::countr_zero(bits);
+            const int o = int(rays.dir_x[lane] < 0.0f) | int(rays.dir_y[lane] < 0.0f) << 1 |
+                          int(rays.dir_z[lane] < 0.0f) << 2;
+            octant[o].set(lane);
+        }
+    }
+    const LaneMask all = rays.active;
+    const int min_rays = f.settings.min_packet_rays;
+    for (const LaneMask& group : octant) {
+        const int count = group.count();
+        if (count == 0) continue;
+        if (!f.single_rays && count >= min_rays && min_rays <= kPacketRays) {
+            rays.active = group;
+            packet::intersect_closest(tlas, rays, s.packet_hits, f.packet,
+                                      f.count ? &work.packet_work : nullptr);
+            for (int w = 0; w < kPacketRays / 64; ++w) {
+                for (std::uint64_t bits = group.words[w]; bits != 0; bits &= bits - 1) {
+                    const int lane = w * 64 + std::countr_zero(bits);
+                    s.hits[lane] = s.packet_hits.hit(lane);
+                }
+            }
+            work.packet_rays += std::size_t(count);
+        } else {
+            for (int w = 0; w < kPacketRays / 64; ++w) {
+                for (std::uint64_t bits = group.words[w]; bits != 0; bits &= bits - 1) {
+                    const int lane = w * 64 + std::countr_zero(bits);
+                    s.hits[lane] = f.count ? bvh::intersect_closest(tlas, rays.ray(lane), work.single_work)
+                                           : bvh::intersect_closest(tlas, rays.ray(lane));
+                }
+            }
+            work.single_rays += std::size_t(count);
+        }
+    }
+    rays.active = all;
+    for (int w = 0; w < kPacketRays / 64; ++w) {
+        for (std::uint64_t bits = all.words[w]; bits != 0; bits &= bits - 1) {
+            bvh::InstanceHit& hit = s.hits[w * 64 + std::countr_zero(bits)];
+            if (hit.is_hit()) f.accel.resolve(hit);
+        }
+    }
+}
+
+/// Which lanes of `shadow` (rays from a light) are occluded; packets as trace_closest.
+LaneMask trace_shadows(const SecondaryFrame& f, const RayPacket& shadow, SecondaryWork& work) {
+    const bvh::TwoLevelBvh& tlas = f.accel.top_level();
+    LaneMask occluded;
+    const int count = shadow.active.count();
+    if (!f.single_rays && count >= f.settings.min_packet_rays && f.settings.min_packet_rays <= kPacketRays) {
+        packet::intersect_any(tlas, shadow, occluded, f.packet, f.count ? &work.packet_work : nullptr);
+        return occluded;
+    }
+    for (int w = 0; w < kPacketRays / 64; ++w) {
+        for (std::uint64_t bits = shadow.active.words[w]; bits != 0; bits &= bits - 1) {
+            const int lane = w * 64 + std::countr_zero(bits);
+            const bool blocked = f.count ? bvh::intersect_any(tlas, shadow.ray(lane), work.single_work)
+                                         : bvh::intersect_any(tlas, shadow.ray(lane));
+            if (blocked) occluded.set(lane);
+        }
+    }
+    return occluded;
+}
+
+}  // namespace
+
+void add_secondary(const SecondaryFrame& f, const TileShadowOrigins& primary,
+                   packet::ShadedColors& colors, SecondaryWork& work) {
+    Scratch& s = thread_scratch();
+    Stopwatch clock;
+    s.top = 0;
+    for (int c = 0; c < 3; ++c) std::fill(s.weight[c], s.weight[c] + kPacketRays, 1.0f);
+    spawn(f, primary, s.weight, 1, s);
+    if (work.rays_per_depth.size() < std::size_t(std::max(f.settings.max_depth, 0))) {
+        work.rays_per_depth.resize(std::size_t(f.settings.max_depth), 0);
+    }
+    const glm::vec3 background = f.shading.background;
+    while (s.top > 0) {
+        // The bounce on top is traced and shaded, then replaced by the bounces it spawns.
+        Bounce& bounce = *s.stack[s.top - 1];
+        const std::size_t rays = std::size_t(bounce.rays.active.count());
+        (bounce.kind == Kind::reflection ? work.reflection_rays : work.refraction_rays) += rays;
+        work.rays_per_depth[std::size_t(bounce.depth - 1)] += rays;
+        work.other_ms += clock.lap_ms();
+        trace_closest(f, bounce.rays, s, work);
+        (bounce.kind == Kind::reflection ? work.reflection_ms : work.refraction_ms) += clock.lap_ms();
+
+        const LaneMask active = bounce.rays.active;
+        s.origins.compute_lanes(
+            f.accel,
+            [&](int lane) -> const bvh::InstanceHit* {
+                return active.test(lane) && s.hits[lane].is_hit() ? &s.hits[lane] : nullptr;
+            },
+            bounce.rays, f.object_material);
+        const LaneMask& hit = s.origins.surface.hit;
+        s.visible.assign(f.lights.size(), LaneMask{});
+        work.other_ms += clock.lap_ms();
+        for (std::size_t l = 0; l < f.lights.size() && hit.any(); ++l) {
+            s.origins.rays_to(f.lights[l], s.shadow);
+            if (!s.shadow.active.any()) continue;
+            work.shadow_rays += std::size_t(s.shadow.active.count());
+            const LaneMask occluded = trace_shadows(f, s.shadow, work);
+            for (int w = 0; w < kPacketRays / 64; ++w) {
+                s.visible[l].words[w] = s.shadow.active.words[w] & ~occluded.words[w];
+            }
+        }
+        work.shadow_ms += clock.lap_ms();
+        shade_lanes(f.shading, s.origins, s.visible, s.local);
+        for (int w = 0; w < kPacketRays / 64; ++w) {
+            for (std::uint64_t bits = active.words[w]; bits != 0; bits &= bits - 1) {
+                const int lane = w * 64 + std::countr_zero(bits);
+                const bool is_hit = hit.test(lane);
+                for (int c = 0; c < 3; ++c) {
+                    const float seen = is_hit ? s.local.rgb[c][lane] : background[c];
+                    colors.rgb[c][lane] += bounce.weight[c][lane] * seen;
+                }
+            }
+        }
+        // Its weights outlive the slot, which the spawned bounces reuse.
+        for (int c = 0; c < 3; ++c) std::copy_n(bounce.weight[c], kPacketRays, s.weight[c]);
+        const int depth = bounce.depth;
+        --s.top;
+        spawn(f, s.origins, s.weight, depth + 1, s);
+    }
+    work.other_ms += clock.lap_ms();
+}
+
+void report_secondary(const SecondaryWork& work, double scale, TraceStats& stats) {
+    stats.secondary_ms =
+        (work.reflection_ms + work.refraction_ms + work.shadow_ms + work.other_ms) * scale;
+    stats.reflection_rays = work.reflection_rays;
+    stats.refraction_rays = work.refraction_rays;
+    stats.secondary_shadow_rays = work.shadow_rays;
+    stats.secondary_packet_rays = work.packet_rays;
+    stats.secondary_single_rays = work.single_rays;
+    stats.secondary_rays_per_depth = work.rays_per_depth;
+    const auto mrays_per_s = [](std::size_t rays, double ms) {
+        return ms > 0.0 ? double(rays) / (ms * 1e3) : 0.0;
+    };
+    stats.reflection_mrays_per_s = mrays_per_s(work.reflection_rays, work.reflection_ms * scale);
+    stats.refraction_mrays_per_s = mrays_per_s(work.refraction_rays, work.refraction_ms * scale);
+}
+
+}  // namespace dynrt::detail

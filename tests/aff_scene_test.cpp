@@ -167,9 +167,87 @@ pp 3
         "textures of 1 shapes (colour from the material)",
         "per-vertex normals of 1 shapes (shading uses the geometric normal)",
         "light colours (each light is white, of their mean intensity)",
-        "transmittance and index of refraction (no refraction rays)",
         "'am' ambient light (dynrt's own ambient term)"};
     EXPECT_EQ(scene.ignored, want);
+}
+
+// Materials (aff_scene.h): the specular colour is also the reflectance (NFF/SPD), T the grey
+// transmittance, the file's ior the ior, with BART's 0.0 for opaque materials read as 1.
+TEST(AffScene, MaterialsKeepReflectanceTransmittanceAndIor) {
+    const Scene scene = convert(R"(
+fm 0.1 0.1 0.1  0.5 0.6 0.7  0.1 0.2 0.3  20 0.4 1.33
+p 3
+0 0 0
+1 0 0
+0 1 0
+fm 0 0 0  0.5 0.5 0.5  0.4 0.4 0.4  255 0.0 0.0
+p 3
+0 0 1
+1 0 1
+0 1 1
+f 1 0.5 0  0.6 0.3  20  0.25 1.5
+p 3
+0 0 2
+1 0 2
+0 1 2
+fm 0 0 0  0.5 0.5 0.5  0.2 0.2 0.2  10 1.5 -2
+p 3
+0 0 3
+1 0 3
+0 1 3
+)");
+    ASSERT_EQ(scene.materials.size(), 5u);  // the default, then fm0..fm3
+    const Material& glass = scene.materials[1];
+    EXPECT_EQ(glass.name, "fm0");
+    EXPECT_EQ(glass.diffuse, glm::vec3(0.5f, 0.6f, 0.7f));  // unchanged by the new fields
+    EXPECT_EQ(glass.specular, glm::vec3(0.1f, 0.2f, 0.3f));
+    EXPECT_FLOAT_EQ(glass.shininess, 20.0f);
+    EXPECT_EQ(glass.reflectance, glm::vec3(0.1f, 0.2f, 0.3f));
+    EXPECT_EQ(glass.transmittance, glm::vec3(0.4f));
+    EXPECT_FLOAT_EQ(glass.ior, 1.33f);
+    EXPECT_TRUE(glass.traces_secondary());
+
+    const Material& opaque = scene.materials[2];  // as BART writes an opaque material
+    EXPECT_EQ(opaque.reflectance, glm::vec3(0.4f));
+    EXPECT_EQ(opaque.transmittance, glm::vec3(0.0f));
+    EXPECT_EQ(opaque.ior, 1.0f);
+
+    // `f r g b Kd Ks shine T ior`: specular (and so reflectance) is colour * Ks.
+    const Material& nff = scene.materials[3];
+    EXPECT_EQ(nff.diffuse, glm::vec3(0.6f, 0.3f, 0.0f));
+    EXPECT_EQ(nff.specular, glm::vec3(0.3f, 0.15f, 0.0f));
+    EXPECT_EQ(nff.reflectance, nff.specular);
+    EXPECT_EQ(nff.transmittance, glm::vec3(0.25f));
+    EXPECT_FLOAT_EQ(nff.ior, 1.5f);
+
+    // T is a weight, clamped to [0, 1] like the colours; any ior <= 0 reads as 1.
+    const Material& clamped = scene.materials[4];
+    EXPECT_EQ(clamped.transmittance, glm::vec3(1.0f));
+    EXPECT_EQ(clamped.ior, 1.0f);
+
+    for (std::size_t o = 0; o < scene.objects.size(); ++o) EXPECT_EQ(scene.objects[o].material, o + 1);
+    // Nothing about transmittance or refraction is reported as left out any more.
+    for (const std::string& line : scene.ignored) EXPECT_EQ(line.find("refraction"), std::string::npos) << line;
+}
+
+TEST(AffScene, NonFiniteTransmittanceAndIorAreErrorsNamingMaterialAndObject) {
+    const auto load_error = [](const std::string& material) {
+        try {
+            (void)load_aff_text(material + "\np 3\n0 0 0\n1 0 0\n0 1 0\n", "snippet.aff");
+        } catch (const SceneError& e) {
+            return std::string(e.what());
+        }
+        return std::string("no error");
+    };
+    EXPECT_EQ(load_error("fm 0 0 0  1 1 1  0 0 0  10 0.5 inf"),
+              "snippet.aff: object 'static/fm0': material 'fm0' (index 1): ior inf must be finite and > 0");
+    EXPECT_EQ(load_error("fm 0 0 0  1 1 1  0 0 0  10 nan 1.5"),
+              "snippet.aff: object 'static/fm0': material 'fm0' (index 1): transmittance (nan, nan, nan) "
+              "must be finite and >= 0");
+    EXPECT_EQ(load_error("fm 0 0 0  1 1 1  0 nan 0  10 0 1.5"),
+              "snippet.aff: object 'static/fm0': material 'fm0' (index 1): reflectance (0, nan, 0) "
+              "must be finite and >= 0");
+    EXPECT_EQ(load_error("fm 0 0 0  1 1 1  0 0 0  10 0.5 1.5"), "no error");
 }
 
 TEST(AffScene, ClassesFollowTheData) {

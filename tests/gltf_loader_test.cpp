@@ -343,6 +343,105 @@ TEST_F(GltfLoaderTest, UnnamedNodesMultiPrimitiveMeshesAndMaterials) {
     EXPECT_EQ(scene.objects[2].material, 1u);
 }
 
+// The material mapping (gltf_loader.cpp, README "Materials"): base = baseColorFactor,
+//   reflectance = metallic * base * (1 - roughness)^2, transmittance = transmission *
+//   (1 - metallic) * base, diffuse = base * (1 - transmission), ior from KHR_materials_ior
+//   (1.5 when the material has either extension, 1 otherwise).
+TEST_F(GltfLoaderTest, MaterialsMapMetalnessTransmissionAndIor) {
+    GltfBuilder b = quad_builder();
+    const auto pbr = [](const glm::vec3& base, double metallic, double roughness) {
+        return json{{"baseColorFactor", {base.x, base.y, base.z, 1.0}},
+                    {"metallicFactor", metallic},
+                    {"roughnessFactor", roughness}};
+    };
+    const glm::vec3 gold(0.9f, 0.6f, 0.3f), tint(0.8f, 0.9f, 1.0f), amber(1.0f, 0.5f, 0.25f);
+    b.doc()["materials"] = json::array({
+        json{{"name", "mirror"}, {"pbrMetallicRoughness", pbr(gold, 1.0, 0.0)}},
+        json{{"name", "brushed"}, {"pbrMetallicRoughness", pbr(gold, 1.0, 0.5)}},
+        json{{"name", "plastic"}, {"pbrMetallicRoughness", pbr(gold, 0.0, 0.0)}},
+        json{{"name", "glass"},
+             {"pbrMetallicRoughness", pbr(tint, 0.0, 0.0)},
+             {"extensions", {{"KHR_materials_transmission", {{"transmissionFactor", 1.0}}}}}},
+        json{{"name", "half"},
+             {"pbrMetallicRoughness", pbr(amber, 0.5, 0.0)},
+             {"extensions",
+              {{"KHR_materials_transmission", {{"transmissionFactor", 0.5}}}, {"KHR_materials_ior", {{"ior", 1.33}}}}}},
+        json{{"name", "water"}, {"extensions", {{"KHR_materials_ior", {{"ior", 1.33}}}}}},
+        json{{"name", "glTF defaults"}},
+        json{{"name", "over"},
+             {"pbrMetallicRoughness", pbr(tint, 0.0, 0.0)},
+             {"extensions",
+              {{"KHR_materials_transmission", {{"transmissionFactor", 3.0}, {"transmissionTexture", {{"index", 0}}}}},
+               {"KHR_materials_ior", json::object()}}}},
+    });
+    b.doc()["extensionsUsed"] = {"KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_volume"};
+    b.doc()["extensionsRequired"] = {"KHR_materials_transmission"};
+    const Scene scene = write_and_load(b);
+    ASSERT_EQ(scene.materials.size(), 9u);
+    const auto material = [&](const std::string& name) -> const Material& {
+        for (const Material& m : scene.materials) {
+            if (m.name == name) return m;
+        }
+        ADD_FAILURE() << "no material " << name;
+        return scene.materials.front();
+    };
+    const glm::vec3 zero(0.0f);
+
+    // A smooth metal is a mirror of its base colour; rougher, less of one.
+    EXPECT_EQ(material("mirror").reflectance, gold);
+    EXPECT_EQ(material("mirror").diffuse, gold);
+    EXPECT_EQ(material("mirror").transmittance, zero);
+    EXPECT_EQ(material("mirror").ior, 1.0f);
+    EXPECT_EQ(material("brushed").reflectance, gold * 0.25f);
+    // A dielectric reflects no ray (its highlight stays Phong's).
+    EXPECT_EQ(material("plastic").reflectance, zero);
+    EXPECT_EQ(material("plastic").transmittance, zero);
+    EXPECT_FALSE(material("plastic").traces_secondary());
+
+    // Full transmission: no diffuse, the base colour tints what goes through, glTF's ior 1.5.
+    EXPECT_EQ(material("glass").transmittance, tint);
+    EXPECT_EQ(material("glass").diffuse, zero);
+    EXPECT_EQ(material("glass").reflectance, zero);
+    EXPECT_EQ(material("glass").ior, 1.5f);
+    // Half metal, half transmissive, its own ior.
+    EXPECT_EQ(material("half").diffuse, amber * 0.5f);
+    EXPECT_EQ(material("half").transmittance, amber * 0.25f);
+    EXPECT_EQ(material("half").reflectance, amber * 0.5f);
+    EXPECT_FLOAT_EQ(material("half").ior, 1.33f);
+    // KHR_materials_ior alone gives the ior of an opaque material.
+    EXPECT_FLOAT_EQ(material("water").ior, 1.33f);
+    EXPECT_EQ(material("water").transmittance, zero);
+    // glTF's defaults (white, metallic 1, roughness 1): fully rough, so no mirror.
+    EXPECT_EQ(material("glTF defaults").diffuse, glm::vec3(1.0f));
+    EXPECT_EQ(material("glTF defaults").reflectance, zero);
+    EXPECT_EQ(material("glTF defaults").ior, 1.0f);
+    // transmissionFactor is clamped to [0, 1]; an empty KHR_materials_ior is its default.
+    EXPECT_EQ(material("over").transmittance, tint);
+    EXPECT_EQ(material("over").ior, 1.5f);
+
+    // The two material extensions are implemented; another one and the texture are reported.
+    const std::vector<std::string> ignored = {
+        "textures of 1 material(s) (colour and transmission from their factors)",
+        "extension KHR_materials_volume (not implemented)"};
+    EXPECT_EQ(scene.ignored, ignored);
+}
+
+TEST_F(GltfLoaderTest, BadIorIsAnErrorNamingObjectAndMaterial) {
+    for (const double ior : {0.0, -1.5}) {
+        GltfBuilder b = quad_builder();
+        b.doc()["materials"] = json::array(
+            {json{{"name", "ice"}, {"extensions", {{"KHR_materials_ior", {{"ior", ior}}}}}}});
+        b.doc()["meshes"][0]["primitives"][0]["material"] = 0;
+        expect_error(b, {"object 'quad_node/quad_mesh': material 'ice' (index 1): ior " +
+                             std::string(ior == 0.0 ? "0" : "-1.5") + " must be finite and > 0"});
+    }
+    // A material no primitive uses is refused all the same, named alone.
+    GltfBuilder unused = quad_builder();
+    unused.doc()["materials"] = json::array(
+        {json{{"name", "spare"}, {"extensions", {{"KHR_materials_ior", {{"ior", 0.0}}}}}}});
+    expect_error(unused, {"material 'spare' (index 1): ior 0 must be finite and > 0"});
+}
+
 TEST_F(GltfLoaderTest, ByteStrideAndOffsetsAreRespected) {
     GltfBuilder b;
     // Interleaved: 4 bytes of padding, then x y z, then 8 more bytes: a 24-byte stride.
@@ -654,6 +753,45 @@ TEST(DefaultScene, LoadsWithSeveralObjectsAndAHierarchy) {
     for (int r = 0; r < 3; ++r) EXPECT_NEAR(top.transform[3][r], expected[r], 1e-5f);
     EXPECT_EQ(find("pedestal/pedestal#1").name, "pedestal/pedestal#1");
     EXPECT_NE(find("pedestal/pedestal#0").material, find("pedestal/pedestal#1").material);
+}
+
+// Khronos' TransmissionTest: glTF materials 1-8 are transmissive dielectrics (glass), 9-12 the
+// same with metallicFactor absent, so 1: smooth mirrors that let nothing through; 0 (the
+// backdrop) and 13 (the label) are opaque. dynrt's material i + 1 is glTF's i.
+TEST(SharedScenes, TransmissionTestHasGlassAndMirrors) {
+    const fs::path file = fs::path(DYNRT_SHARED_SCENES_DIR) / "transmissiontest" / "TransmissionTest.glb";
+    if (!fs::exists(file)) GTEST_SKIP() << file << " not found";
+    const Scene scene = load_gltf(file);
+    ASSERT_EQ(scene.materials.size(), 15u);
+    EXPECT_EQ(scene.materials[2].name, "RedTransTexture");
+    EXPECT_EQ(scene.materials[11].name, "YellowTransMetal");
+    for (std::size_t i = 0; i < scene.materials.size(); ++i) {
+        const Material& m = scene.materials[i];
+        SCOPED_TRACE(std::to_string(i) + " " + m.name);
+        if (i >= 2 && i <= 9) {
+            EXPECT_GT(m.transmittance.x + m.transmittance.y + m.transmittance.z, 0.5f);
+            EXPECT_GE(std::min({m.transmittance.x, m.transmittance.y, m.transmittance.z}), 0.0f);
+            EXPECT_EQ(m.diffuse, glm::vec3(0.0f));  // transmissionFactor 1
+            EXPECT_EQ(m.reflectance, glm::vec3(0.0f));
+            EXPECT_EQ(m.ior, 1.5f);
+        } else if (i >= 10 && i <= 13) {
+            EXPECT_EQ(m.transmittance, glm::vec3(0.0f));
+            EXPECT_GT(m.reflectance.x + m.reflectance.y + m.reflectance.z, 0.5f);
+        } else {
+            EXPECT_FALSE(m.traces_secondary());
+        }
+    }
+    // Objects are made of glass.
+    EXPECT_TRUE(std::any_of(scene.objects.begin(), scene.objects.end(), [&](const Object& o) {
+        const glm::vec3& t = scene.materials[o.material].transmittance;
+        return t.x > 0.0f && t.y > 0.0f && t.z > 0.0f;
+    }));
+    // KHR_materials_transmission is implemented, its textures (and KHR_xmp) are not.
+    EXPECT_NE(std::find(scene.ignored.begin(), scene.ignored.end(), "extension KHR_xmp (not implemented)"),
+              scene.ignored.end());
+    for (const std::string& line : scene.ignored) {
+        EXPECT_EQ(line.find("KHR_materials_transmission"), std::string::npos) << line;
+    }
 }
 
 TEST(SharedScenes, EveryGltfLoadsOrThrowsSceneError) {

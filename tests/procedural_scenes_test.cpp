@@ -414,5 +414,53 @@ TEST(CheckScene, RejectsBrokenScenesNamingTheObject) {
     expect_check_error(scene, "no triangles");
 }
 
+TEST(CheckScene, RejectsBadWhittedTermsNamingMaterialAndObject) {
+    constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+    constexpr float kInf = std::numeric_limits<float>::infinity();
+    const auto with = [](auto change) {
+        Scene scene = one_triangle_scene();
+        scene.materials[0].name = "glass";
+        change(scene.materials[0]);
+        return scene;
+    };
+    // The limits themselves are fine: zero weights, any positive ior (also below 1).
+    EXPECT_NO_THROW(check_scene(with([](Material& m) { m.ior = 0.5f; })));
+    EXPECT_NO_THROW(check_scene(with([](Material& m) {
+        m.reflectance = glm::vec3(0.0f, 0.5f, 1.0f);
+        m.transmittance = glm::vec3(1.0f);
+        m.ior = 2.4f;
+    })));
+
+    expect_check_error(with([&](Material& m) { m.reflectance.y = kNaN; }),
+                       "object 'tri': material 'glass' (index 0): reflectance (0, nan, 0) must be finite and >= 0");
+    expect_check_error(with([&](Material& m) { m.reflectance.z = -0.25f; }),
+                       "object 'tri': material 'glass' (index 0): reflectance (0, 0, -0.25) must be finite and >= 0");
+    expect_check_error(with([&](Material& m) { m.transmittance.x = kInf; }),
+                       "object 'tri': material 'glass' (index 0): transmittance (inf, 0, 0) must be finite and >= 0");
+    expect_check_error(with([&](Material& m) { m.transmittance = glm::vec3(-1.0f); }),
+                       "object 'tri': material 'glass' (index 0): transmittance (-1, -1, -1) must be finite and >= 0");
+    expect_check_error(with([&](Material& m) { m.ior = 0.0f; }),
+                       "object 'tri': material 'glass' (index 0): ior 0 must be finite and > 0");
+    expect_check_error(with([&](Material& m) { m.ior = -1.5f; }),
+                       "object 'tri': material 'glass' (index 0): ior -1.5 must be finite and > 0");
+    expect_check_error(with([&](Material& m) { m.ior = kNaN; }),
+                       "object 'tri': material 'glass' (index 0): ior nan must be finite and > 0");
+    expect_check_error(with([&](Material& m) { m.ior = kInf; }),
+                       "object 'tri': material 'glass' (index 0): ior inf must be finite and > 0");
+
+    // A material no object uses yet is checked too, named without an object.
+    Scene unused = one_triangle_scene();
+    Material spare;
+    spare.name = "spare";
+    spare.ior = 0.0f;
+    unused.materials.push_back(spare);
+    try {
+        check_scene(unused);
+        ADD_FAILURE() << "an unused material with ior 0 passed";
+    } catch (const SceneError& e) {
+        EXPECT_EQ(std::string(e.what()), "hand-made: material 'spare' (index 1): ior 0 must be finite and > 0");
+    }
+}
+
 }  // namespace
 }  // namespace dynrt

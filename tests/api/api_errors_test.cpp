@@ -86,6 +86,21 @@ TEST(ApiErrors, BadMeshesAreRefusedNamingTheMesh) {
     MeshDesc shiny = desc_of("shiny", ball);
     shiny.surface.shininess = -1.0f;
     expect_error([&] { engine.add_mesh(shiny); }, kArgument, {"'shiny'"});
+    // The Whitted terms (types.h, Surface): finite, weights >= 0, ior > 0.
+    const auto refused_surface = [&](auto change, const char* fragment) {
+        MeshDesc d = desc_of("glass", ball);
+        change(d.surface);
+        expect_error([&] { engine.add_mesh(d); }, kArgument, {"add_mesh 'glass': surface ", fragment});
+    };
+    refused_surface([](Surface& s) { s.reflectance.y = -0.5f; }, "reflectance (0, -0.5, 0) must be finite and >= 0");
+    refused_surface([](Surface& s) { s.reflectance.x = kNaN; }, "reflectance (nan, 0, 0) must be finite and >= 0");
+    refused_surface([](Surface& s) { s.transmittance.z = kInf; }, "transmittance (0, 0, inf) must be finite and >= 0");
+    refused_surface([](Surface& s) { s.transmittance = {-1.0f, -1.0f, -1.0f}; },
+                    "transmittance (-1, -1, -1) must be finite and >= 0");
+    refused_surface([](Surface& s) { s.ior = 0.0f; }, "ior 0 must be finite and > 0");
+    refused_surface([](Surface& s) { s.ior = -1.5f; }, "ior -1.5 must be finite and > 0");
+    refused_surface([](Surface& s) { s.ior = kNaN; }, "ior nan must be finite and > 0");
+    refused_surface([](Surface& s) { s.ior = kInf; }, "ior inf must be finite and > 0");
     MeshDesc unnamed = desc_of("", odd);
     expect_error([&] { engine.add_mesh(unnamed); }, kArgument, {"mesh 0"});
     // Nothing was added.
@@ -121,6 +136,18 @@ TEST(ApiErrors, BadChangesAreRefusedAndChangeNothing) {
     Surface bad_surface;
     bad_surface.diffuse.y = kNaN;
     expect_error([&] { engine.set_surface(arm, bad_surface); }, kArgument, {"'arm'"});
+    Surface bad_ior;
+    bad_ior.ior = 0.0f;
+    expect_error([&] { engine.set_surface(arm, bad_ior); }, kArgument,
+                 {"set_surface: mesh 'arm' (id 1): ior 0 must be finite and > 0"});
+    Surface bad_reflectance;
+    bad_reflectance.reflectance.z = -1.0f;
+    expect_error([&] { engine.set_surface(cloth, bad_reflectance); }, kArgument,
+                 {"set_surface: mesh 'cloth' (id 2): reflectance (0, 0, -1) must be finite and >= 0"});
+    Surface bad_transmittance;
+    bad_transmittance.transmittance.x = kNaN;
+    expect_error([&] { engine.set_surface(still, bad_transmittance); }, kArgument,
+                 {"'still'", "transmittance (nan, 0, 0) must be finite and >= 0"});
 
     // None of it reached the engine: the next update has nothing to do.
     const FrameStats s = engine.update();

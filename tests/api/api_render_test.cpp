@@ -85,6 +85,9 @@ Scene scene_of(const std::vector<Piece>& pieces, anim::PoseSettings& pose) {
         material.diffuse = {p.surface.diffuse.x, p.surface.diffuse.y, p.surface.diffuse.z};
         material.specular = {p.surface.specular.x, p.surface.specular.y, p.surface.specular.z};
         material.shininess = p.surface.shininess;
+        material.reflectance = {p.surface.reflectance.x, p.surface.reflectance.y, p.surface.reflectance.z};
+        material.transmittance = {p.surface.transmittance.x, p.surface.transmittance.y, p.surface.transmittance.z};
+        material.ior = p.surface.ior;
         scene.materials.push_back(material);
         if (p.motion != Motion::static_) {
             pose.class_overrides.push_back(anim::ClassOverride{std::uint32_t(i), to_class(p.motion), p.name});
@@ -262,6 +265,61 @@ TEST(ApiRender, SetSurfaceTakesEffectAtTheNextRender) {
     engine.render(view, ImageView{kWidth, kHeight, got.rgb, got.depth, got.mesh}, settings);
     EXPECT_NE(got.rgb, before.rgb);
     expect_same_frame(want, got, true);
+}
+
+TEST(ApiRender, MirrorAndGlassSurfacesGiveTheRenderersFrame) {
+    // Surface's reflectance, transmittance and ior reach the material the renderer shades
+    // with, from add_mesh and from set_surface: the frame is the Renderer's for a scene with
+    // those materials, not the one without them.
+    std::vector<Piece> ps = pieces();
+    ps[0].surface.reflectance = {0.5f, 0.5f, 0.4f};  // a mirror floor
+    ps[1].surface.transmittance = {0.9f, 0.9f, 0.8f};  // a glass ball
+    ps[1].surface.ior = 1.5f;
+    Engine engine;
+    add_pieces(engine, ps);
+    engine.update();
+    RenderOptions options;
+    options.width = kWidth;
+    options.height = kHeight;
+    options.lights = {PointLight{{3.0f, 5.0f, 4.0f}, 1.0f}};
+    RenderSettings settings;
+    settings.lights = {Light{{3.0f, 5.0f, 4.0f}, 1.0f}};
+    const Camera camera{{1.0f, 2.0f, 6.0f}, {0.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, 50.0f};
+    const View view{{1.0f, 2.0f, 6.0f}, {0.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, 50.0f};
+    const auto renderer_frame = [&](const std::vector<Piece>& pieces_now) {
+        RenderOptions o = options;
+        const Scene scene = scene_of(pieces_now, o.pose);
+        Renderer renderer(o);
+        RenderedFrame frame;
+        renderer.render(scene, camera, 0, frame);
+        return frame;
+    };
+    const RenderedFrame want = renderer_frame(ps);
+    std::vector<Piece> opaque = ps;
+    for (Piece& p : opaque) p.surface = Surface{p.surface.diffuse, p.surface.specular, p.surface.shininess};
+    // Else this test could not tell whether the terms were passed on.
+    ASSERT_NE(want.color, renderer_frame(opaque).color) << "the renderer ignores reflectance and transmittance";
+    Image got(kWidth, kHeight);
+    engine.render(view, ImageView{kWidth, kHeight, got.rgb, got.depth, got.mesh}, settings);
+    expect_same_frame(want, got, true);
+
+    // set_surface replaces all of it, also when only a Whitted term changes: first the floor
+    // stops mirroring (its Phong terms stay), then the ball becomes a red mirror.
+    ps[0].surface = opaque[0].surface;
+    engine.set_surface(MeshId{0}, ps[0].surface);
+    const RenderedFrame want_dull_floor = renderer_frame(ps);
+    ASSERT_NE(want_dull_floor.color, want.color);
+    Image dull_floor(kWidth, kHeight);
+    engine.render(view, ImageView{kWidth, kHeight, dull_floor.rgb, dull_floor.depth, dull_floor.mesh}, settings);
+    expect_same_frame(want_dull_floor, dull_floor, true);
+
+    ps[1].surface = Surface{{1.0f, 0.0f, 0.0f}, {0.2f, 0.2f, 0.2f}, 16.0f, {0.6f, 0.6f, 0.6f}, {}, 1.0f};
+    engine.set_surface(MeshId{1}, ps[1].surface);
+    const RenderedFrame want_mirror_ball = renderer_frame(ps);
+    ASSERT_NE(want_mirror_ball.color, want_dull_floor.color);
+    Image mirror_ball(kWidth, kHeight);
+    engine.render(view, ImageView{kWidth, kHeight, mirror_ball.rgb, mirror_ball.depth, mirror_ball.mesh}, settings);
+    expect_same_frame(want_mirror_ball, mirror_ball, true);
 }
 
 }  // namespace

@@ -75,10 +75,41 @@ bool finite(const glm::vec3& v) {
     return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 
-/// The rule add_mesh and set_surface enforce for a Surface.
-bool valid_surface(const Surface& surface) {
-    return finite(to_glm(surface.diffuse)) && finite(to_glm(surface.specular)) &&
-           std::isfinite(surface.shininess) && surface.shininess >= 0.0f;
+bool finite_non_negative(const glm::vec3& v) {
+    return finite(v) && v.x >= 0.0f && v.y >= 0.0f && v.z >= 0.0f;
+}
+
+/// What is wrong with a Surface, or "" when add_mesh and set_surface may take it.
+std::string surface_problem(const Surface& surface) {
+    if (!finite(to_glm(surface.diffuse)) || !finite(to_glm(surface.specular)) ||
+        !std::isfinite(surface.shininess) || !(surface.shininess >= 0.0f)) {
+        return "colours and shininess must be finite, shininess >= 0";
+    }
+    if (!finite_non_negative(to_glm(surface.reflectance))) {
+        return "reflectance " + format_vec(to_glm(surface.reflectance)) + " must be finite and >= 0";
+    }
+    if (!finite_non_negative(to_glm(surface.transmittance))) {
+        return "transmittance " + format_vec(to_glm(surface.transmittance)) + " must be finite and >= 0";
+    }
+    if (!std::isfinite(surface.ior) || !(surface.ior > 0.0f)) {
+        std::ostringstream out;
+        out << "ior " << surface.ior << " must be finite and > 0";
+        return out.str();
+    }
+    return {};
+}
+
+/// The Material a Surface gives, named `name`.
+Material material_of(const Surface& surface, const std::string& name) {
+    Material material;
+    material.name = name;
+    material.diffuse = to_glm(surface.diffuse);
+    material.specular = to_glm(surface.specular);
+    material.shininess = surface.shininess;
+    material.reflectance = to_glm(surface.reflectance);
+    material.transmittance = to_glm(surface.transmittance);
+    material.ior = surface.ior;
+    return material;
 }
 
 /// The first non-finite position's index, or -1; parallel, for per-step checks of big meshes.
@@ -346,10 +377,9 @@ MeshId Engine::add_mesh(const MeshDesc& desc) {
         throw invalid(what + ": vertex " + std::to_string(bad) + " is not finite " +
                       format_vec(positions[std::size_t(bad)]));
     }
-    if (!valid_surface(desc.surface)) {
-        throw invalid(what + ": surface colours and shininess must be finite, shininess >= 0");
+    if (const std::string problem = surface_problem(desc.surface); !problem.empty()) {
+        throw invalid(what + ": surface " + problem);
     }
-    const glm::vec3 diffuse = to_glm(desc.surface.diffuse), specular = to_glm(desc.surface.specular);
 
     MeshSlot mesh;
     mesh.declared = desc.motion;
@@ -371,14 +401,8 @@ MeshId Engine::add_mesh(const MeshDesc& desc) {
                                     desc.indices[3 * t + 2]};
     }
     object.material = std::uint32_t(id);
-    Material material;
-    material.name = name;
-    material.diffuse = diffuse;
-    material.specular = specular;
-    material.shininess = desc.surface.shininess;
-
     s.scene.objects.push_back(std::move(object));
-    s.scene.materials.push_back(std::move(material));
+    s.scene.materials.push_back(material_of(desc.surface, name));
     s.meshes.push_back(std::move(mesh));
     ++s.live;
     return MeshId{std::uint32_t(id)};
@@ -426,15 +450,11 @@ void Engine::set_surface(MeshId id, const Surface& surface) {
     Impl& s = *impl_;
     const AccessGuard::Write write(s.guard);
     s.slot(id, "set_surface");
-    if (!valid_surface(surface)) {
-        throw invalid("set_surface: " + s.describe(id.value) +
-                      ": colours and shininess must be finite, shininess >= 0");
+    if (const std::string problem = surface_problem(surface); !problem.empty()) {
+        throw invalid("set_surface: " + s.describe(id.value) + ": " + problem);
     }
-    const glm::vec3 diffuse = to_glm(surface.diffuse), specular = to_glm(surface.specular);
     Material& material = s.scene.materials[id.value];
-    material.diffuse = diffuse;
-    material.specular = specular;
-    material.shininess = surface.shininess;
+    material = material_of(surface, material.name);
     // Every render reads the materials as they are, so the next one uses it without waiting
     // for an update (no render runs during this call).
 }

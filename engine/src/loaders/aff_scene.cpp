@@ -139,8 +139,14 @@ private:
             const auto clamp01 = [](const Vec3& c) {
                 return glm::clamp(glm::vec3(c[0], c[1], c[2]), glm::vec3(0.0f), glm::vec3(1.0f));
             };
-            scene_.materials.push_back(dynrt::Material{cat("fm", i), clamp01(m.diffuse),
-                                                       clamp01(m.specular), std::max(m.shine, 1.0f)});
+            dynrt::Material material{cat("fm", i), clamp01(m.diffuse), clamp01(m.specular),
+                                     std::max(m.shine, 1.0f)};
+            // NFF/SPD: Ks weighs the highlight and the reflected ray alike.
+            material.reflectance = material.specular;
+            material.transmittance = clamp01(Vec3{m.transmittance, m.transmittance, m.transmittance});
+            // BART writes 0 for opaque materials; NaN and infinity stay for check_scene to refuse.
+            material.ior = m.ior <= 0.0f ? 1.0f : m.ior;
+            scene_.materials.push_back(std::move(material));
         }
     }
 
@@ -422,11 +428,9 @@ private:
         std::vector<std::string>& out = scene_.ignored;
         if (textured > 0) out.push_back(cat("textures of ", textured, " shapes (colour from the material)"));
         if (normals > 0) out.push_back(cat("per-vertex normals of ", normals, " shapes (shading uses the geometric normal)"));
-        bool coloured = false, transparent = false;
+        bool coloured = false;
         for (const Light& l : model_.lights) coloured = coloured || (l.color && !((*l.color)[0] == (*l.color)[1] && (*l.color)[1] == (*l.color)[2]));
         if (coloured) out.push_back("light colours (each light is white, of their mean intensity)");
-        for (const aff::Material& m : model_.materials) transparent = transparent || m.transmittance > 0.0f;
-        if (transparent) out.push_back("transmittance and index of refraction (no refraction rays)");
         if (model_.ambient) out.push_back("'am' ambient light (dynrt's own ambient term)");
     }
 

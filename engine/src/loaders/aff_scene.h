@@ -16,6 +16,13 @@
 //    from key to key, which is BART's linear interpolation of animated triangles.
 //  - Everything else is static, baked to world space, one object per material.
 //  - `k camera` animates the viewpoint, a node with the camera's translation and rotation.
+// Materials (`f`, `fm`; aff_parser.h gives `f`'s diffuse as colour * Kd, specular as colour * Ks):
+//  - diffuse, specular = the file's, clamped to [0, 1]; shininess = max(shine, 1);
+//  - reflectance = the specular colour: in NFF and the SPD, Ks also weighs the reflected ray;
+//  - transmittance = grey T, clamped to [0, 1];
+//  - ior = the file's index of refraction, except that ior <= 0 (BART writes 0.0 for opaque
+//    materials) reads as 1. A non-finite value is left for check_scene to refuse.
+//  The material's ambient colour is not used (dynrt's ambient term is a fraction of diffuse).
 // Time: BART's frame f is at start + f (end - start) / (frames - 1); the scene's key times are
 // shifted by -start and SceneSetup::fps set to (frames - 1) / (end - start), so dynrt's frame f
 // (time f / fps) is BART's.

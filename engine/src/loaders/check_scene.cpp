@@ -1,5 +1,7 @@
 // The invariants every later stage may rely on without checking again: triangles exist, indices
-// are in range, positions and transforms are finite, material indices are valid.
+// are in range, positions and transforms are finite, material indices are valid, and every
+// material's Whitted terms are usable (reflectance and transmittance finite and >= 0, ior finite
+// and > 0: the refraction maths divides by it).
 
 #include "dynrt/engine/scene_loading.h"
 #include "dynrt/scene/scene_error.h"
@@ -26,11 +28,34 @@ std::string to_text(const glm::vec3& v) {
     return out.str();
 }
 
+bool is_finite_non_negative(const glm::vec3& v) {
+    return is_finite(v) && v.x >= 0.0f && v.y >= 0.0f && v.z >= 0.0f;
+}
+
+/// What is wrong with material `index`'s secondary-ray terms, or "" when nothing is.
+std::string material_problem(const Material& material, std::size_t index) {
+    const std::string which = cat("material '", material.name, "' (index ", index, "): ");
+    if (!is_finite_non_negative(material.reflectance)) {
+        return cat(which, "reflectance ", to_text(material.reflectance), " must be finite and >= 0");
+    }
+    if (!is_finite_non_negative(material.transmittance)) {
+        return cat(which, "transmittance ", to_text(material.transmittance), " must be finite and >= 0");
+    }
+    if (!std::isfinite(material.ior) || !(material.ior > 0.0f)) {
+        return cat(which, "ior ", material.ior, " must be finite and > 0");
+    }
+    return {};
+}
+
 void check_object(const Scene& scene, const Object& object) {
     if (object.material >= scene.materials.size()) {
         fail(scene, &object,
              cat("material index ", object.material, " out of range (", scene.materials.size(),
                  " materials)"));
+    }
+    if (const std::string problem = material_problem(scene.materials[object.material], object.material);
+        !problem.empty()) {
+        fail(scene, &object, problem);
     }
     for (int column = 0; column < 4; ++column) {
         const glm::vec4& c = object.transform[column];
@@ -61,6 +86,12 @@ void check_object(const Scene& scene, const Object& object) {
 void check_scene(const Scene& scene) {
     if (scene.materials.empty()) fail(scene, nullptr, "scene has no materials");
     for (const Object& object : scene.objects) check_object(scene, object);
+    // Materials no object uses yet (a caller may assign them later): named without an object.
+    for (std::size_t m = 0; m < scene.materials.size(); ++m) {
+        if (const std::string problem = material_problem(scene.materials[m], m); !problem.empty()) {
+            fail(scene, nullptr, problem);
+        }
+    }
     if (scene.triangle_count() == 0) fail(scene, nullptr, "scene has no triangles");
 }
 

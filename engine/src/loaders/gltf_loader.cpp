@@ -32,33 +32,79 @@ namespace dynrt {
 namespace {
 
 constexpr float kDefaultGrey = 0.8f;
+constexpr const char* kTransmission = "KHR_materials_transmission";
+constexpr const char* kIor = "KHR_materials_ior";
+/// glTF's index of refraction where KHR_materials_ior does not give one.
+constexpr double kGltfDefaultIor = 1.5;
 
-/// Phong parameters from glTF metallic-roughness, a deliberately simple mapping (dynrt shades
-/// with Phong and ignores textures and metalness):
-///   diffuse   = baseColorFactor.rgb (linear, clamped to [0, 1]);
-///   specular  = grey 0.2 * (1 - roughness / 2): 0.2 for a mirror-smooth surface, 0.1 for a
-///               fully rough one (glTF's default roughness is 1);
-///   shininess = 2 / alpha^2 - 2 with alpha = roughness^2, the Blinn-Phong exponent matching a
-///               Beckmann lobe (Walter et al. 2007, "Microfacet Models for Refraction through
-///               Rough Surfaces"), clamped to [8, 128] so rough surfaces keep a broad highlight.
+/// A number of a material extension (`extension.key`), or `fallback` when the extension, the key
+/// or a finite number is missing.
+double extension_number(const tinygltf::Material& source, const char* extension, const char* key,
+                        double fallback) {
+    const auto found = source.extensions.find(extension);
+    if (found == source.extensions.end() || !found->second.IsObject() || !found->second.Has(key)) return fallback;
+    const tinygltf::Value& value = found->second.Get(key);
+    if (!value.IsNumber()) return fallback;
+    const double number = value.GetNumberAsDouble();
+    return std::isfinite(number) ? number : fallback;
+}
+
+bool has_extension(const tinygltf::Material& source, const char* extension) {
+    return source.extensions.find(extension) != source.extensions.end();
+}
+
+/// Whether KHR_materials_transmission gives a transmissionTexture (which dynrt ignores).
+bool has_transmission_texture(const tinygltf::Material& source) {
+    const auto found = source.extensions.find(kTransmission);
+    return found != source.extensions.end() && found->second.IsObject() &&
+           found->second.Has("transmissionTexture");
+}
+
+/// Phong and Whitted parameters from glTF metallic-roughness, a deliberately simple mapping
+/// (dynrt shades with Phong plus mirror and refraction rays, and ignores textures). With
+/// base = baseColorFactor.rgb (linear, clamped to [0, 1]; default 1), metallic and roughness
+/// their factors (clamped to [0, 1]; default 1 both) and transmission
+/// KHR_materials_transmission's transmissionFactor (clamped to [0, 1]; 0 without it):
+///   diffuse       = base * (1 - transmission): light goes through, not scattered;
+///   specular      = grey 0.2 * (1 - roughness / 2): 0.2 for a mirror-smooth surface, 0.1 for
+///                   a fully rough one (glTF's default roughness is 1);
+///   shininess     = 2 / alpha^2 - 2 with alpha = roughness^2, the Blinn-Phong exponent
+///                   matching a Beckmann lobe (Walter et al. 2007, "Microfacet Models for
+///                   Refraction through Rough Surfaces"), clamped to [8, 128] so rough surfaces
+///                   keep a broad highlight;
+///   reflectance   = metallic * base * (1 - roughness)^2: a smooth metal is a mirror, rough or
+///                   dielectric surfaces reflect no ray;
+///   transmittance = transmission * (1 - metallic) * base: a metal lets nothing through;
+///   ior           = KHR_materials_ior's ior (default 1.5) when the material has either
+///                   extension, else 1 (an opaque material never refracts). A value <= 0 is
+///                   passed on for check_scene to refuse, naming the material.
+/// Textures, including transmissionTexture, are ignored (listed in Scene::ignored).
 Material convert_material(const tinygltf::Material& source, std::size_t index) {
     Material material;
     material.name = source.name.empty() ? cat("material", index) : source.name;
     const tinygltf::PbrMetallicRoughness& pbr = source.pbrMetallicRoughness;
-    material.diffuse = glm::vec3(1.0f);
+    glm::vec3 base(1.0f);
     if (pbr.baseColorFactor.size() >= 3) {
         for (int c = 0; c < 3; ++c) {
             const double value = pbr.baseColorFactor[static_cast<std::size_t>(c)];
-            material.diffuse[c] =
-                std::isfinite(value) ? static_cast<float>(std::clamp(value, 0.0, 1.0)) : 1.0f;
+            base[c] = std::isfinite(value) ? static_cast<float>(std::clamp(value, 0.0, 1.0)) : 1.0f;
         }
     }
     const double roughness =
         std::isfinite(pbr.roughnessFactor) ? std::clamp(pbr.roughnessFactor, 0.0, 1.0) : 1.0;
+    const double metallic = std::isfinite(pbr.metallicFactor) ? std::clamp(pbr.metallicFactor, 0.0, 1.0) : 1.0;
+    const double transmission =
+        std::clamp(extension_number(source, kTransmission, "transmissionFactor", 0.0), 0.0, 1.0);
+    material.diffuse = base * static_cast<float>(1.0 - transmission);
     material.specular = glm::vec3(static_cast<float>(0.2 * (1.0 - 0.5 * roughness)));
     const double alpha_squared = std::pow(roughness, 4.0);
     const double shininess = alpha_squared > 0.0 ? 2.0 / alpha_squared - 2.0 : 128.0;
     material.shininess = static_cast<float>(std::clamp(shininess, 8.0, 128.0));
+    material.reflectance = base * static_cast<float>(metallic * (1.0 - roughness) * (1.0 - roughness));
+    material.transmittance = base * static_cast<float>(transmission * (1.0 - metallic));
+    if (has_extension(source, kTransmission) || has_extension(source, kIor)) {
+        material.ior = static_cast<float>(extension_number(source, kIor, "ior", kGltfDefaultIor));
+    }
     return material;
 }
 
@@ -275,27 +321,36 @@ private:
 
     std::string name_;
     /// What the file says that dynrt leaves out, one line each in Scene::ignored (as BART's
-    /// loader does): textures (colour from the factors), and the extensions the file requires
-    /// or uses, none of which dynrt implements.
+    /// loader does): textures (transmissionTexture included; the factors are used), and the
+    /// extensions the file requires or uses but dynrt does not implement (all but
+    /// KHR_materials_transmission and KHR_materials_ior, which convert_material maps).
     void note_ignored(Scene& scene) const {
         std::size_t textured = 0;
         for (const tinygltf::Material& m : model_.materials) {
             const bool any = m.pbrMetallicRoughness.baseColorTexture.index >= 0 ||
                              m.pbrMetallicRoughness.metallicRoughnessTexture.index >= 0 ||
                              m.normalTexture.index >= 0 || m.occlusionTexture.index >= 0 ||
-                             m.emissiveTexture.index >= 0;
+                             m.emissiveTexture.index >= 0 || has_transmission_texture(m);
             textured += any ? 1 : 0;
         }
         if (textured > 0) {
-            scene.ignored.push_back(cat("textures of ", textured, " material(s) (colour from their factors)"));
+            scene.ignored.push_back(
+                cat("textures of ", textured, " material(s) (colour and transmission from their factors)"));
         }
+        // The material extensions convert_material maps are not "left out".
+        const auto implemented = [](const std::string& extension) {
+            return extension == kTransmission || extension == kIor;
+        };
         for (const std::string& extension : model_.extensionsRequired) {
+            if (implemented(extension)) continue;
             scene.ignored.push_back(cat("required extension ", extension, " (not implemented; rendered without it)"));
         }
         for (const std::string& extension : model_.extensionsUsed) {
             const bool required = std::find(model_.extensionsRequired.begin(), model_.extensionsRequired.end(),
                                             extension) != model_.extensionsRequired.end();
-            if (!required) scene.ignored.push_back(cat("extension ", extension, " (not implemented)"));
+            if (!required && !implemented(extension)) {
+                scene.ignored.push_back(cat("extension ", extension, " (not implemented)"));
+            }
         }
     }
 

@@ -92,6 +92,7 @@ struct MeshDesc {
     Ownership ownership = Ownership::copy;
     /// Object to world; finite and affine.
     Transform transform;
+    /// Its material: Phong terms, reflectance, transmittance and ior (see Surface).
     Surface surface;
 };
 
@@ -164,7 +165,9 @@ public:
     Engine& operator=(const Engine&) = delete;
 
     /// Adds a mesh; it is traced from the next update() on. Checks the description (sizes,
-    /// indices in range, finite positions and transform) and throws Error naming the mesh.
+    /// indices in range, finite positions and transform, a valid Surface: finite values,
+    /// shininess, reflectance and transmittance >= 0, ior > 0) and throws Error naming the mesh
+    /// and the bad value.
     MeshId add_mesh(const MeshDesc& mesh);
 
     /// New object-space positions for a deformable, exploding or automatic mesh: the same
@@ -175,7 +178,8 @@ public:
     /// A new object-to-world transform (finite, affine) for any mesh but a static one.
     void set_transform(MeshId mesh, const Transform& transform);
 
-    /// A new material, used from the next render on.
+    /// A new material (checked as add_mesh checks MeshDesc::surface; on Error, naming the mesh,
+    /// the old one stays), used from the next render on.
     void set_surface(MeshId mesh, const Surface& surface);
 
     /// Takes the mesh out from the next update() on; its id is never reused. For a borrowed

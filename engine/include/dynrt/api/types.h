@@ -71,11 +71,20 @@ struct Light {
     float intensity = 1.0f;
 };
 
-/// A mesh's Phong material; colours are linear RGB in [0, 1].
+/// A mesh's material: Phong terms plus Whitted's mirror and refraction weights (README
+/// "Shading", "Materials"). Colours and weights are linear RGB, meant to lie in [0, 1]; every
+/// value must be finite, shininess, reflectance and transmittance >= 0, ior > 0.
 struct Surface {
     Vec3 diffuse{0.8f, 0.8f, 0.8f};
     Vec3 specular{0.2f, 0.2f, 0.2f};
     float shininess = 32.0f;
+    /// Weight of the mirror-reflected ray's colour; 0 (the default) traces no reflection ray.
+    Vec3 reflectance{0.0f, 0.0f, 0.0f};
+    /// Weight of the refracted ray's colour before Fresnel; 0 (the default) is opaque.
+    Vec3 transmittance{0.0f, 0.0f, 0.0f};
+    /// Index of refraction of the inside (the side the triangles' winding normal points away
+    /// from) relative to the outside: 1.5 for glass; only used where transmittance > 0.
+    float ior = 1.0f;
 };
 
 }  // namespace dynrt

@@ -22,7 +22,8 @@ Scene load_scene(const std::string& source);
 /// Reads a glTF 2.0 file (.gltf with external or embedded buffers, or .glb). Every triangle
 /// primitive of the default scene (or scene 0) becomes one Object in node-tree order, named
 /// "node/mesh" ("node/mesh#k" for the k-th primitive of a multi-primitive mesh), with the
-/// node's world matrix as transform and baseColorFactor as diffuse colour. Strips and fans are
+/// node's world matrix as transform and materials mapped from metallic-roughness,
+/// KHR_materials_transmission and KHR_materials_ior (README "Materials"). Strips and fans are
 /// converted to lists; points and lines are skipped with a warning on stderr. What animates
 /// the scene comes along, validated: the default scene's nodes (Scene::nodes, parents first,
 /// Object::node), skins with up to 8 influences per vertex (Object::skin), position morph
@@ -36,8 +37,9 @@ Scene load_gltf(const std::filesystem::path& path);
 /// to the including file. Its viewpoint becomes cameras[0] and Scene::setup (image size, frame
 /// rate, frame count, background); `x`/`k` transforms become animated nodes (rigid objects),
 /// `tpa` triangles morphing objects (deformable), the rest static objects, one per material;
-/// textures are ignored. The conversion rules are in engine/src/loaders/aff_scene.h. Throws SceneError
-/// naming the file and line.
+/// materials keep their specular colour as reflectance, T and the index of refraction
+/// (README "Materials"); textures are ignored. The conversion rules are in
+/// engine/src/loaders/aff_scene.h. Throws SceneError naming the file and line.
 Scene load_aff(const std::filesystem::path& path);
 
 /// Reads AFF text as if it were the file `name`, as load_aff does (includes resolve relative
@@ -67,8 +69,11 @@ inline constexpr std::uint64_t kMaxProceduralTriangles = 100'000'000;
 /// keeps a caller feeding arbitrary specs (the fuzz target) from building huge meshes.
 Scene make_procedural_scene(const std::string& spec, std::uint64_t max_triangles = kMaxProceduralTriangles);
 
-/// Throws SceneError when `scene` has no triangles, an index out of range or a non-finite
-/// position, naming the object. Loaders call it; callers building scenes by hand may too.
+/// Throws SceneError when `scene` has no triangles, an index out of range, a non-finite
+/// position or transform, or a material with a non-finite or negative reflectance or
+/// transmittance or a non-finite or non-positive ior, naming the object and the material
+/// ("object 'x': material 'glass' (index 2): ior 0 must be finite and > 0"; a material no
+/// object uses is named alone). Loaders call it; callers building scenes by hand may too.
 void check_scene(const Scene& scene);
 
 /// The bundled default scene (scenes/default.gltf), found next to the source tree or the

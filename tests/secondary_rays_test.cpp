@@ -1,9 +1,12 @@
 // The renderer's reflection and refraction rays (Whitted; renderer.h has the model) as an
 // engine feature: both tracers and both ways of tracing secondary rays (packets, one by one)
 // give the same bits; depth 0 and a cut-off above every weight are today's image; the report
-// counts what was traced; the frame modes that cannot see reflections step aside. The images
+// counts what was traced; exact reuse traces reflective pixels again and stays exact; the
+// approximate modes step aside. The images
 // themselves are checked against the exact reference in whitted_reference_test.cpp.
 
+#include "dynrt/anim/procedural_motion.h"
+#include "dynrt/engine/pixel_reuse.h"
 #include "dynrt/engine/renderer.h"
 #include "dynrt/engine/scene_loading.h"
 
@@ -11,6 +14,7 @@
 
 #include <cstddef>
 #include <numeric>
+#include <string>
 #include <vector>
 
 namespace dynrt {
@@ -163,16 +167,46 @@ TEST(SecondaryRays, ReportCountsEveryRayOnce) {
     EXPECT_GT(s.refraction_mrays_per_s, 0.0);
 }
 
-TEST(SecondaryRays, ReuseAndAdaptiveSamplingStepAside) {
+TEST(SecondaryRays, ExactReuseTracesReflectivePixelsAgainAndMatchesFullRenders) {
+    // The red sphere turns: it moves in the floor's and the glass's reflections far from its
+    // own pixels, which exact reuse must catch.
+    Scene scene = whitted_scene();
+    const std::vector<std::string> motions{"rigid:" + scene.objects[2].name};
+    anim::add_procedural_motions(scene, motions);
+    RenderOptions reusing = small_options();  // exact reuse, the default
+    RenderOptions full = small_options();
+    full.reuse.mode = PixelReuse::off;
+    Renderer a(reusing), b(full);
+    RenderedFrame ra, rb;
+    std::size_t reused = 0;
+    for (int frame = 0; frame < 4; ++frame) {
+        a.render(scene, whitted_camera(), frame, ra);
+        b.render(scene, whitted_camera(), frame, rb);
+        SCOPED_TRACE(frame);
+        expect_same_bits(ra, rb, "exact reuse against a full render");
+        if (frame > 0) {
+            EXPECT_EQ(ra.stats.reuse_reason, "1 object changed");
+            // Every reflective or transmissive pixel is traced again from its hit on.
+            EXPECT_GT(ra.stats.pixels_shadows_retraced, ra.color.size() / 3);
+            EXPECT_GT(ra.stats.reflection_rays, 0u);
+            reused += ra.stats.pixels_reused;
+        }
+    }
+    EXPECT_GT(reused, 0u);
+    // Nothing changed: every pixel kept, reflections included.
+    a.render(scene, whitted_camera(), 3, ra);
+    EXPECT_EQ(ra.stats.reuse_reason, "nothing changed");
+    EXPECT_EQ(ra.stats.reflection_rays, 0u);
+    expect_same_bits(ra, rb, "a still frame");
+}
+
+TEST(SecondaryRays, ApproximateModesAndAdaptiveSamplingStepAside) {
     const Scene scene = whitted_scene();
-    RenderOptions options = small_options();
-    options.reuse = ReuseSettings{};  // exact, the default
-    Renderer renderer(options);
-    RenderedFrame frame;
-    renderer.render(scene, whitted_camera(), 0, frame);
-    renderer.render(scene, whitted_camera(), 0, frame);  // a still frame would reuse every pixel
-    EXPECT_EQ(frame.stats.reuse_reason, "secondary rays");
-    EXPECT_EQ(frame.stats.pixels_traced, std::size_t(options.width * options.height));
+    RenderOptions cache = small_options();
+    cache.reuse = parse_reuse("cache:0.25");
+    const RenderedFrame cached = render(scene, cache);
+    EXPECT_EQ(cached.stats.reuse_reason, "secondary rays");
+    expect_same_bits(render(scene, small_options()), cached, "render cache with secondary rays");
 
     RenderOptions adaptive = small_options();
     adaptive.adaptive_tolerance = 0.5f;

@@ -8,6 +8,7 @@
 #include "rendering/changed_space.h"
 #include "rendering/lane_tracing.h"
 #include "rendering/same_view.h"
+#include "rendering/secondary_rays.h"
 #include "rendering/tile_shading.h"
 
 #include <tbb/combinable.h>
@@ -17,6 +18,7 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 namespace dynrt::detail {
 
@@ -27,7 +29,12 @@ namespace {
 bool same_image_settings(const TraceSettings& a, const TraceSettings& b) {
     return a.width == b.width && a.height == b.height && a.tracer == b.tracer &&
            a.hit_buffers == b.hit_buffers && a.background == b.background &&
-           a.ambient == b.ambient && a.packet.lanes == b.packet.lanes;
+           a.ambient == b.ambient && a.packet.lanes == b.packet.lanes &&
+           a.secondary.max_depth == b.secondary.max_depth && a.secondary.cutoff == b.secondary.cutoff;
+}
+
+bool same_whitted_terms(const Material& a, const Material& b) {
+    return a.reflectance == b.reflectance && a.transmittance == b.transmittance && a.ior == b.ior;
 }
 
 bool same_material(const packet::PhongMaterial& a, const packet::PhongMaterial& b) {
@@ -42,7 +49,11 @@ bool material_changed(const ReuseMemory& memory, const ReuseInputs& now, std::si
     if (index >= now.materials.size() || index >= memory.materials.size()) {
         return index < now.materials.size() || index < memory.materials.size();
     }
-    return !same_material(memory.materials[index], now.materials[index]);
+    if (!same_material(memory.materials[index], now.materials[index])) return true;
+    if (index >= now.scene_materials.size() || index >= memory.scene_materials.size()) {
+        return now.scene_materials.size() != memory.scene_materials.size();
+    }
+    return !same_whitted_terms(memory.scene_materials[index], now.scene_materials[index]);
 }
 
 /// The most boxes (objects' parts) a plan tests rays against; see plan_exact_reuse.
@@ -86,6 +97,20 @@ struct TileWork {
     double primary_ms = 0.0, shadow_ms = 0.0, shade_ms = 0.0;
     std::size_t primary_rays = 0, shadow_rays = 0, shadows_only = 0;
 };
+
+/// Whether any pixel of `tile` hits a material that spawns secondary rays.
+bool tile_spawns_secondary(const TraceInputs& in, const packet::Tile& tile, int width,
+                           const std::vector<bvh::InstanceHit>& hits) {
+    for (int y = tile.y0; y < tile.y1; ++y) {
+        for (int x = tile.x0; x < tile.x1; ++x) {
+            const bvh::InstanceHit& hit = hits[std::size_t(y) * width + x];
+            if (!hit.is_hit()) continue;
+            const auto m = std::size_t(in.object_material[hit.object]);
+            if (in.scene_materials[m].traces_secondary()) return true;
+        }
+    }
+    return false;
+}
 
 }  // namespace
 
@@ -152,6 +177,7 @@ void remember_inputs(const ReuseInputs& now, ReuseMemory& memory, RenderedFrame&
     memory.settings = now.settings;
     memory.lights.assign(now.lights.begin(), now.lights.end());
     memory.materials.assign(now.materials.begin(), now.materials.end());
+    memory.scene_materials.assign(now.scene_materials.begin(), now.scene_materials.end());
     memory.object_material.assign(now.object_material.begin(), now.object_material.end());
     // Parts only of the objects whose geometry changed since they were recorded: each
     // object's parts stay paired with the version they were taken at.
@@ -241,6 +267,14 @@ void trace_frame_reusing(const TraceInputs& in, const Camera& camera, const Trac
     const ChangedSpace space(plan.changed, scale);
 
     const bool count = options.count_packet_work;
+    std::optional<SecondaryFrame> secondary_frame;
+    if (any_secondary(in.scene_materials, options.secondary)) {
+        const SecondaryTracing tracing{in.accel, options.secondary, options.packet,
+                                       options.tracer == Tracer::single, count};
+        secondary_frame.emplace(SecondaryFrame{tracing, lights, shading, in.scene_materials,
+                                               in.object_material, options.secondary_log});
+    }
+    tbb::combinable<SecondaryWork> secondary_work;
     tbb::combinable<packet::PacketStats> packet_work;
     tbb::combinable<bvh::TraversalStats> single_work;
     tbb::combinable<TileWork> work;
@@ -303,7 +337,9 @@ void trace_frame_reusing(const TraceInputs& in, const Camera& camera, const Trac
             shadows_may_change =
                 space.meets_hull(lights[l].position, memory.shadow_ends[t * light_count + l]);
         }
-        if (!primary.any() && !shadows_may_change) {
+        const bool secondary_here =
+            secondary_frame && tile_spawns_secondary(in, tile, width, scratch.hits);
+        if (!primary.any() && !shadows_may_change && !secondary_here) {
             tw.shadow_ms += clock.lap_ms();
             return;  // the tile keeps every pixel
         }
@@ -364,13 +400,27 @@ void trace_frame_reusing(const TraceInputs& in, const Camera& camera, const Trac
                 memory.shadow_ends[slot] = ends;
             }
         }
+        if (secondary_here) {
+            // Every pixel whose hit spawns secondary rays is traced again from its hit on.
+            for (int lane = 0; lane < packet::kPacketRays; ++lane) {
+                if (!origins.surface.hit.test(lane) || primary.test(lane) || shadows_only.test(lane)) continue;
+                const auto m = std::size_t(origins.surface.material[lane]);
+                if (in.scene_materials[m].traces_secondary()) shadows_only.set(lane);
+            }
+        }
         tw.shadows_only += std::size_t(shadows_only.count());
         tw.shadow_ms += clock.lap_ms();
         if (!primary.any() && !shadows_only.any()) return;  // the same pixels again
 
         // ---- Shading: the whole tile, the same bits where nothing changed ----
         packet::ShadedColors colors;
-        shade_tile(shading, tile, origins, visible, scratch.hits, colors, out);
+        shade_lanes(shading, origins, visible, colors);
+        if (secondary_here) {
+            tw.shade_ms += clock.lap_ms();
+            add_secondary(*secondary_frame, origins, colors, secondary_work.local());
+            clock.lap_ms();  // the secondary work times itself
+        }
+        write_tile(shading, tile, origins, scratch.hits, colors, out);
         tw.shade_ms += clock.lap_ms();
     });
     const TileWork sum = work.combine([](TileWork a, const TileWork& b) {
@@ -382,7 +432,17 @@ void trace_frame_reusing(const TraceInputs& in, const Camera& camera, const Trac
         a.shadows_only += b.shadows_only;
         return a;
     });
-    finish(sum, wall.elapsed_ms());
+    double secondary_thread_ms = 0.0;
+    secondary_work.combine_each([&](const SecondaryWork& w) {
+        secondary_thread_ms += w.reflection_ms + w.refraction_ms + w.shadow_ms + w.other_ms;
+    });
+    const double wall_ms = wall.elapsed_ms();
+    const double thread_total = sum.primary_ms + sum.shadow_ms + sum.shade_ms + secondary_thread_ms;
+    finish(sum, thread_total > 0.0 ? wall_ms * (1.0 - secondary_thread_ms / thread_total) : wall_ms);
+    if (secondary_frame) {
+        report_secondary(secondary_work.combine([](SecondaryWork a, const SecondaryWork& b) { return a += b; }),
+                         thread_total > 0.0 ? wall_ms / thread_total : 0.0, stats);
+    }
     if (count) {
         const packet::PacketStats total = packet_work.combine(
             [](packet::PacketStats a, const packet::PacketStats& b) { return a += b; });

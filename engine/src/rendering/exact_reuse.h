@@ -11,7 +11,11 @@
 //      points, then one by one; those that may meet the changed space, and those of re-traced
 //      pixels, are traced again, and the others keep their previous verdict;
 //   3. a tile where anything was traced again is shaded again (the same kernel on the same
-//      inputs gives the same bits for the pixels that kept theirs).
+//      inputs gives the same bits for the pixels that kept theirs);
+//   4. with secondary rays (renderer.h), a reflection or refraction may show any change from
+//      anywhere: when anything changed, every pixel whose hit spawns them is traced again
+//      from its hit on (its reflection and refraction rays, their shadows), and its tile
+//      shaded again.
 //
 // Every other pixel keeps the RenderedFrame's values, so the frame is bit-identical to a full
 // render; tests/exact_reuse_test.cpp renders sequences both ways. Anything else that changed
@@ -41,6 +45,8 @@ struct ReuseMemory {
     TraceSettings settings;
     std::vector<PointLight> lights;
     std::vector<packet::PhongMaterial> materials;
+    /// The scene's materials, for their reflection and refraction terms.
+    std::vector<Material> scene_materials;
     std::vector<std::int32_t> object_material;
     /// Per object: its world box and its geometry version (FramePipeline) at that trace.
     std::vector<bvh::Aabb> object_boxes;
@@ -62,6 +68,7 @@ struct ReuseInputs {
     const TraceSettings& settings;
     std::span<const PointLight> lights;
     std::span<const packet::PhongMaterial> materials;
+    std::span<const Material> scene_materials;
     std::span<const std::int32_t> object_material;
     std::span<const bvh::Aabb> object_boxes;
     std::span<const std::uint64_t> object_versions;

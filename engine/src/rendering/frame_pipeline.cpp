@@ -78,14 +78,14 @@ void FramePipeline::trace(const Scene& scene, const Camera& camera, const TraceS
     }
     out.stats = update_stats_;
     const TraceInputs inputs{accel_, materials_, object_material_, lights, scene.materials};
-    // A reflection or refraction can show any object from any pixel whose hit spawns one, which
-    // neither the reuse modes' tests nor adaptive sampling's interpolation account for: a frame
-    // with secondary rays traces every pixel.
+    // A reflection or refraction can show any object from any pixel whose hit spawns one:
+    // exact reuse traces such pixels again whenever anything changed (exact_reuse.h), while the
+    // approximate modes' ranking and adaptive sampling's interpolation cannot account for it,
+    // so a frame with secondary rays traces every pixel instead of them.
     const bool secondary = detail::any_secondary(scene.materials, options.secondary);
     const bool approximate = options.reuse.approximate() && options.adaptive_tolerance == 0.0f &&
                              !secondary;
-    const bool exact = options.reuse.mode == PixelReuse::exact &&
-                       options.adaptive_tolerance == 0.0f && !secondary;
+    const bool exact = options.reuse.mode == PixelReuse::exact && options.adaptive_tolerance == 0.0f;
     // The camera moved at the last trace and moves again: a full trace either way, and
     // recording what exact reuse needs per tile cost 9% of it over BART kitchen's path. Traced
     // plainly; once the camera holds still for a frame, that frame records again.
@@ -98,10 +98,11 @@ void FramePipeline::trace(const Scene& scene, const Camera& camera, const TraceS
     } else if (exact && !camera_moving) {
         pixel_cache_.valid = false;
         refresh_parts();
-        const detail::ReuseInputs now{camera,          options,
-                                      lights,          materials_,
-                                      object_material_, accel_.object_world_boxes(),
-                                      versions_,       out.reuse_stamp,
+        const detail::ReuseInputs now{camera,           options,
+                                      lights,           materials_,
+                                      scene.materials,  object_material_,
+                                      accel_.object_world_boxes(),
+                                      versions_,        out.reuse_stamp,
                                       parts_};
         const detail::ReusePlan plan = detail::plan_exact_reuse(reuse_, now);
         detail::trace_frame_reusing(inputs, camera, options, plan, reuse_, scratch_, out);

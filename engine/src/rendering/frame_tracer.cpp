@@ -191,9 +191,11 @@ void trace_frame(const TraceInputs& in, const Camera& camera, const TraceSetting
     const bool secondary = detail::any_secondary(in.scene_materials, options.secondary);
     std::optional<detail::SecondaryFrame> secondary_frame;
     if (secondary) {
-        secondary_frame.emplace(detail::SecondaryFrame{
-            in.accel, lights, shading, in.scene_materials, in.object_material,
-            options.secondary, options.packet, options.tracer == Tracer::single, count});
+        const detail::SecondaryTracing tracing{in.accel, options.secondary, options.packet,
+                                               options.tracer == Tracer::single, count};
+        secondary_frame.emplace(detail::SecondaryFrame{tracing, lights, shading,
+                                                       in.scene_materials, in.object_material,
+                                                       options.secondary_log});
     }
     tbb::combinable<detail::SecondaryWork> secondary_work;
     tbb::combinable<double> single_shade_ms([] { return 0.0; });

@@ -4,8 +4,10 @@
 #include "dynrt/packet/packet_shading.h"
 #include "dynrt/engine/stopwatch.h"
 #include "rendering/frame_pipeline.h"
+#include "rendering/secondary_rays.h"
 
 #include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
 #include <glm/geometric.hpp>
@@ -144,6 +146,37 @@ void Renderer::reset() {
     s.pipeline.clear();
     s.poser.reset();
     s.scene = nullptr;
+}
+
+double Renderer::trace_logged_rays(const SecondaryRayLog& log,
+                                   std::vector<bvh::InstanceHit>* hits) const {
+    const State& s = *state_;
+    if (!s.pipeline.updated()) throw std::logic_error("Renderer::trace_logged_rays before any update");
+    // Where each packet's hits go in log order.
+    std::vector<std::size_t> first(log.packets.size() + 1, 0);
+    for (std::size_t i = 0; i < log.packets.size(); ++i) first[i + 1] = first[i] + log.packets[i].rays.size();
+    if (hits) hits->assign(first.back(), bvh::InstanceHit{});
+    const detail::SecondaryTracing tracing{s.pipeline.accel(), options_.secondary, options_.packet,
+                                           options_.tracer == Tracer::single, false};
+    const Stopwatch clock;
+    tbb::parallel_for(std::size_t(0), log.packets.size(), [&](std::size_t i) {
+        const SecondaryRayPacket& logged = log.packets[i];
+        packet::RayPacket rays;
+        rays.clear();
+        std::size_t k = 0;
+        for (int lane = 0; lane < packet::kPacketRays; ++lane) {
+            if (logged.lanes.test(lane)) rays.set_ray(lane, logged.rays[k++]);
+        }
+        bvh::InstanceHit lane_hits[packet::kPacketRays];
+        detail::SecondaryWork work;
+        detail::trace_secondary_closest(tracing, rays, lane_hits, work);
+        if (!hits) return;
+        k = first[i];
+        for (int lane = 0; lane < packet::kPacketRays; ++lane) {
+            if (logged.lanes.test(lane)) (*hits)[k++] = lane_hits[lane];
+        }
+    });
+    return clock.elapsed_ms();
 }
 
 const anim::PosedScene& Renderer::posed() const {

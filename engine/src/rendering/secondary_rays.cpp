@@ -61,7 +61,6 @@ struct Bounce {
 struct Scratch {
     std::vector<std::unique_ptr<Bounce>> stack;
     std::size_t top = 0;
-    packet::InstanceHits packet_hits;
     bvh::InstanceHit hits[kPacketRays];
     TileShadowOrigins origins;
     RayPacket shadow;
@@ -128,7 +127,7 @@ void set_lane(RayPacket& rays, int lane, const glm::vec3& org, const glm::vec3& 
 /// weigh `weight` and whose rays had depth `depth` - 1.
 void spawn(const SecondaryFrame& f, const TileShadowOrigins& origins,
            const float (&weight)[3][kPacketRays], int depth, Scratch& s) {
-    if (depth > f.settings.max_depth) return;
+    if (depth > f.tracing.settings.max_depth) return;
     const packet::SurfacePacket& surface = origins.surface;
     Bounce* reflection = nullptr;
     Bounce* refraction = nullptr;
@@ -142,7 +141,7 @@ void spawn(const SecondaryFrame& f, const TileShadowOrigins& origins,
             const glm::vec3 path(weight[0][lane], weight[1][lane], weight[2][lane]);
             const Split split = split_at(m, d, n, origins.back_hit.test(lane));
             const glm::vec3 wr = path * split.wr, wt = path * split.wt;
-            if (max_channel(wr) >= f.settings.cutoff) {
+            if (max_channel(wr) >= f.tracing.settings.cutoff) {
                 if (reflection == nullptr) {
                     reflection = &s.push();
                     reflection->depth = depth;
@@ -152,7 +151,7 @@ void spawn(const SecondaryFrame& f, const TileShadowOrigins& origins,
                 set_lane(reflection->rays, lane, org, split.reflected);
                 for (int c = 0; c < 3; ++c) reflection->weight[c][lane] = wr[c];
             }
-            if (max_channel(wt) >= f.settings.cutoff) {
+            if (max_channel(wt) >= f.tracing.settings.cutoff) {
                 if (refraction == nullptr) {
                     refraction = &s.push();
                     refraction->depth = depth;
@@ -167,57 +166,8 @@ void spawn(const SecondaryFrame& f, const TileShadowOrigins& origins,
     }
 }
 
-/// Closest hits of `rays`' active lanes into s.hits (resolved to scene objects): lanes of one
-/// direction octant go as a packet when there are at least min_packet_rays of them.
-void trace_closest(const SecondaryFrame& f, RayPacket& rays, Scratch& s, SecondaryWork& work) {
-    const bvh::TwoLevelBvh& tlas = f.accel.top_level();
-    LaneMask octant[8];
-    for (int w = 0; w < kPacketRays / 64; ++w) {
-        for (std::uint64_t bits = rays.active.words[w]; bits != 0; bits &= bits - 1) {
-            const int lane = w * 64 + std::countr_zero(bits);
-            const int o = int(rays.dir_x[lane] < 0.0f) | int(rays.dir_y[lane] < 0.0f) << 1 |
-                          int(rays.dir_z[lane] < 0.0f) << 2;
-            octant[o].set(lane);
-        }
-    }
-    const LaneMask all = rays.active;
-    const int min_rays = f.settings.min_packet_rays;
-    for (const LaneMask& group : octant) {
-        const int count = group.count();
-        if (count == 0) continue;
-        if (!f.single_rays && count >= min_rays && min_rays <= kPacketRays) {
-            rays.active = group;
-            packet::intersect_closest(tlas, rays, s.packet_hits, f.packet,
-                                      f.count ? &work.packet_work : nullptr);
-            for (int w = 0; w < kPacketRays / 64; ++w) {
-                for (std::uint64_t bits = group.words[w]; bits != 0; bits &= bits - 1) {
-                    const int lane = w * 64 + std::countr_zero(bits);
-                    s.hits[lane] = s.packet_hits.hit(lane);
-                }
-            }
-            work.packet_rays += std::size_t(count);
-        } else {
-            for (int w = 0; w < kPacketRays / 64; ++w) {
-                for (std::uint64_t bits = group.words[w]; bits != 0; bits &= bits - 1) {
-                    const int lane = w * 64 + std::countr_zero(bits);
-                    s.hits[lane] = f.count ? bvh::intersect_closest(tlas, rays.ray(lane), work.single_work)
-                                           : bvh::intersect_closest(tlas, rays.ray(lane));
-                }
-            }
-            work.single_rays += std::size_t(count);
-        }
-    }
-    rays.active = all;
-    for (int w = 0; w < kPacketRays / 64; ++w) {
-        for (std::uint64_t bits = all.words[w]; bits != 0; bits &= bits - 1) {
-            bvh::InstanceHit& hit = s.hits[w * 64 + std::countr_zero(bits)];
-            if (hit.is_hit()) f.accel.resolve(hit);
-        }
-    }
-}
-
 /// Which lanes of `shadow` (rays from a light) are occluded; packets as trace_closest.
-LaneMask trace_shadows(const SecondaryFrame& f, const RayPacket& shadow, SecondaryWork& work) {
+LaneMask trace_shadows(const SecondaryTracing& f, const RayPacket& shadow, SecondaryWork& work) {
     const bvh::TwoLevelBvh& tlas = f.accel.top_level();
     LaneMask occluded;
     const int count = shadow.active.count();
@@ -238,6 +188,55 @@ LaneMask trace_shadows(const SecondaryFrame& f, const RayPacket& shadow, Seconda
 
 }  // namespace
 
+void trace_secondary_closest(const SecondaryTracing& f, packet::RayPacket& rays,
+                             bvh::InstanceHit (&hits)[packet::kPacketRays], SecondaryWork& work) {
+    thread_local packet::InstanceHits packet_hits;
+    const bvh::TwoLevelBvh& tlas = f.accel.top_level();
+    LaneMask octant[8];
+    for (int w = 0; w < kPacketRays / 64; ++w) {
+        for (std::uint64_t bits = rays.active.words[w]; bits != 0; bits &= bits - 1) {
+            const int lane = w * 64 + std::countr_zero(bits);
+            const int o = int(rays.dir_x[lane] < 0.0f) | int(rays.dir_y[lane] < 0.0f) << 1 |
+                          int(rays.dir_z[lane] < 0.0f) << 2;
+            octant[o].set(lane);
+        }
+    }
+    const LaneMask all = rays.active;
+    const int min_rays = f.settings.min_packet_rays;
+    for (const LaneMask& group : octant) {
+        const int count = group.count();
+        if (count == 0) continue;
+        if (!f.single_rays && count >= min_rays && min_rays <= kPacketRays) {
+            rays.active = group;
+            packet::intersect_closest(tlas, rays, packet_hits, f.packet,
+                                      f.count ? &work.packet_work : nullptr);
+            for (int w = 0; w < kPacketRays / 64; ++w) {
+                for (std::uint64_t bits = group.words[w]; bits != 0; bits &= bits - 1) {
+                    const int lane = w * 64 + std::countr_zero(bits);
+                    hits[lane] = packet_hits.hit(lane);
+                }
+            }
+            work.packet_rays += std::size_t(count);
+        } else {
+            for (int w = 0; w < kPacketRays / 64; ++w) {
+                for (std::uint64_t bits = group.words[w]; bits != 0; bits &= bits - 1) {
+                    const int lane = w * 64 + std::countr_zero(bits);
+                    hits[lane] = f.count ? bvh::intersect_closest(tlas, rays.ray(lane), work.single_work)
+                                           : bvh::intersect_closest(tlas, rays.ray(lane));
+                }
+            }
+            work.single_rays += std::size_t(count);
+        }
+    }
+    rays.active = all;
+    for (int w = 0; w < kPacketRays / 64; ++w) {
+        for (std::uint64_t bits = all.words[w]; bits != 0; bits &= bits - 1) {
+            bvh::InstanceHit& hit = hits[w * 64 + std::countr_zero(bits)];
+            if (hit.is_hit()) f.accel.resolve(hit);
+        }
+    }
+}
+
 void add_secondary(const SecondaryFrame& f, const TileShadowOrigins& primary,
                    packet::ShadedColors& colors, SecondaryWork& work) {
     Scratch& s = thread_scratch();
@@ -245,8 +244,9 @@ void add_secondary(const SecondaryFrame& f, const TileShadowOrigins& primary,
     s.top = 0;
     for (int c = 0; c < 3; ++c) std::fill(s.weight[c], s.weight[c] + kPacketRays, 1.0f);
     spawn(f, primary, s.weight, 1, s);
-    if (work.rays_per_depth.size() < std::size_t(std::max(f.settings.max_depth, 0))) {
-        work.rays_per_depth.resize(std::size_t(f.settings.max_depth), 0);
+    const int max_depth = f.tracing.settings.max_depth;
+    if (work.rays_per_depth.size() < std::size_t(std::max(max_depth, 0))) {
+        work.rays_per_depth.resize(std::size_t(max_depth), 0);
     }
     const glm::vec3 background = f.shading.background;
     while (s.top > 0) {
@@ -256,12 +256,13 @@ void add_secondary(const SecondaryFrame& f, const TileShadowOrigins& primary,
         (bounce.kind == Kind::reflection ? work.reflection_rays : work.refraction_rays) += rays;
         work.rays_per_depth[std::size_t(bounce.depth - 1)] += rays;
         work.other_ms += clock.lap_ms();
-        trace_closest(f, bounce.rays, s, work);
+        if (f.log != nullptr) f.log->add(bounce.rays, bounce.kind == Kind::refraction, bounce.depth);
+        trace_secondary_closest(f.tracing, bounce.rays, s.hits, work);
         (bounce.kind == Kind::reflection ? work.reflection_ms : work.refraction_ms) += clock.lap_ms();
 
         const LaneMask active = bounce.rays.active;
         s.origins.compute_lanes(
-            f.accel,
+            f.tracing.accel,
             [&](int lane) -> const bvh::InstanceHit* {
                 return active.test(lane) && s.hits[lane].is_hit() ? &s.hits[lane] : nullptr;
             },
@@ -273,7 +274,7 @@ void add_secondary(const SecondaryFrame& f, const TileShadowOrigins& primary,
             s.origins.rays_to(f.lights[l], s.shadow);
             if (!s.shadow.active.any()) continue;
             work.shadow_rays += std::size_t(s.shadow.active.count());
-            const LaneMask occluded = trace_shadows(f, s.shadow, work);
+            const LaneMask occluded = trace_shadows(f.tracing, s.shadow, work);
             for (int w = 0; w < kPacketRays / 64; ++w) {
                 s.visible[l].words[w] = s.shadow.active.words[w] & ~occluded.words[w];
             }

@@ -15,6 +15,7 @@
 
 #include "dynrt/engine/frame_stats.h"
 #include "dynrt/engine/renderer.h"
+#include "dynrt/engine/secondary_ray_log.h"
 #include "dynrt/packet/packet_config.h"
 #include "dynrt/packet/packet_shading.h"
 #include "dynrt/packet/ray_packet.h"
@@ -31,17 +32,23 @@
 
 namespace dynrt::detail {
 
-/// What a frame's secondary rays read; fixed for the frame.
-struct SecondaryFrame {
+/// How secondary rays are traced: through which trees, packets or one by one.
+struct SecondaryTracing {
     const SceneAccel& accel;
-    std::span<const PointLight> lights;
-    const TileShading& shading;
-    std::span<const Material> materials;  ///< the scene's, same indices as shading.materials
-    const std::vector<std::int32_t>& object_material;
     SecondaryRays settings;
     packet::PacketConfig packet;
     bool single_rays = false;  ///< Tracer::single: every ray one at a time
     bool count = false;        ///< count packet work into SecondaryWork::packet_work
+};
+
+/// What a frame's secondary rays read; fixed for the frame.
+struct SecondaryFrame {
+    SecondaryTracing tracing;
+    std::span<const PointLight> lights;
+    const TileShading& shading;
+    std::span<const Material> materials;  ///< the scene's, same indices as shading.materials
+    const std::vector<std::int32_t>& object_material;
+    SecondaryRayLog* log = nullptr;  ///< TraceSettings::secondary_log
 };
 
 /// One thread's secondary work over a frame's tiles.
@@ -70,6 +77,12 @@ bool any_secondary(std::span<const Material> materials, const SecondaryRays& set
 /// wr color(reflected) + wt color(refracted), recursively to settings.max_depth.
 void add_secondary(const SecondaryFrame& frame, const TileShadowOrigins& primary,
                    packet::ShadedColors& colors, SecondaryWork& work);
+
+/// Closest hits of `rays`' active lanes into `hits` (by lane, resolved to scene objects): the
+/// lanes of one direction octant as a packet when there are at least min_packet_rays of them,
+/// the rest one by one. `rays.active` is restored before returning.
+void trace_secondary_closest(const SecondaryTracing& tracing, packet::RayPacket& rays,
+                             bvh::InstanceHit (&hits)[packet::kPacketRays], SecondaryWork& work);
 
 /// Fills the report's secondary-ray fields from the threads' summed work; `scale` turns the
 /// threads' summed milliseconds into the frame's wall time (the parallel loop's wall time over

@@ -45,9 +45,11 @@
 
 #include "dynrt/anim/posed_scene.h"
 #include "dynrt/bvh/binned_sah_builder.h"
+#include "dynrt/bvh/two_level_bvh.h"
 #include "dynrt/engine/camera.h"
 #include "dynrt/engine/frame_stats.h"
 #include "dynrt/engine/pixel_reuse.h"
+#include "dynrt/engine/secondary_ray_log.h"
 #include "dynrt/engine/update_plan.h"
 #include "dynrt/packet/packet_config.h"
 #include "dynrt/scene/scene.h"
@@ -102,6 +104,9 @@ struct TraceSettings {
     ReuseSettings reuse;
     /// Reflection and refraction rays (the model is at the top of this file).
     SecondaryRays secondary;
+    /// When set, every reflection and refraction packet traced is appended to it (for
+    /// benchmarks that replay them; borrowed, must outlive the trace).
+    SecondaryRayLog* secondary_log = nullptr;
     /// The packet tracer's culling stages and SIMD width (ignored by the single-ray tracer).
     packet::PacketConfig packet;
     /// Count the tracer's work into FrameStats (ray_triangle_tests, nodes_visited and, for the
@@ -202,6 +207,14 @@ public:
     /// Static and rigid objects' positions are left empty. Throws std::logic_error before any
     /// update.
     const anim::PosedScene& posed() const;
+
+    /// Traces the rays of `log` (a frame's secondary rays, TraceSettings::secondary_log)
+    /// through the last update's trees the way the renderer traced them (a packet per
+    /// direction octant of at least secondary.min_packet_rays rays, the rest one by one, in
+    /// parallel over the packets) and returns the wall time in ms. With `hits`, fills one
+    /// closest hit per ray in log order. For benchmarks; throws std::logic_error before any
+    /// update.
+    double trace_logged_rays(const SecondaryRayLog& log, std::vector<bvh::InstanceHit>* hits = nullptr) const;
 
     /// Forgets the trees: the next update builds every object afresh. Needed after editing a
     /// scene in place; benchmarks use it to time a full build per frame.

@@ -271,6 +271,76 @@ TEST(ReferenceTracer, OcclusionNearTheOriginIsAmbiguous) {
     EXPECT_FALSE(clear.ambiguous);
 }
 
+// ---- Secondary rays (closest_leaving) and a deviating shadow origin ------------------------
+
+/// A unit-direction double ray leaving `from`.
+RayD leaving(glm::dvec3 from, glm::dvec3 dir) { return RayD{from, glm::normalize(dir)}; }
+
+TEST(ReferenceTracer, LeavingRaySkipsItsTriangleAndItsPlane) {
+    // Object 0, the unit square at z = 0; object 1, a triangle at z = 1 above it.
+    const Traced t(make_scene({unit_square_at(0.0f), triangle_at(1.0f)}));
+    const TriangleRef from{0, 0};  // the half x > y
+    const ReferenceHit up =
+        t.tracer->closest_leaving(leaving({0.6, 0.2, 0.0}, {0, 0, 1}), from, {});
+    ASSERT_TRUE(up.is_hit());
+    EXPECT_EQ(up.object, 1);
+    EXPECT_DOUBLE_EQ(up.t, 1.0);
+    EXPECT_EQ(up.ambiguity, Ambiguity::kNone);
+    // Rising at 1e-3 across the square's other half: the coplanar neighbour is no candidate,
+    // so the miss is determined (closest() finds the square itself at the origin).
+    const RayD skim = leaving({0.6, 0.2, 0.0}, {-1.0, 0.5, 1e-3});
+    const ReferenceHit skimming = t.tracer->closest_leaving(skim, from, {});
+    EXPECT_FALSE(skimming.is_hit());
+    EXPECT_EQ(skimming.ambiguity, Ambiguity::kNone);
+    EXPECT_EQ(t.tracer->closest(skim).object, 0);
+    // With no deviation and no triangle to leave it is closest().
+    const RayD down{{0.6, 0.2, 3.0}, {0.0, 0.0, -1.0}};
+    EXPECT_EQ(t.tracer->closest_leaving(down, TriangleRef{}, {}).t, t.tracer->closest(down).t);
+}
+
+TEST(ReferenceTracer, LeavingRayLeavesSurfacesWithinItsOriginZoneOpen) {
+    // A second surface 1e-4 above the square: a float ray starting up to `along` off the
+    // exact point may start beyond it.
+    const Traced t(make_scene({unit_square_at(0.0f), triangle_at(1e-4f)}));
+    const RayD up = leaving({0.6, 0.2, 0.0}, {0, 0, 1});
+    const ReferenceHit exact = t.tracer->closest_leaving(up, TriangleRef{0, 0}, {});
+    EXPECT_EQ(exact.object, 1);
+    EXPECT_EQ(exact.ambiguity, Ambiguity::kNone);
+    RayDeviation pushed;
+    pushed.along = 1e-3;
+    EXPECT_EQ(t.tracer->closest_leaving(up, TriangleRef{0, 0}, pushed).ambiguity, Ambiguity::kAny);
+}
+
+TEST(ReferenceTracer, LeavingRayToleranceGrowsWithDistance) {
+    // Straight up from the square, passing 0.01 inside the edge y = 0 of a triangle 10 away.
+    const Traced t(make_scene({unit_square_at(0.0f), triangle_at(10.0f)}));
+    const RayD up = leaving({0.5, 0.01, 0.0}, {0, 0, 1});
+    RayDeviation deviation;
+    deviation.angle = 1e-4;  // 1e-3 sideways at the triangle
+    EXPECT_EQ(t.tracer->closest_leaving(up, TriangleRef{0, 0}, deviation).ambiguity,
+              Ambiguity::kNone);
+    deviation.angle = 2e-3;  // 0.02 sideways: the float ray may pass outside the edge
+    const ReferenceHit open = t.tracer->closest_leaving(up, TriangleRef{0, 0}, deviation);
+    EXPECT_EQ(open.object, 1);
+    EXPECT_EQ(open.ambiguity, Ambiguity::kAny);
+    deviation.angle = 0.0;
+    deviation.lateral = 0.02;  // the same from a displaced origin
+    EXPECT_EQ(t.tracer->closest_leaving(up, TriangleRef{0, 0}, deviation).ambiguity,
+              Ambiguity::kAny);
+}
+
+TEST(ReferenceTracer, OcclusionFromADeviatingPointWidensItsOriginTolerance) {
+    // A blocker whose edge x = 0.02 passes 0.02 beside the segment, 0.05 from its origin.
+    const Traced t(
+        make_scene({{{{0.02f, -1, 0.05f}, {2, -1, 0.05f}, {0.02f, 1, 0.05f}}, {{0, 1, 2}}}}));
+    const ReferenceOcclusion exact = t.tracer->occluded({0, 0, 0}, {0, 0, 10});
+    EXPECT_FALSE(exact.occluded);
+    EXPECT_FALSE(exact.ambiguous);
+    const ReferenceOcclusion deviating = t.tracer->occluded({0, 0, 0}, {0, 0, 10}, {}, {}, 0.05);
+    EXPECT_FALSE(deviating.occluded);
+    EXPECT_TRUE(deviating.ambiguous);
+}
+
 // ---- Reference renderer --------------------------------------------------------------------
 
 /// A 1x1 image from (0,0,2) looking down -z: the one ray is exactly (0,0,-1) and hits the

@@ -291,28 +291,78 @@ ReferenceHit ReferenceTracer::closest(const bvh::Ray& ray, const Tolerances& tol
     return hit;
 }
 
+/// Lateral tolerance `base + slope * t` at distance t along a ray; candidates nearer than
+/// `origin_zone` (when > 0) make the answer kAny.
+struct ReferenceTracer::Reach {
+    double base = 0.0;
+    double slope = 0.0;
+    double origin_zone = 0.0;
+
+    /// Written so that a zero slope gives `base` even at t = +inf.
+    double at(double t) const { return slope > 0.0 ? base + slope * std::max(t, 0.0) : base; }
+};
+
 ReferenceHit ReferenceTracer::closest(const RayD& ray, const Tolerances& tol) const {
-    const double lateral = tol.edge_rel * scale_at(ray.org);
+    return closest_within(ray, Reach{tol.edge_rel * scale_at(ray.org), 0.0, 0.0}, kNoTri, tol);
+}
+
+ReferenceHit ReferenceTracer::closest_leaving(const RayD& ray, TriangleRef from,
+                                              const RayDeviation& deviation,
+                                              const Tolerances& tol) const {
+    const Reach reach{tol.edge_rel * scale_at(ray.org) + deviation.lateral, deviation.angle,
+                      deviation.along};
+    return closest_within(ray, reach, index_of(from), tol);
+}
+
+ReferenceHit ReferenceTracer::closest_within(const RayD& ray, const Reach& reach,
+                                             std::uint32_t excluded, const Tolerances& tol) const {
     const glm::dvec3& o = ray.org;
     const glm::dvec3& d = ray.dir;
 
-    // Every triangle the ray hits or passes within `lateral` of, inside the t range widened by
+    // A ray leaving the excluded triangle's surface cannot reach what lies behind its plane or
+    // in it (the float renderer starts beside the surface, on the side it leaves toward).
+    bool use_half_space = false;
+    glm::dvec3 plane_n(0.0), plane_p(0.0);
+    double coplanar = 0.0;
+    if (excluded != kNoTri) {
+        plane_n = glm::normalize(tris_[excluded].n);
+        plane_p = tris_[excluded].v[0];
+        const double toward = glm::dot(plane_n, d);
+        if (toward != 0.0) {
+            use_half_space = true;
+            if (toward < 0.0) plane_n = -plane_n;
+        }
+        coplanar = tol.edge_rel * (scale_at(o) + glm::length(o));
+    }
+
+    // Every triangle the ray hits or passes within its reach of, inside the t range widened by
     // the same amount (and by the layer tolerance at the far end).
     std::vector<Candidate> near;
-    const double t_lo = ray.tmin - lateral;
-    const double t_hi = ray.tmax + tol.layer_rel * ray.tmax + lateral;
+    const double t_lo = ray.tmin - reach.at(ray.tmin);
+    const double t_hi = ray.tmax + tol.layer_rel * ray.tmax + reach.at(ray.tmax);
     for (std::uint32_t k = 0; k < tris_.size(); ++k) {
+        if (k == excluded) continue;
         const Sphere& s = spheres_[k];
         const glm::dvec3 w = s.c - o;
         const double tc = glm::dot(w, d);
         if (tc + s.r < t_lo || tc - s.r > t_hi) continue;
+        const double lateral = reach.at(tc + s.r);  // the widest over the triangle's depths
         const glm::dvec3 q = w - tc * d;
-        const double reach = s.r + lateral;
-        if (glm::dot(q, q) > reach * reach) continue;
+        const double sphere_reach = s.r + lateral;
+        if (glm::dot(q, q) > sphere_reach * sphere_reach) continue;
+        if (use_half_space) {
+            const Tri& tri = tris_[k];
+            double front = -std::numeric_limits<double>::infinity();
+            for (const glm::dvec3& v : tri.v) {
+                front = std::max(front, glm::dot(plane_n, v - plane_p));
+            }
+            if (front <= coplanar) continue;
+        }
         Candidate c;
         if (!evaluate(k, ray, lateral, c)) continue;
         if (c.t < t_lo || c.t > t_hi) continue;
-        c.reach = lateral;
+        c.reach = reach.at(c.t);
+        if (c.s_min() < -c.reach) continue;
         near.push_back(c);
     }
 
@@ -342,13 +392,19 @@ ReferenceHit ReferenceTracer::closest(const RayD& ray, const Tolerances& tol) co
     // the change of t across the lateral tolerance, large at grazing incidence), or a near miss
     // in front of it.
     const double winner_band = winner->depth_band(tol.layer_rel);
+    const double near_margin = reach.at(ray.tmin);
+    const double far_margin = std::isinf(ray.tmax) ? 0.0 : reach.at(ray.tmax);
+    auto in_origin_zone = [&](const Candidate& c) {
+        return reach.origin_zone > 0.0 && c.t < reach.origin_zone;
+    };
     auto is_sure = [&](const Candidate& c) {
-        return c.sigma != 0 && c.s_min() >= lateral && c.t >= ray.tmin + lateral &&
-               c.t <= ray.tmax - lateral;
+        return c.sigma != 0 && c.s_min() >= c.reach && c.t >= ray.tmin + near_margin &&
+               c.t <= ray.tmax - far_margin && !in_origin_zone(c);
     };
     std::vector<Candidate> layer;
     bool same_surface = true;
     bool any_sure = false;
+    bool at_origin = false;
     double spread = 0.0;
     for (const Candidate& c : near) {
         const double band = c.depth_band(tol.layer_rel);
@@ -357,10 +413,13 @@ ReferenceHit ReferenceTracer::closest(const RayD& ray, const Tolerances& tol) co
         same_surface = same_surface && tris_[c.tri].object == w.object &&
                        std::abs(c.t - winner->t) <= band + winner_band;
         any_sure = any_sure || is_sure(c);
+        at_origin = at_origin || in_origin_zone(c);
         spread = std::max(spread, std::abs(c.t - winner->t));
     }
     if (layer.size() == 1 && is_sure(*winner)) return hit;  // determined
-    if (!same_surface) {
+    if (!same_surface || at_origin) {
+        // A float ray starting anywhere within the origin zone may pass before a surface
+        // inside it as well as hit it.
         hit.ambiguity = Ambiguity::kAny;
         return hit;
     }
@@ -375,17 +434,19 @@ ReferenceHit ReferenceTracer::closest(const RayD& ray, const Tolerances& tol) co
 // ---- Occlusion -----------------------------------------------------------------------------
 
 ReferenceOcclusion ReferenceTracer::occluded(const glm::dvec3& from, const glm::dvec3& to,
-                                             TriangleRef exclude, const Tolerances& tol) const {
+                                             TriangleRef exclude, const Tolerances& tol,
+                                             double origin_error) const {
     const glm::dvec3 segment = to - from;
     const double dist = glm::length(segment);
     if (!(dist > 0.0)) return {};
     const RayD ray{from, segment / dist, 0.0, dist};
     // Shadow origins are computed points: their rounding, and any offset a renderer applies,
-    // scale with their coordinates too. The renderer's segment and this one end at the same
+    // scale with their coordinates too (plus origin_error for a point a deviating secondary
+    // ray found). The renderer's segment and this one end at the same
     // light, so the lateral distance between them shrinks linearly from `origin_shift` at the
     // origin to the float test's own resolution `resolution` at the light.
     const double scale = scale_at(from) + glm::length(from);
-    const double origin_shift = tol.shadow_rel * scale;
+    const double origin_shift = tol.shadow_rel * scale + origin_error;
     const double resolution = tol.edge_rel * scale;
     const double t_exact_lo = tol.shadow_tmin_rel * scale;
     const double coplanar = resolution;

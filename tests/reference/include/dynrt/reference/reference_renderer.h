@@ -1,7 +1,46 @@
 #pragma once
-// The reference renderer: the same camera rays and the same Phong formula as dynrt::Renderer
-// (renderer.h, top comment), evaluated in double precision on the exact reference hits, with a
-// per-pixel note of which parts of the answer a float renderer may legitimately get otherwise.
+// The reference renderer: the same camera rays, the same Phong formula and the same Whitted
+// reflection and refraction rays as dynrt::Renderer (renderer.h, top comment), evaluated in
+// double precision on the exact reference hits, with a per-pixel note of which parts of the
+// answer a float renderer may legitimately get otherwise.
+//
+// The model, in double. A hit of a ray with unit direction d at distance t lies at the exact
+// point p = org + t d; n is the triangle's unit winding normal N, negated when it points along
+// d. Phong and shadow segments are as for camera hits (ReferenceTracer::occluded from p,
+// excluding the hit triangle). When the ray's depth is below max_depth and the material has
+// reflectance kr or transmittance kt: the ray enters when N . d < 0 (eta = 1 / ior) and leaves
+// otherwise (eta = ior); cos_i = -d . n, sin2_t = eta^2 (1 - cos_i^2). kt = 0 gives wr = kr;
+// sin2_t > 1 gives wr = kr + kt (total internal reflection); otherwise, with cos_t =
+// sqrt(1 - sin2_t), the unpolarised Fresnel reflectance F = (rs^2 + rp^2) / 2, rs =
+// (eta cos_i - cos_t) / (eta cos_i + cos_t), rp = (cos_i - eta cos_t) / (cos_i + eta cos_t),
+// gives wr = kr + F kt and wt = (1 - F) kt. The reflected ray normalize(d - 2 (d . n) n) and
+// the refracted ray normalize(eta d + (eta cos_i - cos_t) n) start at p itself and exclude the
+// hit triangle (ReferenceTracer::closest_leaving) where the renderer offsets its origins; each
+// is traced when the product of the weights along its path has a channel >= cutoff, and adds
+// its weight times its colour (the background on a miss).
+//
+// Ambiguity. ReferencePixel::hit tells how far the camera ray's hit is determined, as before;
+// shading_ambiguous is set when anything else in the pixel's ray tree is open:
+//  - at any hit of the tree, a light's n . l within Tolerances::terminator of 0, or its shadow
+//    segment ambiguous;
+//  - a secondary ray's closest hit not kNone (near an edge, a graze, two layers, anything
+//    within its origin zone), judged with the deviation its float counterpart may have;
+//  - a hit spawning secondary rays at grazing incidence (cos_i < terminator), or on a
+//    transmissive surface with |sin2_t - 1| < Tolerances::critical (the critical angle);
+//  - a secondary ray whose path weight's largest channel lies within cutoff_rel * cutoff of
+//    the cutoff.
+// How far a float secondary ray may deviate from the exact one (RayDeviation, beyond the float
+// test's own resolution): camera rays not at all, as the reference traces the renderer's own
+// float rays. At a hit of a ray deviating sideways by L = lateral + t angle there, the float
+// hit point may lie L / cos_i from p along the surface, and the shadow segments widen their
+// origin tolerance by that much. A child ray then deviates sideways by the renderer's offset
+// (Tolerances::shadow_rel * (scale + |p|), as for shadow rays) plus L (reflection keeps the
+// sideways offset of parallel rays, refraction scales it by up to cos_t / cos_i), its origin
+// by the offset plus L / cos_i along it, and its direction by the parent's angle plus
+// Tolerances::direction_rel, both times refraction's magnification max(1, eta, eta cos_i /
+// cos_t) for a refracted ray. Errors compound along a path, so deep bounces are judged more
+// loosely. With max_depth = 0, or no reflective or transmissive material, every pixel is what
+// the Phong-only reference gave, bit for bit.
 
 #include "dynrt/reference/reference_tracer.h"
 
@@ -11,6 +50,7 @@
 
 #include <glm/vec3.hpp>
 
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -21,10 +61,16 @@ struct ReferenceShading {
     std::vector<PointLight> lights;
     glm::dvec3 background{0.0};
     double ambient = 0.0;
+    /// Deepest secondary ray (SecondaryRays::max_depth, same default): 0 shades camera hits
+    /// only, as before secondary rays.
+    int max_depth = SecondaryRays{}.max_depth;
+    /// A secondary ray is traced when a channel of its path weight is >= this
+    /// (SecondaryRays::cutoff, same default).
+    double cutoff = SecondaryRays{}.cutoff;
 };
 
-/// The lights, background and ambient a dynrt::Renderer with `options` uses on `scene`
-/// (effective_lights decides the default light).
+/// The lights, background, ambient and secondary-ray settings a dynrt::Renderer with
+/// `options` uses on `scene` (effective_lights decides the default light).
 ReferenceShading shading_from(const Scene& scene, const RenderOptions& options);
 
 struct ReferencePixel {
@@ -32,9 +78,15 @@ struct ReferencePixel {
     glm::dvec3 color{0.0};
     /// Unit geometric normal of the hit triangle, turned to face the eye; 0 on a miss.
     glm::dvec3 normal{0.0};
-    /// Some light's contribution is ambiguous: its shadow ray is ambiguous, or n . l is within
-    /// the terminator tolerance of 0. Colour comparisons skip such pixels.
+    /// Anything in the colour beyond the camera hit is ambiguous (the rules are at the top of
+    /// this file): a light's visibility or n . l sign at any hit, a secondary ray's hit, a
+    /// total internal reflection, a cutoff decision. Colour comparisons skip such pixels.
     bool shading_ambiguous = false;
+    /// Bit k set: a hit of a depth-k ray (0: the camera ray) spawned secondary rays on a
+    /// transmissive surface and refracted (sin2_t <= 1).
+    std::uint32_t refracted_at = 0;
+    /// Bit k set: likewise, but reflected totally (sin2_t > 1).
+    std::uint32_t total_internal_at = 0;
 };
 
 /// Row-major, y = 0 the top row, like RenderedFrame.
@@ -53,7 +105,8 @@ struct ReferenceFrame {
 /// Renders `width` x `height` pixels of `scene` (whose posed geometry `tracer` was built from)
 /// through `camera`, with packet::PinholeRays' float rays. At a hit: n the unit geometric normal facing
 /// the eye, p = org + t dir from the exact t, and for each light with n . l > 0 a shadow
-/// segment from p to the light excluding the hit triangle (ReferenceTracer::occluded).
+/// segment from p to the light excluding the hit triangle (ReferenceTracer::occluded); then
+/// the secondary rays of the model above, recursively up to shading.max_depth.
 /// Rows run in parallel on the caller's oneTBB arena. Throws std::invalid_argument for a
 /// degenerate camera or image, std::out_of_range for an object's material index out of range.
 ReferenceFrame render_reference(const Scene& scene, const ReferenceTracer& tracer,

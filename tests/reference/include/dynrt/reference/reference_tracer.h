@@ -2,8 +2,9 @@
 // The exact reference every fast path is checked against: brute force over all triangles of a
 // posed scene, in double precision, with no acceleration structure and no shortcuts.
 //
-// It answers two questions for a ray: what does it hit (closest hit), and is a segment blocked
-// (any hit, for shadow rays). Beside each answer it says whether the answer is *determined*:
+// It answers two questions for a ray: what does it hit (closest hit; for a secondary ray
+// leaving a surface, closest_leaving), and is a segment blocked (any hit, for shadow rays).
+// Beside each answer it says whether the answer is *determined*:
 // whether a correct float tracer (the BVH, Embree) must give the same answer, or whether float
 // rounding may legitimately change it. Rounding matters only where the ray grazes an edge or a
 // vertex, or where two surfaces lie at practically the same distance; everywhere else a
@@ -86,8 +87,26 @@ struct Tolerances {
     /// The exact shadow segment starts at t = shadow_tmin_rel * scale from the hit point.
     double shadow_tmin_rel = 1e-9;
     /// |n . l| below this makes the light's contribution ambiguous: the terminator, where the
-    /// float and double n . l may differ in sign and the specular term jumps.
+    /// float and double n . l may differ in sign and the specular term jumps. Likewise |n . d|
+    /// below it makes a hit that spawns secondary rays ambiguous: at grazing incidence entering
+    /// and leaving may swap, and the reflected and refracted directions are ill-conditioned.
     double terminator = 1e-4;
+    /// Secondary rays: the angle, in radians, by which a float renderer's reflected or
+    /// refracted direction may differ from the exact one for the same incoming direction and
+    /// triangle (reference_renderer.h multiplies it by how much refraction magnifies angles).
+    /// Rounding the normal, the reflection formula and the normalisation costs a few ulps,
+    /// ~1e-6 at worst for reasonably shaped triangles; 1e-5 is some 100 ulps.
+    double direction_rel = 1e-5;
+    /// |sin2_t - 1| below this makes a transmissive hit ambiguous: at the critical angle a
+    /// float renderer may decide total internal reflection the other way, and cos_t =
+    /// sqrt(1 - sin2_t), hence the refracted direction and the Fresnel weights, are
+    /// ill-conditioned. 1e-3 bounds the refracted direction's rounding to ~1e-7 / (2 *
+    /// sqrt(1e-3)) = 2e-6 and is about 0.03 degrees of incidence for glass.
+    double critical = 1e-3;
+    /// A secondary ray whose path weight's largest channel lies within cutoff_rel * cutoff of
+    /// the cutoff may be traced by one renderer and not by the other. The float weights are
+    /// products of a few factors, each rounded to a few ulps: 1e-4 leaves a wide margin.
+    double cutoff_rel = 1e-4;
 };
 
 /// A ray in double precision with a unit direction; t is distance.
@@ -96,6 +115,16 @@ struct RayD {
     glm::dvec3 dir{0.0, 0.0, 1.0};
     double tmin = 0.0;
     double tmax = std::numeric_limits<double>::infinity();
+};
+
+/// How far a float renderer's version of a secondary ray may lie from the exact one
+/// (ReferenceTracer::closest_leaving), beyond the float test's own resolution: at distance t
+/// from the origin, within `lateral + t * angle` of it sideways; and its origin anywhere within
+/// `along` of the exact origin, so that any surface nearer than that may or may not be hit.
+struct RayDeviation {
+    double lateral = 0.0;
+    double angle = 0.0;  ///< radians
+    double along = 0.0;
 };
 
 /// Closest hit of one ray.
@@ -147,14 +176,30 @@ public:
     /// Same for a double ray (unit direction, t is distance).
     ReferenceHit closest(const RayD& ray, const Tolerances& tol = {}) const;
 
+    /// Closest hit of a secondary ray (unit direction, t is distance) leaving the surface of
+    /// triangle `from` at ray.org, a point on it. `from` is never hit, and neither is any
+    /// triangle lying entirely behind its plane as seen along the ray or in that plane (within
+    /// edge_rel * (scale + |org|)), as in occluded(). The answer is ambiguous wherever a float
+    /// renderer's ray within `deviation` of this one may see otherwise: an edge within the
+    /// float test's resolution (edge_rel * scale) plus deviation.lateral + t * deviation.angle
+    /// of the ray (the depth bands widen to match), or any triangle within deviation.along of
+    /// the origin (kAny). With a zero deviation and no `from` it is closest(ray). Ties as
+    /// closest().
+    ReferenceHit closest_leaving(const RayD& ray, TriangleRef from, const RayDeviation& deviation,
+                                 const Tolerances& tol = {}) const;
+
     /// Is the segment from `from` to `to` blocked by a triangle hit at distance t in
     /// (shadow_tmin_rel * (scale + |from|), |to - from|)? `exclude` (the triangle `from` lies on) is never
     /// an occluder, and neither is any triangle lying entirely on its far side from `to` or in
     /// its plane (within edge_rel * (scale + |from|)): a ray leaving a surface cannot reach such a
     /// triangle, and its mesh neighbours (coplanar or bent away) would otherwise be grazed
-    /// right at the origin.
+    /// right at the origin. `origin_error` widens the tolerance at the origin (shadow_rel *
+    /// (scale + |from|)) by that distance: how far a float renderer's own point may lie from
+    /// `from` beyond the rounding shadow_rel already covers (a secondary ray's hit point, whose
+    /// ray deviates from the exact one). 0 for camera-ray hits.
     ReferenceOcclusion occluded(const glm::dvec3& from, const glm::dvec3& to,
-                                TriangleRef exclude = {}, const Tolerances& tol = {}) const;
+                                TriangleRef exclude = {}, const Tolerances& tol = {},
+                                double origin_error = 0.0) const;
 
     /// Unit geometric normal of a triangle ((v1 - v0) x (v2 - v0), normalised).
     glm::dvec3 normal(TriangleRef tri) const;
@@ -183,10 +228,16 @@ private:
         double r;
     };
     struct Candidate;
+    /// The lateral tolerance along a ray, and the zone near its origin where anything is open.
+    struct Reach;
 
     /// Edge function test of one triangle against a unit-direction ray, with `lateral` the
     /// grazing tolerance. Returns false when the ray passes farther than `lateral` outside it.
     bool evaluate(std::uint32_t tri, const RayD& ray, double lateral, Candidate& out) const;
+    /// closest() and closest_leaving(): `excluded` (an index into tris_, or none) and the
+    /// triangles behind or in its plane are skipped.
+    ReferenceHit closest_within(const RayD& ray, const Reach& reach, std::uint32_t excluded,
+                                const Tolerances& tol) const;
     /// Keeps only candidates each of whose near edges (within its `reach` of the ray) is
     /// shared with another kept candidate lying on the other side of that edge as seen along
     /// the ray; true when any remain, which means the candidates' union covers a disk of that

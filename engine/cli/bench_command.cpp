@@ -348,9 +348,19 @@ int run_bench(const BenchArgs& args) {
                       << " red pixels: hit/object differs; " << counts.prim_only_differs
                       << " yellow: primitive only; over all Embree qualities)\n";
         }
+        // The reflection and refraction rays, when the frame has any.
+        const dynrt::embree::SecondaryComparison secondary =
+            dynrt::embree::bench_secondary_embree(scene, camera, base, repeat, args.warmup);
+        if (secondary.packets > 0) {
+            std::cout << "\n";
+            dynrt::embree::print_secondary_table(std::cout, secondary);
+        }
         if (!json.empty()) {
             nlohmann::ordered_json doc = nlohmann::ordered_json::parse(json);
             doc["embree"] = nlohmann::ordered_json::parse(dynrt::embree::embree_json(embree_rows));
+            if (secondary.packets > 0) {
+                doc["embree_secondary"] = nlohmann::ordered_json::parse(dynrt::embree::secondary_json(secondary));
+            }
             json = doc.dump(2) + "\n";
         }
     }

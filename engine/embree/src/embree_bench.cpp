@@ -81,6 +81,52 @@ std::vector<EmbreeRow> bench_embree(const Scene& scene, const Camera& camera,
     return rows;
 }
 
+SecondaryComparison bench_secondary_embree(const Scene& scene, const Camera& camera,
+                                           const RenderOptions& options, int repeat, int warmup) {
+    if (repeat < 1) throw std::invalid_argument("bench: repeat must be at least 1");
+    SecondaryComparison c;
+    SecondaryRayLog log;
+    RenderOptions logging = options;
+    logging.secondary_log = &log;
+    logging.reuse.mode = PixelReuse::off;
+    Renderer renderer(logging);
+    RenderedFrame frame;
+    renderer.render(scene, camera, 0, frame);
+    c.reflection_rays = frame.stats.reflection_rays;
+    c.refraction_rays = frame.stats.refraction_rays;
+    c.primary_mrays_per_s = frame.stats.primary_mrays_per_s;
+    c.packets = log.packets.size();
+    if (log.packets.empty()) return c;
+    EmbreeTracer tracer;
+    tracer.build(scene, BuildQuality::high);
+    std::vector<bvh::InstanceHit> dynrt_hits;
+    PixelHits coherent, incoherent, single;
+    std::vector<double> d, e16c, e16, e1;
+    for (int run = 0; run < warmup + repeat; ++run) {
+        // The four alternate within each run, so load on a shared machine falls on all alike.
+        const double d_ms = renderer.trace_logged_rays(log, run == 0 ? &dynrt_hits : nullptr);
+        const double e16c_ms = tracer.intersect16_logged(log, true, coherent);
+        const double e16_ms = tracer.intersect16_logged(log, false, incoherent);
+        const double e1_ms = tracer.intersect1_logged(log, single);
+        if (run < warmup) continue;
+        d.push_back(d_ms);
+        e16c.push_back(e16c_ms);
+        e16.push_back(e16_ms);
+        e1.push_back(e1_ms);
+    }
+    c.dynrt_ms = spread_of(d);
+    c.embree16_coherent_ms = spread_of(e16c);
+    c.embree16_ms = spread_of(e16);
+    c.embree1_ms = spread_of(e1);
+    std::vector<std::int32_t> object(dynrt_hits.size(), -1), prim(dynrt_hits.size(), -1);
+    for (std::size_t i = 0; i < dynrt_hits.size(); ++i) {
+        if (!dynrt_hits[i].is_hit()) continue;
+        object[i] = std::int32_t(dynrt_hits[i].object);
+        prim[i] = std::int32_t(dynrt_hits[i].hit.prim);
+    }
+    c.vs_dynrt = compare_hits(object, prim, single.object, single.prim);
+    return c;
+}
 
 namespace {
 

@@ -80,4 +80,44 @@ std::string embree_json(const std::vector<EmbreeRow>& rows) {
 }
 
 
+void print_secondary_table(std::ostream& out, const SecondaryComparison& c) {
+    const double rays = double(c.reflection_rays + c.refraction_rays);
+    out << "secondary rays of frame 0: " << c.reflection_rays << " reflection + "
+        << c.refraction_rays << " refraction in " << c.packets
+        << " tile packets, the same rays replayed by each (Embree: high-quality tree; Mrays/s "
+           "from medians; camera rays in the render: "
+        << std::fixed << std::setprecision(2) << c.primary_mrays_per_s << " Mrays/s)\n";
+    out << std::left << std::setw(26) << "tracer" << std::right << std::setw(22) << "ms"
+        << std::setw(10) << "Mrays/s" << std::setw(12) << "dynrt x" << '\n';
+    const auto row = [&](const char* name, const Spread& ms) {
+        out << std::left << std::setw(26) << name << std::right << ' ' << std::setw(21)
+            << format_spread(ms) << std::setw(10) << std::setprecision(2)
+            << (ms.median > 0 ? rays / (ms.median * 1e3) : 0.0) << std::setw(12)
+            << format_ratio(ms.median, c.dynrt_ms.median) << '\n';
+    };
+    row("dynrt (as rendered)", c.dynrt_ms);
+    row("embree rtcIntersect16 coh", c.embree16_coherent_ms);
+    row("embree rtcIntersect16", c.embree16_ms);
+    row("embree rtcIntersect1", c.embree1_ms);
+    out << "hit agreement: " << c.vs_dynrt.object_differs << " rays differ in hit/object, "
+        << c.vs_dynrt.prim_only_differs << " only in primitive\n";
+}
+
+std::string secondary_json(const SecondaryComparison& c) {
+    nlohmann::ordered_json j;
+    j["reflection_rays"] = c.reflection_rays;
+    j["refraction_rays"] = c.refraction_rays;
+    j["packets"] = c.packets;
+    j["primary_mrays_per_s"] = c.primary_mrays_per_s;
+    for (const auto& [key, spread] : {std::pair{"dynrt_ms", &c.dynrt_ms},
+                                      std::pair{"embree16_coherent_ms", &c.embree16_coherent_ms},
+                                      std::pair{"embree16_ms", &c.embree16_ms},
+                                      std::pair{"embree1_ms", &c.embree1_ms}}) {
+        j[key] = {{"median", spread->median}, {"min", spread->min}, {"max", spread->max}};
+    }
+    j["hit_object_differs"] = c.vs_dynrt.object_differs;
+    j["hit_prim_only_differs"] = c.vs_dynrt.prim_only_differs;
+    return j.dump(2);
+}
+
 }  // namespace dynrt::embree

@@ -310,6 +310,91 @@ double EmbreeTracer::intersect16(const Camera& camera, int width, int height, Pi
 
 namespace {
 
+/// Where each logged packet's rays start in log order.
+std::vector<std::size_t> first_ray_of(const SecondaryRayLog& log) {
+    std::vector<std::size_t> first(log.packets.size() + 1, 0);
+    for (std::size_t i = 0; i < log.packets.size(); ++i) first[i + 1] = first[i] + log.packets[i].rays.size();
+    return first;
+}
+
+}  // namespace
+
+double EmbreeTracer::intersect16_logged(const SecondaryRayLog& log, bool coherent, PixelHits& out) {
+    if (!state_->scene) throw std::logic_error("EmbreeTracer::intersect16_logged before build");
+    RTCScene scene = state_->scene;
+    const std::vector<std::size_t> first = first_ray_of(log);
+    resize_hits(out, first.back());
+    const Stopwatch clock;
+    tbb::parallel_for(std::size_t(0), log.packets.size(), [&](std::size_t i) {
+        const EmbreeFloatMode mode;
+        const SecondaryRayPacket& logged = log.packets[i];
+        RTCIntersectContext context;
+        rtcInitIntersectContext(&context);
+        if (coherent) context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+        // Each active lane's index into the packet's rays.
+        int ray_of[packet::kPacketRays];
+        int k = 0;
+        for (int lane = 0; lane < packet::kPacketRays; ++lane) ray_of[lane] = logged.lanes.test(lane) ? k++ : -1;
+        for (int by = 0; by < packet::kTileSize; by += kBlockSide) {
+            for (int bx = 0; bx < packet::kTileSize; bx += kBlockSide) {
+                alignas(64) int valid[kLanes];
+                RTCRayHit16 rh;
+                int any = -1;
+                for (int b = 0; b < kLanes; ++b) {
+                    const int lane = (by + b / kBlockSide) * packet::kTileSize + bx + b % kBlockSide;
+                    valid[b] = ray_of[lane] >= 0 ? -1 : 0;
+                    if (ray_of[lane] >= 0 && any < 0) any = ray_of[lane];
+                }
+                if (any < 0) continue;
+                for (int b = 0; b < kLanes; ++b) {
+                    const int lane = (by + b / kBlockSide) * packet::kTileSize + bx + b % kBlockSide;
+                    // Masked-off lanes still get a harmless ray (the block's first).
+                    const int r = ray_of[lane] >= 0 ? ray_of[lane] : any;
+                    set_rtc_ray_hit16(rh, b, logged.rays[std::size_t(r)], unsigned(b));
+                }
+                rtcIntersect16(valid, scene, &context, &rh);
+                for (int b = 0; b < kLanes; ++b) {
+                    const int lane = (by + b / kBlockSide) * packet::kTileSize + bx + b % kBlockSide;
+                    if (ray_of[lane] < 0 || rh.hit.geomID[b] == RTC_INVALID_GEOMETRY_ID) continue;
+                    const std::size_t p = first[i] + std::size_t(ray_of[lane]);
+                    out.object[p] = std::int32_t(rh.hit.geomID[b]);
+                    out.prim[p] = std::int32_t(rh.hit.primID[b]);
+                    out.u[p] = rh.hit.u[b];
+                    out.v[p] = rh.hit.v[b];
+                }
+            }
+        }
+    });
+    return clock.elapsed_ms();
+}
+
+double EmbreeTracer::intersect1_logged(const SecondaryRayLog& log, PixelHits& out) {
+    if (!state_->scene) throw std::logic_error("EmbreeTracer::intersect1_logged before build");
+    RTCScene scene = state_->scene;
+    const std::vector<std::size_t> first = first_ray_of(log);
+    resize_hits(out, first.back());
+    const Stopwatch clock;
+    tbb::parallel_for(std::size_t(0), log.packets.size(), [&](std::size_t i) {
+        const EmbreeFloatMode mode;
+        RTCIntersectContext context;
+        rtcInitIntersectContext(&context);
+        const std::vector<bvh::Ray>& rays = log.packets[i].rays;
+        for (std::size_t r = 0; r < rays.size(); ++r) {
+            RTCRayHit rh = to_rtc_ray_hit(rays[r]);
+            rtcIntersect1(scene, &context, &rh);
+            if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
+            const std::size_t p = first[i] + r;
+            out.object[p] = std::int32_t(rh.hit.geomID);
+            out.prim[p] = std::int32_t(rh.hit.primID);
+            out.u[p] = rh.hit.u;
+            out.v[p] = rh.hit.v;
+        }
+    });
+    return clock.elapsed_ms();
+}
+
+namespace {
+
 /// What a pixel's shadow rays share, computed once for all lights exactly as the renderer does:
 /// the facing normal, the hit point and the offset origin.
 struct ShadowOrigin {

@@ -40,6 +40,32 @@ struct EmbreeRow {
 /// and compares each quality's hits with `dynrt_frame` (a dynrt render of the same frame).
 /// If `disagreement` is not null, it receives per pixel the worst disagreement between
 /// `dynrt_frame` and any quality's intersect1 hits (for `--diff-image`).
+/// The same reflection and refraction rays traced by dynrt and by Embree (`bench --vs embree`
+/// on a frame with secondary rays): the rays one render of frame 0 traced
+/// (TraceSettings::secondary_log), replayed as dynrt traced them (Renderer::trace_logged_rays)
+/// and through Embree's high-quality tree in 4x4-lane blocks of each tile packet with
+/// rtcIntersect16 (coherent and default contexts) and one by one with rtcIntersect1,
+/// interleaved run by run.
+struct SecondaryComparison {
+    std::size_t reflection_rays = 0;
+    std::size_t refraction_rays = 0;
+    std::size_t packets = 0;  ///< tile packets (one kind, one depth, one tile each)
+    /// The render's camera rays' rate (FrameStats::primary_mrays_per_s), for scale.
+    double primary_mrays_per_s = 0;
+    Spread dynrt_ms, embree16_coherent_ms, embree16_ms, embree1_ms;
+    /// dynrt's hits against Embree's rtcIntersect1 hits, ray by ray.
+    HitAgreement vs_dynrt;
+};
+
+/// Runs the comparison above over `warmup` + `repeat` runs. Nothing to compare (no secondary
+/// rays) gives all counts 0.
+SecondaryComparison bench_secondary_embree(const Scene& scene, const Camera& camera,
+                                           const RenderOptions& options, int repeat, int warmup);
+
+/// The comparison as a table, and as JSON.
+void print_secondary_table(std::ostream& out, const SecondaryComparison& c);
+std::string secondary_json(const SecondaryComparison& c);
+
 std::vector<EmbreeRow> bench_embree(const Scene& scene, const Camera& camera,
                                     const RenderOptions& options, int repeat, int warmup,
                                     const RenderedFrame& dynrt_frame,

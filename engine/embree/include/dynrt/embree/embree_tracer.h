@@ -7,6 +7,7 @@
 #include "dynrt/anim/posed_scene.h"
 #include "dynrt/engine/camera.h"
 #include "dynrt/engine/renderer.h"
+#include "dynrt/engine/secondary_ray_log.h"
 #include "dynrt/scene/scene.h"
 
 #include <cstddef>
@@ -92,6 +93,15 @@ public:
                       const std::vector<PointLight>& lights, const PixelHits& hits,
                       std::size_t& rays, std::vector<std::uint32_t>* occluded = nullptr);
 
+    /// Closest hits of logged reflection and refraction rays (SecondaryRayLog, a frame's
+    /// packets as the renderer traced them), parallel over the packets: each 16x16 tile packet
+    /// as sixteen 4x4-lane blocks (the camera rays' arrangement, which keeps neighbouring
+    /// pixels' secondary rays together), one rtcIntersect16 per block holding a ray, the other
+    /// lanes masked off, with a coherent context or Embree's default (incoherent) one. `hits`
+    /// gets one entry per ray in log order (object, prim; -1 on a miss). Returns ms.
+    double intersect16_logged(const SecondaryRayLog& log, bool coherent, PixelHits& hits);
+    /// The same rays one at a time with rtcIntersect1. Same results as intersect16_logged.
+    double intersect1_logged(const SecondaryRayLog& log, PixelHits& hits);
     /// The same shadow rays one at a time with rtcOccluded1. Same results as occluded16.
     double occluded1(const Camera& camera, int width, int height,
                      const std::vector<PointLight>& lights, const PixelHits& hits,

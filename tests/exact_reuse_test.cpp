@@ -147,7 +147,9 @@ void shared_scene_matches(const std::string& relative, int frames, bool still_sc
                 << a.stats.reuse_reason;
         }
     }
-    if (expect_reuse) EXPECT_GT(reused, 0u);
+    if (expect_reuse) {
+        EXPECT_GT(reused, 0u);
+    }
 }
 
 TEST(ExactReuse, SkinnedModelMatchesFullRenders) {

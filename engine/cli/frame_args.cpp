@@ -82,6 +82,7 @@ dynrt::RenderOptions render_options(const FrameArgs& args) {
     options.adaptive_tolerance = args.adaptive;
     options.secondary.max_depth = args.depth;
     options.secondary.cutoff = args.cutoff;
+    options.secondary.min_packet_rays = args.secondary_packet_min;
     options.reuse = dynrt::parse_reuse(args.reuse);
     options.pose.fps = args.fps;
     options.rebuild_threshold = args.rebuild_threshold;

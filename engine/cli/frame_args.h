@@ -33,6 +33,7 @@ struct FrameArgs {
     /// Whitted secondary rays (TraceSettings::secondary): deepest bounce and path-weight cut-off.
     int depth = dynrt::SecondaryRays{}.max_depth;
     float cutoff = dynrt::SecondaryRays{}.cutoff;
+    int secondary_packet_min = dynrt::SecondaryRays{}.min_packet_rays;
     /// Pixel reuse between frames (dynrt/engine/pixel_reuse.h): off, exact, cache[:BUDGET],
     /// frameless[:BUDGET].
     std::string reuse = "exact";

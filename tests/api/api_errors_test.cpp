@@ -354,6 +354,16 @@ TEST(ApiErrors, BadRenderCalls) {
     RenderSettings bad_ambient;
     bad_ambient.ambient = kNaN;
     expect_error([&] { engine.render(view, ImageView{8, 6, rgb}, bad_ambient); }, kArgument, {"ambient"});
+    for (const int depth : {-1, 65}) {
+        RenderSettings bad_depth;
+        bad_depth.max_depth = depth;
+        expect_error([&] { engine.render(view, ImageView{8, 6, rgb}, bad_depth); }, kArgument, {"max_depth"});
+    }
+    for (const float cutoff : {-0.1f, 1.5f, kNaN}) {
+        RenderSettings bad_cutoff;
+        bad_cutoff.cutoff = cutoff;
+        expect_error([&] { engine.render(view, ImageView{8, 6, rgb}, bad_cutoff); }, kArgument, {"cutoff"});
+    }
 }
 
 TEST(ApiErrors, HugeAndDegenerateTrianglesDoNotCrash) {

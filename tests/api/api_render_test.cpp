@@ -320,6 +320,23 @@ TEST(ApiRender, MirrorAndGlassSurfacesGiveTheRenderersFrame) {
     Image mirror_ball(kWidth, kHeight);
     engine.render(view, ImageView{kWidth, kHeight, mirror_ball.rgb, mirror_ball.depth, mirror_ball.mesh}, settings);
     expect_same_frame(want_mirror_ball, mirror_ball, true);
+
+    // RenderSettings' depth and cut-off reach the renderer: depth 0 is the opaque frame.
+    RenderSettings flat = settings;
+    flat.max_depth = 0;
+    const RenderedFrame want_flat = [&] {
+        RenderOptions o = options;
+        o.secondary.max_depth = 0;
+        const Scene scene = scene_of(ps, o.pose);
+        Renderer renderer(o);
+        RenderedFrame frame;
+        renderer.render(scene, camera, 0, frame);
+        return frame;
+    }();
+    ASSERT_NE(want_flat.color, want_mirror_ball.color);
+    Image flat_image(kWidth, kHeight);
+    engine.render(view, ImageView{kWidth, kHeight, flat_image.rgb, flat_image.depth, flat_image.mesh}, flat);
+    expect_same_frame(want_flat, flat_image, true);
 }
 
 }  // namespace

@@ -158,9 +158,13 @@ TEST(ApiReuse, EveryStepMatchesAFullRenderBitForBit) {
             EXPECT_EQ(stats.reuse_reason, "nothing changed");
             EXPECT_EQ(stats.pixels_traced, 0u);
         }
-        if (step == 7) EXPECT_EQ(stats.reuse_reason, "lights changed");
-        if (step == 5) EXPECT_NE(stats.reuse_reason.find("changed material"), std::string::npos)
-            << stats.reuse_reason;
+        if (step == 7) {
+            EXPECT_EQ(stats.reuse_reason, "lights changed");
+        }
+        if (step == 5) {
+            EXPECT_NE(stats.reuse_reason.find("changed material"), std::string::npos)
+                << stats.reuse_reason;
+        }
         reused += stats.pixels_reused;
     }
     // Exact reuse kept pixels, else the comparison above proves nothing about it.

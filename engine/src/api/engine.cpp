@@ -595,6 +595,12 @@ FrameStats Engine::render(const View& view, const ImageView& image,
     if (!std::isfinite(options.ambient) || !finite(options.background)) {
         throw invalid("render: background and ambient must be finite");
     }
+    if (settings.max_depth < 0 || settings.max_depth > 64 || !(settings.cutoff >= 0.0f) ||
+        !(settings.cutoff <= 1.0f)) {
+        throw invalid("render: max_depth must be 0 to 64 and cutoff in [0, 1]");
+    }
+    options.secondary.max_depth = settings.max_depth;
+    options.secondary.cutoff = settings.cutoff;
     std::vector<PointLight> lights;
     for (const Light& light : settings.lights) {
         const glm::vec3 position = to_glm(light.position);

@@ -141,6 +141,11 @@ struct RenderSettings {
     /// surface changed) are traced again; the image is bit-identical to a full render. False
     /// traces every pixel.
     bool reuse_pixels = true;
+    /// Reflection and refraction rays for surfaces with reflectance or transmittance (README
+    /// "Reflection and refraction"): the deepest bounce traced, 0 to 64 (0: none), and the
+    /// path weight, in [0, 1], below which a secondary ray is not traced.
+    int max_depth = 5;
+    float cutoff = 1.0f / 256.0f;
 };
 
 /// What a ray batch cost. Packet rays were traced in packets (see Engine::intersect); the

@@ -11,6 +11,7 @@
 // comes out darker.
 
 #include "stress_geometry.h"
+#include "scale_sweep.h"
 #include "stress_mode.h"
 
 #include "dynrt/anim/procedural_motion.h"
@@ -26,21 +27,6 @@
 
 namespace dynrt::stress {
 namespace {
-
-struct Sweep {
-    double scale;
-    double offset;  ///< along (0.6, -0.48, 0.64)
-};
-
-std::vector<Sweep> scale_sweep() {
-    std::vector<Sweep> out;
-    for (const double s : {1e-6, 1e-3, 1.0, 1e3, 1e6}) {
-        out.push_back({s, 0.0});
-        out.push_back({s, 1000.0 * s});
-        if (s >= 1e3) out.push_back({s, 1e6});
-    }
-    return out;
-}
 
 /// A scene of one object, `mesh`, of one material that has no local colour at all.
 Scene one_object(const ClosedMesh& mesh, const Material& material) {
@@ -108,7 +94,7 @@ TEST(SecondaryStress, MirrorReflectsOnlyTheWorldAtEveryScale) {
     mirror.reflectance = glm::vec3(1.0f);
     int pixels = 0, wrong = 0, renders = 0;
     for (const Sweep& sweep : scale_sweep()) {
-        const glm::dvec3 c = sweep.offset * glm::dvec3(0.6, -0.48, 0.64);
+        const glm::dvec3 c = offset_of(sweep);
         const Scene scene = one_object(transformed(square(), sweep.scale, c), mirror);
         for (const bool instanced : {false, true}) {
             // From steeply above down to nearly grazing.
@@ -143,7 +129,7 @@ TEST(SecondaryStress, ClearGlassBoxPassesEveryRayAtEveryScale) {
     const ClosedMesh unit_box = box_mesh(3, glm::vec3(-1.0f, -0.75f, -1.25f), glm::vec3(1.0f, 0.75f, 1.25f));
     int pixels = 0, wrong = 0, renders = 0;
     for (const Sweep& sweep : scale_sweep()) {
-        const glm::dvec3 c = sweep.offset * glm::dvec3(0.6, -0.48, 0.64);
+        const glm::dvec3 c = offset_of(sweep);
         const Scene scene = one_object(transformed(unit_box, sweep.scale, c), glass);
         for (const bool instanced : {false, true}) {
             for (const glm::dvec3 eye : {glm::dvec3(2.5, 1.5, 3.0), glm::dvec3(0.1, -0.05, 0.15)}) {  // outside, inside

@@ -9,6 +9,7 @@
 // brighter is a leak. Inside the closed box no pixel may be lit at all.
 
 #include "stress_geometry.h"
+#include "scale_sweep.h"
 #include "stress_mode.h"
 
 #include "dynrt/reference/image_comparison.h"
@@ -43,25 +44,6 @@ std::string spec_number(double x) {
     if (plus != std::string::npos) s.erase(plus, 1);
     return s;
 }
-
-struct Sweep {
-    double scale;
-    double offset;  ///< along (0.6, -0.48, 0.64)
-};
-
-/// Scales 1e-6 ... 1e6, each at the origin and 1000 times its size away, and the large ones
-/// 1e6 away.
-std::vector<Sweep> scale_sweep() {
-    std::vector<Sweep> out;
-    for (const double s : {1e-6, 1e-3, 1.0, 1e3, 1e6}) {
-        out.push_back({s, 0.0});
-        out.push_back({s, 1000.0 * s});
-        if (s >= 1e3) out.push_back({s, 1e6});
-    }
-    return out;
-}
-
-glm::dvec3 offset_of(const Sweep& sweep) { return sweep.offset * glm::dvec3(0.6, -0.48, 0.64); }
 
 /// How a rendered frame compares with the reference, pixel by pixel.
 struct ShadowCount {

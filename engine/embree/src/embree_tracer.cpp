@@ -61,6 +61,14 @@ void resize_hits(PixelHits& hits, std::size_t pixels) {
     hits.v.assign(pixels, 0.0f);
 }
 
+/// Entry `p` of `out` gets a hit.
+void store_hit(PixelHits& out, std::size_t p, unsigned geom, unsigned prim, float u, float v) {
+    out.object[p] = std::int32_t(geom);
+    out.prim[p] = std::int32_t(prim);
+    out.u[p] = u;
+    out.v[p] = v;
+}
+
 /// Runs body(tile) for every 16x16 tile in parallel, in Embree's floating-point mode.
 template <typename Body>
 void for_each_tile(int width, int height, Body&& body) {
@@ -263,10 +271,7 @@ double EmbreeTracer::intersect1(const Camera& camera, int width, int height, Pix
                 rtcIntersect1(scene, &context, &rh);
                 if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
                 const std::size_t p = std::size_t(y) * width + x;
-                out.object[p] = std::int32_t(rh.hit.geomID);
-                out.prim[p] = std::int32_t(rh.hit.primID);
-                out.u[p] = rh.hit.u;
-                out.v[p] = rh.hit.v;
+                store_hit(out, p, rh.hit.geomID, rh.hit.primID, rh.hit.u, rh.hit.v);
             }
         }
     });
@@ -298,10 +303,7 @@ double EmbreeTracer::intersect16(const Camera& camera, int width, int height, Pi
                 if (!block.pixel(lane, x, y)) continue;
                 if (rh.hit.geomID[lane] == RTC_INVALID_GEOMETRY_ID) continue;
                 const std::size_t p = std::size_t(y) * width + x;
-                out.object[p] = std::int32_t(rh.hit.geomID[lane]);
-                out.prim[p] = std::int32_t(rh.hit.primID[lane]);
-                out.u[p] = rh.hit.u[lane];
-                out.v[p] = rh.hit.v[lane];
+                store_hit(out, p, rh.hit.geomID[lane], rh.hit.primID[lane], rh.hit.u[lane], rh.hit.v[lane]);
             }
         });
     });
@@ -357,10 +359,7 @@ double EmbreeTracer::intersect16_logged(const SecondaryRayLog& log, bool coheren
                     const int lane = (by + b / kBlockSide) * packet::kTileSize + bx + b % kBlockSide;
                     if (ray_of[lane] < 0 || rh.hit.geomID[b] == RTC_INVALID_GEOMETRY_ID) continue;
                     const std::size_t p = first[i] + std::size_t(ray_of[lane]);
-                    out.object[p] = std::int32_t(rh.hit.geomID[b]);
-                    out.prim[p] = std::int32_t(rh.hit.primID[b]);
-                    out.u[p] = rh.hit.u[b];
-                    out.v[p] = rh.hit.v[b];
+                    store_hit(out, p, rh.hit.geomID[b], rh.hit.primID[b], rh.hit.u[b], rh.hit.v[b]);
                 }
             }
         }
@@ -384,10 +383,7 @@ double EmbreeTracer::intersect1_logged(const SecondaryRayLog& log, PixelHits& ou
             rtcIntersect1(scene, &context, &rh);
             if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
             const std::size_t p = first[i] + r;
-            out.object[p] = std::int32_t(rh.hit.geomID);
-            out.prim[p] = std::int32_t(rh.hit.primID);
-            out.u[p] = rh.hit.u;
-            out.v[p] = rh.hit.v;
+            store_hit(out, p, rh.hit.geomID, rh.hit.primID, rh.hit.u, rh.hit.v);
         }
     });
     return clock.elapsed_ms();

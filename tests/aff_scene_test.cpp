@@ -165,7 +165,6 @@ pp 3
 )");
     const std::vector<std::string> want = {
         "textures of 1 shapes (colour from the material)",
-        "per-vertex normals of 1 shapes (shading uses the geometric normal)",
         "light colours (each light is white, of their mean intensity)",
         "'am' ambient light (dynrt's own ambient term)"};
     EXPECT_EQ(scene.ignored, want);

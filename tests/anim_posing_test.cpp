@@ -3,7 +3,8 @@
 // morphing.h), frame by frame: explode and wave from their precomputed tables, several motions
 // through the general kernel, skinning and morphing in float. Then the finiteness check, which
 // must still name object, frame and vertex, and objects that did not move, which must not be
-// touched.
+// touched. Vertex normals go through the same stages (PosedObject::normals) and are checked
+// alike, to 1e-5 of their unit length.
 //
 // Tolerance: the fast paths round to float a few times where the definition rounds once, so a
 // coordinate may differ from the double evaluation by a few float ulps of the magnitudes
@@ -16,6 +17,7 @@
 #include "dynrt/anim/skinning.h"
 #include "dynrt/engine/scene_loading.h"
 #include "dynrt/scene/scene_error.h"
+#include "dynrt/scene/vertex_normals.h"
 
 #include <gtest/gtest.h>
 
@@ -104,6 +106,46 @@ std::vector<glm::dvec3> double_evaluation(const Scene& scene, int frame) {
     return out;
 }
 
+/// The same for the object's vertex normals (PosedObject::normals): the rest normals through
+/// the transform's cofactor matrix, each rigid motion's, the wave's Jacobian at the x the wave
+/// sees, explode's none, normalised.
+std::vector<glm::dvec3> double_normals(const Scene& scene, int frame) {
+    const Object& object = scene.objects[0];
+    const glm::dmat4 transform(object.transform);
+    std::vector<glm::vec3> rest_float;
+    for (const glm::vec3& p : object.mesh.positions) rest_float.push_back(glm::vec3(transform_point(transform, glm::dvec3(p))));
+    const MotionReference reference = motion_reference(rest_float);
+    const glm::dmat3 rigid = normal_matrix(glm::dmat3(rigid_motion_matrix(reference, frame)));
+    std::vector<glm::dvec3> out(object.mesh.normals.size());
+    for (std::size_t v = 0; v < out.size(); ++v) {
+        glm::dvec3 p = transform_point(transform, glm::dvec3(object.mesh.positions[v]));
+        glm::dvec3 n = normal_matrix(glm::dmat3(transform)) * glm::dvec3(object.mesh.normals[v]);
+        for (const ProceduralMotion& motion : scene.motions) {
+            switch (motion.kind) {
+                case MotionKind::rigid:
+                    p = rigid_motion(p, reference, frame);
+                    n = rigid * n;
+                    break;
+                case MotionKind::wave:
+                    if (reference.radius > 0.0) {
+                        n.x -= 0.3 * std::cos(6.0 * p.x / reference.radius + 0.5 * frame) * n.y;
+                    }
+                    p = wave_motion(p, reference, frame);
+                    break;
+                case MotionKind::explode: {  // moves the point (which a later wave sees), not n
+                    const std::size_t t = v / 3;
+                    const glm::dvec3 face = face_normal(glm::dvec3(rest_float[3 * t]), glm::dvec3(rest_float[3 * t + 1]),
+                                                        glm::dvec3(rest_float[3 * t + 2]));
+                    p += explode_offset(face, static_cast<std::uint32_t>(t), reference, frame);
+                    break;
+                }
+            }
+        }
+        out[v] = glm::normalize(n);
+    }
+    return out;
+}
+
 class MotionPrecision : public ::testing::TestWithParam<std::vector<std::string>> {};
 
 TEST_P(MotionPrecision, FastPathEqualsTheDoubleEvaluation) {
@@ -117,6 +159,10 @@ TEST_P(MotionPrecision, FastPathEqualsTheDoubleEvaluation) {
         const double size = glm::length(glm::dvec3(40.0, -7.0, 12.5)) + 3.0 * (1.0 + 0.03 * std::abs(frame));
         expect_close(posed.objects[0].positions, expected, kRelativeTolerance * size,
                      "frame " + std::to_string(frame));
+        // Unit normals: a few float roundings of numbers of order 1, plus what a wave's slope
+        // 0.3 cos(6x/R + f/2) makes of the position's own error: 1.8 / R per unit of x.
+        expect_close(posed.objects[0].normals, double_normals(scene, frame),
+                     1e-5 + 1.8 / 3.0 * kRelativeTolerance * size, "normals, frame " + std::to_string(frame));
     }
 }
 
@@ -146,6 +192,20 @@ std::vector<glm::dvec3> double_evaluation(const Scene& scene, std::size_t i, con
     return out;
 }
 
+/// The same for its normals: morphed by the normal displacements, through the skinned
+/// cofactor matrix or the node transform's, normalised.
+std::vector<glm::dvec3> double_normals(const Scene& scene, std::size_t i, const PosedObject& posed) {
+    const Object& object = scene.objects[i];
+    std::vector<glm::dvec3> out(object.mesh.normals.size());
+    const bool morphed = object.morph && !object.morph->normal_deltas.empty() && !posed.morph_weights.empty();
+    for (std::size_t v = 0; v < out.size(); ++v) {
+        const glm::dvec3 n = morphed ? morphed_normal(*object.morph, posed.morph_weights, v) : glm::dvec3(object.mesh.normals[v]);
+        out[v] = normalize_or_zero(object.skin ? skinned_normal(*object.skin, posed.joint_matrices, v, n)
+                                               : normal_matrix(glm::dmat3(posed.node_transform)) * n);
+    }
+    return out;
+}
+
 /// Every deformable object of a sample model at several frames of its clips.
 void expect_deformables_match(const Scene& scene) {
     const ScenePoser poser(scene, {});
@@ -160,6 +220,9 @@ void expect_deformables_match(const Scene& scene) {
             for (const glm::dvec3& p : expected) size = std::max(size, glm::length(p));
             expect_close(posed.objects[i].positions, expected, kRelativeTolerance * size,
                          scene.objects[i].name + ", frame " + std::to_string(frame));
+            ASSERT_FALSE(posed.objects[i].normals.empty()) << scene.objects[i].name;
+            expect_close(posed.objects[i].normals, double_normals(scene, i, posed.objects[i]), 1e-5,
+                         scene.objects[i].name + " normals, frame " + std::to_string(frame));
             ++checked;
         }
     }

@@ -161,6 +161,7 @@ ShadingCase random_case(unsigned seed) {
         for (int a = 0; a < 3; ++a) {
             c.surface.point[a][lane] = p[a];
             c.surface.normal[a][lane] = n[a];
+            c.surface.shading_normal[a][lane] = n[a];
             c.surface.view[a][lane] = v[a];
         }
         c.surface.material[lane] = ((lane / 24) + (unit(rng) < 0.1f ? 1 : 0)) % 4;

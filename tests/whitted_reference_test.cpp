@@ -3,6 +3,9 @@
 // two parallel mirrors, a glass sphere over a checkerboard, a glass prism whose pixels see
 // total internal reflection on one side of a row and refraction on the other, the first two
 // again 10^5 from the origin, and max_depth = 0 against the same scene without mirror or glass.
+// With smooth shading normals (renderer.h, "Shading normals"): the glass sphere and a mirror
+// ball shaded smooth, and a mirror whose vertex normals are bent so far that at some pixels
+// the split must fall back to the geometric normal.
 //
 // WhittedReference checks the reference on its own, against answers worked out here in closed
 // form (a mirror reflecting a quad, a pane of ior 1, the critical angle inside a glass cube)
@@ -24,6 +27,7 @@
 #include "dynrt/engine/camera.h"
 #include "dynrt/engine/renderer.h"
 #include "dynrt/packet/pinhole.h"
+#include "dynrt/scene/vertex_normals.h"
 
 #include <gtest/gtest.h>
 
@@ -106,6 +110,13 @@ public:
         object.material = material;
         scene_.objects.push_back(std::move(object));
         return static_cast<int>(scene_.objects.size() - 1);
+    }
+
+    /// Gives object `object` vertex normals: its area-weighted ones, or `normals` (local, one
+    /// per vertex; placement only translates and scales uniformly, so they stay as they are).
+    void smooth(int object, std::vector<glm::vec3> normals = {}) {
+        Mesh& mesh = scene_.objects[static_cast<std::size_t>(object)].mesh;
+        mesh.normals = normals.empty() ? area_weighted_normals(mesh.positions, mesh.triangles) : std::move(normals);
     }
 
     /// Quad a b c d as triangles (a, b, c) and (a, c, d): its winding normal is (b - a) x (c - a).
@@ -209,13 +220,10 @@ Shot mirrors_shot(Placement place = {}) {
                 small_image(64, 5)};
 }
 
-// (b) A glass sphere (icosphere, 320 triangles, transmittance 0.9, ior 1.5) floating over a
-// checkerboard floor of two materials, one light.
-Shot glass_shot(Placement place = {}) {
-    SceneBuilder b(place);
+/// A checkerboard floor y = 0 over [-4, 4]^2, two materials.
+void checkerboard(SceneBuilder& b) {
     const std::uint32_t light_mat = b.material(phong(glm::vec3(0.9f, 0.85f, 0.7f)));
     const std::uint32_t dark_mat = b.material(phong(glm::vec3(0.1f, 0.2f, 0.45f)));
-    const std::uint32_t glass_mat = b.material(glass(0.9f, 1.5f));
     for (int parity = 0; parity < 2; ++parity) {
         std::vector<glm::dvec3> positions;
         std::vector<glm::uvec3> triangles;
@@ -233,13 +241,64 @@ Shot glass_shot(Placement place = {}) {
         b.mesh(parity ? "dark cells" : "light cells", positions, triangles,
                parity ? dark_mat : light_mat);
     }
+}
+
+// (b) A glass sphere (icosphere, 320 triangles, transmittance 0.9, ior 1.5) floating over a
+// checkerboard floor of two materials, one light; flat, or shaded smooth.
+Shot glass_shot(Placement place = {}, bool smooth = false) {
+    SceneBuilder b(place);
+    checkerboard(b);
+    const std::uint32_t glass_mat = b.material(glass(0.9f, 1.5f));
     std::vector<glm::dvec3> positions;
     std::vector<glm::uvec3> triangles;
     icosphere(2, 1.0, {0.0, 1.2, 0.0}, positions, triangles);
-    b.mesh("glass sphere", positions, triangles, glass_mat);
+    const int sphere = b.mesh("glass sphere", positions, triangles, glass_mat);
+    if (smooth) b.smooth(sphere);
     b.light({3.0, 6.0, 2.0});
     return Shot{b.scene(), b.camera({0.3, 2.6, 5.0}, {0.0, 0.7, 0.0}, 45.0f),
                 small_image(64, 5)};
+}
+
+// (d) A mirror ball shaded smooth (icosphere, 1280 triangles, reflectance 0.8) over the
+// checkerboard, beside a diffuse block it reflects.
+Shot mirror_ball_shot() {
+    SceneBuilder b;
+    checkerboard(b);
+    const std::uint32_t mirror_mat = b.material(mirror(glm::vec3(0.8f)));
+    const std::uint32_t block_mat = b.material(phong(glm::vec3(0.8f, 0.3f, 0.1f), glm::vec3(0.3f)));
+    std::vector<glm::dvec3> positions;
+    std::vector<glm::uvec3> triangles;
+    icosphere(3, 1.0, {0.0, 1.1, 0.0}, positions, triangles);
+    b.smooth(b.mesh("mirror ball", positions, triangles, mirror_mat));
+    positions.clear();
+    triangles.clear();
+    extruded({{1.4, -0.5}, {2.4, -0.5}, {2.4, 0.5}, {1.4, 0.5}}, -1.5, -0.5,
+             [](glm::dvec3 p) { return glm::dvec3(p.x, p.z + 1.5, p.y - 1.0); }, positions, triangles);
+    b.mesh("block", positions, triangles, block_mat);
+    b.light({3.0, 6.0, 2.0});
+    return Shot{b.scene(), b.camera({0.5, 2.2, 4.5}, {0.2, 0.9, 0.0}, 40.0f), small_image(64, 5)};
+}
+
+// (e) A mirror y = 0 (reflectance 0.9) whose vertex normals lean 35 degrees toward +x and -x
+// at its left (far) and right (near) edges, seen at a grazing angle from +x over a red wall at
+// x = -4 and a blue one at z = -4: toward its near edge the interpolated normal leans along
+// the view so far that the ray comes from behind it, and the split falls back to the
+// geometric normal (shading_split_holds); toward the far edge it holds.
+constexpr double kBentMirrorLeanDeg = 35.0;
+
+Shot bent_mirror_shot() {
+    SceneBuilder b;
+    const std::uint32_t mirror_mat = b.material(mirror(glm::vec3(0.9f)));
+    const std::uint32_t red_mat = b.material(phong(glm::vec3(0.8f, 0.15f, 0.1f)));
+    const std::uint32_t blue_mat = b.material(phong(glm::vec3(0.1f, 0.2f, 0.8f)));
+    const int m = b.quad("bent mirror", {-3, 0, -3}, {-3, 0, 3}, {3, 0, 3}, {3, 0, -3}, mirror_mat);  // +y
+    const float s = float(std::sin(glm::radians(kBentMirrorLeanDeg)));
+    const float c = float(std::cos(glm::radians(kBentMirrorLeanDeg)));
+    b.smooth(m, {{s, c, 0}, {s, c, 0}, {-s, c, 0}, {-s, c, 0}});
+    b.quad("red wall", {-4, -1, -4}, {-4, -1, 4}, {-4, 4, 4}, {-4, 4, -4}, red_mat);
+    b.quad("blue wall", {-4, -1, -4}, {-4, 4, -4}, {4, 4, -4}, {4, -1, -4}, blue_mat);
+    b.light({1.0, 5.0, 3.0});
+    return Shot{b.scene(), b.camera({6.0, 0.9, 0.5}, {-1.0, 0.0, 0.0}, 50.0f), small_image(64, 5)};
 }
 
 // (c) A glass prism (ior 1.5) seen through its entry face x = 0, nearly head-on: inside, the
@@ -689,6 +748,7 @@ Shot glass_near() { return glass_shot(); }
 Shot prism() { return prism_shot(); }
 Shot mirrors_far() { return mirrors_shot(kFar); }
 Shot glass_far() { return glass_shot(kFar); }
+Shot glass_smooth() { return glass_shot({}, true); }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, WhittedRenderer,
                          // Measured: open 0.2%, 2%, 2%, 0.3%, 6%; compared mirror or
@@ -697,10 +757,43 @@ INSTANTIATE_TEST_SUITE_P(Scenes, WhittedRenderer,
                                            Case{"glassSphere", glass_near, 0.05, 0.12},
                                            Case{"prism", prism, 0.05, 0.8},
                                            Case{"farMirrors", mirrors_far, 0.03, 0.4},
-                                           Case{"farGlassSphere", glass_far, 0.12, 0.08}),
+                                           Case{"farGlassSphere", glass_far, 0.12, 0.08},
+                                           Case{"smoothGlassSphere", glass_smooth, 0.15, 0.05},
+                                           Case{"smoothMirrorBall", mirror_ball_shot, 0.1, 0.1},
+                                           Case{"bentMirror", bent_mirror_shot, 0.1, 0.15}),
                          [](const ::testing::TestParamInfo<Case>& info) {
                              return info.param.name;
                          });
+
+// (e) The bent mirror's pixels split both ways: with the shading normal where its mirror
+// direction leaves above the surface, with the geometric normal where it would not; and the
+// smooth images differ from the flat ones.
+TEST(WhittedSmooth, BentMirrorFallsBackToTheGeometricNormalWhereItMust) {
+    const Shot shot = bent_mirror_shot();
+    const ReferenceFrame ref = reference_of(shot);
+    const packet::PinholeRays rays(shot.camera, ref.width, ref.height);
+    const glm::vec3 s_left = shot.scene.objects[0].mesh.normals[0], s_right = shot.scene.objects[0].mesh.normals[2];
+    int shading = 0, fallback = 0;
+    for (int y = 0; y < ref.height; ++y) {
+        for (int x = 0; x < ref.width; ++x) {
+            const ReferencePixel& p = ref.at(x, y);
+            if (p.hit.object != 0 || !determined(p)) continue;
+            // The quad's x runs from -3 to 3: the normal leans linearly between its edges.
+            const glm::dvec3 d = glm::normalize(glm::dvec3(rays.ray(x, y).dir));
+            const glm::dvec3 point = glm::dvec3(rays.ray(x, y).org) + p.hit.t * d;
+            const double w = (point.x + 3.0) / 6.0;
+            const glm::dvec3 n = glm::normalize((1.0 - w) * glm::dvec3(s_left) + w * glm::dvec3(s_right));
+            const glm::dvec3 r = d - 2.0 * glm::dot(d, n) * n;
+            (glm::dot(d, n) < 0.0 && r.y > 0.0 ? shading : fallback)++;
+        }
+    }
+    EXPECT_GT(shading, 200);
+    EXPECT_GT(fallback, 200);
+    Shot flat = shot;
+    flat.options.smooth_normals = false;
+    EXPECT_GT(count_different(render_with(shot, Tracer::packet), render_with(flat, Tracer::packet), 1e-2f),
+              shading / 2);
+}
 
 // (a) again through the renderer: depth 0, 1 and 5 give different images.
 TEST(WhittedRendererDepth, MirrorsChangeTheImageAtEachDepth) {

@@ -74,12 +74,24 @@ private:
                 if (joint >= joints) fail(name + "joint index " + std::to_string(joint) + " out of range");
             }
         }
+        if (!object.mesh.normals.empty() && object.mesh.normals.size() != vertices) {
+            fail(name + "has " + std::to_string(object.mesh.normals.size()) + " normals for " +
+                 std::to_string(vertices) + " vertices");
+        }
         if (object.morph) {
             const MorphTargets& morph = *object.morph;
             bool sizes_match = morph.base_positions.size() == vertices &&
                                morph.default_weights.size() == morph.position_deltas.size();
             for (const std::vector<glm::vec3>& deltas : morph.position_deltas) {
                 sizes_match = sizes_match && deltas.size() == vertices;
+            }
+            if (!morph.normal_deltas.empty()) {
+                sizes_match = sizes_match && morph.base_normals.size() == vertices &&
+                              object.mesh.normals.size() == vertices &&
+                              morph.normal_deltas.size() == morph.position_deltas.size();
+                for (const std::vector<glm::vec3>& deltas : morph.normal_deltas) {
+                    sizes_match = sizes_match && deltas.size() == vertices;
+                }
             }
             if (!sizes_match) fail(name + "morph target sizes do not match");
         }

@@ -19,6 +19,7 @@
 #include "dynrt/anim/morphing.h"
 #include "dynrt/anim/skinning.h"
 #include "dynrt/scene/scene_error.h"
+#include "dynrt/scene/vertex_normals.h"
 
 #include "animation_data_check.h"
 #include "node_animation.h"
@@ -122,6 +123,22 @@ std::size_t transform_positions(const glm::dmat4& m, std::span<const glm::vec3> 
     });
 }
 
+/// out[v] = normalize(cof(M) source[v]) for the linear part M of `m` (vertex_normals.h), in
+/// double, rounded once; a vertex whose normal vanishes gets 0.
+void transform_normals(const glm::dmat4& m, std::span<const glm::vec3> source, glm::vec3* out) {
+    const glm::dmat3 cof = normal_matrix(glm::dmat3(m));
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, source.size(), kVertexBlock),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                          for (std::size_t v = range.begin(); v < range.end(); ++v) {
+                              out[v] = glm::vec3(normalize_or_zero(cof * glm::dvec3(source[v])));
+                          }
+                      });
+}
+
+/// The wave's derivative dy/dx = 0.05 R (6 / R) cos(6x/R + f/2) = 0.3 cos(...) turns a normal
+/// by the inverse transpose of its Jacobian (I + k e_y e_x^T): n' = (n.x - k n.y, n.y, n.z).
+glm::vec3 wave_normal(const glm::vec3& n, float k) { return glm::vec3(n.x - k * n.y, n.y, n.z); }
+
 /// A double matrix rounded to float, for the per-vertex work of a frame.
 glm::mat4 to_float(const glm::dmat4& m) { return glm::mat4(m); }
 
@@ -164,8 +181,10 @@ struct ScenePoser::Impl {
         std::vector<std::size_t> motions;
         /// Frame-0 box centre and radius.
         MotionReference reference;
-        /// Static or rigid but skinned or with clip-held morph weights: its fixed object-space shape.
+        /// Static or rigid but skinned or with clip-held morph weights: its fixed object-space shape
+        /// (and normals, when the mesh has some).
         std::vector<glm::vec3> own_object_space;
+        std::vector<glm::vec3> own_object_space_normals;
         bool uses_own_object_space = false;
 
         /// Deformable or exploding, not skinned, no driven weights or node transform: its world
@@ -175,6 +194,9 @@ struct ScenePoser::Impl {
         bool fixed_rest = false;
         std::span<const glm::vec3> rest;
         std::vector<glm::vec3> own_rest;
+        /// Its normals likewise (cof(Object::transform) n, normalised), when the mesh has some.
+        std::span<const glm::vec3> rest_normals;
+        std::vector<glm::vec3> own_rest_normals;
         /// Explode: per triangle 0.02 R (0.5 + h(i)) n_i in double, rounded once; frame f moves
         /// the triangle by f times it.
         std::vector<glm::vec3> explode_step;
@@ -222,6 +244,13 @@ struct ScenePoser::Impl {
         if (!plan.fixed()) return {};
         if (plan.uses_own_object_space) return plan.own_object_space;
         return scene.objects[i].mesh.positions;
+    }
+
+    std::span<const glm::vec3> object_space_normals(std::size_t i) const {
+        const ObjectPlan& plan = plans[i];
+        if (!plan.fixed() || !settings.normals) return {};
+        if (plan.uses_own_object_space) return plan.own_object_space_normals;
+        return scene.objects[i].mesh.normals;
     }
 
     /// The object's world matrix before procedural motion: its node's evaluated world matrix,
@@ -300,17 +329,24 @@ struct ScenePoser::Impl {
         Failure failure;
         if (plan.fixed() && skip_fixed) {
             posed.positions.clear();
+            posed.normals.clear();
             failure.transform = !is_finite(posed.transform);
             return failure;
         }
         const std::size_t count = object.mesh.positions.size();
+        const std::size_t normal_count = settings.normals && !object.mesh.normals.empty() ? count : 0;
         // Nothing that moves it changed: the positions written from the same inputs stand.
-        if (!posed.changed && posed.positions.size() == count) return failure;
+        if (!posed.changed && posed.positions.size() == count && posed.normals.size() == normal_count) {
+            return failure;
+        }
         posed.positions.resize(count);
+        posed.normals.resize(normal_count);
         glm::vec3* const result = posed.positions.data();
+        glm::vec3* const normals = normal_count > 0 ? posed.normals.data() : nullptr;
 
         if (plan.fixed()) {
             failure.vertex = transform_positions(posed.transform, object_space(i), result);
+            if (normals) transform_normals(posed.transform, object_space_normals(i), normals);
             return failure;
         }
         const std::span<const std::size_t> motions =
@@ -319,10 +355,12 @@ struct ScenePoser::Impl {
         if (one_motion && scene.motions[motions[0]].kind == MotionKind::explode &&
             count == 3 * plan.explode_step.size()) {
             failure.vertex = pose_explode(plan, frame, result);
+            // The triangles only move: their normals are the rest pose's.
+            if (normals) std::copy(plan.rest_normals.begin(), plan.rest_normals.end(), normals);
         } else if (one_motion && scene.motions[motions[0]].kind == MotionKind::wave && !plan.wave_sin.empty()) {
-            failure.vertex = pose_wave(plan, frame, result);
+            failure.vertex = pose_wave(plan, frame, result, normals);
         } else {
-            failure.vertex = pose_general(i, frame, motions, posed, result);
+            failure.vertex = pose_general(i, frame, motions, posed, result, normals);
         }
         return failure;
     }
@@ -343,18 +381,29 @@ struct ScenePoser::Impl {
         });
     }
 
-    /// y + 0.05 R sin(6x/R + f/2) by the angle sum, from the tables of the rest positions.
-    std::size_t pose_wave(const ObjectPlan& plan, int frame, glm::vec3* result) const {
+    /// y + 0.05 R sin(6x/R + f/2) by the angle sum, from the tables of the rest positions;
+    /// normals (when not null) turned by wave_normal with 0.3 cos(6x/R + f/2) alike.
+    std::size_t pose_wave(const ObjectPlan& plan, int frame, glm::vec3* result, glm::vec3* normals) const {
         const double amplitude = 0.05 * plan.reference.radius;
         const double phase = 0.5 * static_cast<double>(frame);
         const float by_sin = static_cast<float>(amplitude * std::cos(phase));
         const float by_cos = static_cast<float>(amplitude * std::sin(phase));
+        // cos(6x/R + f/2) = cos(6x/R) cos(f/2) - sin(6x/R) sin(f/2); the tables are zero when
+        // R = 0, which does not wave.
+        const float slope_cos = static_cast<float>(0.3 * std::cos(phase));
+        const float slope_sin = static_cast<float>(0.3 * std::sin(phase));
         const glm::vec3* const rest = plan.rest.data();
+        const glm::vec3* const rest_normals = plan.rest_normals.data();
         const float* const s = plan.wave_sin.data();
         const float* const c = plan.wave_cos.data();
         return for_vertex_blocks(plan.rest.size(), [&](std::size_t first, std::size_t last) {
             for (std::size_t v = first; v < last; ++v) {
                 result[v] = glm::vec3(rest[v].x, rest[v].y + (s[v] * by_sin + c[v] * by_cos), rest[v].z);
+            }
+            if (normals) {
+                for (std::size_t v = first; v < last; ++v) {
+                    normals[v] = normalize_or_zero(wave_normal(rest_normals[v], c[v] * slope_cos - s[v] * slope_sin));
+                }
             }
             return first_non_finite(result, first, last);
         });
@@ -362,9 +411,13 @@ struct ScenePoser::Impl {
 
     /// Any object: morph, then skinning or the node transform (or the rest pose), then the
     /// motions in order, stage by stage over each block, in float (rigid motion as a float
-    /// matrix; wave after another motion in double, as it needs a sine of a moved x).
+    /// matrix; wave after another motion in double, as it needs a sine of a moved x). Normals,
+    /// when `normals` is not null, go through the same stages: morphed by their own
+    /// displacements, turned by the cofactor matrix of the blended joint matrix, of the node
+    /// transform and of the rigid motion (vertex_normals.h), by the wave's Jacobian, not at all
+    /// by explode (a translation per triangle), then normalised.
     std::size_t pose_general(std::size_t i, int frame, std::span<const std::size_t> motions,
-                             const PosedObject& posed, glm::vec3* result) const {
+                             const PosedObject& posed, glm::vec3* result, glm::vec3* normals) const {
         const Object& object = scene.objects[i];
         const ObjectPlan& plan = plans[i];
         // The frame's matrices and weights in float, once per object (a few dozen at most).
@@ -376,7 +429,15 @@ struct ScenePoser::Impl {
             std::all_of(joints.begin(), joints.end(), [](const glm::mat4& m) { return is_finite(m); });
         std::vector<float> weights(posed.morph_weights.begin(), posed.morph_weights.end());
         const glm::mat4 base = to_float(posed.node_transform);
-        const glm::mat4 rigid = to_float(rigid_motion_matrix(plan.reference, frame));
+        const glm::dmat4 rigid_double = rigid_motion_matrix(plan.reference, frame);
+        const glm::mat4 rigid = to_float(rigid_double);
+        const glm::mat3 base_normal = glm::mat3(normal_matrix(glm::dmat3(posed.node_transform)));
+        const glm::mat3 rigid_normal = glm::mat3(normal_matrix(glm::dmat3(rigid_double)));
+        const bool morph_normals = normals && plan.morph_driven && !object.morph->normal_deltas.empty();
+        // Whether any stage turns the normals: when none does (a fixed rest pose and no rigid
+        // or wave motion), they are the rest normals exactly, as computed in double.
+        bool normals_turn = morph_normals || plan.skinned || !plan.fixed_rest;
+        for (const std::size_t m : motions) normals_turn |= scene.motions[m].kind != MotionKind::explode;
         const float f = static_cast<float>(frame);
         const double radius = plan.reference.radius;
 
@@ -393,10 +454,24 @@ struct ScenePoser::Impl {
                     for (std::size_t v = first; v < last; ++v) result[v] += w * delta[v];
                 }
             }
+            if (morph_normals) {
+                const MorphTargets& morph = *object.morph;
+                std::copy(morph.base_normals.begin() + std::ptrdiff_t(first),
+                          morph.base_normals.begin() + std::ptrdiff_t(last), normals + first);
+                for (std::size_t k = 0; k < weights.size(); ++k) {
+                    const float w = weights[k];
+                    if (w == 0.0f) continue;
+                    const glm::vec3* const delta = morph.normal_deltas[k].data();
+                    for (std::size_t v = first; v < last; ++v) normals[v] += w * delta[v];
+                }
+            }
             // The shape to transform: the morphed one just written, else read in place.
             const glm::vec3* const source = plan.morph_driven ? result
                                             : plan.fixed_rest ? plan.rest.data()
                                                               : object.mesh.positions.data();
+            const glm::vec3* const normal_source = morph_normals      ? normals
+                                                   : plan.fixed_rest ? plan.rest_normals.data()
+                                                                     : object.mesh.normals.data();
             // ---- To world space: skinning or the node transform ----
             if (plan.skinned && finite_joints) {
                 // sum_k w_k (J_k h) = (sum_k w_k J_k) h: blend the influences' matrices first,
@@ -421,6 +496,11 @@ struct ScenePoser::Impl {
                                           b[4] * p.x + b[5] * p.y + b[6] * p.z + b[7],
                                           b[8] * p.x + b[9] * p.y + b[10] * p.z + b[11]) /
                                 (b[12] * p.x + b[13] * p.y + b[14] * p.z + b[15]);
+                    if (normals) {
+                        // The blended matrix's linear part, by columns (b holds rows).
+                        const glm::mat3 blended(b[0], b[4], b[8], b[1], b[5], b[9], b[2], b[6], b[10]);
+                        normals[v] = normal_matrix(blended) * normal_source[v];
+                    }
                 }
             } else if (plan.skinned) {
                 const SkinWeights& skin = *object.skin;
@@ -428,37 +508,53 @@ struct ScenePoser::Impl {
                 for (std::size_t v = first; v < last; ++v) {
                     const glm::vec4 h(source[v], 1.0f);
                     glm::vec4 sum(0.0f);
+                    glm::mat3 blended(0.0f);
                     for (std::size_t k = v * n; k < v * n + n; ++k) {
                         const float w = skin.weights[k];
-                        if (w != 0.0f) sum += w * (joints[skin.joints[k]] * h);
+                        if (w != 0.0f) {
+                            sum += w * (joints[skin.joints[k]] * h);
+                            blended += w * glm::mat3(joints[skin.joints[k]]);
+                        }
                     }
                     result[v] = glm::vec3(sum) / sum.w;
+                    if (normals) normals[v] = normal_matrix(blended) * normal_source[v];
                 }
             } else if (!plan.fixed_rest) {
                 for (std::size_t v = first; v < last; ++v) {
                     const glm::vec4 h = base * glm::vec4(source[v], 1.0f);
                     result[v] = glm::vec3(h) / h.w;
                 }
+                if (normals) {
+                    for (std::size_t v = first; v < last; ++v) normals[v] = base_normal * normal_source[v];
+                }
             } else {
                 std::copy(source + first, source + last, result + first);
+                if (normals) std::copy(normal_source + first, normal_source + last, normals + first);
             }
             // ---- Procedural motions, in order ----
             for (const std::size_t m : motions) {
                 switch (scene.motions[m].kind) {
                     case MotionKind::rigid:
                         for (std::size_t v = first; v < last; ++v) result[v] = glm::vec3(rigid * glm::vec4(result[v], 1.0f));
+                        if (normals) {
+                            for (std::size_t v = first; v < last; ++v) normals[v] = rigid_normal * normals[v];
+                        }
                         break;
                     case MotionKind::wave:
                         if (!(radius > 0.0)) break;
                         for (std::size_t v = first; v < last; ++v) {
-                            result[v].y += static_cast<float>(
-                                0.05 * radius * std::sin(6.0 * double(result[v].x) / radius + 0.5 * double(frame)));
+                            const double angle = 6.0 * double(result[v].x) / radius + 0.5 * double(frame);
+                            result[v].y += static_cast<float>(0.05 * radius * std::sin(angle));
+                            if (normals) normals[v] = wave_normal(normals[v], static_cast<float>(0.3 * std::cos(angle)));
                         }
                         break;
                     case MotionKind::explode:
                         for (std::size_t v = first; v < last; ++v) result[v] += f * plan.explode_step[v / 3];
                         break;
                 }
+            }
+            if (normals && normals_turn) {
+                for (std::size_t v = first; v < last; ++v) normals[v] = normalize_or_zero(normals[v]);
             }
             return first_non_finite(result, first, last);
         });
@@ -614,6 +710,13 @@ void ScenePoser::Impl::prepare_object_spaces() {
             if (plan.skinned) p = skinned_position(*object.skin, joints, v, p);
             plan.own_object_space[v] = glm::vec3(p);
         }
+        plan.own_object_space_normals.resize(object.mesh.normals.size());
+        const bool morph_normals = plan.morph_driven && !object.morph->normal_deltas.empty();
+        for (std::size_t v = 0; v < object.mesh.normals.size(); ++v) {
+            glm::dvec3 n = morph_normals ? morphed_normal(*object.morph, weights, v) : glm::dvec3(object.mesh.normals[v]);
+            if (plan.skinned) n = skinned_normal(*object.skin, joints, v, n);
+            plan.own_object_space_normals[v] = glm::vec3(normalize_or_zero(n));
+        }
         plan.uses_own_object_space = true;
     }
 }
@@ -628,12 +731,16 @@ void ScenePoser::Impl::prepare_rests() {
         if (transform == glm::dmat4(1.0)) {
             // transform_point by the identity gives every finite vertex back exactly.
             plan.rest = object.mesh.positions;
+            plan.rest_normals = object.mesh.normals;
             continue;
         }
         plan.own_rest.resize(object.mesh.positions.size());
         // A non-finite vertex is reported by pose(), which names the frame.
         transform_positions(transform, object.mesh.positions, plan.own_rest.data());
         plan.rest = plan.own_rest;
+        plan.own_rest_normals.resize(object.mesh.normals.size());
+        transform_normals(transform, object.mesh.normals, plan.own_rest_normals.data());
+        plan.rest_normals = plan.own_rest_normals;
     }
 }
 
@@ -714,6 +821,21 @@ MotionClass ScenePoser::derived_class(std::size_t object) const { return impl_->
 
 std::span<const glm::vec3> ScenePoser::object_space_positions(std::size_t object) const {
     return impl_->object_space(object);
+}
+
+std::span<const glm::vec3> ScenePoser::object_space_normals(std::size_t object) const {
+    return impl_->object_space_normals(object);
+}
+
+void ScenePoser::fixed_world_normals(std::size_t object, const PosedScene& posed,
+                                     std::vector<glm::vec3>& out) const {
+    if (!impl_->plans.at(object).fixed()) {
+        throw std::invalid_argument("ScenePoser::fixed_world_normals: object '" +
+                                    impl_->scene.objects[object].name + "' is not static or rigid");
+    }
+    const std::span<const glm::vec3> source = impl_->object_space_normals(object);
+    out.resize(source.size());
+    transform_normals(posed.objects.at(object).transform, source, out.data());
 }
 
 void ScenePoser::fixed_world_positions(std::size_t object, const PosedScene& posed,

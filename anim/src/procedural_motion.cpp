@@ -104,6 +104,8 @@ void unshare_triangles(Object& object) {
     if (has_unshared_triangles(object)) return;
     const std::vector<glm::uvec3>& triangles = object.mesh.triangles;
     std::vector<glm::vec3> positions = by_corner(object.mesh.positions, triangles);
+    // Normals go with their corners, so the pieces keep the smooth shading of the whole.
+    if (!object.mesh.normals.empty()) object.mesh.normals = by_corner(object.mesh.normals, triangles);
     if (object.skin) {
         object.skin->joints = by_corner(object.skin->joints, triangles, object.skin->influences);
         object.skin->weights = by_corner(object.skin->weights, triangles, object.skin->influences);
@@ -111,6 +113,10 @@ void unshare_triangles(Object& object) {
     if (object.morph) {
         object.morph->base_positions = by_corner(object.morph->base_positions, triangles);
         for (std::vector<glm::vec3>& deltas : object.morph->position_deltas) deltas = by_corner(deltas, triangles);
+        if (!object.morph->base_normals.empty()) {
+            object.morph->base_normals = by_corner(object.morph->base_normals, triangles);
+        }
+        for (std::vector<glm::vec3>& deltas : object.morph->normal_deltas) deltas = by_corner(deltas, triangles);
     }
     object.mesh.positions = std::move(positions);
     for (std::size_t i = 0; i < object.mesh.triangles.size(); ++i) {

@@ -30,6 +30,8 @@ struct FrameArgs {
     std::string bvh = "wide";
     std::string packet_culling = "all";
     float adaptive = 0.0f;
+    /// Shading normals (TraceSettings::smooth_normals): smooth (the vertex normals) or flat.
+    std::string normals = "smooth";
     /// Whitted secondary rays (TraceSettings::secondary): deepest bounce and path-weight cut-off.
     int depth = dynrt::SecondaryRays{}.max_depth;
     float cutoff = dynrt::SecondaryRays{}.cutoff;

@@ -82,6 +82,10 @@ int main(int argc, char** argv) {
                         "Approximate: trace each tile on a sparse grid and interpolate cells "
                         "whose samples agree within this tolerance (packet tracer; 0: exact)")
             ->check(CLI::NonNegativeNumber)->capture_default_str();
+        cmd->add_option("--normals", args.normals,
+                        "Shading normals: smooth (the file's vertex normals interpolated, or "
+                        "area-weighted ones where it has none) or flat (each triangle's own)")
+            ->check(CLI::IsMember({"smooth", "flat"}))->capture_default_str();
         cmd->add_option("--depth", args.depth,
                         "Deepest reflection or refraction bounce traced (Whitted; 0: camera and "
                         "shadow rays only). Frames with secondary rays trace every pixel")

@@ -56,8 +56,9 @@ void shade_lanes(const SurfacePacket& surface, std::span<const PhongMaterial> ma
             if (mine == 0) continue;
             const F p[3] = {L::load(surface.point[0] + base), L::load(surface.point[1] + base),
                             L::load(surface.point[2] + base)};
-            const F n[3] = {L::load(surface.normal[0] + base), L::load(surface.normal[1] + base),
-                            L::load(surface.normal[2] + base)};
+            const F n[3] = {L::load(surface.shading_normal[0] + base),
+                            L::load(surface.shading_normal[1] + base),
+                            L::load(surface.shading_normal[2] + base)};
             const F v[3] = {L::load(surface.view[0] + base), L::load(surface.view[1] + base),
                             L::load(surface.view[2] + base)};
             F color[3] = {ambient_kd[0], ambient_kd[1], ambient_kd[2]};
@@ -78,7 +79,8 @@ void shade_lanes(const SurfacePacket& surface, std::span<const PhongMaterial> ma
                 const F specular = simd::pow<W>(
                     L::select(r_dot_v > L::splat(0.0f), r_dot_v, L::splat(0.0f)), shininess);
                 const F intensity = L::splat(lights[l].intensity);
-                const I lit_mask = L::from_bits(lit);
+                // A shading normal may face away from a light its triangle faces.
+                const I lit_mask = L::from_bits(lit) & (n_dot_l > L::splat(0.0f));
                 for (int a = 0; a < 3; ++a) {
                     const F term = intensity * (kd[a] * n_dot_l + ks[a] * specular);
                     color[a] = L::select(lit_mask, color[a] + term, color[a]);

@@ -101,6 +101,16 @@ TEST(ApiErrors, BadMeshesAreRefusedNamingTheMesh) {
     refused_surface([](Surface& s) { s.ior = -1.5f; }, "ior -1.5 must be finite and > 0");
     refused_surface([](Surface& s) { s.ior = kNaN; }, "ior nan must be finite and > 0");
     refused_surface([](Surface& s) { s.ior = kInf; }, "ior inf must be finite and > 0");
+    // Shading normals: 3 floats per vertex, finite.
+    std::vector<float> normals(ball.positions.size(), 0.0f);
+    MeshDesc short_normals = desc_of("bent", ball);
+    const std::vector<float> fewer(normals.begin(), normals.end() - 3);
+    short_normals.normals = fewer;
+    expect_error([&] { engine.add_mesh(short_normals); }, kArgument, {"'bent'", "normals hold"});
+    normals[3 * 4 + 2] = kNaN;
+    MeshDesc nan_normals = desc_of("bent", ball);
+    nan_normals.normals = normals;
+    expect_error([&] { engine.add_mesh(nan_normals); }, kArgument, {"'bent'", "normal 4 is not finite"});
     MeshDesc unnamed = desc_of("", odd);
     expect_error([&] { engine.add_mesh(unnamed); }, kArgument, {"mesh 0"});
     // Nothing was added.
@@ -126,6 +136,9 @@ TEST(ApiErrors, BadChangesAreRefusedAndChangeNothing) {
     std::vector<float> nan = sphere({-3.0f, 0.0f, 0.0f}, 1.0f).positions;
     nan[3 * 11 + 2] = kNaN;
     expect_error([&] { engine.set_positions(cloth, nan); }, kArgument, {"'cloth'", "vertex 11"});
+    const std::vector<float> good = sphere({-3.0f, 0.0f, 0.0f}, 1.0f).positions;
+    expect_error([&] { engine.set_positions(cloth, good, fewer); }, kArgument, {"'cloth'", "normals hold"});
+    expect_error([&] { engine.set_positions(cloth, good, nan); }, kArgument, {"'cloth'", "normal 11 is not finite"});
     Transform inf = Transform::translation({0.0f, 0.0f, 0.0f});
     inf.m[5] = kInf;
     expect_error([&] { engine.set_transform(arm, inf); }, kArgument, {"'arm'", "not finite"});

@@ -1,12 +1,15 @@
 // Engine::render against dynrt::Renderer: the same geometry (static, rigid and deformable
 // meshes with transforms), lights, camera and materials give the same frame pixel for pixel:
 // colour, depth and mesh ids. World positions are computed in double and rounded once on both
-// sides, and both trace through the same frame tracer, so equality is exact.
+// sides, and both trace through the same frame tracer, so equality is exact. Shading normals
+// too: the ball's are given (MeshDesc::normals, the scene's Mesh::normals), the others'
+// computed (area_weighted_normals on both sides, again after set_positions).
 
 #include "api_test_world.h"
 
 #include "dynrt/anim/motion_class.h"
 #include "dynrt/engine/renderer.h"
+#include "dynrt/scene/vertex_normals.h"
 
 #include <gtest/gtest.h>
 
@@ -24,7 +27,20 @@ struct Piece {
     Motion motion;
     Transform transform;
     Surface surface;
+    /// Given shading normals (x, y, z per vertex), or empty: computed.
+    std::vector<float> normals = {};
 };
+
+/// A sphere's own normals: its vertices' directions from its centre (at the origin).
+std::vector<float> radial_normals(const MeshData& mesh) {
+    std::vector<float> normals(mesh.positions.size());
+    for (std::size_t v = 0; v < mesh.vertices(); ++v) {
+        const glm::vec3 n = glm::normalize(
+            glm::vec3(mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]));
+        for (int a = 0; a < 3; ++a) normals[3 * v + std::size_t(a)] = n[a];
+    }
+    return normals;
+}
 
 std::vector<Piece> pieces() {
     std::vector<Piece> p;
@@ -33,6 +49,7 @@ std::vector<Piece> pieces() {
                  Surface{{0.7f, 0.7f, 0.6f}, {0.1f, 0.1f, 0.1f}, 8.0f}});
     p.push_back({"ball", sphere({0.0f, 0.0f, 0.0f}, 0.8f), Motion::static_,
                  Transform::translation({-1.2f, 0.0f, 0.3f}), Surface{{0.9f, 0.2f, 0.2f}, {0.5f, 0.5f, 0.5f}, 64.0f}});
+    p.back().normals = radial_normals(p.back().mesh);
     p.push_back({"arm", sphere({0.0f, 0.0f, 0.0f}, 0.6f, 8, 16), Motion::rigid,
                  Transform::rotation({0.0f, 1.0f, 0.0f}, 0.7f, {1.3f, 0.2f, -0.4f}),
                  Surface{{0.2f, 0.8f, 0.3f}, {0.3f, 0.3f, 0.3f}, 16.0f}});
@@ -78,6 +95,16 @@ Scene scene_of(const std::vector<Piece>& pieces, anim::PoseSettings& pose) {
             object.mesh.triangles.emplace_back(p.mesh.indices[k], p.mesh.indices[k + 1], p.mesh.indices[k + 2]);
         }
         object.transform = to_mat4(p.transform);
+        if (p.normals.empty()) {
+            object.mesh.normals = area_weighted_normals(object.mesh.positions, object.mesh.triangles);
+        } else {
+            // Normalised in float, as the engine normalises what it is given (and loaders what
+            // files give).
+            for (std::size_t v = 0; v < p.mesh.vertices(); ++v) {
+                object.mesh.normals.push_back(
+                    normalize_or_zero(glm::vec3(p.normals[3 * v], p.normals[3 * v + 1], p.normals[3 * v + 2])));
+            }
+        }
         object.material = std::uint32_t(i);
         scene.objects.push_back(std::move(object));
         Material material;
@@ -102,6 +129,7 @@ void add_pieces(Engine& engine, const std::vector<Piece>& pieces) {
         d.name = p.name;
         d.positions = p.mesh.positions;
         d.indices = p.mesh.indices;
+        d.normals = p.normals;
         d.motion = p.motion;
         d.transform = p.transform;
         d.surface = p.surface;

@@ -6,6 +6,7 @@
 #include "dynrt/engine/update_plan.h"
 #include "dynrt/scene/scene.h"
 #include "dynrt/scene/scene_error.h"
+#include "dynrt/scene/vertex_normals.h"
 #include "access_guard.h"
 #include "ray_batch.h"
 #include "rendering/frame_pipeline.h"
@@ -170,6 +171,12 @@ struct MeshSlot {
     int degraded_steps = 0;
     /// World positions of a deformable or exploding mesh with a transform (scratch).
     std::vector<glm::vec3> world;
+    /// Unit object-space shading normals, one per vertex: the caller's (normalised) or, when
+    /// computed_normals, area-weighted ones of the positions (recomputed when they change).
+    std::vector<glm::vec3> normals;
+    bool computed_normals = true;
+    /// World normals of a deformable or exploding mesh with a transform (scratch).
+    std::vector<glm::vec3> world_normals;
     /// Object-space bounds of the positions, while box_known (for rigid meshes' world extent).
     glm::vec3 box_lo{0.0f}, box_hi{0.0f};
     bool box_known = false;
@@ -198,6 +205,12 @@ struct Engine::Impl final : FixedPositions {
     bool updated = false;
     /// An update failed after touching the trees: the next one starts afresh.
     bool broken = false;
+
+    /// Normals and triangles replaced or removed since the last update: the trees' shading
+    /// still reads them (SceneAccel borrows them until its next update), so they are freed
+    /// only once an update has succeeded.
+    std::vector<std::vector<glm::vec3>> retired_normals;
+    std::vector<std::vector<glm::uvec3>> retired_triangles;
 
     AccessGuard guard;
     mutable std::mutex render_mutex;
@@ -241,6 +254,44 @@ struct Engine::Impl final : FixedPositions {
         }
         return scratch_positions;
     }
+    std::span<const glm::vec3> object_space_normals(std::size_t object) const override {
+        return meshes[object].normals;
+    }
+    std::span<const glm::vec3> world_normals(std::size_t object,
+                                             std::vector<glm::vec3>& scratch) const override {
+        const MeshSlot& mesh = meshes[object];
+        if (mesh.identity) return mesh.normals;
+        transform_normals(mesh, scratch);
+        return scratch;
+    }
+    /// normalize(cof(M) n) for the transform's linear part M (vertex_normals.h), in double.
+    static void transform_normals(const MeshSlot& mesh, std::vector<glm::vec3>& out) {
+        const glm::dmat3 cof = normal_matrix(glm::dmat3(mesh.transform));
+        out.resize(mesh.normals.size());
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, out.size(), 16384),
+                          [&](const tbb::blocked_range<std::size_t>& range) {
+                              for (std::size_t i = range.begin(); i < range.end(); ++i) {
+                                  out[i] = glm::vec3(normalize_or_zero(cof * glm::dvec3(mesh.normals[i])));
+                              }
+                          });
+    }
+    /// The caller's normals, checked (3 floats per vertex, finite) and normalised.
+    static std::vector<glm::vec3> checked_normals(std::span<const float> given, std::size_t vertices,
+                                                  const std::string& what) {
+        if (given.size() != 3 * vertices) {
+            throw invalid(what + ": normals hold " + std::to_string(given.size()) + " floats, " +
+                          std::to_string(3 * vertices) + " expected (3 per vertex)");
+        }
+        const std::span<const glm::vec3> normals(reinterpret_cast<const glm::vec3*>(given.data()), vertices);
+        if (const std::ptrdiff_t bad = first_non_finite(normals); bad >= 0) {
+            throw invalid(what + ": normal " + std::to_string(bad) + " is not finite " +
+                          format_vec(normals[std::size_t(bad)]));
+        }
+        std::vector<glm::vec3> out(vertices);
+        for (std::size_t v = 0; v < vertices; ++v) out[v] = normalize_or_zero(normals[v]);
+        return out;
+    }
+
     std::span<const glm::vec3> fixed_positions(std::size_t object) const {
         const MeshSlot& mesh = meshes[object];
         if (mesh.ownership == Ownership::borrow) {
@@ -401,6 +452,9 @@ MeshId Engine::add_mesh(const MeshDesc& desc) {
                                     desc.indices[3 * t + 2]};
     }
     object.material = std::uint32_t(id);
+    mesh.computed_normals = desc.normals.empty();
+    mesh.normals = mesh.computed_normals ? area_weighted_normals(positions, object.mesh.triangles)
+                                         : Impl::checked_normals(desc.normals, vertices, what);
     s.scene.objects.push_back(std::move(object));
     s.scene.materials.push_back(material_of(desc.surface, name));
     s.meshes.push_back(std::move(mesh));
@@ -408,7 +462,7 @@ MeshId Engine::add_mesh(const MeshDesc& desc) {
     return MeshId{std::uint32_t(id)};
 }
 
-void Engine::set_positions(MeshId id, std::span<const float> positions) {
+void Engine::set_positions(MeshId id, std::span<const float> positions, std::span<const float> normals) {
     Impl& s = *impl_;
     const AccessGuard::Write write(s.guard);
     MeshSlot& mesh = s.slot(id, "set_positions");
@@ -424,12 +478,20 @@ void Engine::set_positions(MeshId id, std::span<const float> positions) {
     }
     const std::span<const glm::vec3> given(reinterpret_cast<const glm::vec3*>(positions.data()),
                                            count);
+    // Checked before anything changes; computed normals are redone at the update.
+    std::vector<glm::vec3> new_normals;
+    if (!normals.empty()) new_normals = Impl::checked_normals(normals, count, what);
     if (mesh.ownership == Ownership::copy) {
         s.run([&] { s.check_positions(id.value, given, "new", false); });
         std::copy(given.begin(), given.end(), mesh.owned.begin());
     } else {
         mesh.borrowed = given;
         mesh.unchecked = true;
+    }
+    if (!normals.empty()) {
+        s.retired_normals.push_back(std::move(mesh.normals));
+        mesh.normals = std::move(new_normals);
+        mesh.computed_normals = false;
     }
     mesh.positions_changed = true;
     mesh.box_known = false;
@@ -469,8 +531,12 @@ void Engine::remove_mesh(MeshId id) {
     mesh.owned.clear();
     mesh.owned.shrink_to_fit();
     mesh.world.clear();
-    s.scene.objects[id.value].mesh.triangles.clear();
-    s.scene.objects[id.value].mesh.triangles.shrink_to_fit();
+    s.retired_normals.push_back(std::move(mesh.normals));
+    s.retired_normals.push_back(std::move(mesh.world_normals));
+    s.retired_triangles.push_back(std::move(s.scene.objects[id.value].mesh.triangles));
+    mesh.normals = {};
+    mesh.world_normals = {};
+    s.scene.objects[id.value].mesh.triangles = {};
     s.pipeline.invalidate(id.value);
     --s.live;
 }
@@ -505,18 +571,28 @@ FrameStats Engine::Impl::update() {
         state.changed = mesh.positions_changed || mesh.transform_changed;
         state.transform = mesh.transform;
         state.world_positions = {};
+        state.world_normals = {};
         if (mesh.unchecked) check_positions(i, mesh.positions(), "borrowed", true);
         const bool moving = motion_class == anim::MotionClass::deformable ||
                             motion_class == anim::MotionClass::exploding;
+        if (mesh.positions_changed && mesh.computed_normals && !mesh.removed) {
+            retired_normals.push_back(std::move(mesh.normals));
+            mesh.normals = area_weighted_normals(mesh.positions(), scene.objects[i].mesh.triangles);
+        }
         if (moving) {
             if (mesh.identity) {
                 state.world_positions = mesh.positions();
+                state.world_normals = mesh.normals;
             } else {
                 if (state.changed || mesh.world.size() != mesh.positions().size()) {
                     transform_positions(mesh, mesh.world);
                     check_positions(i, mesh.world, "transformed", true);
                 }
+                if (state.changed || mesh.world_normals.size() != mesh.normals.size()) {
+                    transform_normals(mesh, mesh.world_normals);
+                }
                 state.world_positions = mesh.world;
+                state.world_normals = mesh.world_normals;
             }
         } else if (motion_class == anim::MotionClass::rigid && (state.changed || !mesh.settled)) {
             check_world_extent(i, mesh);
@@ -538,6 +614,8 @@ FrameStats Engine::Impl::update() {
     updated = false;
     const FrameStats& stats = pipeline.update(scene, states, *this, policy, step, wall);
     broken = false;
+    retired_normals.clear();
+    retired_triangles.clear();
     for (std::size_t i = 0; i < meshes.size(); ++i) {
         MeshSlot& mesh = meshes[i];
         mesh.motion_class = classes[i];
@@ -601,6 +679,7 @@ FrameStats Engine::render(const View& view, const ImageView& image,
     }
     options.secondary.max_depth = settings.max_depth;
     options.secondary.cutoff = settings.cutoff;
+    options.smooth_normals = settings.smooth_normals;
     std::vector<PointLight> lights;
     for (const Light& light : settings.lights) {
         const glm::vec3 position = to_glm(light.position);

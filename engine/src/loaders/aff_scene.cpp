@@ -4,6 +4,7 @@
 #include "message_text.h"
 
 #include "dynrt/scene/scene_error.h"
+#include "dynrt/scene/vertex_normals.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
@@ -49,15 +50,25 @@ bool moves(const AffModel& model, const TransformNode& n) {
     return a && (!a->translations.empty() || !a->rotations.empty() || !a->scales.empty());
 }
 
-/// One triangle soup being gathered for an object.
+/// One triangle soup being gathered for an object: each shape's vertices with their normals
+/// (the file's, or the shape's own area-weighted ones: shapes never smooth each other).
 struct Soup {
-    std::vector<glm::vec3> positions;
+    std::vector<glm::vec3> positions, normals;
     std::vector<glm::uvec3> triangles;
 
-    void add(std::span<const glm::dvec3> points, std::span<const glm::uvec3> tris) {
+    /// Adds a shape; `point_normals` is empty (computed) or one per point.
+    void add(std::span<const glm::dvec3> points, std::span<const glm::uvec3> tris,
+             std::span<const glm::dvec3> point_normals = {}) {
         const auto base = std::uint32_t(positions.size());
         for (const glm::dvec3& p : points) positions.emplace_back(p);
         for (const glm::uvec3& t : tris) triangles.push_back(t + glm::uvec3(base));
+        if (point_normals.empty()) {
+            const std::vector<glm::vec3> own =
+                area_weighted_normals(std::span<const glm::vec3>(positions).subspan(base), tris);
+            normals.insert(normals.end(), own.begin(), own.end());
+        } else {
+            for (const glm::dvec3& n : point_normals) normals.emplace_back(normalize_or_zero(n));
+        }
     }
 };
 
@@ -213,6 +224,19 @@ private:
         return soups_[it->second].soup;
     }
 
+    /// Shape normals through the static transforms between the shape and its anchor (their
+    /// cofactor matrix, vertex_normals.h), not yet normalised.
+    std::vector<glm::dvec3> placed_normals(const Placement& p, std::span<const Vec3> normals) {
+        const glm::dmat3 m = normal_matrix(glm::dmat3(to_anchor_[std::size_t(p.node)]));
+        std::vector<glm::dvec3> out;
+        out.reserve(normals.size());
+        for (const Vec3& n : normals) {
+            check_finite(n, p.where, "normal");
+            out.push_back(m * to_dvec3(n));
+        }
+        return out;
+    }
+
     /// Shape points through the static transforms between the shape and its anchor.
     std::vector<glm::dvec3> placed_points(const Placement& p, std::span<const Vec3> points) {
         const glm::dmat4& m = to_anchor_[std::size_t(p.node)];
@@ -229,13 +253,9 @@ private:
         for (const Polygon& poly : model_.polygons) {
             std::vector<glm::uvec3> fan;
             for (std::uint32_t k = 1; k + 1 < poly.vertices.size(); ++k) fan.emplace_back(0, k, k + 1);
-            soup_for(poly).add(placed_points(poly, poly.vertices), fan);
+            soup_for(poly).add(placed_points(poly, poly.vertices), fan, placed_normals(poly, poly.normals));
         }
-        for (const Mesh& mesh : model_.meshes) {
-            std::vector<glm::uvec3> tris;
-            for (const auto& t : mesh.vertex_indices) tris.emplace_back(t[0], t[1], t[2]);
-            soup_for(mesh).add(placed_points(mesh, mesh.vertices), tris);
-        }
+        for (const Mesh& mesh : model_.meshes) add_mesh(mesh);
         for (const Cone& c : model_.cones) {
             check_finite(c.base, c.where, "'c' base");
             check_finite(c.apex, c.where, "'c' apex");
@@ -266,12 +286,43 @@ private:
         animated_triangles();
     }
 
+    /// An `m` block. With normals, its triangles index positions and normals separately: each
+    /// distinct (position, normal) pair becomes one vertex.
+    void add_mesh(const Mesh& mesh) {
+        std::vector<glm::uvec3> tris;
+        if (mesh.normal_indices.empty()) {
+            for (const auto& t : mesh.vertex_indices) tris.emplace_back(t[0], t[1], t[2]);
+            soup_for(mesh).add(placed_points(mesh, mesh.vertices), tris);
+            return;
+        }
+        const std::vector<glm::dvec3> points = placed_points(mesh, mesh.vertices);
+        const std::vector<glm::dvec3> normals = placed_normals(mesh, mesh.normals);
+        std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> vertex_of;
+        std::vector<glm::dvec3> corner_points, corner_normals;
+        for (std::size_t t = 0; t < mesh.vertex_indices.size(); ++t) {
+            glm::uvec3 tri;
+            for (int k = 0; k < 3; ++k) {
+                const std::pair<std::uint32_t, std::uint32_t> key{mesh.vertex_indices[t][std::size_t(k)],
+                                                                  mesh.normal_indices[t][std::size_t(k)]};
+                const auto [it, added] = vertex_of.try_emplace(key, std::uint32_t(corner_points.size()));
+                if (added) {
+                    corner_points.push_back(points[key.first]);
+                    corner_normals.push_back(normals[key.second]);
+                }
+                tri[k] = it->second;
+            }
+            tris.push_back(tri);
+        }
+        soup_for(mesh).add(corner_points, tris, corner_normals);
+    }
+
     void add_object(const SoupEntry& e) {
         if (e.soup.triangles.empty()) return;
         Object object;
         object.name = cat(anchor_name(e.anchor), "/fm", e.material < 0 ? std::string("-") : cat(e.material));
         object.mesh.positions = e.soup.positions;
         object.mesh.triangles = e.soup.triangles;
+        object.mesh.normals = e.soup.normals;
         object.material = std::uint32_t(e.material + 1);
         object.node = e.anchor < 0 ? -1 : scene_node_[std::size_t(e.anchor)];
         object.transform = rest_world(object.node);
@@ -313,7 +364,7 @@ private:
     void add_morphing_object(std::int32_t anchor, int material, const std::vector<float>& times,
                              const std::vector<const AnimatedTriangle*>& tris) {
         const std::size_t keys = times.size();
-        std::vector<std::vector<glm::vec3>> key_positions(keys);
+        std::vector<std::vector<glm::vec3>> key_positions(keys), key_normals(keys);
         Object object;
         for (const AnimatedTriangle* tri : tris) {
             const auto base = std::uint32_t(object.mesh.triangles.size() * 3);
@@ -321,11 +372,14 @@ private:
             for (std::size_t k = 0; k < keys; ++k) {
                 const std::vector<glm::dvec3> p = placed_points(*tri, tri->keys[k].positions);
                 for (const glm::dvec3& v : p) key_positions[k].emplace_back(v);
+                const std::vector<glm::dvec3> n = placed_normals(*tri, tri->keys[k].normals);
+                for (const glm::dvec3& v : n) key_normals[k].emplace_back(normalize_or_zero(v));
             }
         }
         object.name = cat(anchor_name(anchor), "/tpa fm", material < 0 ? std::string("-") : cat(material));
         object.material = std::uint32_t(material + 1);
         object.mesh.positions = key_positions[0];
+        object.mesh.normals = key_normals[0];
         if (keys == 1) {  // one key: a still triangle set
             object.node = anchor < 0 ? -1 : scene_node_[std::size_t(anchor)];
             object.transform = rest_world(object.node);
@@ -338,10 +392,16 @@ private:
         MorphTargets morph;
         morph.base_positions = key_positions[0];
         morph.default_weights.assign(keys - 1, 0.0);
+        // The keys' normals morph alike (then renormalised).
+        morph.base_normals = key_normals[0];
         for (std::size_t k = 1; k < keys; ++k) {
-            std::vector<glm::vec3> delta(key_positions[0].size());
-            for (std::size_t v = 0; v < delta.size(); ++v) delta[v] = key_positions[k][v] - key_positions[0][v];
+            std::vector<glm::vec3> delta(key_positions[0].size()), normal_delta(delta.size());
+            for (std::size_t v = 0; v < delta.size(); ++v) {
+                delta[v] = key_positions[k][v] - key_positions[0][v];
+                normal_delta[v] = key_normals[k][v] - key_normals[0][v];
+            }
             morph.position_deltas.push_back(std::move(delta));
+            morph.normal_deltas.push_back(std::move(normal_delta));
         }
         object.morph = std::move(morph);
         AnimationSampler weights;
@@ -415,19 +475,11 @@ private:
 
     // ---- What the model leaves out, for the report (README "BART", "Not modelled") ----
     void note_ignored() {
-        std::size_t textured = 0, normals = 0;
-        for (const Polygon& p : model_.polygons) {
-            textured += !p.texture.empty() || !p.uvs.empty();
-            normals += !p.normals.empty();
-        }
-        for (const Mesh& m : model_.meshes) {
-            textured += !m.texture.empty() || !m.uvs.empty();
-            normals += !m.normals.empty();
-        }
-        normals += model_.animated_triangles.size();
+        std::size_t textured = 0;
+        for (const Polygon& p : model_.polygons) textured += !p.texture.empty() || !p.uvs.empty();
+        for (const Mesh& m : model_.meshes) textured += !m.texture.empty() || !m.uvs.empty();
         std::vector<std::string>& out = scene_.ignored;
         if (textured > 0) out.push_back(cat("textures of ", textured, " shapes (colour from the material)"));
-        if (normals > 0) out.push_back(cat("per-vertex normals of ", normals, " shapes (shading uses the geometric normal)"));
         bool coloured = false;
         for (const Light& l : model_.lights) coloured = coloured || (l.color && !((*l.color)[0] == (*l.color)[1] && (*l.color)[1] == (*l.color)[2]));
         if (coloured) out.push_back("light colours (each light is white, of their mean intensity)");

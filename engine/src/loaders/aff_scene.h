@@ -3,8 +3,14 @@
 //
 // Geometry: polygons are fanned from their first vertex (as BART's own converters do), mesh
 // blocks keep their triangles, cones and spheres are tessellated (kAffConeSegments around,
-// no end caps, as NFF cones have none), `tt`/`ttp` are single triangles. Texture coordinates,
-// texture names and per-vertex normals are dropped: colour comes from the material.
+// no end caps, as NFF cones have none), `tt`/`ttp` are single triangles. Texture coordinates
+// and texture names are dropped: colour comes from the material.
+// Normals: the file's per-vertex normals (`pp`, `ttp`, `m` with `normals`, `tpa` keys, whose
+// normals morph with their positions) go through the static transforms by their cofactor
+// matrix (vertex_normals.h) and are normalised; an `m` block whose triangles index normals
+// apart from positions gets one vertex per distinct (position, normal) pair. Shapes without
+// normals (`p`, `tt`, `s`, `c`, `m` without) get their own area-weighted ones, computed per
+// shape: a polygon stays flat, a sphere or cone is smooth, and no two shapes smooth each other.
 //
 // Motion, following BART's classification by data:
 //  - An `x NAME` transform with a `k NAME` block is an animated node: translation and scale

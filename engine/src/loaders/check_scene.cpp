@@ -1,5 +1,6 @@
 // The invariants every later stage may rely on without checking again: triangles exist, indices
-// are in range, positions and transforms are finite, material indices are valid, and every
+// are in range, positions, normals (none, or one per vertex) and transforms are finite, material
+// indices are valid, and every
 // material's Whitted terms are usable (reflectance and transmittance finite and >= 0, ior finite
 // and > 0: the refraction maths divides by it).
 
@@ -67,6 +68,15 @@ void check_object(const Scene& scene, const Object& object) {
     for (std::size_t v = 0; v < positions.size(); ++v) {
         if (!is_finite(positions[v])) {
             fail(scene, &object, cat("vertex ", v, " position ", to_text(positions[v]), " is not finite"));
+        }
+    }
+    const std::vector<glm::vec3>& normals = object.mesh.normals;
+    if (!normals.empty() && normals.size() != positions.size()) {
+        fail(scene, &object, cat(normals.size(), " normals for ", positions.size(), " vertices"));
+    }
+    for (std::size_t v = 0; v < normals.size(); ++v) {
+        if (!is_finite(normals[v])) {
+            fail(scene, &object, cat("vertex ", v, " normal ", to_text(normals[v]), " is not finite"));
         }
     }
     const std::vector<glm::uvec3>& triangles = object.mesh.triangles;

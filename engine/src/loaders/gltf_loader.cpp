@@ -7,6 +7,7 @@
 
 #include "dynrt/engine/scene_loading.h"
 #include "dynrt/scene/scene_error.h"
+#include "dynrt/scene/vertex_normals.h"
 
 #include "dynrt/anim/morphing.h"
 
@@ -188,6 +189,10 @@ public:
             fail(cat("no triangles: the default scene has no triangle primitive (", skipped_,
                      " other primitives skipped)"));
         }
+        // Primitives without NORMAL get area-weighted ones. glTF 2.0 section 3.7.2.1 asks for
+        // flat normals there; dynrt smooths shared vertices instead (README "Shading normals"),
+        // and `--normals flat` gives the specification's flat shading.
+        add_missing_normals(scene);
         check_scene(scene);
         return scene;
     }
@@ -277,6 +282,13 @@ private:
                 std::iota(indices.begin(), indices.end(), 0u);
             }
             object.mesh.triangles = assemble_triangles(*topology, indices);
+            // NORMAL (glTF 2.0 section 3.7.2.1): unit vectors, renormalised as read (quantised
+            // ones are not exactly unit). Without it add_missing_normals computes them below.
+            if (const auto normal = primitive.attributes.find("NORMAL"); normal != primitive.attributes.end()) {
+                object.mesh.normals =
+                    read_vec3_attribute(model_, normal->second, object.mesh.positions.size(), "NORMAL");
+                for (glm::vec3& n : object.mesh.normals) n = normalize_or_zero(n);
+            }
             add_morph_targets(primitive, owner, object);
             if (owner.skin) {
                 object.skin = skins.read_weights(primitive, *owner.skin, scene.skins, object.mesh.positions.size());
@@ -309,13 +321,19 @@ private:
         scene.objects.push_back(std::move(object));
     }
 
-    /// Reads the primitive's morph targets into `object`, with mesh.positions morphed by the
-    /// default weights (in double, rounded once) so unanimated code sees the morphed shape.
+    /// Reads the primitive's morph targets into `object`, with mesh.positions (and normals)
+    /// morphed by the default weights (in double, rounded once) so unanimated code sees the
+    /// morphed shape.
     void add_morph_targets(const tinygltf::Primitive& primitive, const PrimitiveOwner& owner, Object& object) const {
-        object.morph = read_morph_targets(model_, owner.node, owner.mesh, primitive, object.mesh.positions);
+        object.morph = read_morph_targets(model_, owner.node, owner.mesh, primitive, object.mesh.positions,
+                                          object.mesh.normals);
         if (!object.morph) return;
         for (std::size_t v = 0; v < object.mesh.positions.size(); ++v) {
             object.mesh.positions[v] = glm::vec3(anim::morphed_position(*object.morph, object.morph->default_weights, v));
+        }
+        if (object.morph->normal_deltas.empty()) return;
+        for (std::size_t v = 0; v < object.mesh.normals.size(); ++v) {
+            object.mesh.normals[v] = glm::vec3(anim::morphed_normal(*object.morph, object.morph->default_weights, v));
         }
     }
 

@@ -22,9 +22,28 @@ std::size_t gltf_morph_target_count(const tinygltf::Mesh& mesh) {
     return count;
 }
 
+std::vector<glm::vec3> read_vec3_attribute(const tinygltf::Model& model, int accessor, std::size_t vertex_count,
+                                           const std::string& what) {
+    std::vector<double> numbers;
+    try {
+        numbers = read_numbers(model, accessor, TINYGLTF_TYPE_VEC3, NormalizedIntegers::any);
+    } catch (const GltfDataError& e) {
+        throw GltfDataError(cat(what, ": ", e.what()));
+    }
+    if (numbers.size() != 3 * vertex_count) {
+        throw GltfDataError(cat(what, " has ", numbers.size() / 3, " elements for ", vertex_count, " positions"));
+    }
+    std::vector<glm::vec3> values(vertex_count);
+    for (std::size_t v = 0; v < vertex_count; ++v) {
+        values[v] = glm::vec3(float(numbers[3 * v]), float(numbers[3 * v + 1]), float(numbers[3 * v + 2]));
+    }
+    return values;
+}
+
 std::optional<MorphTargets> read_morph_targets(const tinygltf::Model& model, const tinygltf::Node& node,
                                                const tinygltf::Mesh& mesh, const tinygltf::Primitive& primitive,
-                                               const std::vector<glm::vec3>& base) {
+                                               const std::vector<glm::vec3>& base,
+                                               const std::vector<glm::vec3>& base_normals) {
     const std::size_t count = gltf_morph_target_count(mesh);
     MorphTargets morph;
     bool moves_positions = false;
@@ -58,6 +77,23 @@ std::optional<MorphTargets> read_morph_targets(const tinygltf::Model& model, con
     check_weights(node.weights, "node");
     if (!moves_positions) return std::nullopt;
     morph.base_positions = base;
+    // Normal displacements, when the mesh has normals and some target moves them.
+    bool moves_normals = false;
+    for (std::size_t i = 0; i < count && !base_normals.empty(); ++i) {
+        moves_normals = moves_normals || primitive.targets[i].count("NORMAL") != 0;
+    }
+    if (moves_normals) {
+        morph.base_normals = base_normals;
+        for (std::size_t i = 0; i < count; ++i) {
+            const auto normal = primitive.targets[i].find("NORMAL");
+            if (normal == primitive.targets[i].end()) {
+                morph.normal_deltas.emplace_back(base.size(), glm::vec3(0.0f));
+                continue;
+            }
+            morph.normal_deltas.push_back(
+                read_vec3_attribute(model, normal->second, base.size(), cat("morph target ", i, " NORMAL")));
+        }
+    }
     morph.default_weights = !node.weights.empty() ? node.weights
                             : !mesh.weights.empty() ? mesh.weights
                                                     : std::vector<double>(count, 0.0);

@@ -3,6 +3,7 @@
 
 #include "dynrt/engine/scene_loading.h"
 #include "dynrt/scene/scene_error.h"
+#include "dynrt/scene/vertex_normals.h"
 
 #include "message_text.h"
 #include "procedural_meshes.h"
@@ -228,6 +229,9 @@ Scene make_procedural_scene(const std::string& spec, std::uint64_t max_triangles
         }
         scene.objects.push_back(std::move(object));
     }
+    // Area-weighted vertex normals: the sphere's shared vertices make it smooth, the plane
+    // stays flat and the soup's unshared triangles keep their facets.
+    add_missing_normals(scene);
     check_scene(scene);
     return scene;
 }

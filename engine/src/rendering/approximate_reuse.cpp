@@ -160,6 +160,7 @@ void trace_frame_approximate(const TraceInputs& in, const Camera& camera,
                        cache.settings.height != height || cache.settings.tracer != options.tracer ||
                        cache.settings.background != options.background ||
                        cache.settings.ambient != options.ambient ||
+                       cache.settings.smooth_normals != options.smooth_normals ||
                        boxes.size() < cache.object_boxes.size();
     const bool moved = !fresh && !same_camera(cache.camera, camera);
     const bool relit = !fresh && !same_lights(cache.lights, lights);

@@ -30,7 +30,8 @@ bool same_image_settings(const TraceSettings& a, const TraceSettings& b) {
     return a.width == b.width && a.height == b.height && a.tracer == b.tracer &&
            a.hit_buffers == b.hit_buffers && a.background == b.background &&
            a.ambient == b.ambient && a.packet.lanes == b.packet.lanes &&
-           a.secondary.max_depth == b.secondary.max_depth && a.secondary.cutoff == b.secondary.cutoff;
+           a.secondary.max_depth == b.secondary.max_depth && a.secondary.cutoff == b.secondary.cutoff &&
+           a.smooth_normals == b.smooth_normals;
 }
 
 bool same_whitted_terms(const Material& a, const Material& b) {

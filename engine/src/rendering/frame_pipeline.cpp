@@ -77,6 +77,7 @@ void FramePipeline::trace(const Scene& scene, const Camera& camera, const TraceS
         object_material_.push_back(std::int32_t(object.material));
     }
     out.stats = update_stats_;
+    accel_.use_vertex_normals(options.smooth_normals);
     const TraceInputs inputs{accel_, materials_, object_material_, lights, scene.materials};
     // A reflection or refraction can show any object from any pixel whose hit spawns one:
     // exact reuse traces such pixels again whenever anything changed (exact_reuse.h), while the

@@ -78,6 +78,18 @@ public:
         poser_.fixed_world_positions(object, posed_, scratch);
         return scratch;
     }
+    std::span<const glm::vec3> object_space_normals(std::size_t object) const override {
+        return poser_.object_space_normals(object);
+    }
+    std::span<const glm::vec3> world_normals(std::size_t object,
+                                             std::vector<glm::vec3>& scratch) const override {
+        const std::vector<glm::vec3>& posed = posed_.objects[object].normals;
+        if (!posed.empty()) return posed;
+        // At the identity the cofactor matrix is the identity too: the object's own normals.
+        if (posed_.objects[object].transform == glm::dmat4(1.0)) return poser_.object_space_normals(object);
+        poser_.fixed_world_normals(object, posed_, scratch);
+        return scratch;
+    }
 
 private:
     const anim::ScenePoser& poser_;
@@ -207,6 +219,8 @@ void Renderer::update(const Scene& scene, int frame) {
         reset();
         anim::PoseSettings settings = options_.pose;
         settings.skip_fixed_positions = true;
+        // Flat shading needs no normals: none are posed.
+        settings.normals = options_.smooth_normals;
         s.poser.emplace(scene, std::move(settings));
         s.lights.clear();
         s.scene = &scene;
@@ -218,7 +232,8 @@ void Renderer::update(const Scene& scene, int frame) {
     s.states.resize(s.posed.objects.size());
     for (std::size_t i = 0; i < s.states.size(); ++i) {
         const anim::PosedObject& pose = s.posed.objects[i];
-        s.states[i] = ObjectState{pose.motion_class, pose.changed, pose.transform, pose.positions};
+        s.states[i] = ObjectState{pose.motion_class, pose.changed, pose.transform, pose.positions,
+                                  pose.normals};
     }
     // ---- Plan and update the trees ----
     s.pipeline.update(scene, s.states, PoserPositions(*s.poser, s.posed), options_, frame,

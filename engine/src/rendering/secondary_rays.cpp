@@ -139,7 +139,14 @@ void spawn(const SecondaryFrame& f, const TileShadowOrigins& origins,
             const glm::vec3 d(-surface.view[0][lane], -surface.view[1][lane], -surface.view[2][lane]);
             const glm::vec3 n(surface.normal[0][lane], surface.normal[1][lane], surface.normal[2][lane]);
             const glm::vec3 path(weight[0][lane], weight[1][lane], weight[2][lane]);
-            const Split split = split_at(m, d, n, origins.back_hit.test(lane));
+            // The directions take the shading normal, or the geometric one where it would
+            // send a ray into its own surface (shading_split_holds).
+            const glm::vec3 shading(surface.shading_normal[0][lane], surface.shading_normal[1][lane],
+                                    surface.shading_normal[2][lane]);
+            Split split = split_at(m, d, shading, origins.back_hit.test(lane));
+            if (shading != n && !shading_split_holds(d, shading, n, split.reflected, split.refracted)) {
+                split = split_at(m, d, n, origins.back_hit.test(lane));
+            }
             const glm::vec3 wr = path * split.wr, wt = path * split.wt;
             if (max_channel(wr) >= f.tracing.settings.cutoff) {
                 if (reflection == nullptr) {

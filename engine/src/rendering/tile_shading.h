@@ -1,8 +1,9 @@
 #pragma once
 // A tile's hits made ready for shadow rays and shading, shared by the renderer's exact and
 // adaptive paths: where each hit's shadow rays start (bit-identical between the packet and
-// single-ray tracers), the tile's shadow packets toward a light, and the Phong shading and
-// output writes of a whole tile.
+// single-ray tracers), the shading normal each hit is lit with (its vertex normals
+// interpolated, renderer.h "Shading normals"), the tile's shadow packets toward a light, and
+// the Phong shading and output writes of a whole tile.
 
 #include "dynrt/bvh/triangle.h"
 #include "dynrt/bvh/two_level_bvh.h"
@@ -67,12 +68,20 @@ struct ShadowOrigin {
 /// One tile's hits as shading and shadow rays need them, lane by lane in SIMD: facing normal,
 /// hit point and offset origin by exactly the operations of facing_normal, hit_point and
 /// offset_along_normal (glm's cross, normalize = v * (1 / sqrt(dot)), dot = (x*x + y*y) +
-/// z*z), so the shadow rays are bit-identical to the single-ray tracer's; plus the view
-/// vector and material per lane, so the shading kernel reads the same arrays while they are
-/// hot.
+/// z*z), so the shadow rays are bit-identical to the single-ray tracer's; plus the shading
+/// normal, the view vector and material per lane, so the shading kernel reads the same arrays
+/// while they are hot.
+///
+/// The shading normal (renderer.h, "Shading normals"): where SceneAccel::world_vertex_normals
+/// gives the hit triangle's vertex normals n0, n1, n2, it is s = (1 - u - v) n0 + u n1 + v n2
+/// normalised, negated when s . n < 0 for the facing normal n (so it lies on the eye's side
+/// exactly when the geometric normal does, whichever way the file's normals and winding
+/// point); where s . s <= kMinShadingNormalLength2 (opposed vertex normals) or there are none, it is
+/// n itself, bit for bit.
 struct TileShadowOrigins {
-    packet::SurfacePacket surface;  ///< hit mask, point, normal, view, material
+    packet::SurfacePacket surface;  ///< hit mask, point, normals, view, material
     alignas(64) float origin[3][packet::kPacketRays];
+
 
     /// Lanes whose ray met the back of its triangle (against the winding normal (v1 - v0) x
     /// (v2 - v0), which `surface.normal` was turned from): a refracted ray leaves the inside.
@@ -121,22 +130,29 @@ struct TileShadowOrigins {
         // Gather each hit's triangle and barycentrics into lanes; lanes without a hit get a
         // harmless triangle and are never used.
         alignas(64) float v[9][packet::kPacketRays];
+        alignas(64) float vertex_normal[9][packet::kPacketRays];
         alignas(64) float bary[2][packet::kPacketRays];
         constexpr float kHarmless[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
         hit = packet::LaneMask{};
         back_hit = packet::LaneMask{};
+        packet::LaneMask smooth;  // lanes whose triangle has vertex normals
         for (int lane = 0; lane < packet::kPacketRays; ++lane) {
             const bvh::InstanceHit* ih = hit_of(lane);
             float coords[9];
+            glm::vec3 normals[3] = {glm::vec3(0.0f), glm::vec3(0.0f), glm::vec3(0.0f)};
             if (ih != nullptr) {
                 hit.set(lane);
                 const bvh::Triangle tri = accel.world_triangle(ih->object, ih->hit.prim);
                 std::memcpy(coords, &tri, sizeof coords);
                 surface.material[lane] = object_material[ih->object];
+                if (accel.world_vertex_normals(ih->object, ih->hit.prim, normals)) smooth.set(lane);
             } else {
                 std::memcpy(coords, kHarmless, sizeof coords);
             }
             for (int k = 0; k < 9; ++k) v[k][lane] = coords[k];
+            for (int k = 0; k < 3; ++k) {
+                for (int a = 0; a < 3; ++a) vertex_normal[3 * k + a][lane] = normals[k][a];
+            }
             bary[0][lane] = ih ? ih->hit.u : 0.0f;
             bary[1][lane] = ih ? ih->hit.v : 0.0f;
         }
@@ -169,6 +185,21 @@ struct TileShadowOrigins {
             // hit_point: (1 - u - v) v0 + u v1 + v v2.
             const F u = L::load(bary[0] + base), w = L::load(bary[1] + base);
             const F b0 = L::splat(1.0f) - u - w;
+            // The shading normal: the vertex normals interpolated alike (see above).
+            F shading[3] = {nv[0], nv[1], nv[2]};
+            if (const std::uint32_t smooth_bits = smooth.extract(base, W); smooth_bits != 0) {
+                F sn[3];
+                for (int a = 0; a < 3; ++a) {
+                    sn[a] = b0 * L::load(vertex_normal[a] + base) + u * L::load(vertex_normal[3 + a] + base) +
+                            w * L::load(vertex_normal[6 + a] + base);
+                }
+                const F length2 = sn[0] * sn[0] + sn[1] * sn[1] + sn[2] * sn[2];
+                const I usable = L::from_bits(smooth_bits) & (length2 > L::splat(kMinShadingNormalLength2));
+                const F inv = L::splat(1.0f) / L::sqrt(L::select(usable, length2, L::splat(1.0f)));
+                const I away = (sn[0] * nv[0] + sn[1] * nv[1] + sn[2] * nv[2]) < L::splat(0.0f);
+                const F sign = L::select(away, L::splat(-1.0f), L::splat(1.0f));
+                for (int a = 0; a < 3; ++a) shading[a] = L::select(usable, sign * (sn[a] * inv), nv[a]);
+            }
             // triangle_magnitude: the largest |coordinate| of the three vertices.
             F magnitude_lanes = L::splat(0.0f);
             for (const F* vertex : {v0, v1, v2}) {
@@ -188,6 +219,7 @@ struct TileShadowOrigins {
                 const F moved = L::float_of(bits + L::select(p < L::splat(0.0f), -ulps, ulps));
                 const F near_origin = p + L::splat(kShadowFloatScale) * magnitude_lanes * nv[a];
                 L::store(surface.normal[a] + base, nv[a]);
+                L::store(surface.shading_normal[a] + base, shading[a]);
                 L::store(surface.point[a] + base, p);
                 L::store(origin[a] + base,
                          L::select(L::abs(p) < L::splat(kShadowOrigin) * magnitude_lanes, near_origin, moved));
@@ -236,6 +268,20 @@ struct TileShadowOrigins {
         }
     }
 };
+
+/// Whether Whitted's reflected and refracted directions computed with the shading normal
+/// `shading` hold at a hit of a ray along `d` whose facing geometric normal is `n`: the ray
+/// comes from the shading normal's side (d . shading < 0), the reflected direction leaves
+/// above the geometric surface (reflected . n > 0) and the refracted one, when there is one
+/// (not 0), goes below it (refracted . n < 0). Otherwise (a smooth normal bent past the ray, or
+/// past the mirror direction near a silhouette) the whole split is made with `n` instead
+/// (renderer.h, "Shading normals"), so no secondary ray starts into its own surface.
+inline bool shading_split_holds(const glm::vec3& d, const glm::vec3& shading, const glm::vec3& n,
+                                const glm::vec3& reflected, const glm::vec3& refracted) {
+    const bool refracts = refracted != glm::vec3(0.0f);
+    return glm::dot(d, shading) < 0.0f && glm::dot(reflected, n) > 0.0f &&
+           (!refracts || glm::dot(refracted, n) < 0.0f);
+}
 
 /// What shading a tile needs besides the tile's own data; fixed for a frame.
 struct TileShading {

@@ -2,6 +2,7 @@
 
 #include "dynrt/bvh/refit.h"
 #include "dynrt/engine/stopwatch.h"
+#include "dynrt/scene/vertex_normals.h"
 
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
@@ -306,6 +307,24 @@ void SceneAccel::update(const Scene& scene, std::span<const ObjectState> states,
         }
     }
 
+    // ---- Vertex normals, for shading: borrowed spans, refreshed every update ----
+    for (std::size_t i = 0; i < count; ++i) {
+        ObjectTree& object = objects_[i];
+        object.corners = scene.objects[i].mesh.triangles;
+        switch (states[i].motion_class) {
+            case anim::MotionClass::static_:
+                object.normals = object.own_normals;  // taken when the static group was built
+                break;
+            case anim::MotionClass::rigid:
+                object.normals = fixed.object_space_normals(i);
+                object.normal_to_world = glm::mat3(normal_matrix(glm::dmat3(states[i].transform)));
+                break;
+            default:
+                object.normals = states[i].world_normals;
+                break;
+        }
+    }
+
     // ---- Top level: the static group and one instance per other object, every frame ----
     clock.lap_ms();
     std::vector<bvh::Instance> instances;
@@ -419,6 +438,8 @@ void SceneAccel::build_static_group(const Scene& scene, std::span<const ObjectSt
         const Mesh& mesh = scene.objects[i].mesh;
         const std::span<bvh::Triangle> out(all.data() + first, mesh.triangles.size());
         object_boxes_[i] = gather(mesh, fixed.world(i, positions_), out);
+        const std::span<const glm::vec3> normals = fixed.world_normals(i, positions_);
+        objects_[i].own_normals.assign(normals.begin(), normals.end());
         static_objects_.push_back(std::uint32_t(i));
         static_first_.push_back(std::uint32_t(first));
         std::fill(static_slot_of_.begin() + std::ptrdiff_t(first),
@@ -451,6 +472,19 @@ bvh::Triangle SceneAccel::world_triangle(std::size_t object, std::uint32_t prim)
     return bvh::Triangle{transform_point(o.object_to_world, t.v0),
                          transform_point(o.object_to_world, t.v1),
                          transform_point(o.object_to_world, t.v2)};
+}
+
+bool SceneAccel::world_vertex_normals(std::size_t object, std::uint32_t prim, glm::vec3 (&out)[3]) const {
+    const ObjectTree& o = objects_[object];
+    if (!vertex_normals_ || o.normals.empty()) return false;
+    const glm::uvec3& corner = o.corners[prim];
+    out[0] = o.normals[corner.x];
+    out[1] = o.normals[corner.y];
+    out[2] = o.normals[corner.z];
+    if (o.motion_class == anim::MotionClass::rigid) {
+        for (glm::vec3& n : out) n = normalize_or_zero(o.normal_to_world * n);
+    }
+    return true;
 }
 
 void SceneAccel::object_world_parts(std::size_t i, std::size_t max_parts,

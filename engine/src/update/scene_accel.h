@@ -22,6 +22,7 @@
 #include "dynrt/engine/update_plan.h"
 #include "dynrt/scene/scene.h"
 
+#include <glm/mat3x3.hpp>
 #include <glm/mat4x4.hpp>
 
 #include <cstddef>
@@ -40,6 +41,15 @@ public:
     /// `scratch`, which it may fill.
     virtual std::span<const glm::vec3> world(std::size_t object,
                                              std::vector<glm::vec3>& scratch) const = 0;
+    /// A rigid object's unit vertex normals in object space, indexed as object_space(), or
+    /// empty (flat shading). Read at every update; must stay valid until the next one.
+    virtual std::span<const glm::vec3> object_space_normals(std::size_t /*object*/) const { return {}; }
+    /// A static object's world-space unit vertex normals, indexed as world(), in storage of
+    /// its own or `scratch`; empty for flat shading. Copied when the static group is built.
+    virtual std::span<const glm::vec3> world_normals(std::size_t /*object*/,
+                                                     std::vector<glm::vec3>& /*scratch*/) const {
+        return {};
+    }
 };
 
 class SceneAccel {
@@ -73,6 +83,17 @@ public:
     /// World-space triangle `prim` of `object` at the last update (for shading hits):
     /// transformed from object space for rigid objects, in float, the same for every caller.
     bvh::Triangle world_triangle(std::size_t object, std::uint32_t prim) const;
+
+    /// The world-space unit normals of triangle `prim`'s three vertices at the last update
+    /// (for smooth shading), into `out` in corner order; false, leaving `out` alone, when the
+    /// object has none (ObjectState::world_normals, FixedPositions::object_space_normals and
+    /// world_normals gave none) or use_vertex_normals(false) turned them off. A rigid object's
+    /// are turned by the cofactor matrix of its transform and renormalised, in float.
+    bool world_vertex_normals(std::size_t object, std::uint32_t prim, glm::vec3 (&out)[3]) const;
+
+    /// Whether world_vertex_normals gives the objects' normals (true after construction); a
+    /// trace sets it from TraceSettings::smooth_normals. Not thread-safe with traces.
+    void use_vertex_normals(bool on) { vertex_normals_ = on; }
 
     /// Turns a hit on the static group (see below) into the object and triangle it hit; any
     /// other hit is left as it is. Every hit from top_level() goes through it before use.
@@ -129,6 +150,16 @@ private:
         /// The builder of its current tree, and what its builds and refits measured.
         bvh::BuildMethod built_with = bvh::BuildMethod::binned_sah;
         ObjectCosts costs;
+        /// Its mesh's triangles (the scene's, borrowed) and its unit vertex normals in the
+        /// space of its triangles, or empty: world space for static objects (own_normals, a
+        /// copy taken when the static group is built), deformable and exploding ones
+        /// (borrowed from ObjectState), object space for rigid ones (borrowed from
+        /// FixedPositions), which normal_to_world turns (the cofactor matrix of
+        /// object_to_world).
+        std::span<const glm::uvec3> corners;
+        std::span<const glm::vec3> normals;
+        std::vector<glm::vec3> own_normals;
+        glm::mat3 normal_to_world{1.0f};
     };
 
     /// Builds `object`'s tree from its triangles with `config`'s builder, and records the
@@ -169,6 +200,7 @@ private:
     double last_trace_ms_ = 0.0;
     double last_scene_sah_ = 0.0;
     double last_root_area_ = 0.0;
+    bool vertex_normals_ = true;
 };
 
 }  // namespace dynrt

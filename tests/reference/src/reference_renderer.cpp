@@ -19,6 +19,7 @@ ReferenceShading shading_from(const Scene& scene, const RenderOptions& options) 
     shading.ambient = options.ambient;
     shading.max_depth = options.secondary.max_depth;
     shading.cutoff = options.secondary.cutoff;
+    shading.smooth_normals = options.smooth_normals;
     return shading;
 }
 
@@ -59,6 +60,71 @@ private:
         return shade_hit(hit, p, ray.dir, depth, weight, lateral, deviation.angle);
     }
 
+    /// The reflected and refracted weights and directions at a hit (the model at the top of
+    /// reference_renderer.h), made with `normal`.
+    struct Split {
+        glm::dvec3 wr{0.0}, wt{0.0};
+        glm::dvec3 reflected{0.0}, refracted{0.0};
+        double cos_i = 0.0, cos_t = 0.0, sin2_t = 0.0;
+        bool refracts = false, total_internal = false;
+    };
+
+    static Split split_with(const Material& material, const glm::dvec3& d, const glm::dvec3& normal,
+                            double eta) {
+        Split s;
+        s.cos_i = -glm::dot(d, normal);
+        s.reflected = glm::normalize(d - 2.0 * glm::dot(d, normal) * normal);
+        const glm::dvec3 kr(material.reflectance), kt(material.transmittance);
+        s.wr = kr;
+        if (kt == glm::dvec3(0.0)) return s;
+        s.sin2_t = eta * eta * (1.0 - s.cos_i * s.cos_i);
+        if (s.sin2_t > 1.0) {
+            s.wr = kr + kt;
+            s.total_internal = true;
+            return s;
+        }
+        s.cos_t = std::sqrt(1.0 - s.sin2_t);
+        // Unpolarised Fresnel reflectance; a ray in the surface's plane (both cosines 0,
+        // flagged by the caller) reflects fully.
+        const double s_den = eta * s.cos_i + s.cos_t, p_den = s.cos_i + eta * s.cos_t;
+        const double rs = s_den > 0.0 ? (eta * s.cos_i - s.cos_t) / s_den : 1.0;
+        const double rp = p_den > 0.0 ? (s.cos_i - eta * s.cos_t) / p_den : 1.0;
+        const double fresnel = 0.5 * (rs * rs + rp * rp);
+        s.wr = kr + fresnel * kt;
+        s.wt = (1.0 - fresnel) * kt;
+        s.refracted = glm::normalize(eta * d + (eta * s.cos_i - s.cos_t) * normal);
+        s.refracts = true;
+        return s;
+    }
+
+    /// The shading normal at `hit` (facing geometric normal n): its triangle's vertex normals
+    /// interpolated with the exact barycentrics, normalised and turned to n's side, or n
+    /// without them (flat shading, none posed, or too short). `rate` gets a bound on how fast
+    /// it turns per unit of distance along the surface (0 for n), for the deviation budget.
+    glm::dvec3 shading_normal(TriangleRef tri, const ReferenceHit& hit, const glm::dvec3& n, double& rate) {
+        rate = 0.0;
+        glm::dvec3 vn[3];
+        if (!shading_.smooth_normals || !tracer_.vertex_normals(tri, vn)) return n;
+        const glm::dvec3 s = (1.0 - hit.u - hit.v) * vn[0] + hit.u * vn[1] + hit.v * vn[2];
+        const double length2 = glm::dot(s, s);
+        // The renderer's threshold, in float: near it either normal may be taken.
+        if (std::abs(length2 - double(kMinShadingNormalLength2)) < double(kMinShadingNormalLength2)) {
+            pixel_.shading_ambiguous = true;
+        }
+        if (!(length2 > double(kMinShadingNormalLength2))) return n;
+        const glm::dvec3 unit = s / std::sqrt(length2);
+        const double side = glm::dot(unit, n);
+        if (std::abs(side) < tol_.terminator) pixel_.shading_ambiguous = true;
+        // |grad u| = |v2 - v0| / |N| and |grad v| = |v1 - v0| / |N|, N = (v1 - v0) x (v2 - v0).
+        glm::dvec3 v[3];
+        tracer_.vertices(tri, v);
+        const double twice_area = glm::length(glm::cross(v[1] - v[0], v[2] - v[0]));
+        rate = (glm::length(vn[1] - vn[0]) * glm::length(v[2] - v[0]) +
+                glm::length(vn[2] - vn[0]) * glm::length(v[1] - v[0])) /
+               (twice_area * std::sqrt(length2));
+        return side < 0.0 ? -unit : unit;
+    }
+
     /// Colour at hit `hit` (point p) of a ray along `dir` (any length) of depth `depth` and
     /// path weight `weight`, whose float counterpart deviates sideways by `lateral` at the hit
     /// and in direction by `angle`.
@@ -69,10 +135,12 @@ private:
         const glm::dvec3 n = glm::dot(winding, dir) > 0.0 ? -winding : winding;
         if (depth == 0) pixel_.normal = n;
         const glm::dvec3 view = -glm::normalize(dir);
-        const double cos_i = glm::dot(view, n);
+        const double cos_g = glm::dot(view, n);
         // Where the float ray may have met the surface instead: its sideways deviation seen
         // on the surface (a graze is flagged below, so its clamp only bounds the work).
-        const double point_error = lateral / std::max(cos_i, tol_.terminator);
+        const double point_error = lateral / std::max(cos_g, tol_.terminator);
+        double normal_rate = 0.0;
+        const glm::dvec3 ns = shading_normal(tri, hit, n, normal_rate);
 
         const Object& object = scene_.objects.at(static_cast<std::size_t>(hit.object));
         const Material& material = scene_.materials.at(object.material);
@@ -80,56 +148,71 @@ private:
         const double shininess = material.shininess;
 
         glm::dvec3 color = shading_.ambient * kd;
+        // How much the colour may change per unit of turn of the shading normal: for each
+        // lit light, I (kd + 4 p ks (r.v)^(p - 1)), as |d(s.l)| <= |ds| and |d(r.v)| <= 4 |ds|.
+        double sensitivity = 0.0;
+        const double kd_max = max_channel(kd), ks_max = max_channel(ks);
         for (const PointLight& light : shading_.lights) {
             const glm::dvec3 light_pos(light.position);
             const glm::dvec3 l = glm::normalize(light_pos - p);
-            const double n_dot_l = glm::dot(n, l);
-            if (std::abs(n_dot_l) < tol_.terminator) pixel_.shading_ambiguous = true;
-            if (!(n_dot_l > 0.0)) continue;
+            // The shadow ray is cast by the geometric normal's side, the terms lit with the
+            // shading normal's (continuous at its own n . l = 0).
+            const double facing = glm::dot(n, l);
+            if (std::abs(facing) < tol_.terminator) pixel_.shading_ambiguous = true;
+            if (!(facing > 0.0)) continue;
             const ReferenceOcclusion occlusion =
                 tracer_.occluded(p, light_pos, tri, tol_, point_error);
             if (occlusion.ambiguous) pixel_.shading_ambiguous = true;
             if (occlusion.occluded) continue;
-            const glm::dvec3 r = 2.0 * n_dot_l * n - l;
+            const double n_dot_l = glm::dot(ns, l);
+            if (!(n_dot_l > 0.0)) continue;
+            const glm::dvec3 r = 2.0 * n_dot_l * ns - l;
             const double r_dot_v = std::max(0.0, glm::dot(r, view));
             color += double(light.intensity) * (kd * n_dot_l + ks * std::pow(r_dot_v, shininess));
+            sensitivity += double(light.intensity) *
+                           (kd_max + 4.0 * shininess * ks_max * std::pow(r_dot_v, std::max(shininess - 1.0, 0.0)));
         }
+        // Where the float renderer takes its shading normal: barycentric_rel * scale away on
+        // the same ray, plus point_error for a deviating secondary ray.
+        const double normal_error = normal_rate * (point_error + tol_.barycentric_rel * tracer_.scale_at(p));
+        if (max_channel(weight) * sensitivity * normal_error > tol_.shading_color) pixel_.shading_ambiguous = true;
         if (depth >= shading_.max_depth || !material.traces_secondary()) return color;
 
         // ---- Whitted's secondary rays --------------------------------------------------------
         const glm::dvec3 d = -view;
-        if (cos_i < tol_.terminator) pixel_.shading_ambiguous = true;
+        if (cos_g < tol_.terminator) pixel_.shading_ambiguous = true;
         const bool entering = glm::dot(winding, d) < 0.0;
         const double ior = material.ior;
         const double eta = entering ? 1.0 / ior : ior;
-        const glm::dvec3 kr(material.reflectance), kt(material.transmittance);
-        glm::dvec3 wr = kr, wt(0.0);
-        double cos_t = 0.0;
-        bool refracts = false;
-        if (kt != glm::dvec3(0.0)) {
-            const double sin2_t = eta * eta * (1.0 - cos_i * cos_i);
-            if (std::abs(sin2_t - 1.0) < tol_.critical) pixel_.shading_ambiguous = true;
-            const std::uint32_t bit = depth < 32 ? 1u << depth : 0u;
-            if (sin2_t > 1.0) {
-                wr = kr + kt;
-                pixel_.total_internal_at |= bit;
-            } else {
-                cos_t = std::sqrt(1.0 - sin2_t);
-                // Unpolarised Fresnel reflectance; a ray in the surface's plane (both cosines
-                // 0, flagged above) reflects fully.
-                const double s_den = eta * cos_i + cos_t, p_den = cos_i + eta * cos_t;
-                const double rs = s_den > 0.0 ? (eta * cos_i - cos_t) / s_den : 1.0;
-                const double rp = p_den > 0.0 ? (cos_i - eta * cos_t) / p_den : 1.0;
-                const double fresnel = 0.5 * (rs * rs + rp * rp);
-                wr = kr + fresnel * kt;
-                wt = (1.0 - fresnel) * kt;
-                refracts = true;
-                pixel_.refracted_at |= bit;
+        // With the shading normal, unless a direction would leave the wrong side of the
+        // geometric surface (the renderer's shading_split_holds); near that boundary either
+        // split may be made.
+        Split split = split_with(material, d, ns, eta);
+        if (ns != n) {
+            const double into = glm::dot(split.reflected, n);
+            const double out = split.refracts ? glm::dot(split.refracted, n) : -1.0;
+            if (std::abs(split.cos_i) < tol_.terminator || std::abs(into) < tol_.terminator ||
+                std::abs(out) < tol_.terminator) {
+                pixel_.shading_ambiguous = true;
             }
+            if (!(split.cos_i > 0.0 && into > 0.0 && out < 0.0)) split = split_with(material, d, n, eta);
         }
+        if (split.cos_i < tol_.terminator) pixel_.shading_ambiguous = true;
+        if (material.transmittance != glm::vec3(0.0f)) {
+            if (std::abs(split.sin2_t - 1.0) < tol_.critical) pixel_.shading_ambiguous = true;
+            const std::uint32_t bit = depth < 32 ? 1u << depth : 0u;
+            if (split.total_internal) pixel_.total_internal_at |= bit;
+            if (split.refracts) pixel_.refracted_at |= bit;
+        }
+        const glm::dvec3 wr = split.wr, wt = split.wt;
+        const double cos_i = split.cos_i, cos_t = split.cos_t;
 
         // The float renderer starts its rays off its own hit point, pushed off the surface.
         const double push = tol_.shadow_rel * (tracer_.scale_at(p) + glm::length(p));
+        // Its shading normal is interpolated at its own hit point (normal_error above);
+        // reflecting turns the direction by up to 4 times the normal's error
+        // (|d(d - 2 (d.n) n)| <= 4 |dn| for unit d and n).
+        const double normal_angle = 4.0 * normal_error;
         auto traced = [&](const glm::dvec3& path_weight) {
             const double w = max_channel(path_weight);
             if (std::abs(w - shading_.cutoff) <= tol_.cutoff_rel * shading_.cutoff) {
@@ -138,20 +221,20 @@ private:
             return w >= shading_.cutoff;
         };
         if (traced(weight * wr)) {
-            const RayD reflected{p, glm::normalize(d - 2.0 * glm::dot(d, n) * n)};
-            const RayDeviation deviation{push + lateral, angle + tol_.direction_rel,
+            const RayD reflected{p, split.reflected};
+            const RayDeviation deviation{push + lateral, angle + tol_.direction_rel + normal_angle,
                                          push + point_error};
             color += wr * trace(reflected, tri, depth + 1, weight * wr, deviation);
         }
-        if (refracts && traced(weight * wt)) {
-            const RayD refracted{p, glm::normalize(eta * d + (eta * cos_i - cos_t) * n)};
+        if (split.refracts && traced(weight * wt)) {
+            const RayD refracted{p, split.refracted};
             // How much refraction magnifies angles (d theta_t / d theta_i = eta cos_i / cos_t in
             // the plane of incidence, eta across it) and sideways offsets (cos_t / cos_i).
             const double magnify =
                 std::max({1.0, eta, eta * cos_i / std::max(cos_t, tol_.terminator)});
             const double widen = std::max(1.0, cos_t / std::max(cos_i, tol_.terminator));
             const RayDeviation deviation{push + lateral * widen,
-                                         magnify * (angle + tol_.direction_rel),
+                                         magnify * (angle + tol_.direction_rel + normal_angle),
                                          push + point_error};
             color += wt * trace(refracted, tri, depth + 1, weight * wt, deviation);
         }

@@ -92,6 +92,8 @@ ReferenceTracer::ReferenceTracer(const Scene& scene, const anim::PosedScene& pos
     for (std::size_t o = 0; o < scene.objects.size(); ++o) {
         const std::vector<glm::uvec3>& indices = scene.objects[o].mesh.triangles;
         const std::vector<glm::vec3>& positions = posed.objects[o].positions;
+        const std::vector<glm::vec3>& normals = posed.objects[o].normals;
+        const bool with_normals = normals.size() == positions.size() && !normals.empty();
         prim_to_tri_[o].assign(indices.size(), kNoTri);
         for (std::size_t p = 0; p < indices.size(); ++p) {
             Tri tri;
@@ -117,6 +119,11 @@ ReferenceTracer::ReferenceTracer(const Scene& scene, const anim::PosedScene& pos
             tri.prim = static_cast<std::int32_t>(p);
             prim_to_tri_[o][p] = static_cast<std::uint32_t>(tris_.size());
             tris_.push_back(tri);
+            std::array<glm::dvec3, 3>& corner_normals = vertex_normals_.emplace_back();
+            for (int k = 0; k < 3; ++k) {
+                corner_normals[std::size_t(k)] = with_normals ? glm::dvec3(normals[indices[p][k]]) : glm::dvec3(0.0);
+            }
+            has_vertex_normals_.push_back(with_normals ? 1 : 0);
 
             // Bounding sphere around the centroid, padded so rounding in the filter can only
             // let more triangles through.
@@ -173,6 +180,14 @@ glm::dvec3 ReferenceTracer::normal(TriangleRef tri) const {
     const std::uint32_t index = index_of(tri);
     if (index == kNoTri) throw std::invalid_argument("ReferenceTracer::normal: no such triangle");
     return glm::normalize(tris_[index].n);
+}
+
+bool ReferenceTracer::vertex_normals(TriangleRef tri, glm::dvec3 out[3]) const {
+    const std::uint32_t index = index_of(tri);
+    if (index == kNoTri) throw std::invalid_argument("ReferenceTracer::vertex_normals: no such triangle");
+    if (!has_vertex_normals_[index]) return false;
+    for (int k = 0; k < 3; ++k) out[k] = vertex_normals_[index][std::size_t(k)];
+    return true;
 }
 
 void ReferenceTracer::vertices(TriangleRef tri, glm::dvec3 out[3]) const {

@@ -50,14 +50,26 @@ struct PoseSettings {
     /// parse_class_overrides). Lowering a class is refused.
     std::vector<ClassOverride> class_overrides;
     /// When true, positions of static and rigid objects are not computed (left empty): use
-    /// `transform` with ScenePoser::object_space_positions instead.
+    /// `transform` with ScenePoser::object_space_positions instead (and their normals with
+    /// object_space_normals).
     bool skip_fixed_positions = false;
+    /// Pose the objects' vertex normals (Mesh::normals) with their positions, into
+    /// PosedObject::normals. Off, no normals are posed (flat shading needs none).
+    bool normals = true;
 };
 
 struct PosedObject {
     /// World-space positions, same indexing as the object's mesh.positions. Empty when
     /// PoseSettings::skip_fixed_positions skipped this static or rigid object.
     std::vector<glm::vec3> positions;
+    /// World-space unit vertex normals, same indexing (0 where a normal vanished). Empty when
+    /// the mesh has none, PoseSettings::normals is off, or positions were skipped. Every
+    /// transform turns them by its cofactor matrix (dynrt/scene/vertex_normals.h): a static or
+    /// rigid object's by its world transform, in double, rounded once; a moving object's in
+    /// float through the stages its positions go through (morph displacements, the blended
+    /// joint matrix, the node transform, rigid motion, the wave's Jacobian; explode only
+    /// moves triangles), normalised last.
+    std::vector<glm::vec3> normals;
     /// Static and rigid objects: world = transform * ScenePoser::object_space_positions(i),
     /// in double (includes procedural rigid motion). Deformable and exploding objects: the
     /// identity, their positions are world positions already.
@@ -153,6 +165,12 @@ public:
     /// exploding objects.
     std::span<const glm::vec3> object_space_positions(std::size_t object) const;
 
+    /// The unit normals of those object-space vertices, indexed alike: the mesh's own, or
+    /// those of its fixed skinned or morphed shape. Empty for deformable and exploding objects,
+    /// objects without normals, and when PoseSettings::normals is off. World normals are
+    /// normalize(cof(transform) n) (fixed_world_normals).
+    std::span<const glm::vec3> object_space_normals(std::size_t object) const;
+
     /// World positions of static or rigid object `object` in `posed` (filled by pose()):
     /// transform * object_space_positions(object), computed exactly as pose() computes them
     /// when it does not skip them. Lets a caller that skips fixed positions build a static
@@ -160,6 +178,10 @@ public:
     /// not static or rigid, SceneError naming object, frame and vertex for a non-finite result.
     void fixed_world_positions(std::size_t object, const PosedScene& posed,
                                std::vector<glm::vec3>& out) const;
+    /// The same for its normals (empty without), exactly as pose() computes them. Throws
+    /// std::invalid_argument for an object that is not static or rigid.
+    void fixed_world_normals(std::size_t object, const PosedScene& posed,
+                             std::vector<glm::vec3>& out) const;
     /// Frame f's time in seconds: f / fps.
     double time_of(int frame) const;
     /// The last key time over the chosen clips (0 without any): frames past

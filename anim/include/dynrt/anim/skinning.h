@@ -4,10 +4,13 @@
 //   p' = sum_k w_k * J_k * p,   J_j = world(joint_j) * inverse_bind_j.
 // Computed in homogeneous double coordinates and divided by the resulting w, which equals the
 // weight sum for affine joints: weights that do not sum to exactly 1 are normalised for free.
+// Normals go through the cofactor matrix of the blended matrix's linear part (its inverse
+// transpose up to scale, vertex_normals.h) and are normalised by the caller.
 // ScenePoser runs this per vertex in parallel blocks (oneTBB); every vertex is computed on its
 // own, so results do not depend on the thread count.
 
 #include "dynrt/scene/skin.h"
+#include "dynrt/scene/vertex_normals.h"
 
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
@@ -36,6 +39,19 @@ inline glm::dvec3 skinned_position(const SkinWeights& weights, std::span<const g
         if (w != 0.0) sum += w * (joint_matrices[weights.joints[k]] * h);
     }
     return glm::dvec3(sum) / sum.w;
+}
+
+/// The skinned normal of vertex v, whose unskinned normal is n: cof(B) n for the linear part B
+/// of sum_k w_k J_k (vertex_normals.h), not normalised. Preconditions as skinned_position.
+inline glm::dvec3 skinned_normal(const SkinWeights& weights, std::span<const glm::dmat4> joint_matrices,
+                                 std::size_t v, const glm::dvec3& n) {
+    glm::dmat3 blended(0.0);
+    const std::size_t first = v * weights.influences;
+    for (std::size_t k = first; k < first + weights.influences; ++k) {
+        const double w = weights.weights[k];
+        if (w != 0.0) blended += w * glm::dmat3(joint_matrices[weights.joints[k]]);
+    }
+    return normal_matrix(blended) * n;
 }
 
 }  // namespace dynrt::anim

@@ -88,6 +88,10 @@ struct MeshDesc {
     std::span<const float> positions;
     /// Three vertex indices per triangle, each less than the vertex count. Always copied.
     std::span<const std::uint32_t> indices;
+    /// Optional shading normals, x, y, z per vertex in object space (finite; normalised on
+    /// use; README "Shading normals"). Always copied. Empty: the engine computes area-weighted
+    /// vertex normals from the positions, and again whenever they change.
+    std::span<const float> normals;
     Motion motion = Motion::automatic;
     Ownership ownership = Ownership::copy;
     /// Object to world; finite and affine.
@@ -146,6 +150,9 @@ struct RenderSettings {
     /// path weight, in [0, 1], below which a secondary ray is not traced.
     int max_depth = 5;
     float cutoff = 1.0f / 256.0f;
+    /// Shade with the meshes' vertex normals interpolated across each triangle (given in
+    /// MeshDesc::normals or computed); false: with each triangle's own normal (flat).
+    bool smooth_normals = true;
 };
 
 /// What a ray batch cost. Packet rays were traced in packets (see Engine::intersect); the
@@ -177,8 +184,12 @@ public:
 
     /// New object-space positions for a deformable, exploding or automatic mesh: the same
     /// vertex count, finite (checked at the next update(), which names the vertex). Copied or,
-    /// for a borrowed mesh, pointed to (see Ownership::borrow).
-    void set_positions(MeshId mesh, std::span<const float> positions);
+    /// for a borrowed mesh, pointed to (see Ownership::borrow). `normals`, when given, are its
+    /// new shading normals (as MeshDesc::normals, copied); when not, a mesh added without
+    /// normals gets them computed again from the new positions at the next update(), and one
+    /// added with normals keeps its normals.
+    void set_positions(MeshId mesh, std::span<const float> positions,
+                       std::span<const float> normals = {});
 
     /// A new object-to-world transform (finite, affine) for any mesh but a static one.
     void set_transform(MeshId mesh, const Transform& transform);

@@ -3,11 +3,27 @@
 // shadow ray per hit and light, shade with Phong. Each stage is timed into FrameStats.
 //
 // Shading (reproduced by the reference renderer in tests/): at a hit with unit geometric normal
-// n turned to face the eye, view vector v = -dir, material (kd, ks, shininess), ambient a:
-//   color = a * kd + sum over lights L with n.l > 0 and the light visible from the hit:
-//           intensity_L * (kd * (n.l) + ks * max(0, r.v)^shininess),  r = 2 (n.l) n - l,
+// n turned to face the eye, unit shading normal s (below), view vector v = -dir, material
+// (kd, ks, shininess), ambient a:
+//   color = a * kd + sum over lights L with n.l > 0, s.l > 0 and the light visible from the hit:
+//           intensity_L * (kd * (s.l) + ks * max(0, r.v)^shininess),  r = 2 (s.l) s - l,
 // l the unit vector to the light. No distance falloff. A miss is the background colour.
 // A shadow ray is traced only for lights with n.l > 0; shadow_rays counts them.
+//
+// Shading normals (Phong 1975, "Illumination for Computer Generated Pictures": the normal
+// interpolated across the triangle), when TraceSettings::smooth_normals is on (the default)
+// and the hit object has vertex normals (Mesh::normals: the file's, or area-weighted ones,
+// dynrt/scene/vertex_normals.h; posed with the mesh, anim/posed_scene.h): with the hit's
+// barycentrics (u, v) and the triangle's world-space vertex normals n0, n1, n2,
+//   s = normalize((1 - u - v) n0 + u n1 + v n2), negated when s.n < 0,
+// so s lies on the eye's side exactly when n does, whichever way the file's normals and the
+// triangles' winding point. Where the interpolated vector's squared length is at most
+// kMinShadingNormalLength2 (opposed vertex normals), or the object has none, or smooth normals
+// are off, s = n (flat shading, the model as it was before vertex normals). s lights the
+// Phong terms and takes the reflection and refraction directions below; n alone decides where
+// shadow and secondary rays start (their offsets) and which lights cast a shadow ray, so a
+// smooth normal never lets a ray start inside its own surface. A light with n.l > 0 but
+// s.l <= 0 adds nothing (the shading normal faces away from it).
 // Shading runs per 16x16 tile in SIMD for both tracers (packet::shade, packet/), in float, with
 // max(0, r.v)^shininess from packet/include/dynrt/packet/simd_pow.h (absolute error below
 // 6 * 2^-24 per light): the reference renderer's double-precision colours are matched within
@@ -29,9 +45,14 @@
 //   wr = kr + F kt, refracted weight wt = (1 - F) kt.
 //   color(ray) = local(hit) + wr color(reflected ray) + wt color(refracted ray), where local
 //   is the Phong formula above with v = -d, and a miss gives the background.
-//   reflected ray: origin offset_along_normal(P, n, m), direction normalize(d - 2 (d.n) n);
+//   reflected ray: origin offset_along_normal(P, n, m), direction normalize(d - 2 (d.s) s);
 //   refracted ray: origin offset_along_normal(P, -n, m), direction
-//   normalize(eta d + (eta cos_i - cos_t) n); both with t in [0, +inf).
+//   normalize(eta d + (eta cos_i - cos_t) s); both with t in [0, +inf).
+//   cos_i, Fresnel and the directions take the shading normal s (cos_i = -d.s); when that
+//   split fails (d.s >= 0, or the reflected direction does not leave above the geometric
+//   surface, reflected.n <= 0, or the refracted one does not go below it, refracted.n >= 0:
+//   a smooth normal bent past the ray near a silhouette), the whole split, weights included,
+//   is made with n instead. With flat shading s = n and this never differs.
 // Camera rays have depth 0 and a ray spawned at a hit of a depth-k ray has depth k + 1; a ray
 // is traced only when its depth is <= max_depth and the product of the weights along its path
 // has a channel >= secondary.cutoff. Every hit at every depth casts shadow rays as above;
@@ -61,6 +82,10 @@
 #include <vector>
 
 namespace dynrt {
+
+/// An interpolated vertex normal whose squared length is at most this points nowhere in
+/// particular (its vertex normals oppose each other): the geometric normal shades instead.
+inline constexpr float kMinShadingNormalLength2 = 1e-6f;
 
 /// Which tracer renders the primary and shadow rays; both give the same frame.
 enum class Tracer {
@@ -119,6 +144,10 @@ struct TraceSettings {
     glm::vec3 background{0.05f, 0.06f, 0.08f};
     /// Ambient term, as a fraction of the diffuse colour.
     float ambient = 0.08f;
+    /// Shade with the objects' interpolated vertex normals ("Shading normals" at the top of
+    /// this file; `--normals smooth`, the default); false shades every hit with its triangle's
+    /// geometric normal (`--normals flat`), and a Renderer then poses no normals at all.
+    bool smooth_normals = true;
 };
 
 /// A Renderer's settings, stage by stage: how the trees are updated (UpdatePolicy: build
@@ -143,7 +172,8 @@ struct RenderedFrame {
     std::vector<float> depth;       ///< distance from the eye along the unit ray; +inf on a miss
     std::vector<std::int32_t> object;  ///< object index in scene order; -1 on a miss
     std::vector<std::int32_t> prim;    ///< triangle index within the object; -1 on a miss
-    std::vector<glm::vec3> normal;  ///< unit geometric normal facing the eye; 0 on a miss
+    /// Unit geometric normal facing the eye (not the shading normal); 0 on a miss.
+    std::vector<glm::vec3> normal;
     FrameStats stats;
     /// Set by the trace that filled this frame: the next trace reuses its pixels only when it
     /// is the frame that trace wrote (TraceSettings::reuse). A caller that edits the buffers

@@ -72,6 +72,9 @@ struct ObjectState {
     /// Deformable and exploding objects: world-space positions at this update, indexed as the
     /// mesh's positions (borrowed for the call; ignored for static and rigid objects).
     std::span<const glm::vec3> world_positions;
+    /// Deformable and exploding objects: world-space unit vertex normals, indexed alike, or
+    /// empty (flat shading). Borrowed until the next update: shading reads them at every trace.
+    std::span<const glm::vec3> world_normals;
 };
 
 /// What the trees of one object were after the last update: the planner's memory.

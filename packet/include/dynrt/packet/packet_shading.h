@@ -1,13 +1,16 @@
 #pragma once
 // Phong shading of one 16x16 tile in SIMD, after tracing: the renderer stores per lane the hit
-// point, the facing normal, the view vector and the material, plus one visibility mask per
+// point, the shading normal, the view vector and the material, plus one visibility mask per
 // light (the shadow packets' verdicts), and the kernel goes through the materials present in
 // the tile, computing the Phong terms of all lanes of one material at once.
 //
 // The formula is the renderer's (engine/include/dynrt/engine/renderer.h): at a hit with unit
-// normal n facing the eye, view vector v, material (kd, ks, s), ambient fraction a,
-//   color = a kd + sum over visible lights L: I_L (kd (n.l) + ks max(0, r.v)^s),
+// shading normal n, view vector v, material (kd, ks, s), ambient fraction a,
+//   color = a kd + sum over visible lights L with n.l > 0: I_L (kd (n.l) + ks max(0, r.v)^s),
 //   l = normalize(P_L - point), r = 2 (n.l) n - l.
+// "Visible" is the caller's verdict (the geometric normal faces the light and the shadow ray
+// is clear); n.l > 0 is the kernel's own test, as the shading normal may face away where the
+// geometric one does not.
 // Every operation is lane-wise IEEE float (-ffp-contract=off), so every lane width gives the
 // same bits; only the power is approximate (simd_pow.h).
 
@@ -22,11 +25,15 @@
 namespace dynrt::packet {
 
 /// One tile's shading inputs, structure of arrays, lane = tile_lane(tile, x, y). Lanes outside
-/// `hit` are never read (they may hold anything). 13 KiB: keep one per thread.
+/// `hit` are never read (they may hold anything). 16 KiB: keep one per thread.
 struct alignas(64) SurfacePacket {
     LaneMask hit;
     alignas(64) float point[3][kPacketRays];   ///< hit point
-    alignas(64) float normal[3][kPacketRays];  ///< unit geometric normal facing the eye
+    /// Unit geometric normal facing the eye (the shadow rays' side; the kernel does not read it).
+    alignas(64) float normal[3][kPacketRays];
+    /// Unit shading normal the kernel lights with: the interpolated vertex normal turned to
+    /// `normal`'s side, or `normal` itself (flat shading).
+    alignas(64) float shading_normal[3][kPacketRays];
     alignas(64) float view[3][kPacketRays];    ///< -(primary ray direction)
     alignas(64) std::int32_t material[kPacketRays];  ///< index into the materials span
 };
@@ -50,8 +57,8 @@ struct alignas(64) ShadedColors {
 };
 
 /// Shades every hit lane of `surface` into `out`. `visible[l]` holds the lanes that light l
-/// lights (n.l > 0 and the shadow ray unoccluded); one mask per light, same order as
-/// `lights`. Every `surface.material` of a hit lane must index `materials`. `lanes` is
+/// may light (the geometric n.l > 0 and the shadow ray unoccluded; the kernel adds the light
+/// where the shading normal's n.l > 0 too); one mask per light, same order as `lights`. Every `surface.material` of a hit lane must index `materials`. `lanes` is
 /// native_simd_lanes() or 1, as PacketConfig::lanes; both give the same bits. Throws
 /// std::invalid_argument for another width or mismatched spans. Thread-safe (no shared state).
 void shade(const SurfacePacket& surface, std::span<const PhongMaterial> materials,

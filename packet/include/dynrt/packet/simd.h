@@ -153,7 +153,9 @@ struct Lanes {
             return F{__builtin_sqrtf(v[0])};
 #if defined(__AVX512F__)
         } else if constexpr (W == 16) {
-            return F(_mm512_sqrt_ps(__m512(v)));
+            // The masked form with every lane set: the same result, and GCC 12 sees no
+            // "maybe uninitialized" pass-through operand (_mm512_sqrt_ps's _mm512_undefined_ps).
+            return F(_mm512_mask_sqrt_ps(__m512(v), __mmask16(0xffff), __m512(v)));
 #endif
 #if defined(__AVX__)
         } else if constexpr (W == 8) {

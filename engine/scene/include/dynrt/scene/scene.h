@@ -50,6 +50,12 @@ struct Material {
 struct Mesh {
     std::vector<glm::vec3> positions;
     std::vector<glm::uvec3> triangles;
+    /// Per-vertex shading normals in object space, indexed as `positions` (unit length, or 0
+    /// where none could be made), or empty: then the object is shaded with its triangles'
+    /// geometric normals. The loaders fill them from the file (glTF NORMAL, BART's normals)
+    /// or, where the file has none, with area_weighted_normals (vertex_normals.h); the
+    /// renderer interpolates them at each hit (dynrt/engine/renderer.h, "Shading normals").
+    std::vector<glm::vec3> normals;
 };
 
 /// One traceable thing. Unanimated and unskinned, its world-space triangles are
@@ -67,7 +73,8 @@ struct Object {
     std::int32_t node = -1;
     /// Joint influences when the object is skinned; vertex count as mesh.positions.
     std::optional<SkinWeights> skin;
-    /// Position morph targets when it has some; vertex count as mesh.positions.
+    /// Position morph targets when it has some (with their normal deltas); vertex count as
+    /// mesh.positions.
     std::optional<MorphTargets> morph;
 };
 
@@ -96,8 +103,8 @@ struct Scene {
     /// Present when the file says how it is to be shown (BART's AFF): then cameras[0] is its
     /// viewpoint, and its image size, frame rate and background are the defaults.
     std::optional<SceneSetup> setup;
-    /// What the file says that the scene model leaves out (BART's textures, per-vertex normals,
-    /// light colours...), one short line each, for the report; empty when nothing was left out.
+    /// What the file says that the scene model leaves out (BART's textures, light colours...),
+    /// one short line each, for the report; empty when nothing was left out.
     std::vector<std::string> ignored;
 
     std::size_t triangle_count() const;

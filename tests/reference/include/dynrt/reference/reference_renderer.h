@@ -6,15 +6,22 @@
 //
 // The model, in double. A hit of a ray with unit direction d at distance t lies at the exact
 // point p = org + t d; n is the triangle's unit winding normal N, negated when it points along
-// d. Phong and shadow segments are as for camera hits (ReferenceTracer::occluded from p,
-// excluding the hit triangle). When the ray's depth is below max_depth and the material has
-// reflectance kr or transmittance kt: the ray enters when N . d < 0 (eta = 1 / ior) and leaves
-// otherwise (eta = ior); cos_i = -d . n, sin2_t = eta^2 (1 - cos_i^2). kt = 0 gives wr = kr;
+// d. The shading normal s (renderer.h, "Shading normals"), with smooth_normals and the posed
+// vertex normals the ReferenceTracer holds: the vertex normals interpolated with the exact
+// barycentrics, normalised, negated when s . n < 0, or n itself when there are none or the
+// interpolated squared length is at most kMinShadingNormalLength2. A light is shadow-tested
+// where n . l > 0 and adds its Phong terms, made with s, where also s . l > 0. Shadow segments
+// are as for camera hits (ReferenceTracer::occluded from p, excluding the hit triangle). When
+// the ray's depth is below max_depth and the material has reflectance kr or transmittance kt:
+// the ray enters when N . d < 0 (eta = 1 / ior) and leaves otherwise (eta = ior); the split
+// below is made with s, or with n where that split fails (d . s >= 0, or the reflected
+// direction has . n <= 0, or the refracted one . n >= 0); with that normal m,
+// cos_i = -d . m, sin2_t = eta^2 (1 - cos_i^2). kt = 0 gives wr = kr;
 // sin2_t > 1 gives wr = kr + kt (total internal reflection); otherwise, with cos_t =
 // sqrt(1 - sin2_t), the unpolarised Fresnel reflectance F = (rs^2 + rp^2) / 2, rs =
 // (eta cos_i - cos_t) / (eta cos_i + cos_t), rp = (cos_i - eta cos_t) / (cos_i + eta cos_t),
-// gives wr = kr + F kt and wt = (1 - F) kt. The reflected ray normalize(d - 2 (d . n) n) and
-// the refracted ray normalize(eta d + (eta cos_i - cos_t) n) start at p itself and exclude the
+// gives wr = kr + F kt and wt = (1 - F) kt. The reflected ray normalize(d - 2 (d . m) m) and
+// the refracted ray normalize(eta d + (eta cos_i - cos_t) m) start at p itself and exclude the
 // hit triangle (ReferenceTracer::closest_leaving) where the renderer offsets its origins; each
 // is traced when the product of the weights along its path has a channel >= cutoff, and adds
 // its weight times its colour (the background on a miss).
@@ -28,7 +35,15 @@
 //  - a hit spawning secondary rays at grazing incidence (cos_i < terminator), or on a
 //    transmissive surface with |sin2_t - 1| < Tolerances::critical (the critical angle);
 //  - a secondary ray whose path weight's largest channel lies within cutoff_rel * cutoff of
-//    the cutoff.
+//    the cutoff;
+//  - smooth shading: an interpolated normal near kMinShadingNormalLength2 or nearly in the
+//    surface (|s . n| < terminator); the split's test within terminator of its boundary
+//    (|d . s|, |reflected . n|, |refracted . n|); and a hit where the shading normal may turn,
+//    between the exact hit point and the float one (Tolerances::barycentric_rel of the scale,
+//    plus a secondary ray's deviation seen on the surface), enough to move the colour,
+//    weighted by the path, by more than Tolerances::shading_color (the turn is bounded by the
+//    vertex normals' spread over the triangle's heights; the colour's sensitivity by
+//    sum I (kd + 4 shininess ks (r.v)^(shininess - 1))).
 // How far a float secondary ray may deviate from the exact one (RayDeviation, beyond the float
 // test's own resolution): camera rays not at all, as the reference traces the renderer's own
 // float rays. At a hit of a ray deviating sideways by L = lateral + t angle there, the float
@@ -38,9 +53,10 @@
 // sideways offset of parallel rays, refraction scales it by up to cos_t / cos_i), its origin
 // by the offset plus L / cos_i along it, and its direction by the parent's angle plus
 // Tolerances::direction_rel, both times refraction's magnification max(1, eta, eta cos_i /
-// cos_t) for a refracted ray. Errors compound along a path, so deep bounces are judged more
-// loosely. With max_depth = 0, or no reflective or transmissive material, every pixel is what
-// the Phong-only reference gave, bit for bit.
+// cos_t) for a refracted ray; with smooth normals, also by 4 times the shading normal's possible
+// turn (|d(reflected)| <= 4 |ds|), magnified alike. Errors compound along a path, so deep
+// bounces are judged more loosely. With max_depth = 0, or no reflective or transmissive
+// material, every pixel is what the Phong-only reference gave, bit for bit.
 
 #include "dynrt/reference/reference_tracer.h"
 
@@ -67,6 +83,10 @@ struct ReferenceShading {
     /// A secondary ray is traced when a channel of its path weight is >= this
     /// (SecondaryRays::cutoff, same default).
     double cutoff = SecondaryRays{}.cutoff;
+    /// Shade with the posed vertex normals where the tracer has them
+    /// (TraceSettings::smooth_normals, same default); false: every hit with its geometric
+    /// normal.
+    bool smooth_normals = TraceSettings{}.smooth_normals;
 };
 
 /// The lights, background, ambient and secondary-ray settings a dynrt::Renderer with
@@ -76,7 +96,8 @@ ReferenceShading shading_from(const Scene& scene, const RenderOptions& options);
 struct ReferencePixel {
     ReferenceHit hit;
     glm::dvec3 color{0.0};
-    /// Unit geometric normal of the hit triangle, turned to face the eye; 0 on a miss.
+    /// Unit geometric normal of the hit triangle, turned to face the eye (not the shading
+    /// normal, like RenderedFrame::normal); 0 on a miss.
     glm::dvec3 normal{0.0};
     /// Anything in the colour beyond the camera hit is ambiguous (the rules are at the top of
     /// this file): a light's visibility or n . l sign at any hit, a secondary ray's hit, a
@@ -104,8 +125,9 @@ struct ReferenceFrame {
 
 /// Renders `width` x `height` pixels of `scene` (whose posed geometry `tracer` was built from)
 /// through `camera`, with packet::PinholeRays' float rays. At a hit: n the unit geometric normal facing
-/// the eye, p = org + t dir from the exact t, and for each light with n . l > 0 a shadow
-/// segment from p to the light excluding the hit triangle (ReferenceTracer::occluded); then
+/// the eye, s the shading normal (above), p = org + t dir from the exact t, and for each light
+/// with n . l > 0 a shadow segment from p to the light excluding the hit triangle
+/// (ReferenceTracer::occluded), lit with s; then
 /// the secondary rays of the model above, recursively up to shading.max_depth.
 /// Rows run in parallel on the caller's oneTBB arena. Throws std::invalid_argument for a
 /// degenerate camera or image, std::out_of_range for an object's material index out of range.

@@ -27,6 +27,7 @@
 
 #include <glm/vec3.hpp>
 
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -106,7 +107,17 @@ struct Tolerances {
     /// A secondary ray whose path weight's largest channel lies within cutoff_rel * cutoff of
     /// the cutoff may be traced by one renderer and not by the other. The float weights are
     /// products of a few factors, each rounded to a few ulps: 1e-4 leaves a wide margin.
-    double cutoff_rel = 1e-4;
+    double cutoff_rel = 1e-4;    /// Smooth shading: how far, relative to scale, a float renderer's hit point may lie from
+    /// the exact one along the surface for the same ray (its float barycentrics), so that its
+    /// interpolated normal is taken elsewhere. About 8 ulps: a float barycentric coordinate
+    /// is rounded to a few ulps of the coordinates it is made from.
+    double barycentric_rel = 1e-6;
+    /// Smooth shading: where the shading normal may turn (its rate of turning along the
+    /// surface times how far the float hit point may lie, barycentric_rel * scale plus a
+    /// secondary ray's deviation) enough to change the colour, weighted by the path weight,
+    /// by more than this, the pixel's shading is ambiguous: a curved, shiny surface seen in a
+    /// mirror. A quarter of ComparisonOptions::color_abs_tol.
+    double shading_color = 2.5e-4;
 };
 
 /// A ray in double precision with a unit direction; t is distance.
@@ -165,7 +176,8 @@ struct TriangleRef {
 class ReferenceTracer {
 public:
     /// Borrows nothing: copies what it needs from `scene` (object count and mesh indices) and
-    /// `posed` (world-space float positions, converted exactly to double). Triangles whose edge
+    /// `posed` (world-space float positions and, where it has them, vertex normals, converted
+    /// exactly to double). Triangles whose edge
     /// cross product is exactly zero in double (zero area, as bvh::is_degenerate) are dropped:
     /// no tracer can hit them.
     ReferenceTracer(const Scene& scene, const anim::PosedScene& posed);
@@ -203,6 +215,9 @@ public:
 
     /// Unit geometric normal of a triangle ((v1 - v0) x (v2 - v0), normalised).
     glm::dvec3 normal(TriangleRef tri) const;
+    /// The posed vertex normals of a triangle's corners, in double; false when its object's
+    /// PosedObject had none.
+    bool vertex_normals(TriangleRef tri, glm::dvec3 out[3]) const;
     /// Vertices of a triangle, in double.
     void vertices(TriangleRef tri, glm::dvec3 out[3]) const;
 
@@ -246,6 +261,9 @@ private:
     std::uint32_t index_of(TriangleRef tri) const;
 
     std::vector<Tri> tris_;
+    /// Per triangle (as tris_): its corners' posed normals, when has_vertex_normals_.
+    std::vector<std::array<glm::dvec3, 3>> vertex_normals_;
+    std::vector<std::uint8_t> has_vertex_normals_;
     std::vector<Sphere> spheres_;
     /// Edge adjacency: slot 3 * tri + i is edge i of tri. Slots with bitwise-equal endpoint
     /// positions (in either order) share a group.

@@ -213,7 +213,7 @@ BenchRow bench_configuration(const Scene& scene, const Camera& camera,
     RenderedFrame local_frame;
     RenderedFrame& out = last_frame ? *last_frame : local_frame;
     for (int i = 0; i < warmup; ++i) render_frame(renderer, out);
-    std::vector<double> update_stage, build, trace, primary, shadow, shade, total, mrays;
+    std::vector<double> update_stage, build, trace, primary, shadow, shade, secondary, total, mrays;
     for (int i = 0; i < repeat; ++i) {
         render_frame(renderer, out);
         const FrameStats& s = out.stats;
@@ -224,6 +224,7 @@ BenchRow bench_configuration(const Scene& scene, const Camera& camera,
         primary.push_back(s.primary_ms);
         shadow.push_back(s.shadow_ms);
         shade.push_back(s.shade_ms);
+        secondary.push_back(s.secondary_ms);
         total.push_back(s.total_ms);
         mrays.push_back(trace_ms > 0 ? double(s.primary_rays + s.shadow_rays) / (trace_ms * 1e3)
                                      : 0.0);
@@ -238,6 +239,7 @@ BenchRow bench_configuration(const Scene& scene, const Camera& camera,
     row.primary_ms = spread_of(primary);
     row.shadow_ms = spread_of(shadow);
     row.shade_ms = spread_of(shade);
+    row.secondary_ms = spread_of(secondary);
     row.total_ms = spread_of(total);
     row.mrays_per_s = spread_of(mrays);
     // The tree is the same on every repeat (the builder is deterministic in shape).
@@ -279,7 +281,7 @@ void print_bench_table(std::ostream& out, const std::vector<BenchRow>& rows) {
     out << std::left << std::setw(8) << "cost" << std::setw(6) << "leaf" << std::right
         << std::setw(10) << "tris" << std::setw(22) << "update ms" << std::setw(22) << "build ms"
         << std::setw(22) << "trace ms"
-        << std::setw(22) << "shade ms" << std::setw(22) << "total ms" << std::setw(22)
+        << std::setw(22) << "shade ms" << std::setw(22) << "secondary ms" << std::setw(22) << "total ms" << std::setw(22)
         << "Mrays/s" << std::setw(9) << "SAH" << std::setw(7) << "leaf" << std::setw(6)
         << "depth" << std::setw(7) << "adapt" << "  " << std::left << std::setw(14) << "culling" << std::right
         << std::setw(10) << "tests M" << std::setw(10) << "culled M" << std::setw(7) << "width"
@@ -292,6 +294,7 @@ void print_bench_table(std::ostream& out, const std::vector<BenchRow>& rows) {
             << std::right << std::setw(10) << r.triangles << ' ' << std::setw(21)
             << format_spread(r.update_ms, 2) << ' ' << std::setw(21) << format_spread(r.build_ms, 2) << ' ' << std::setw(21) << format_spread(r.trace_ms, 2)
             << ' ' << std::setw(21) << format_spread(r.shade_ms, 2) << ' ' << std::setw(21)
+            << format_spread(r.secondary_ms, 2) << ' ' << std::setw(21)
             << format_spread(r.total_ms, 2) << ' ' << std::setw(21) << format_spread(r.mrays_per_s, 2)
             << std::fixed << std::setprecision(1) << std::setw(9) << r.sah_cost
             << std::setprecision(2) << std::setw(7) << r.leaf_tris_mean << std::setw(6)

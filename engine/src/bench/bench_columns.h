@@ -32,6 +32,7 @@ struct ForEachBenchColumn {
         visit("primary_ms", row.primary_ms);
         visit("shadow_ms", row.shadow_ms);
         visit("shade_ms", row.shade_ms);
+        visit("secondary_ms", row.secondary_ms);
         visit("total_ms", row.total_ms);
         visit("mrays_per_s", row.mrays_per_s);
         visit("sah_cost", row.sah_cost);

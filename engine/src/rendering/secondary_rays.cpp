@@ -173,13 +173,50 @@ void spawn(const SecondaryFrame& f, const TileShadowOrigins& origins,
     }
 }
 
+/// Calls f(lane) for every lane of `mask`, in order.
+template <typename F>
+void for_each_lane(const LaneMask& mask, F&& f) {
+    for (int w = 0; w < kPacketRays / 64; ++w) {
+        for (std::uint64_t bits = mask.words[w]; bits != 0; bits &= bits - 1) f(w * 64 + std::countr_zero(bits));
+    }
+}
+
+/// Copies the rays of `lanes` into the first lanes of `dense`, in lane order, and returns how
+/// many. The packet tracer works on the range from the first to the last active lane, so a
+/// bounce's rays, scattered over the tile's 256 lanes, are traced packed: lane by lane the
+/// results are the same (packet_traversal.h), only the empty chunks go.
+int pack(const RayPacket& rays, const LaneMask& lanes, RayPacket& dense, int (&lane_of)[kPacketRays]) {
+    dense.clear();
+    int n = 0;
+    for_each_lane(lanes, [&](int lane) {
+        dense.org_x[n] = rays.org_x[lane];
+        dense.org_y[n] = rays.org_y[lane];
+        dense.org_z[n] = rays.org_z[lane];
+        dense.dir_x[n] = rays.dir_x[lane];
+        dense.dir_y[n] = rays.dir_y[lane];
+        dense.dir_z[n] = rays.dir_z[lane];
+        dense.tmin[n] = rays.tmin[lane];
+        dense.tmax[n] = rays.tmax[lane];
+        dense.active.set(n);
+        lane_of[n++] = lane;
+    });
+    return n;
+}
+
 /// Which lanes of `shadow` (rays from a light) are occluded; packets as trace_closest.
 LaneMask trace_shadows(const SecondaryTracing& f, const RayPacket& shadow, SecondaryWork& work) {
     const bvh::TwoLevelBvh& tlas = f.accel.top_level();
     LaneMask occluded;
     const int count = shadow.active.count();
     if (!f.single_rays && count >= f.settings.min_packet_rays && f.settings.min_packet_rays <= kPacketRays) {
-        packet::intersect_any(tlas, shadow, occluded, f.packet, f.count ? &work.packet_work : nullptr);
+        thread_local RayPacket dense;
+        int lane_of[kPacketRays];
+        const int n = pack(shadow, shadow.active, dense, lane_of);
+        LaneMask dense_occluded;
+        packet::intersect_any(tlas, dense, dense_occluded, f.packet, f.count ? &work.packet_work : nullptr);
+        for (int k = 0; k < n; ++k) {
+            if (dense_occluded.test(k)) occluded.set(lane_of[k]);
+        }
         return occluded;
     }
     for (int w = 0; w < kPacketRays / 64; ++w) {
@@ -195,9 +232,11 @@ LaneMask trace_shadows(const SecondaryTracing& f, const RayPacket& shadow, Secon
 
 }  // namespace
 
-void trace_secondary_closest(const SecondaryTracing& f, packet::RayPacket& rays,
+void trace_secondary_closest(const SecondaryTracing& f, const packet::RayPacket& rays,
                              bvh::InstanceHit (&hits)[packet::kPacketRays], SecondaryWork& work) {
     thread_local packet::InstanceHits packet_hits;
+    thread_local RayPacket dense;
+    int lane_of[kPacketRays];
     const bvh::TwoLevelBvh& tlas = f.accel.top_level();
     LaneMask octant[8];
     for (int w = 0; w < kPacketRays / 64; ++w) {
@@ -214,15 +253,10 @@ void trace_secondary_closest(const SecondaryTracing& f, packet::RayPacket& rays,
         const int count = group.count();
         if (count == 0) continue;
         if (!f.single_rays && count >= min_rays && min_rays <= kPacketRays) {
-            rays.active = group;
-            packet::intersect_closest(tlas, rays, packet_hits, f.packet,
+            const int n = pack(rays, group, dense, lane_of);
+            packet::intersect_closest(tlas, dense, packet_hits, f.packet,
                                       f.count ? &work.packet_work : nullptr);
-            for (int w = 0; w < kPacketRays / 64; ++w) {
-                for (std::uint64_t bits = group.words[w]; bits != 0; bits &= bits - 1) {
-                    const int lane = w * 64 + std::countr_zero(bits);
-                    hits[lane] = packet_hits.hit(lane);
-                }
-            }
+            for (int k = 0; k < n; ++k) hits[lane_of[k]] = packet_hits.hit(k);
             work.packet_rays += std::size_t(count);
         } else {
             for (int w = 0; w < kPacketRays / 64; ++w) {
@@ -235,7 +269,6 @@ void trace_secondary_closest(const SecondaryTracing& f, packet::RayPacket& rays,
             work.single_rays += std::size_t(count);
         }
     }
-    rays.active = all;
     for (int w = 0; w < kPacketRays / 64; ++w) {
         for (std::uint64_t bits = all.words[w]; bits != 0; bits &= bits - 1) {
             bvh::InstanceHit& hit = hits[w * 64 + std::countr_zero(bits)];

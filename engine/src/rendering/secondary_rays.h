@@ -80,8 +80,8 @@ void add_secondary(const SecondaryFrame& frame, const TileShadowOrigins& primary
 
 /// Closest hits of `rays`' active lanes into `hits` (by lane, resolved to scene objects): the
 /// lanes of one direction octant as a packet when there are at least min_packet_rays of them,
-/// the rest one by one. `rays.active` is restored before returning.
-void trace_secondary_closest(const SecondaryTracing& tracing, packet::RayPacket& rays,
+/// the rest one by one; a group's rays are packed into the first lanes of a packet.
+void trace_secondary_closest(const SecondaryTracing& tracing, const packet::RayPacket& rays,
                              bvh::InstanceHit (&hits)[packet::kPacketRays], SecondaryWork& work);
 
 /// Fills the report's secondary-ray fields from the threads' summed work; `scale` turns the

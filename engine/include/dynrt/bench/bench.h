@@ -27,6 +27,9 @@ struct BenchRow {
     Spread primary_ms;  ///< primary rays alone
     Spread shadow_ms;   ///< shadow rays alone
     Spread shade_ms;
+    /// Reflection and refraction rays with their shadows and shading (FrameStats::secondary_ms;
+    /// 0 without them).
+    Spread secondary_ms;
     Spread total_ms;
     Spread mrays_per_s;  ///< primary + shadow rays per trace time
     double sah_cost = 0;

@@ -74,6 +74,10 @@ private:
                 if (joint >= joints) fail(name + "joint index " + std::to_string(joint) + " out of range");
             }
         }
+        if (!object.mesh.texcoords.empty() && object.mesh.texcoords.size() != vertices) {
+            fail(name + "has " + std::to_string(object.mesh.texcoords.size()) + " texture coordinates for " +
+                 std::to_string(vertices) + " vertices");
+        }
         if (!object.mesh.normals.empty() && object.mesh.normals.size() != vertices) {
             fail(name + "has " + std::to_string(object.mesh.normals.size()) + " normals for " +
                  std::to_string(vertices) + " vertices");

@@ -106,6 +106,7 @@ void unshare_triangles(Object& object) {
     std::vector<glm::vec3> positions = by_corner(object.mesh.positions, triangles);
     // Normals go with their corners, so the pieces keep the smooth shading of the whole.
     if (!object.mesh.normals.empty()) object.mesh.normals = by_corner(object.mesh.normals, triangles);
+    if (!object.mesh.texcoords.empty()) object.mesh.texcoords = by_corner(object.mesh.texcoords, triangles);
     if (object.skin) {
         object.skin->joints = by_corner(object.skin->joints, triangles, object.skin->influences);
         object.skin->weights = by_corner(object.skin->weights, triangles, object.skin->influences);

@@ -30,7 +30,7 @@ int distinct_materials(const SurfacePacket& surface, std::int32_t (&out)[kPacket
 template <int W>
 void shade_lanes(const SurfacePacket& surface, std::span<const PhongMaterial> materials,
                  std::span<const ShadingLight> lights, std::span<const LaneMask> visible,
-                 float ambient, ShadedColors& out) {
+                 float ambient, ShadedColors& out, const DiffuseTint* tint) {
     using L = simd::Lanes<W>;
     using F = typename L::F;
     using I = typename L::I;
@@ -61,7 +61,18 @@ void shade_lanes(const SurfacePacket& surface, std::span<const PhongMaterial> ma
                             L::load(surface.shading_normal[2] + base)};
             const F v[3] = {L::load(surface.view[0] + base), L::load(surface.view[1] + base),
                             L::load(surface.view[2] + base)};
+            // Textured lanes: kd times their texture colour (the ambient term too).
+            F kd_lane[3] = {kd[0], kd[1], kd[2]};
             F color[3] = {ambient_kd[0], ambient_kd[1], ambient_kd[2]};
+            if (tint != nullptr) {
+                if (const std::uint32_t tinted = tint->lanes.extract(base, W) & mine; tinted != 0) {
+                    const I tinted_mask = L::from_bits(tinted);
+                    for (int a = 0; a < 3; ++a) {
+                        kd_lane[a] = L::select(tinted_mask, kd[a] * L::load(tint->rgb[a] + base), kd[a]);
+                        color[a] = L::select(tinted_mask, L::splat(ambient) * kd_lane[a], ambient_kd[a]);
+                    }
+                }
+            }
             for (std::size_t l = 0; l < lights.size(); ++l) {
                 const std::uint32_t lit = visible[l].extract(base, W) & mine;
                 if (lit == 0) continue;
@@ -82,7 +93,7 @@ void shade_lanes(const SurfacePacket& surface, std::span<const PhongMaterial> ma
                 // A shading normal may face away from a light its triangle faces.
                 const I lit_mask = L::from_bits(lit) & (n_dot_l > L::splat(0.0f));
                 for (int a = 0; a < 3; ++a) {
-                    const F term = intensity * (kd[a] * n_dot_l + ks[a] * specular);
+                    const F term = intensity * (kd_lane[a] * n_dot_l + ks[a] * specular);
                     color[a] = L::select(lit_mask, color[a] + term, color[a]);
                 }
             }
@@ -101,14 +112,14 @@ void shade_lanes(const SurfacePacket& surface, std::span<const PhongMaterial> ma
 
 void shade(const SurfacePacket& surface, std::span<const PhongMaterial> materials,
            std::span<const ShadingLight> lights, std::span<const LaneMask> visible,
-           float ambient, ShadedColors& out, int lanes) {
+           float ambient, ShadedColors& out, int lanes, const DiffuseTint* tint) {
     if (visible.size() != lights.size()) {
         throw std::invalid_argument("packet::shade: one visibility mask per light");
     }
     if (lanes == simd::kNativeLanes) {
-        shade_lanes<simd::kNativeLanes>(surface, materials, lights, visible, ambient, out);
+        shade_lanes<simd::kNativeLanes>(surface, materials, lights, visible, ambient, out, tint);
     } else if (lanes == 1) {
-        shade_lanes<1>(surface, materials, lights, visible, ambient, out);
+        shade_lanes<1>(surface, materials, lights, visible, ambient, out, tint);
     } else {
         throw std::invalid_argument("packet::shade: lanes must be simd::kNativeLanes or 1");
     }

@@ -10,6 +10,7 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include <cmath>
+#include <filesystem>
 #include <array>
 #include <map>
 #include <numbers>
@@ -54,12 +55,15 @@ bool moves(const AffModel& model, const TransformNode& n) {
 /// (the file's, or the shape's own area-weighted ones: shapes never smooth each other).
 struct Soup {
     std::vector<glm::vec3> positions, normals;
+    std::vector<glm::vec2> texcoords;
     std::vector<glm::uvec3> triangles;
 
-    /// Adds a shape; `point_normals` is empty (computed) or one per point.
+    /// Adds a shape; `point_normals` is empty (computed) or one per point, and so is
+    /// `point_uvs` (a textured soup's shapes all have them).
     void add(std::span<const glm::dvec3> points, std::span<const glm::uvec3> tris,
-             std::span<const glm::dvec3> point_normals = {}) {
+             std::span<const glm::dvec3> point_normals = {}, std::span<const Vec2> point_uvs = {}) {
         const auto base = std::uint32_t(positions.size());
+        for (const Vec2& uv : point_uvs) texcoords.emplace_back(uv[0], uv[1]);
         for (const glm::dvec3& p : points) positions.emplace_back(p);
         for (const glm::uvec3& t : tris) triangles.push_back(t + glm::uvec3(base));
         if (point_normals.empty()) {
@@ -108,10 +112,12 @@ void add_rings(Soup& soup, const glm::dmat4& m, const glm::dvec3& axis,
 }
 
 class Converter {
-    /// The triangles of one (anchor, material) pair.
+    /// The triangles of one (anchor, material, texture) triple.
     struct SoupEntry {
         std::int32_t anchor = -1;
         int material = -1;
+        /// The texture file, relative to the including file's folder, or empty.
+        std::string texture;
         Soup soup;
     };
 
@@ -217,11 +223,19 @@ private:
     }
 
     // ---- Shapes, gathered into one object per (anchor, material) ----
-    Soup& soup_for(const Placement& p) {
-        const auto key = std::make_pair(anchor_[std::size_t(p.node)], p.material);
+    /// The soup of `p`'s anchor and material, and of `texture` (a path, or empty).
+    Soup& soup_for(const Placement& p, const std::string& texture = {}) {
+        const auto key = std::make_tuple(anchor_[std::size_t(p.node)], p.material, texture);
         auto [it, added] = soup_index_.try_emplace(key, soups_.size());
-        if (added) soups_.push_back({key.first, p.material, {}});
+        if (added) soups_.push_back({std::get<0>(key), p.material, texture, {}});
         return soups_[it->second].soup;
+    }
+
+    /// Where a shape's texture file is: next to the file that names it. Empty when the shape
+    /// names none or has no texture coordinates to map it with.
+    static std::string texture_path(const Placement& p, const std::string& texture, bool has_uvs) {
+        if (texture.empty() || !has_uvs) return {};
+        return (std::filesystem::path(p.where.file).parent_path() / texture).lexically_normal().string();
     }
 
     /// Shape normals through the static transforms between the shape and its anchor (their
@@ -253,7 +267,10 @@ private:
         for (const Polygon& poly : model_.polygons) {
             std::vector<glm::uvec3> fan;
             for (std::uint32_t k = 1; k + 1 < poly.vertices.size(); ++k) fan.emplace_back(0, k, k + 1);
-            soup_for(poly).add(placed_points(poly, poly.vertices), fan, placed_normals(poly, poly.normals));
+            const std::string texture = texture_path(poly, poly.texture, !poly.uvs.empty());
+            soup_for(poly, texture)
+                .add(placed_points(poly, poly.vertices), fan, placed_normals(poly, poly.normals),
+                     texture.empty() ? std::span<const Vec2>() : std::span<const Vec2>(poly.uvs));
         }
         for (const Mesh& mesh : model_.meshes) add_mesh(mesh);
         for (const Cone& c : model_.cones) {
@@ -286,34 +303,41 @@ private:
         animated_triangles();
     }
 
-    /// An `m` block. With normals, its triangles index positions and normals separately: each
-    /// distinct (position, normal) pair becomes one vertex.
+    /// An `m` block. With normals or texture coordinates, its triangles index positions,
+    /// normals and texture coordinates separately: each distinct (position, normal, texture
+    /// coordinate) triple becomes one vertex.
     void add_mesh(const Mesh& mesh) {
         std::vector<glm::uvec3> tris;
-        if (mesh.normal_indices.empty()) {
+        const bool with_normals = !mesh.normal_indices.empty();
+        const std::string texture = texture_path(mesh, mesh.texture, !mesh.uv_indices.empty());
+        if (!with_normals && texture.empty()) {
             for (const auto& t : mesh.vertex_indices) tris.emplace_back(t[0], t[1], t[2]);
             soup_for(mesh).add(placed_points(mesh, mesh.vertices), tris);
             return;
         }
         const std::vector<glm::dvec3> points = placed_points(mesh, mesh.vertices);
         const std::vector<glm::dvec3> normals = placed_normals(mesh, mesh.normals);
-        std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> vertex_of;
+        std::map<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t>, std::uint32_t> vertex_of;
         std::vector<glm::dvec3> corner_points, corner_normals;
+        std::vector<Vec2> corner_uvs;
         for (std::size_t t = 0; t < mesh.vertex_indices.size(); ++t) {
             glm::uvec3 tri;
             for (int k = 0; k < 3; ++k) {
-                const std::pair<std::uint32_t, std::uint32_t> key{mesh.vertex_indices[t][std::size_t(k)],
-                                                                  mesh.normal_indices[t][std::size_t(k)]};
+                const std::size_t c = std::size_t(k);
+                const std::tuple<std::uint32_t, std::uint32_t, std::uint32_t> key{
+                    mesh.vertex_indices[t][c], with_normals ? mesh.normal_indices[t][c] : 0u,
+                    texture.empty() ? 0u : mesh.uv_indices[t][c]};
                 const auto [it, added] = vertex_of.try_emplace(key, std::uint32_t(corner_points.size()));
                 if (added) {
-                    corner_points.push_back(points[key.first]);
-                    corner_normals.push_back(normals[key.second]);
+                    corner_points.push_back(points[std::get<0>(key)]);
+                    if (with_normals) corner_normals.push_back(normals[std::get<1>(key)]);
+                    if (!texture.empty()) corner_uvs.push_back(mesh.uvs[std::get<2>(key)]);
                 }
                 tri[k] = it->second;
             }
             tris.push_back(tri);
         }
-        soup_for(mesh).add(corner_points, tris, corner_normals);
+        soup_for(mesh, texture).add(corner_points, tris, corner_normals, corner_uvs);
     }
 
     void add_object(const SoupEntry& e) {
@@ -323,10 +347,33 @@ private:
         object.mesh.positions = e.soup.positions;
         object.mesh.triangles = e.soup.triangles;
         object.mesh.normals = e.soup.normals;
-        object.material = std::uint32_t(e.material + 1);
+        object.mesh.texcoords = e.soup.texcoords;
+        object.material = e.texture.empty() ? std::uint32_t(e.material + 1) : textured_material(e.material, e.texture);
+        if (!e.texture.empty()) object.name += cat("/", std::filesystem::path(e.texture).filename().string());
         object.node = e.anchor < 0 ? -1 : scene_node_[std::size_t(e.anchor)];
         object.transform = rest_world(object.node);
         scene_.objects.push_back(std::move(object));
+    }
+
+    /// The material `fm` index `material` (-1: the default) with the texture at `path` as its
+    /// diffuse map, made once per pair: a copy named "fm<i> <file>".
+    std::uint32_t textured_material(int material, const std::string& path) {
+        const auto [texture, new_texture] = texture_index_.try_emplace(path, std::uint32_t(scene_.textures.size()));
+        if (new_texture) {
+            Texture t;
+            t.name = path;
+            t.path = path;
+            scene_.textures.push_back(std::move(t));
+        }
+        const auto [found, added] =
+            textured_material_.try_emplace(std::make_pair(material, path), std::uint32_t(scene_.materials.size()));
+        if (added) {
+            dynrt::Material m = scene_.materials[std::size_t(material + 1)];
+            m.name += cat(" ", std::filesystem::path(path).filename().string());
+            m.diffuse_map = TextureMap{texture->second, TextureWrap::repeat, TextureWrap::repeat};
+            scene_.materials.push_back(std::move(m));
+        }
+        return found->second;
     }
 
     /// Scene node `node`'s world matrix in the rest pose (the identity for -1).
@@ -475,11 +522,15 @@ private:
 
     // ---- What the model leaves out, for the report (README "BART", "Not modelled") ----
     void note_ignored() {
-        std::size_t textured = 0;
-        for (const Polygon& p : model_.polygons) textured += !p.texture.empty() || !p.uvs.empty();
-        for (const Mesh& m : model_.meshes) textured += !m.texture.empty() || !m.uvs.empty();
+        // Texture coordinates without a texture, or a texture without them, map nothing.
+        std::size_t unmapped = 0;
+        for (const Polygon& p : model_.polygons) unmapped += p.texture.empty() != p.uvs.empty();
+        for (const Mesh& m : model_.meshes) unmapped += m.texture.empty() != m.uv_indices.empty();
         std::vector<std::string>& out = scene_.ignored;
-        if (textured > 0) out.push_back(cat("textures of ", textured, " shapes (colour from the material)"));
+        if (unmapped > 0) {
+            out.push_back(cat("texture names or coordinates of ", unmapped,
+                              " shapes that lack the other (colour from the material)"));
+        }
         bool coloured = false;
         for (const Light& l : model_.lights) coloured = coloured || (l.color && !((*l.color)[0] == (*l.color)[1] && (*l.color)[1] == (*l.color)[2]));
         if (coloured) out.push_back("light colours (each light is white, of their mean intensity)");
@@ -515,7 +566,9 @@ private:
     std::vector<std::int32_t> scene_node_, anchor_;
     std::vector<glm::dmat4> to_anchor_;
     std::map<std::string, std::array<std::int32_t, 3>> samplers_;
-    std::map<std::pair<std::int32_t, int>, std::size_t> soup_index_;
+    std::map<std::tuple<std::int32_t, int, std::string>, std::size_t> soup_index_;
+    std::map<std::string, std::uint32_t> texture_index_;
+    std::map<std::pair<int, std::string>, std::uint32_t> textured_material_;
     std::vector<SoupEntry> soups_;
 };
 

@@ -3,8 +3,16 @@
 //
 // Geometry: polygons are fanned from their first vertex (as BART's own converters do), mesh
 // blocks keep their triangles, cones and spheres are tessellated (kAffConeSegments around,
-// no end caps, as NFF cones have none), `tt`/`ttp` are single triangles. Texture coordinates
-// and texture names are dropped: colour comes from the material.
+// no end caps, as NFF cones have none), `tt`/`ttp` are single triangles.
+// Textures: a shape that names a texture file (`tt`, `ttp`, `m`'s `texturecoords n file`) and
+// has texture coordinates goes into an object of its own per (anchor, material, file), whose
+// material is a copy of the shape's with the file as its diffuse map (Material::diffuse_map;
+// the file resolves next to the .aff that names it, repeating outside [0, 1]). BART's (u, v)
+// are taken as OpenImageIO's (s, t) unchanged: BART's previewer hands the image rows to
+// OpenGL in file order, so v = 0 is the file's first (top) row, as t = 0 is. An `m` block
+// whose triangles index texture coordinates apart gets one vertex per distinct (position,
+// normal, texture coordinate) triple. Names without coordinates, or coordinates without a
+// name, map nothing and are listed in Scene::ignored.
 // Normals: the file's per-vertex normals (`pp`, `ttp`, `m` with `normals`, `tpa` keys, whose
 // normals morph with their positions) go through the static transforms by their cofactor
 // matrix (vertex_normals.h) and are normalised; an `m` block whose triangles index normals

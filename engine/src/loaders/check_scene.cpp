@@ -1,6 +1,6 @@
 // The invariants every later stage may rely on without checking again: triangles exist, indices
-// are in range, positions, normals (none, or one per vertex) and transforms are finite, material
-// indices are valid, and every
+// are in range, positions, normals and texture coordinates (none, or one per vertex) and
+// transforms are finite, material indices and their texture indices are valid, and every
 // material's Whitted terms are usable (reflectance and transmittance finite and >= 0, ior finite
 // and > 0: the refraction maths divides by it).
 
@@ -48,6 +48,13 @@ std::string material_problem(const Material& material, std::size_t index) {
     return {};
 }
 
+/// What is wrong with material `index`'s texture map in `scene`, or "" when nothing is.
+std::string texture_problem(const Scene& scene, const Material& material, std::size_t index) {
+    if (!material.diffuse_map || material.diffuse_map->texture < scene.textures.size()) return {};
+    return cat("material '", material.name, "' (index ", index, "): texture ", material.diffuse_map->texture,
+               " out of range (", scene.textures.size(), " textures)");
+}
+
 void check_object(const Scene& scene, const Object& object) {
     if (object.material >= scene.materials.size()) {
         fail(scene, &object,
@@ -79,6 +86,15 @@ void check_object(const Scene& scene, const Object& object) {
             fail(scene, &object, cat("vertex ", v, " normal ", to_text(normals[v]), " is not finite"));
         }
     }
+    const std::vector<glm::vec2>& texcoords = object.mesh.texcoords;
+    if (!texcoords.empty() && texcoords.size() != positions.size()) {
+        fail(scene, &object, cat(texcoords.size(), " texture coordinates for ", positions.size(), " vertices"));
+    }
+    for (std::size_t v = 0; v < texcoords.size(); ++v) {
+        if (!std::isfinite(texcoords[v].x) || !std::isfinite(texcoords[v].y)) {
+            fail(scene, &object, cat("vertex ", v, " texture coordinates are not finite"));
+        }
+    }
     const std::vector<glm::uvec3>& triangles = object.mesh.triangles;
     for (std::size_t t = 0; t < triangles.size(); ++t) {
         for (int corner = 0; corner < 3; ++corner) {
@@ -99,6 +115,9 @@ void check_scene(const Scene& scene) {
     // Materials no object uses yet (a caller may assign them later): named without an object.
     for (std::size_t m = 0; m < scene.materials.size(); ++m) {
         if (const std::string problem = material_problem(scene.materials[m], m); !problem.empty()) {
+            fail(scene, nullptr, problem);
+        }
+        if (const std::string problem = texture_problem(scene, scene.materials[m], m); !problem.empty()) {
             fail(scene, nullptr, problem);
         }
     }

@@ -262,6 +262,24 @@ std::vector<std::uint16_t> read_joint_indices(const tinygltf::Model& model, int 
     return joints;
 }
 
+std::vector<unsigned char> read_buffer_view(const tinygltf::Model& model, int index) {
+    const std::string name = cat("bufferView ", index);
+    if (index < 0 || static_cast<std::size_t>(index) >= model.bufferViews.size()) {
+        throw GltfDataError(cat(name, " does not exist (", model.bufferViews.size(), " bufferViews)"));
+    }
+    const tinygltf::BufferView& view = model.bufferViews[static_cast<std::size_t>(index)];
+    if (view.buffer < 0 || static_cast<std::size_t>(view.buffer) >= model.buffers.size()) {
+        throw GltfDataError(cat(name, ": buffer ", view.buffer, " does not exist"));
+    }
+    const tinygltf::Buffer& buffer = model.buffers[static_cast<std::size_t>(view.buffer)];
+    if (!fits(view.byteOffset, 0, 1, view.byteLength, buffer.data.size())) {
+        throw GltfDataError(cat(name, " (offset ", view.byteOffset, ", length ", view.byteLength,
+                                ") exceeds buffer ", view.buffer, " (", buffer.data.size(), " bytes)"));
+    }
+    const auto first = buffer.data.begin() + static_cast<std::ptrdiff_t>(view.byteOffset);
+    return std::vector<unsigned char>(first, first + static_cast<std::ptrdiff_t>(view.byteLength));
+}
+
 std::vector<glm::vec3> read_positions(const tinygltf::Model& model, int accessor) {
     if (accessor >= 0 && static_cast<std::size_t>(accessor) < model.accessors.size()) {
         const tinygltf::Accessor& a = model.accessors[static_cast<std::size_t>(accessor)];

@@ -35,6 +35,11 @@ std::vector<double> read_numbers(const tinygltf::Model& model, int accessor, int
 /// Throws GltfDataError naming the accessor and the problem.
 std::vector<std::uint16_t> read_joint_indices(const tinygltf::Model& model, int accessor);
 
+/// The bytes of bufferView `view` (an embedded image's file), checked to lie within its buffer.
+/// Throws GltfDataError naming the bufferView when it or its buffer does not exist or it
+/// exceeds the buffer.
+std::vector<unsigned char> read_buffer_view(const tinygltf::Model& model, int view);
+
 /// The element count of accessor `accessor`; throws GltfDataError when it does not exist.
 std::size_t accessor_count(const tinygltf::Model& model, int accessor);
 

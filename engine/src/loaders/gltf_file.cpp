@@ -56,10 +56,16 @@ std::string one_line(const std::string& text) {
     return line;
 }
 
-/// The loader callback for images: accept and drop them, so textures cost no decoding and a
-/// missing or unreadable image is no error.
-bool ignore_image(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*,
-                  int, void*) {
+/// The loader callback for images: nothing is decoded here (the renderer reads textures
+/// through OpenImageIO), and a missing or unreadable image is no error. A data: URI's bytes,
+/// which exist nowhere else, are kept in Image::image; an external file is kept as its uri,
+/// and an image in a bufferView is read from the buffer by the loader, with bounds checks.
+bool keep_image(tinygltf::Image* image, const int, std::string*, std::string*, int, int,
+                const unsigned char* bytes, int size, void*) {
+    if (image->bufferView < 0 && image->uri.empty() && bytes != nullptr && size > 0) {
+        image->image.assign(bytes, bytes + size);
+        image->as_is = true;
+    }
     return true;
 }
 
@@ -69,9 +75,9 @@ void print_warnings(const std::string& name, const std::string& warnings) {
         std::size_t end = warnings.find('\n', start);
         if (end == std::string::npos) end = warnings.size();
         const std::string line = warnings.substr(start, end - start);
-        // Images are dropped anyway; telling about each missing texture would only be noise.
-        // tinygltf words those as "... for image[i] ..." plus, before it, "File not found" (or
-        // "File read error", "File is empty") lines that only optional files, images, produce.
+        // A missing texture is told by the renderer, naming the material that uses it; tinygltf
+        // words those as "... for image[i] ..." plus, before it, "File not found" (or "File
+        // read error", "File is empty") lines that only optional files, images, produce.
         const bool about_image = line.find("image") != std::string::npos || line.rfind("File ", 0) == 0;
         // tinygltf 2.7 calls a skin without inverseBindMatrices incomplete; glTF 2.0 makes them
         // optional (identity), and the loader supplies that.
@@ -130,7 +136,7 @@ std::size_t check_glb_container(const std::string& path, std::span<const unsigne
 /// Runs `load` (a tinygltf call) and turns its result into a model or one SceneError line.
 template <class Load>
 tinygltf::Model run_tinygltf(tinygltf::TinyGLTF& loader, const std::string& name, const Load& load) {
-    loader.SetImageLoader(&ignore_image, nullptr);
+    loader.SetImageLoader(&keep_image, nullptr);
     tinygltf::Model model;
     std::string error, warnings;
     bool ok = false;

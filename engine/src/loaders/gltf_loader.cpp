@@ -23,6 +23,8 @@
 #include "triangle_assembly.h"
 
 #include <algorithm>
+#include <filesystem>
+#include <map>
 #include <cmath>
 #include <iostream>
 #include <numeric>
@@ -62,7 +64,8 @@ bool has_transmission_texture(const tinygltf::Material& source) {
 }
 
 /// Phong and Whitted parameters from glTF metallic-roughness, a deliberately simple mapping
-/// (dynrt shades with Phong plus mirror and refraction rays, and ignores textures). With
+/// (dynrt shades with Phong plus mirror and refraction rays; of the textures it reads only
+/// baseColorTexture, mapped by GltfSceneBuilder::map_base_color). With
 /// base = baseColorFactor.rgb (linear, clamped to [0, 1]; default 1), metallic and roughness
 /// their factors (clamped to [0, 1]; default 1 both) and transmission
 /// KHR_materials_transmission's transmissionFactor (clamped to [0, 1]; 0 without it):
@@ -79,7 +82,7 @@ bool has_transmission_texture(const tinygltf::Material& source) {
 ///   ior           = KHR_materials_ior's ior (default 1.5) when the material has either
 ///                   extension, else 1 (an opaque material never refracts). A value <= 0 is
 ///                   passed on for check_scene to refuse, naming the material.
-/// Textures, including transmissionTexture, are ignored (listed in Scene::ignored).
+/// The other textures, transmissionTexture included, are ignored (listed in Scene::ignored).
 Material convert_material(const tinygltf::Material& source, std::size_t index) {
     Material material;
     material.name = source.name.empty() ? cat("material", index) : source.name;
@@ -155,6 +158,7 @@ public:
         scene.materials.push_back(Material{.name = "default", .diffuse = glm::vec3(kDefaultGrey)});
         for (std::size_t i = 0; i < model_.materials.size(); ++i) {
             scene.materials.push_back(convert_material(model_.materials[i], i));
+            map_base_color(model_.materials[i], scene.materials.back(), scene);
         }
         note_ignored(scene);
 
@@ -290,6 +294,7 @@ private:
                 for (glm::vec3& n : object.mesh.normals) n = normalize_or_zero(n);
             }
             add_morph_targets(primitive, owner, object);
+            read_texcoords(primitive, name, object);
             if (owner.skin) {
                 object.skin = skins.read_weights(primitive, *owner.skin, scene.skins, object.mesh.positions.size());
                 if (primitive.attributes.count("JOINTS_2") != 0) {
@@ -337,23 +342,116 @@ private:
         }
     }
 
+    /// TEXCOORD_0 (glTF 2.0 section 3.7.2.1: FLOAT, or normalised UNSIGNED_BYTE or
+    /// UNSIGNED_SHORT), when the primitive has it. A malformed one is dropped with a warning:
+    /// the object is then drawn without its texture rather than refused.
+    void read_texcoords(const tinygltf::Primitive& primitive, const std::string& name, Object& object) {
+        const auto texcoord = primitive.attributes.find("TEXCOORD_0");
+        if (texcoord == primitive.attributes.end()) return;
+        const std::size_t vertices = object.mesh.positions.size();
+        try {
+            const std::vector<double> st =
+                read_numbers(model_, texcoord->second, TINYGLTF_TYPE_VEC2, NormalizedIntegers::unsigned_only);
+            if (st.size() != 2 * vertices) {
+                throw GltfDataError(cat("has ", st.size() / 2, " elements for ", vertices, " positions"));
+            }
+            object.mesh.texcoords.resize(vertices);
+            for (std::size_t v = 0; v < vertices; ++v) {
+                object.mesh.texcoords[v] = glm::vec2(float(st[2 * v]), float(st[2 * v + 1]));
+            }
+        } catch (const GltfDataError& e) {
+            object.mesh.texcoords.clear();
+            warn(cat("object '", name, "': TEXCOORD_0 ", e.what(), ": drawn without texture coordinates"));
+        }
+    }
+
+    /// The scene texture for glTF image `image` (added on first use): its file, relative to
+    /// the document's folder, or its bytes (a data: URI, or a bufferView).
+    std::uint32_t texture_of(int image, Scene& scene) {
+        const auto [found, added] = texture_of_image_.try_emplace(image, std::uint32_t(scene.textures.size()));
+        if (!added) return found->second;
+        const tinygltf::Image& source = model_.images[static_cast<std::size_t>(image)];
+        Texture texture;
+        texture.mime_type = source.mimeType;
+        if (!source.uri.empty()) {
+            texture.path = (std::filesystem::path(name_).parent_path() / source.uri).string();
+            texture.name = texture.path;
+        } else {
+            texture.name = cat(name_, " image ", image, source.name.empty() ? "" : cat(" '", source.name, "'"));
+            if (source.bufferView >= 0) {
+                try {
+                    texture.encoded = read_buffer_view(model_, source.bufferView);
+                } catch (const GltfDataError& e) {
+                    warn(cat("image ", image, ": ", e.what()));  // the texture then reads as broken
+                }
+            } else {
+                texture.encoded = source.image;
+            }
+        }
+        scene.textures.push_back(std::move(texture));
+        return found->second;
+    }
+
+    /// Maps the material's baseColorTexture (glTF 2.0 section 3.9.2: sRGB texels multiplying
+    /// baseColorFactor, through TEXCOORD_0) with its sampler's wrap modes. Only TEXCOORD_0 is
+    /// read: a texture on another set is left out, with a warning.
+    void map_base_color(const tinygltf::Material& source, Material& material, Scene& scene) {
+        const tinygltf::TextureInfo& info = source.pbrMetallicRoughness.baseColorTexture;
+        if (info.index < 0) return;
+        if (static_cast<std::size_t>(info.index) >= model_.textures.size()) {
+            fail(cat("material '", material.name, "': baseColorTexture ", info.index, " does not exist (",
+                     model_.textures.size(), " textures)"));
+        }
+        const tinygltf::Texture& texture = model_.textures[static_cast<std::size_t>(info.index)];
+        if (texture.source < 0 || static_cast<std::size_t>(texture.source) >= model_.images.size()) {
+            warn(cat("material '", material.name, "': texture ", info.index,
+                     " has no image dynrt can read (no 'source'): its base colour factor alone is used"));
+            return;
+        }
+        if (info.texCoord != 0) {
+            warn(cat("material '", material.name, "': baseColorTexture uses TEXCOORD_", info.texCoord,
+                     ", and only TEXCOORD_0 is read: its base colour factor alone is used"));
+            return;
+        }
+        TextureMap map;
+        map.texture = texture_of(texture.source, scene);
+        if (texture.sampler >= 0 && static_cast<std::size_t>(texture.sampler) < model_.samplers.size()) {
+            const tinygltf::Sampler& sampler = model_.samplers[static_cast<std::size_t>(texture.sampler)];
+            map.wrap_s = wrap_of(sampler.wrapS);
+            map.wrap_t = wrap_of(sampler.wrapT);
+        }
+        material.diffuse_map = map;
+    }
+
+    static TextureWrap wrap_of(int mode) {
+        switch (mode) {
+            case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE:
+                return TextureWrap::clamp;
+            case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT:
+                return TextureWrap::mirror;
+            default:
+                return TextureWrap::repeat;
+        }
+    }
+
     std::string name_;
+    std::map<int, std::uint32_t> texture_of_image_;
     /// What the file says that dynrt leaves out, one line each in Scene::ignored (as BART's
-    /// loader does): textures (transmissionTexture included; the factors are used), and the
-    /// extensions the file requires or uses but dynrt does not implement (all but
-    /// KHR_materials_transmission and KHR_materials_ior, which convert_material maps).
+    /// loader does): textures other than baseColorTexture (transmissionTexture included; the
+    /// factors are used), and the extensions the file requires or uses but dynrt does not
+    /// implement (all but KHR_materials_transmission and KHR_materials_ior, which
+    /// convert_material maps).
     void note_ignored(Scene& scene) const {
         std::size_t textured = 0;
         for (const tinygltf::Material& m : model_.materials) {
-            const bool any = m.pbrMetallicRoughness.baseColorTexture.index >= 0 ||
-                             m.pbrMetallicRoughness.metallicRoughnessTexture.index >= 0 ||
+            const bool any = m.pbrMetallicRoughness.metallicRoughnessTexture.index >= 0 ||
                              m.normalTexture.index >= 0 || m.occlusionTexture.index >= 0 ||
                              m.emissiveTexture.index >= 0 || has_transmission_texture(m);
             textured += any ? 1 : 0;
         }
         if (textured > 0) {
-            scene.ignored.push_back(
-                cat("textures of ", textured, " material(s) (colour and transmission from their factors)"));
+            scene.ignored.push_back(cat("textures other than base colour of ", textured,
+                                        " material(s) (metal, roughness and transmission from their factors)"));
         }
         // The material extensions convert_material maps are not "left out".
         const auto implemented = [](const std::string& extension) {

@@ -225,10 +225,7 @@ void trace_tile_adaptive(const AdaptiveFrame& f, const packet::Tile& tile,
     trace_shadows();
     work.shadow_ms += clock.lap_ms();
     const packet::SurfacePacket& surface = origins.surface;
-    if (surface.hit.any()) {
-        packet::shade(surface, f.shading.materials, f.shading.lights, visible, f.shading.ambient,
-                      colors, f.shading.lanes);
-    }
+    shade_lanes(f.shading, origins, visible, colors);
     const auto color_of = [&](int lane) {
         return surface.hit.test(lane)
                    ? glm::vec3(colors.rgb[0][lane], colors.rgb[1][lane], colors.rgb[2][lane])

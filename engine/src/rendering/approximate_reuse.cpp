@@ -419,7 +419,7 @@ void trace_frame_approximate(const TraceInputs& in, const Camera& camera,
         scratch.shading_lights.push_back(packet::ShadingLight{light.position, light.intensity});
     }
     const TileShading shading{in.materials, scratch.shading_lights, options.ambient,
-                              options.background, options.packet.lanes};
+                              options.background, options.packet.lanes, in.textures};
     const bool count = options.count_packet_work;
     tbb::combinable<packet::PacketStats> packet_work;
     tbb::combinable<bvh::TraversalStats> single_work;

@@ -218,7 +218,7 @@ void trace_frame_reusing(const TraceInputs& in, const Camera& camera, const Trac
         scratch.shading_lights.push_back(packet::ShadingLight{light.position, light.intensity});
     }
     const TileShading shading{in.materials, scratch.shading_lights, options.ambient,
-                              options.background, options.packet.lanes};
+                              options.background, options.packet.lanes, in.textures};
     // Until remember_inputs: a trace that throws half way leaves nothing to reuse.
     memory.valid = false;
     const bool all = plan.full;

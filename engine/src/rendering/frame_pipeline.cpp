@@ -2,7 +2,11 @@
 
 #include "rendering/same_view.h"
 
+#include <glm/trigonometric.hpp>
+
 #include <algorithm>
+#include <cmath>
+#include <optional>
 #include <stdexcept>
 
 namespace dynrt {
@@ -15,6 +19,8 @@ void FramePipeline::clear() {
     camera_moving_ = false;
     versions_.clear();
     invalidated_.clear();
+    textures_.reset();
+    textures_scene_ = nullptr;
 }
 
 void FramePipeline::refresh_parts() {
@@ -78,7 +84,23 @@ void FramePipeline::trace(const Scene& scene, const Camera& camera, const TraceS
     }
     out.stats = update_stats_;
     accel_.use_vertex_normals(options.smooth_normals);
-    const TraceInputs inputs{accel_, materials_, object_material_, lights, scene.materials};
+    // Textures: opened once per scene (OpenImageIO reads the images lazily, at first lookup).
+    std::optional<detail::SurfaceTextures> surface_textures;
+    if (TextureSet::needed(scene)) {
+        if (!textures_ || textures_scene_ != &scene) {
+            textures_ = std::make_unique<TextureSet>(scene);
+            textures_scene_ = &scene;
+        }
+        object_texcoords_.clear();
+        for (const Object& object : scene.objects) {
+            object_texcoords_.push_back(detail::ObjectTexcoords{object.mesh.texcoords, object.mesh.triangles});
+        }
+        const float pixel_angle =
+            2.0f * std::tan(0.5f * glm::radians(camera.fov_y_deg)) / float(std::max(options.height, 1));
+        surface_textures.emplace(detail::SurfaceTextures{*textures_, object_texcoords_, camera.eye, pixel_angle});
+    }
+    const TraceInputs inputs{accel_, materials_, object_material_, lights, scene.materials,
+                             surface_textures ? &*surface_textures : nullptr};
     // A reflection or refraction can show any object from any pixel whose hit spawns one:
     // exact reuse traces such pixels again whenever anything changed (exact_reuse.h), while the
     // approximate modes' ranking and adaptive sampling's interpolation cannot account for it,

@@ -10,6 +10,7 @@
 #include "dynrt/engine/frame_stats.h"
 #include "dynrt/engine/renderer.h"
 #include "dynrt/engine/stopwatch.h"
+#include "dynrt/engine/texture_set.h"
 #include "dynrt/engine/update_plan.h"
 #include "dynrt/packet/packet_shading.h"
 #include "dynrt/scene/scene.h"
@@ -19,6 +20,7 @@
 #include "update/scene_accel.h"
 
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -40,8 +42,10 @@ public:
     /// Traces and shades the last update's trees as `camera` sees them under `options` (image
     /// size, tracer, shading) and `lights`, into `out` (buffers reused). out.stats holds the
     /// update's figures and the trace's; total_ms is the update's wall time plus the trace's.
-    /// Materials are read from `scene` as it is now. Throws std::logic_error before any update
-    /// and std::invalid_argument for a degenerate camera.
+    /// Materials are read from `scene` as it is now; its textures (TextureSet) are opened at
+    /// the first trace of a scene and kept until another scene is traced or clear(), so a
+    /// caller that edits a scene's textures in place must clear(). Throws std::logic_error
+    /// before any update and std::invalid_argument for a degenerate camera.
     void trace(const Scene& scene, const Camera& camera, const TraceSettings& options,
                std::span<const PointLight> lights, RenderedFrame& out);
 
@@ -66,6 +70,11 @@ private:
     /// refreshed per trace (kept to avoid reallocating), and the trace's own buffers.
     std::vector<packet::PhongMaterial> materials_;
     std::vector<std::int32_t> object_material_;
+    /// The textures of the scene traced last (opened at its first trace, kept until another
+    /// scene or clear()), and each object's texture coordinates, refreshed per trace.
+    std::unique_ptr<TextureSet> textures_;
+    const Scene* textures_scene_ = nullptr;
+    std::vector<detail::ObjectTexcoords> object_texcoords_;
     TraceScratch scratch_;
     /// Per object, a version that changes whenever its geometry may have (an update that
     /// said it changed, an invalidation): exact pixel reuse compares them between traces.

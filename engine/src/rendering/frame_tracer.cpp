@@ -122,7 +122,7 @@ void trace_frame(const TraceInputs& in, const Camera& camera, const TraceSetting
     stats.secondary_shadow_rays = stats.secondary_packet_rays = stats.secondary_single_rays = 0;
     stats.secondary_rays_per_depth.clear();
     const TileShading shading{in.materials, scratch.shading_lights, options.ambient,
-                              options.background, options.packet.lanes};
+                              options.background, options.packet.lanes, in.textures};
     out.width = width;
     out.height = height;
     out.color.resize(pixels);

@@ -27,6 +27,8 @@ struct TraceInputs {
     /// them reflecting or transmitting, or TraceSettings::secondary.max_depth 0: no secondary
     /// rays.
     std::span<const Material> scene_materials = {};
+    /// The frame's textures, or null when no material maps one.
+    const detail::SurfaceTextures* textures = nullptr;
 };
 
 /// Buffers a trace fills and the next one reuses (one per concurrent trace).

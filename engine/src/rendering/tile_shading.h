@@ -2,12 +2,14 @@
 // A tile's hits made ready for shadow rays and shading, shared by the renderer's exact and
 // adaptive paths: where each hit's shadow rays start (bit-identical between the packet and
 // single-ray tracers), the shading normal each hit is lit with (its vertex normals
-// interpolated, renderer.h "Shading normals"), the tile's shadow packets toward a light, and
-// the Phong shading and output writes of a whole tile.
+// interpolated, renderer.h "Shading normals"), the tile's shadow packets toward a light, the
+// texture colours of its hits (tint_lanes) and the Phong shading and output writes of a whole
+// tile.
 
 #include "dynrt/bvh/triangle.h"
 #include "dynrt/bvh/two_level_bvh.h"
 #include "dynrt/engine/renderer.h"
+#include "dynrt/engine/texture_set.h"
 #include "dynrt/packet/packet_shading.h"
 #include "dynrt/packet/simd.h"
 #include "dynrt/packet/ray_packet.h"
@@ -18,6 +20,7 @@
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
+#include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -89,6 +92,13 @@ struct TileShadowOrigins {
     /// Per lane, triangle_magnitude of the hit triangle (for offsets along the normal).
     alignas(64) float magnitude[packet::kPacketRays];
 
+    /// Per hit lane, what texture lookups need (tint_lanes): the hit's object, triangle,
+    /// barycentrics and the triangle's twice area, |(v1 - v0) x (v2 - v0)|, in world space.
+    alignas(64) std::int32_t object[packet::kPacketRays];
+    alignas(64) std::uint32_t prim[packet::kPacketRays];
+    alignas(64) float bary[2][packet::kPacketRays];
+    alignas(64) float twice_area[packet::kPacketRays];
+
     /// `primary` holds the tile's camera rays (lane tile_lane(tile, x, y)); object i has
     /// material object_material[i].
     void compute(const SceneAccel& accel, const std::vector<bvh::InstanceHit>& hits, int width,
@@ -131,7 +141,6 @@ struct TileShadowOrigins {
         // harmless triangle and are never used.
         alignas(64) float v[9][packet::kPacketRays];
         alignas(64) float vertex_normal[9][packet::kPacketRays];
-        alignas(64) float bary[2][packet::kPacketRays];
         constexpr float kHarmless[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
         hit = packet::LaneMask{};
         back_hit = packet::LaneMask{};
@@ -145,6 +154,8 @@ struct TileShadowOrigins {
                 const bvh::Triangle tri = accel.world_triangle(ih->object, ih->hit.prim);
                 std::memcpy(coords, &tri, sizeof coords);
                 surface.material[lane] = object_material[ih->object];
+                object[lane] = std::int32_t(ih->object);
+                prim[lane] = ih->hit.prim;
                 if (accel.world_vertex_normals(ih->object, ih->hit.prim, normals)) smooth.set(lane);
             } else {
                 std::memcpy(coords, kHarmless, sizeof coords);
@@ -171,7 +182,9 @@ struct TileShadowOrigins {
             // facing_normal: normalize(cross(e1, e2)), negated where it faces along the ray.
             const F c[3] = {e1[1] * e2[2] - e2[1] * e1[2], e1[2] * e2[0] - e2[2] * e1[0],
                             e1[0] * e2[1] - e2[0] * e1[1]};
-            const F inv_len = L::splat(1.0f) / L::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+            const F length = L::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+            const F inv_len = L::splat(1.0f) / length;
+            L::store(twice_area + base, length);
             F nv[3] = {c[0] * inv_len, c[1] * inv_len, c[2] * inv_len};
             const F d[3] = {L::load(dir_in[0] + base), L::load(dir_in[1] + base),
                             L::load(dir_in[2] + base)};
@@ -283,6 +296,22 @@ inline bool shading_split_holds(const glm::vec3& d, const glm::vec3& shading, co
            (!refracts || glm::dot(refracted, n) < 0.0f);
 }
 
+/// One object's texture coordinates as shading reads them (borrowed from its mesh).
+struct ObjectTexcoords {
+    std::span<const glm::vec2> texcoords;  ///< per vertex, or empty: not textured
+    std::span<const glm::uvec3> triangles;
+};
+
+/// What texture lookups need for a frame (README "Textures"): the scene's textures, each
+/// object's texture coordinates, and the camera's eye and per-pixel angle for the footprint
+/// (texture_footprint).
+struct SurfaceTextures {
+    const TextureSet& set;
+    std::span<const ObjectTexcoords> objects;  ///< per object, scene order
+    glm::vec3 eye;
+    float pixel_angle;  ///< radians per pixel: 2 tan(fov_y / 2) / height
+};
+
 /// What shading a tile needs besides the tile's own data; fixed for a frame.
 struct TileShading {
     std::span<const packet::PhongMaterial> materials;
@@ -290,7 +319,41 @@ struct TileShading {
     float ambient;
     glm::vec3 background;
     int lanes;  ///< PacketConfig::lanes: the kernel's SIMD width (same bits either way)
+    /// The frame's textures, or null when no material maps one.
+    const SurfaceTextures* textures = nullptr;
 };
+
+/// The diffuse factors of `origins`' hit lanes whose material maps a readable texture and
+/// whose object has texture coordinates: the texture's linear colour at the hit's
+/// interpolated coordinates (s, t) = (1 - u - v) st0 + u st1 + v st2 over the footprint
+/// texture_footprint(|point - eye|, pixel_angle, twice the world area, twice the texture area).
+/// Null when no lane is textured. Fills a per-thread buffer: valid until the thread's next call.
+inline const packet::DiffuseTint* tint_lanes(const SurfaceTextures& textures, const TileShadowOrigins& origins) {
+    thread_local packet::DiffuseTint tint;
+    const packet::SurfacePacket& surface = origins.surface;
+    tint.lanes = packet::LaneMask{};
+    for (int w = 0; w < packet::kPacketRays / 64; ++w) {
+        for (std::uint64_t bits = surface.hit.words[w]; bits != 0; bits &= bits - 1) {
+            const int lane = w * 64 + std::countr_zero(bits);
+            const auto material = std::uint32_t(surface.material[lane]);
+            if (!textures.set.maps(material)) continue;
+            const ObjectTexcoords& uv = textures.objects[std::size_t(origins.object[lane])];
+            if (uv.texcoords.empty()) continue;
+            const glm::uvec3& corner = uv.triangles[origins.prim[lane]];
+            const glm::vec2 st0 = uv.texcoords[corner.x], st1 = uv.texcoords[corner.y], st2 = uv.texcoords[corner.z];
+            const float u = origins.bary[0][lane], v = origins.bary[1][lane];
+            const glm::vec2 st = (1.0f - u - v) * st0 + u * st1 + v * st2;
+            const glm::vec2 e1 = st1 - st0, e2 = st2 - st0;
+            const glm::vec3 point(surface.point[0][lane], surface.point[1][lane], surface.point[2][lane]);
+            const float width = texture_footprint(glm::length(point - textures.eye), textures.pixel_angle,
+                                                  origins.twice_area[lane], std::abs(e1.x * e2.y - e1.y * e2.x));
+            const glm::vec3 c = textures.set.diffuse(material, st, width);
+            for (int a = 0; a < 3; ++a) tint.rgb[a][lane] = c[a];
+            tint.lanes.set(lane);
+        }
+    }
+    return tint.lanes.any() ? &tint : nullptr;
+}
 
 /// The hit buffers' values for a pixel whose ray misses everything.
 inline void write_miss(RenderedFrame& out, std::size_t p) {
@@ -300,14 +363,15 @@ inline void write_miss(RenderedFrame& out, std::size_t p) {
     out.normal[p] = glm::vec3(0.0f);
 }
 
-/// Shades one tile's hit lanes into `colors` (packet::shade; `visible[l]`: the lanes light l
-/// reaches); other lanes are left as they are.
+/// Shades one tile's hit lanes into `colors` (packet::shade, textured by tint_lanes;
+/// `visible[l]`: the lanes light l reaches); other lanes are left as they are.
 inline void shade_lanes(const TileShading& shading, const TileShadowOrigins& origins,
                         std::span<const packet::LaneMask> visible, packet::ShadedColors& colors) {
     const packet::SurfacePacket& surface = origins.surface;
     if (surface.hit.any()) {
+        const packet::DiffuseTint* tint = shading.textures ? tint_lanes(*shading.textures, origins) : nullptr;
         packet::shade(surface, shading.materials, shading.lights, visible, shading.ambient, colors,
-                      shading.lanes);
+                      shading.lanes, tint);
     }
 }
 

@@ -1,6 +1,7 @@
 #include "dynrt/reference/reference_renderer.h"
 
 #include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -20,6 +21,7 @@ ReferenceShading shading_from(const Scene& scene, const RenderOptions& options) 
     shading.max_depth = options.secondary.max_depth;
     shading.cutoff = options.secondary.cutoff;
     shading.smooth_normals = options.smooth_normals;
+    if (TextureSet::needed(scene)) shading.textures = std::make_shared<const TextureSet>(scene, false);
     return shading;
 }
 
@@ -31,8 +33,8 @@ double max_channel(const glm::dvec3& v) { return std::max({v.x, v.y, v.z}); }
 class PixelShader {
 public:
     PixelShader(const Scene& scene, const ReferenceTracer& tracer, const ReferenceShading& shading,
-                const Tolerances& tol)
-        : scene_(scene), tracer_(tracer), shading_(shading), tol_(tol) {}
+                const Tolerances& tol, double pixel_angle)
+        : scene_(scene), tracer_(tracer), shading_(shading), tol_(tol), pixel_angle_(pixel_angle) {}
 
     ReferencePixel shade_camera_ray(const bvh::Ray& ray) {
         pixel_ = ReferencePixel{};
@@ -42,6 +44,7 @@ public:
             return pixel_;
         }
         const glm::dvec3 org(ray.org), dir(ray.dir);
+        eye_ = org;
         const glm::dvec3 p = org + pixel_.hit.t * dir;
         // The camera ray is the renderer's own float ray: no deviation.
         pixel_.color = shade_hit(pixel_.hit, p, dir, 0, glm::dvec3(1.0), 0.0, 0.0);
@@ -144,13 +147,39 @@ private:
 
         const Object& object = scene_.objects.at(static_cast<std::size_t>(hit.object));
         const Material& material = scene_.materials.at(object.material);
-        const glm::dvec3 kd(material.diffuse), ks(material.specular);
+        glm::dvec3 kd(material.diffuse);
+        const glm::dvec3 ks(material.specular);
         const double shininess = material.shininess;
+        // The texture's colour, and how much it may differ where the float renderer looks.
+        double texture_change = 0.0;
+        const double base_kd_max = max_channel(kd);
+        if (shading_.textures && shading_.textures->maps(object.material) && !object.mesh.texcoords.empty()) {
+            const glm::uvec3& corner = object.mesh.triangles.at(static_cast<std::size_t>(hit.prim));
+            const glm::dvec2 st0(object.mesh.texcoords[corner.x]), st1(object.mesh.texcoords[corner.y]),
+                st2(object.mesh.texcoords[corner.z]);
+            const glm::dvec2 st = (1.0 - hit.u - hit.v) * st0 + hit.u * st1 + hit.v * st2;
+            const glm::dvec2 e1 = st1 - st0, e2 = st2 - st0;
+            const double twice_texture = std::abs(e1.x * e2.y - e1.y * e2.x);
+            glm::dvec3 v[3];
+            tracer_.vertices(tri, v);
+            const double twice_world = glm::length(glm::cross(v[1] - v[0], v[2] - v[0]));
+            const float width = texture_footprint(float(glm::length(p - eye_)), float(pixel_angle_),
+                                                  float(twice_world), float(twice_texture));
+            const glm::vec3 texel = shading_.textures->diffuse(object.material, glm::vec2(st), width);
+            kd *= glm::dvec3(texel);
+            const double st_error = std::sqrt(twice_texture / std::max(twice_world, 1e-300)) *
+                                    (point_error + tol_.barycentric_rel * tracer_.scale_at(p));
+            for (const glm::dvec2 offset : {glm::dvec2(st_error, 0.0), glm::dvec2(-st_error, 0.0),
+                                            glm::dvec2(0.0, st_error), glm::dvec2(0.0, -st_error)}) {
+                const glm::vec3 there = shading_.textures->diffuse(object.material, glm::vec2(st + offset), width);
+                texture_change = std::max(texture_change, max_channel(glm::abs(glm::dvec3(there - texel))));
+            }
+        }
 
         glm::dvec3 color = shading_.ambient * kd;
         // How much the colour may change per unit of turn of the shading normal: for each
         // lit light, I (kd + 4 p ks (r.v)^(p - 1)), as |d(s.l)| <= |ds| and |d(r.v)| <= 4 |ds|.
-        double sensitivity = 0.0;
+        double sensitivity = 0.0, diffuse_light = shading_.ambient;
         const double kd_max = max_channel(kd), ks_max = max_channel(ks);
         for (const PointLight& light : shading_.lights) {
             const glm::dvec3 light_pos(light.position);
@@ -169,6 +198,7 @@ private:
             const glm::dvec3 r = 2.0 * n_dot_l * ns - l;
             const double r_dot_v = std::max(0.0, glm::dot(r, view));
             color += double(light.intensity) * (kd * n_dot_l + ks * std::pow(r_dot_v, shininess));
+            diffuse_light += double(light.intensity) * n_dot_l;
             sensitivity += double(light.intensity) *
                            (kd_max + 4.0 * shininess * ks_max * std::pow(r_dot_v, std::max(shininess - 1.0, 0.0)));
         }
@@ -176,6 +206,9 @@ private:
         // the same ray, plus point_error for a deviating secondary ray.
         const double normal_error = normal_rate * (point_error + tol_.barycentric_rel * tracer_.scale_at(p));
         if (max_channel(weight) * sensitivity * normal_error > tol_.shading_color) pixel_.shading_ambiguous = true;
+        if (max_channel(weight) * base_kd_max * texture_change * diffuse_light > tol_.shading_color) {
+            pixel_.shading_ambiguous = true;
+        }
         if (depth >= shading_.max_depth || !material.traces_secondary()) return color;
 
         // ---- Whitted's secondary rays --------------------------------------------------------
@@ -245,12 +278,21 @@ private:
     const ReferenceTracer& tracer_;
     const ReferenceShading& shading_;
     const Tolerances& tol_;
+    /// Radians per pixel (2 tan(fov_y / 2) / height) and the camera ray's origin: the texture
+    /// footprint's cone.
+    double pixel_angle_;
+    glm::dvec3 eye_{0.0};
     ReferencePixel pixel_;
 };
 
 ReferencePixel shade(const Scene& scene, const ReferenceTracer& tracer, const bvh::Ray& ray,
-                     const ReferenceShading& shading, const Tolerances& tol) {
-    return PixelShader(scene, tracer, shading, tol).shade_camera_ray(ray);
+                     const ReferenceShading& shading, const Tolerances& tol, double pixel_angle) {
+    return PixelShader(scene, tracer, shading, tol, pixel_angle).shade_camera_ray(ray);
+}
+
+/// The texture footprint's angle per pixel, as FramePipeline computes it (in float there).
+double pixel_angle_of(const Camera& camera, int height) {
+    return double(2.0f * std::tan(0.5f * glm::radians(camera.fov_y_deg)) / float(std::max(height, 1)));
 }
 
 }  // namespace
@@ -259,6 +301,7 @@ ReferenceFrame render_reference(const Scene& scene, const ReferenceTracer& trace
                                 const Camera& camera, int width, int height,
                                 const ReferenceShading& shading, const Tolerances& tol) {
     const packet::PinholeRays rays(camera, width, height);  // validates camera and size
+    const double pixel_angle = pixel_angle_of(camera, height);
     ReferenceFrame frame;
     frame.width = width;
     frame.height = height;
@@ -268,7 +311,7 @@ ReferenceFrame render_reference(const Scene& scene, const ReferenceTracer& trace
             for (int x = 0; x < width; ++x) {
                 frame.pixels[static_cast<std::size_t>(y) * static_cast<std::size_t>(width) +
                              static_cast<std::size_t>(x)] =
-                    shade(scene, tracer, rays.ray(x, y), shading, tol);
+                    shade(scene, tracer, rays.ray(x, y), shading, tol, pixel_angle);
             }
         }
     });
@@ -282,6 +325,7 @@ std::vector<ReferencePixel> render_reference_pixels(const Scene& scene,
                                                     const ReferenceShading& shading,
                                                     const Tolerances& tol) {
     const packet::PinholeRays rays(camera, width, height);  // validates camera and size
+    const double pixel_angle = pixel_angle_of(camera, height);
     for (const PixelCoord& p : pixels) {
         if (p.x < 0 || p.x >= width || p.y < 0 || p.y >= height) {
             throw std::out_of_range("render_reference_pixels: pixel (" + std::to_string(p.x) +
@@ -296,7 +340,7 @@ std::vector<ReferencePixel> render_reference_pixels(const Scene& scene,
                       [&](const tbb::blocked_range<std::size_t>& range) {
                           for (std::size_t i = range.begin(); i != range.end(); ++i) {
                               out[i] = shade(scene, tracer, rays.ray(pixels[i].x, pixels[i].y),
-                                             shading, tol);
+                                             shading, tol, pixel_angle);
                           }
                       });
     return out;

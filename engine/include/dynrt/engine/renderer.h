@@ -4,7 +4,10 @@
 //
 // Shading (reproduced by the reference renderer in tests/): at a hit with unit geometric normal
 // n turned to face the eye, unit shading normal s (below), view vector v = -dir, material
-// (kd, ks, shininess), ambient a:
+// (kd, ks, shininess), ambient a, where kd is the material's diffuse colour times, when it maps
+// a texture (Material::diffuse_map) that can be read and the object has texture coordinates,
+// the texture's linear colour at the hit's interpolated coordinates over the footprint
+// texture_footprint gives (dynrt/engine/texture_set.h, README "Textures"):
 //   color = a * kd + sum over lights L with n.l > 0, s.l > 0 and the light visible from the hit:
 //           intensity_L * (kd * (s.l) + ks * max(0, r.v)^shininess),  r = 2 (s.l) s - l,
 // l the unit vector to the light. No distance falloff. A miss is the background colour.

@@ -5,7 +5,8 @@
 // the tile, computing the Phong terms of all lanes of one material at once.
 //
 // The formula is the renderer's (engine/include/dynrt/engine/renderer.h): at a hit with unit
-// shading normal n, view vector v, material (kd, ks, s), ambient fraction a,
+// shading normal n, view vector v, material (kd, ks, s) (kd times the lane's texture colour
+// where a DiffuseTint gives one), ambient fraction a,
 //   color = a kd + sum over visible lights L with n.l > 0: I_L (kd (n.l) + ks max(0, r.v)^s),
 //   l = normalize(P_L - point), r = 2 (n.l) n - l.
 // "Visible" is the caller's verdict (the geometric normal faces the light and the shadow ray
@@ -51,6 +52,13 @@ struct ShadingLight {
     float intensity = 1.0f;
 };
 
+/// Per-lane factors of the material's diffuse colour (a texture's colour at each hit): lanes in
+/// `lanes` shade with kd * rgb (ambient term included), the others with kd. 3 KiB.
+struct alignas(64) DiffuseTint {
+    LaneMask lanes;
+    alignas(64) float rgb[3][kPacketRays];
+};
+
 /// Linear RGB per lane: meaningful for the lanes of SurfacePacket::hit, unspecified elsewhere.
 struct alignas(64) ShadedColors {
     alignas(64) float rgb[3][kPacketRays];
@@ -59,10 +67,12 @@ struct alignas(64) ShadedColors {
 /// Shades every hit lane of `surface` into `out`. `visible[l]` holds the lanes that light l
 /// may light (the geometric n.l > 0 and the shadow ray unoccluded; the kernel adds the light
 /// where the shading normal's n.l > 0 too); one mask per light, same order as `lights`. Every `surface.material` of a hit lane must index `materials`. `lanes` is
-/// native_simd_lanes() or 1, as PacketConfig::lanes; both give the same bits. Throws
-/// std::invalid_argument for another width or mismatched spans. Thread-safe (no shared state).
+/// native_simd_lanes() or 1, as PacketConfig::lanes; both give the same bits. `tint`, when not
+/// null, scales the diffuse colour of its lanes. Throws std::invalid_argument for another
+/// width or mismatched spans. Thread-safe (no shared state).
 void shade(const SurfacePacket& surface, std::span<const PhongMaterial> materials,
            std::span<const ShadingLight> lights, std::span<const LaneMask> visible,
-           float ambient, ShadedColors& out, int lanes = native_simd_lanes());
+           float ambient, ShadedColors& out, int lanes = native_simd_lanes(),
+           const DiffuseTint* tint = nullptr);
 
 }  // namespace dynrt::packet

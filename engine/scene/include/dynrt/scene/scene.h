@@ -15,6 +15,7 @@
 #include "dynrt/scene/skin.h"
 
 #include <glm/mat4x4.hpp>
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
 #include <cstdint>
@@ -23,6 +24,37 @@
 #include <vector>
 
 namespace dynrt {
+
+/// An image a material's colour is read from: a file, or a file's bytes held in memory (a
+/// glTF image embedded in the document or its binary buffer).
+struct Texture {
+    /// For messages: the file's path, or "<scene source> image <i>" for an embedded image.
+    std::string name;
+    /// The file to read (as given, or made relative to the scene file's folder by the
+    /// loader); empty when the image is `encoded`.
+    std::string path;
+    /// An embedded image's file bytes (PNG, JPEG...) and MIME type ("image/png"); empty for a
+    /// file.
+    std::vector<unsigned char> encoded;
+    std::string mime_type;
+    /// The texel values are sRGB-encoded (glTF base colour, 8-bit images): lookups convert
+    /// them to linear. False: they are linear already.
+    bool srgb = true;
+};
+
+/// How texture coordinates outside [0, 1] are folded back (glTF's sampler wrap modes).
+enum class TextureWrap : std::uint8_t {
+    repeat,  ///< the image tiles (glTF REPEAT, the default)
+    clamp,   ///< the edge texels extend (CLAMP_TO_EDGE)
+    mirror,  ///< the image tiles, every other copy mirrored (MIRRORED_REPEAT)
+};
+
+/// A texture mapped onto a material's surfaces through the objects' texture coordinates.
+struct TextureMap {
+    std::uint32_t texture = 0;  ///< index into Scene::textures
+    TextureWrap wrap_s = TextureWrap::repeat;
+    TextureWrap wrap_t = TextureWrap::repeat;
+};
 
 /// Phong material with Whitted's mirror and transmission terms (the model is in
 /// dynrt/engine/renderer.h). Colours and weights are linear RGB in [0, 1].
@@ -38,6 +70,10 @@ struct Material {
     /// Index of refraction of the inside (the side the triangles' winding normal points away
     /// from) relative to the outside; > 0 and finite.
     float ior = 1.0f;
+    /// When present, the diffuse colour at a hit is `diffuse` times this texture's linear
+    /// colour at the hit's texture coordinates (Mesh::texcoords); objects without texture
+    /// coordinates, and textures that cannot be read, use `diffuse` alone.
+    std::optional<TextureMap> diffuse_map = std::nullopt;
 
     /// Whether a hit on this material spawns reflection or refraction rays.
     bool traces_secondary() const {
@@ -56,6 +92,10 @@ struct Mesh {
     /// or, where the file has none, with area_weighted_normals (vertex_normals.h); the
     /// renderer interpolates them at each hit (dynrt/engine/renderer.h, "Shading normals").
     std::vector<glm::vec3> normals;
+    /// Per-vertex texture coordinates (s, t), indexed as `positions`, or empty. s runs to the
+    /// right and t down an image from its top-left corner (glTF's TEXCOORD_0 convention, and
+    /// OpenImageIO's), one unit across the image.
+    std::vector<glm::vec2> texcoords;
 };
 
 /// One traceable thing. Unanimated and unskinned, its world-space triangles are
@@ -103,8 +143,11 @@ struct Scene {
     /// Present when the file says how it is to be shown (BART's AFF): then cameras[0] is its
     /// viewpoint, and its image size, frame rate and background are the defaults.
     std::optional<SceneSetup> setup;
-    /// What the file says that the scene model leaves out (BART's textures, light colours...),
-    /// one short line each, for the report; empty when nothing was left out.
+    /// Images that materials map (Material::diffuse_map).
+    std::vector<Texture> textures;
+    /// What the file says that the scene model leaves out (glTF's textures other than base
+    /// colour, BART's light colours...), one short line each, for the report; empty when
+    /// nothing was left out.
     std::vector<std::string> ignored;
 
     std::size_t triangle_count() const;

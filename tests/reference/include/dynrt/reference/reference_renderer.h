@@ -36,6 +36,10 @@
 //    transmissive surface with |sin2_t - 1| < Tolerances::critical (the critical angle);
 //  - a secondary ray whose path weight's largest channel lies within cutoff_rel * cutoff of
 //    the cutoff;
+//  - textures: a hit where the texture's colour, looked up within the distance the float hit
+//    point may lie off the exact one (as for the shading normal below, in texture units),
+//    changes by enough to move the colour, weighted by the path, by more than
+//    Tolerances::shading_color;
 //  - smooth shading: an interpolated normal near kMinShadingNormalLength2 or nearly in the
 //    surface (|s . n| < terminator); the split's test within terminator of its boundary
 //    (|d . s|, |reflected . n|, |refracted . n|); and a hit where the shading normal may turn,
@@ -62,11 +66,13 @@
 
 #include "dynrt/engine/camera.h"
 #include "dynrt/engine/renderer.h"
+#include "dynrt/engine/texture_set.h"
 #include "dynrt/scene/scene.h"
 
 #include <glm/vec3.hpp>
 
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -87,10 +93,16 @@ struct ReferenceShading {
     /// (TraceSettings::smooth_normals, same default); false: every hit with its geometric
     /// normal.
     bool smooth_normals = TraceSettings{}.smooth_normals;
+    /// The scene's textures (the renderer's own lookups, dynrt/engine/texture_set.h), or null
+    /// when no material maps one: a textured material's kd is its diffuse colour times the
+    /// texture's colour at the exact hit's texture coordinates, over the footprint
+    /// texture_footprint gives at the exact distance from the eye.
+    std::shared_ptr<const TextureSet> textures;
 };
 
-/// The lights, background, ambient and secondary-ray settings a dynrt::Renderer with
-/// `options` uses on `scene` (effective_lights decides the default light).
+/// The lights, background, ambient, secondary-ray settings, normals and textures a
+/// dynrt::Renderer with `options` uses on `scene` (effective_lights decides the default light;
+/// the textures are opened again, quietly: the renderer reports unreadable ones).
 ReferenceShading shading_from(const Scene& scene, const RenderOptions& options);
 
 struct ReferencePixel {

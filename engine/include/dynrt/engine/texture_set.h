@@ -1,0 +1,69 @@
+#pragma once
+// A scene's textures, read through OpenImageIO's TextureSystem: filtered, MIP-mapped lookups
+// (trilinear between the two MIP levels nearest the footprint, bilinear within each; Williams
+// 1983, "Pyramidal Parametrics"), MIP levels made on first use for images that have none
+// (OpenImageIO's "automip"), grey images read as grey RGB. The shading of every tracer and the
+// reference renderer in tests/ look textures up here, so they see the same colours.
+//
+// A texture that cannot be read (a missing file, an undecodable image) is reported once, as
+// "dynrt: warning: SCENE: material 'M': texture 'FILE' cannot be read (REASON); its diffuse
+// colour is used alone", and the material then shades as if it had no map: never an error.
+
+#include "dynrt/scene/scene.h"
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+#include <cmath>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace dynrt {
+
+class TextureSet {
+public:
+    /// Opens the textures `scene`'s materials map (Material::diffuse_map), copying embedded
+    /// images' bytes (nothing of `scene` is borrowed). Each unreadable texture is reported in
+    /// warnings(), and on stderr when `print_warnings`.
+    explicit TextureSet(const Scene& scene, bool print_warnings = true);
+    ~TextureSet();
+    TextureSet(const TextureSet&) = delete;
+    TextureSet& operator=(const TextureSet&) = delete;
+
+    /// Whether any material of `scene` maps a texture (so that shading needs a TextureSet).
+    static bool needed(const Scene& scene);
+
+    /// Whether material `material` has a diffuse map that could be read.
+    bool maps(std::uint32_t material) const;
+
+    /// The linear RGB of material `material`'s diffuse map at texture coordinates `st`
+    /// (Mesh::texcoords' convention), wrapped by the map's modes, filtered over a square
+    /// footprint `width` wide in texture coordinates (0: bilinear at the finest level). sRGB
+    /// texels are converted to linear after filtering. Precondition: maps(material).
+    /// Thread-safe.
+    glm::vec3 diffuse(std::uint32_t material, glm::vec2 st, float width) const;
+
+    /// What construction reported, one line per material whose texture cannot be read.
+    const std::vector<std::string>& warnings() const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+/// The footprint of a pixel's ray at a hit, in texture coordinates, as dynrt's shading and
+/// the reference compute it (README "Textures"): the width of the pixel's cone at the hit's
+/// distance from the eye, `distance` * `pixel_angle` (radians per pixel, 2 tan(fov_y / 2) /
+/// height), scaled from world units to texture units by the hit triangle's
+/// sqrt(texture area / world area). Secondary rays use the straight distance from the eye, not
+/// their path's length, and the cone ignores curvature, so reflections and refractions are
+/// filtered less than a ray differential would; 0 when the triangle has no area.
+inline float texture_footprint(float distance, float pixel_angle, float twice_world_area,
+                               float twice_texture_area) {
+    if (!(twice_world_area > 0.0f)) return 0.0f;
+    return distance * pixel_angle * std::sqrt(twice_texture_area / twice_world_area);
+}
+
+}  // namespace dynrt

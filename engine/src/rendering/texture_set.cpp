@@ -1,0 +1,187 @@
+// TextureSet over OpenImageIO's TextureSystem (texture_set.h). Files are opened by name;
+// embedded images (glTF data: URIs and bufferViews) through an in-memory IOProxy registered
+// with the texture system's image cache under a name of their own, whose extension tells
+// OpenImageIO the format.
+
+#include "dynrt/engine/texture_set.h"
+
+#include <OpenImageIO/filesystem.h>
+#include <OpenImageIO/imagecache.h>
+#include <OpenImageIO/texture.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <iostream>
+#include <string>
+
+namespace dynrt {
+
+namespace {
+
+OIIO::TextureOpt::Wrap wrap_of(TextureWrap wrap) {
+    switch (wrap) {
+        case TextureWrap::clamp: return OIIO::TextureOpt::WrapClamp;
+        case TextureWrap::mirror: return OIIO::TextureOpt::WrapMirror;
+        case TextureWrap::repeat: break;
+    }
+    return OIIO::TextureOpt::WrapPeriodic;
+}
+
+/// The file extension OpenImageIO picks a reader by, for an embedded image's MIME type.
+std::string extension_of(const std::string& mime_type) {
+    if (mime_type == "image/png") return ".png";
+    if (mime_type == "image/jpeg" || mime_type == "image/jpg") return ".jpg";
+    if (mime_type == "image/bmp") return ".bmp";
+    if (mime_type == "image/gif") return ".gif";
+    if (mime_type == "image/webp") return ".webp";
+    if (mime_type == "image/ktx2") return ".ktx2";
+    return ".png";  // glTF allows PNG and JPEG; a wrong guess fails to read and is reported
+}
+
+/// IEC 61966-2-1's decoding: sRGB-encoded value -> linear.
+float srgb_decode(float encoded) {
+    const float c = std::clamp(encoded, 0.0f, 1.0f);
+    return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+}
+
+std::string one_line(std::string text) {
+    std::replace(text.begin(), text.end(), '\n', ' ');
+    while (!text.empty() && text.back() == ' ') text.pop_back();
+    return text.empty() ? std::string("no reason given") : text;
+}
+
+}  // namespace
+
+struct TextureSet::Impl {
+    /// One scene texture, opened.
+    struct Entry {
+        OIIO::TextureSystem::TextureHandle* handle = nullptr;
+        bool srgb = true;
+        bool usable = false;
+        std::string problem;  ///< why it cannot be read
+        /// An embedded image: its bytes and the proxy OpenImageIO reads them through (both
+        /// outlive the texture system, which is destroyed first).
+        std::vector<unsigned char> bytes;
+        std::unique_ptr<OIIO::Filesystem::IOMemReader> proxy;
+    };
+    /// One material's map, when it has a usable one.
+    struct Map {
+        bool usable = false;
+        std::size_t texture = 0;
+        OIIO::TextureOpt::Wrap swrap = OIIO::TextureOpt::WrapPeriodic, twrap = OIIO::TextureOpt::WrapPeriodic;
+    };
+
+    std::vector<Entry> textures;
+    std::vector<Map> materials;
+    std::vector<std::string> warnings;
+    OIIO::TextureSystem* system = nullptr;
+
+    ~Impl() {
+        if (system != nullptr) OIIO::TextureSystem::destroy(system);
+    }
+
+    /// Opens scene texture i (once), reading its header to learn whether it can be read.
+    void open(const Scene& scene, std::size_t i) {
+        Entry& entry = textures[i];
+        if (entry.handle != nullptr || !entry.problem.empty()) return;
+        const Texture& texture = scene.textures[i];
+        entry.srgb = texture.srgb;
+        std::string name = texture.path;
+        if (name.empty()) {
+            if (texture.encoded.empty()) {
+                entry.problem = "the file holds no bytes for it";
+                return;
+            }
+            // A name no file has, numbered per set, so that two sets (a renderer's and the
+            // reference's) never share a cache entry.
+            static std::atomic<std::uint64_t> sets{0};
+            name = "dynrt-embedded-" + std::to_string(++sets) + "-" + std::to_string(i) +
+                   extension_of(texture.mime_type);
+            entry.bytes = texture.encoded;
+            entry.proxy = std::make_unique<OIIO::Filesystem::IOMemReader>(entry.bytes.data(), entry.bytes.size());
+            OIIO::ImageSpec config;
+            OIIO::Filesystem::IOProxy* proxy = entry.proxy.get();
+            config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
+            system->imagecache()->add_file(OIIO::ustring(name), nullptr, &config);
+        }
+        entry.handle = system->get_texture_handle(OIIO::ustring(name));
+        int channels = 0;
+        if (entry.handle == nullptr ||
+            !system->get_texture_info(entry.handle, nullptr, 0, OIIO::ustring("channels"), OIIO::TypeInt, &channels) ||
+            channels < 1) {
+            entry.problem = one_line(system->geterror());
+            return;
+        }
+        entry.usable = true;
+    }
+};
+
+bool TextureSet::needed(const Scene& scene) {
+    return std::any_of(scene.materials.begin(), scene.materials.end(),
+                       [](const Material& m) { return m.diffuse_map.has_value(); });
+}
+
+TextureSet::TextureSet(const Scene& scene, bool print_warnings) : impl_(std::make_unique<Impl>()) {
+    Impl& s = *impl_;
+    s.system = OIIO::TextureSystem::create(false);
+    // Images without MIP levels (PNG, JPEG) get them made on first use, in tiles.
+    s.system->attribute("automip", 1);
+    s.system->attribute("autotile", 64);
+    s.system->attribute("gray_to_rgb", 1);
+    s.textures.resize(scene.textures.size());
+    s.materials.resize(scene.materials.size());
+    for (std::size_t m = 0; m < scene.materials.size(); ++m) {
+        const Material& material = scene.materials[m];
+        if (!material.diffuse_map) continue;
+        const TextureMap& map = *material.diffuse_map;
+        std::string problem;
+        std::string texture_name = "index " + std::to_string(map.texture);
+        if (map.texture >= scene.textures.size()) {
+            problem = "no such texture";
+        } else {
+            s.open(scene, map.texture);
+            texture_name = scene.textures[map.texture].name;
+            problem = s.textures[map.texture].problem;
+        }
+        if (!problem.empty()) {
+            s.warnings.push_back(scene.source + ": material '" + material.name + "': texture '" + texture_name +
+                                 "' cannot be read (" + problem + "); its diffuse colour is used alone");
+            if (print_warnings) std::cerr << "dynrt: warning: " << s.warnings.back() << '\n';
+            continue;
+        }
+        Impl::Map& out = s.materials[m];
+        out.usable = true;
+        out.texture = map.texture;
+        out.swrap = wrap_of(map.wrap_s);
+        out.twrap = wrap_of(map.wrap_t);
+    }
+}
+
+TextureSet::~TextureSet() = default;
+
+bool TextureSet::maps(std::uint32_t material) const {
+    return material < impl_->materials.size() && impl_->materials[material].usable;
+}
+
+glm::vec3 TextureSet::diffuse(std::uint32_t material, glm::vec2 st, float width) const {
+    const Impl::Map& map = impl_->materials[material];
+    const Impl::Entry& entry = impl_->textures[map.texture];
+    OIIO::TextureOpt options;
+    options.swrap = map.swrap;
+    options.twrap = map.twrap;
+    options.mipmode = OIIO::TextureOpt::MipModeTrilinear;
+    options.interpmode = OIIO::TextureOpt::InterpBilinear;
+    options.fill = 1.0f;
+    float rgb[3] = {1.0f, 1.0f, 1.0f};
+    // An isotropic footprint: d(s, t)/dx = (width, 0), d(s, t)/dy = (0, width).
+    if (!impl_->system->texture(entry.handle, nullptr, options, st.x, st.y, width, 0.0f, 0.0f, width, 3, rgb)) {
+        return glm::vec3(1.0f);
+    }
+    if (!entry.srgb) return glm::vec3(rgb[0], rgb[1], rgb[2]);
+    return glm::vec3(srgb_decode(rgb[0]), srgb_decode(rgb[1]), srgb_decode(rgb[2]));
+}
+
+const std::vector<std::string>& TextureSet::warnings() const { return impl_->warnings; }
+
+}  // namespace dynrt

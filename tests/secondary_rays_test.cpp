@@ -158,6 +158,13 @@ TEST(SecondaryRays, ReportCountsEveryRayOnce) {
                               std::size_t(0)),
               total);
     EXPECT_EQ(s.secondary_packet_rays + s.secondary_single_rays, total);
+    ASSERT_EQ(s.secondary_packet_rays_per_depth.size(), 3u);
+    EXPECT_EQ(std::accumulate(s.secondary_packet_rays_per_depth.begin(),
+                              s.secondary_packet_rays_per_depth.end(), std::size_t(0)),
+              s.secondary_packet_rays);
+    for (std::size_t k = 0; k < 3; ++k) {
+        EXPECT_LE(s.secondary_packet_rays_per_depth[k], s.secondary_rays_per_depth[k]) << k;
+    }
     // Every camera ray that hits the floor, the glass or the pane spawns at least one ray.
     EXPECT_GT(s.secondary_rays_per_depth[0], std::size_t(options.width * options.height) / 3);
     EXPECT_GT(s.secondary_rays_per_depth[2], 0u);

@@ -75,6 +75,7 @@ nlohmann::ordered_json frame_json(const FrameStats& s) {
     // it did, and the list of this frame's tree builds.
     // Reflection and refraction rays per depth (index 0: depth 1); empty without any.
     j["secondary_rays_per_depth"] = s.secondary_rays_per_depth;
+    j["secondary_packet_rays_per_depth"] = s.secondary_packet_rays_per_depth;
     j["reuse_mode"] = s.reuse_mode;
     j["reuse_reason"] = s.reuse_reason;
     j["rebuilds"] = nlohmann::ordered_json::array();
@@ -221,9 +222,14 @@ void print_secondary_summary(std::ostream& out, const std::vector<FrameStats>& f
     std::size_t depths = 0;
     for (const FrameStats& f : frames) depths = std::max(depths, f.secondary_rays_per_depth.size());
     for (std::size_t k = 0; k < depths; ++k) {
-        out << ' ' << (k + 1) << ": " << std::setprecision(0) << median([&](const FrameStats& f) {
+        const double rays = median([&](const FrameStats& f) {
             return k < f.secondary_rays_per_depth.size() ? f.secondary_rays_per_depth[k] : 0;
         });
+        const double packed = median([&](const FrameStats& f) {
+            return k < f.secondary_packet_rays_per_depth.size() ? f.secondary_packet_rays_per_depth[k] : 0;
+        });
+        out << ' ' << (k + 1) << ": " << std::setprecision(0) << rays << " ("
+            << 100.0 * packed / std::max(1.0, rays) << "% in packets)";
     }
     out << '\n';
 }

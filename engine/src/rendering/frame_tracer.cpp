@@ -121,6 +121,7 @@ void trace_frame(const TraceInputs& in, const Camera& camera, const TraceSetting
     stats.reflection_mrays_per_s = stats.refraction_mrays_per_s = 0.0;
     stats.secondary_shadow_rays = stats.secondary_packet_rays = stats.secondary_single_rays = 0;
     stats.secondary_rays_per_depth.clear();
+    stats.secondary_packet_rays_per_depth.clear();
     const TileShading shading{in.materials, scratch.shading_lights, options.ambient,
                               options.background, options.packet.lanes, in.textures};
     out.width = width;
@@ -330,6 +331,7 @@ void trace_frame(const TraceInputs& in, const Camera& camera, const TraceSetting
     }
     if (secondary) {
         stats.secondary_rays_per_depth.clear();
+    stats.secondary_packet_rays_per_depth.clear();
         detail::report_secondary(secondary_work.combine([](detail::SecondaryWork a,
                                                            const detail::SecondaryWork& b) {
                                      return a += b;

@@ -23,6 +23,12 @@ SecondaryWork& SecondaryWork::operator+=(const SecondaryWork& o) {
     single_rays += o.single_rays;
     if (rays_per_depth.size() < o.rays_per_depth.size()) rays_per_depth.resize(o.rays_per_depth.size(), 0);
     for (std::size_t k = 0; k < o.rays_per_depth.size(); ++k) rays_per_depth[k] += o.rays_per_depth[k];
+    if (packet_rays_per_depth.size() < o.packet_rays_per_depth.size()) {
+        packet_rays_per_depth.resize(o.packet_rays_per_depth.size(), 0);
+    }
+    for (std::size_t k = 0; k < o.packet_rays_per_depth.size(); ++k) {
+        packet_rays_per_depth[k] += o.packet_rays_per_depth[k];
+    }
     reflection_ms += o.reflection_ms;
     refraction_ms += o.refraction_ms;
     shadow_ms += o.shadow_ms;
@@ -287,6 +293,7 @@ void add_secondary(const SecondaryFrame& f, const TileShadowOrigins& primary,
     const int max_depth = f.tracing.settings.max_depth;
     if (work.rays_per_depth.size() < std::size_t(std::max(max_depth, 0))) {
         work.rays_per_depth.resize(std::size_t(max_depth), 0);
+        work.packet_rays_per_depth.resize(std::size_t(max_depth), 0);
     }
     const glm::vec3 background = f.shading.background;
     while (s.top > 0) {
@@ -297,7 +304,9 @@ void add_secondary(const SecondaryFrame& f, const TileShadowOrigins& primary,
         work.rays_per_depth[std::size_t(bounce.depth - 1)] += rays;
         work.other_ms += clock.lap_ms();
         if (f.log != nullptr) f.log->add(bounce.rays, bounce.kind == Kind::refraction, bounce.depth);
+        const std::size_t packed_before = work.packet_rays;
         trace_secondary_closest(f.tracing, bounce.rays, s.hits, work);
+        work.packet_rays_per_depth[std::size_t(bounce.depth - 1)] += work.packet_rays - packed_before;
         (bounce.kind == Kind::reflection ? work.reflection_ms : work.refraction_ms) += clock.lap_ms();
 
         const LaneMask active = bounce.rays.active;
@@ -349,6 +358,7 @@ void report_secondary(const SecondaryWork& work, double scale, TraceStats& stats
     stats.secondary_packet_rays = work.packet_rays;
     stats.secondary_single_rays = work.single_rays;
     stats.secondary_rays_per_depth = work.rays_per_depth;
+    stats.secondary_packet_rays_per_depth = work.packet_rays_per_depth;
     const auto mrays_per_s = [](std::size_t rays, double ms) {
         return ms > 0.0 ? double(rays) / (ms * 1e3) : 0.0;
     };

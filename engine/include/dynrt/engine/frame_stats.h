@@ -148,6 +148,8 @@ struct TraceStats {
     std::size_t secondary_packet_rays = 0;
     std::size_t secondary_single_rays = 0;
     std::vector<std::size_t> secondary_rays_per_depth;
+    /// Of those, the rays traced in packets, per depth.
+    std::vector<std::size_t> secondary_packet_rays_per_depth;
     /// Pixel reuse (TraceSettings::reuse, pixel_reuse.h): the mode that ran ("off", "exact",
     /// "cache", "frameless"), and why the frame was traced in full or what it re-traced (e.g.
     /// "first frame", "camera moved", "2 objects changed").

@@ -22,6 +22,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -86,26 +87,26 @@ Count render_and_check(Scene scene, bool instanced, const Camera& camera, int si
     return count;
 }
 
-TEST(SecondaryStress, MirrorReflectsOnlyTheWorldAtEveryScale) {
+/// Renders `unit` (a mesh about 1 across, at the origin) of `material` over the scale sweep,
+/// static and rigid, from each of `eyes` looking at `target` (both in units of the scene's
+/// scale, around its centre), and expects every pixel on the surface to be the background,
+/// and the surface to fill a good part of the images (else the check means little).
+void sweep_and_check(const ClosedMesh& unit, const Material& material, std::span<const glm::dvec3> eyes,
+                     glm::dvec3 target, float fov_y_deg, const char* what) {
     const int size = int(scaled(32, 3));
-    Material mirror;
-    mirror.diffuse = glm::vec3(0.0f);
-    mirror.specular = glm::vec3(0.0f);
-    mirror.reflectance = glm::vec3(1.0f);
     int pixels = 0, wrong = 0, renders = 0;
     for (const Sweep& sweep : scale_sweep()) {
         const glm::dvec3 c = offset_of(sweep);
-        const Scene scene = one_object(transformed(square(), sweep.scale, c), mirror);
+        const Scene scene = one_object(transformed(unit, sweep.scale, c), material);
         for (const bool instanced : {false, true}) {
-            // From steeply above down to nearly grazing.
-            for (const glm::dvec3 eye : {glm::dvec3(0.3, 2.0, 0.4), glm::dvec3(0.2, 0.3, 2.5), glm::dvec3(0.0, 0.02, 3.0)}) {
+            for (const glm::dvec3& eye : eyes) {
                 Camera camera;
                 camera.eye = glm::vec3(c + sweep.scale * eye);
-                camera.target = glm::vec3(c);
-                camera.fov_y_deg = 60.0f;
-                const std::string what = "scale " + std::to_string(sweep.scale) + " offset " +
-                                         std::to_string(sweep.offset) + (instanced ? " rigid" : "");
-                const Count count = render_and_check(scene, instanced, camera, size, what);
+                camera.target = glm::vec3(c + sweep.scale * target);
+                camera.fov_y_deg = fov_y_deg;
+                const std::string where = "scale " + std::to_string(sweep.scale) + " offset " +
+                                          std::to_string(sweep.offset) + (instanced ? " rigid" : "");
+                const Count count = render_and_check(scene, instanced, camera, size, where);
                 EXPECT_EQ(count.wrong, 0) << count.first;
                 pixels += count.pixels_on_surface;
                 wrong += count.wrong;
@@ -113,43 +114,30 @@ TEST(SecondaryStress, MirrorReflectsOnlyTheWorldAtEveryScale) {
             }
         }
     }
-    // The check means something only if the mirror filled a good part of the images.
     EXPECT_GT(pixels, renders * size * size / 8);
-    std::printf("secondary rays, mirror: %d renders x 2 tracers, %d mirror pixels, %d not the background\n",
+    std::printf("secondary rays, %s: %d renders x 2 tracers, %d pixels on it, %d not the background\n", what,
                 renders, pixels, wrong);
 }
 
+TEST(SecondaryStress, MirrorReflectsOnlyTheWorldAtEveryScale) {
+    Material mirror;
+    mirror.diffuse = glm::vec3(0.0f);
+    mirror.specular = glm::vec3(0.0f);
+    mirror.reflectance = glm::vec3(1.0f);
+    // From steeply above down to nearly grazing.
+    const glm::dvec3 eyes[] = {{0.3, 2.0, 0.4}, {0.2, 0.3, 2.5}, {0.0, 0.02, 3.0}};
+    sweep_and_check(square(), mirror, eyes, glm::dvec3(0.0), 60.0f, "mirror");
+}
+
 TEST(SecondaryStress, ClearGlassBoxPassesEveryRayAtEveryScale) {
-    const int size = int(scaled(32, 3));
     Material glass;
     glass.diffuse = glm::vec3(0.0f);
     glass.specular = glm::vec3(0.0f);
     glass.transmittance = glm::vec3(1.0f);
     glass.ior = 1.0f;
-    const ClosedMesh unit_box = box_mesh(3, glm::vec3(-1.0f, -0.75f, -1.25f), glm::vec3(1.0f, 0.75f, 1.25f));
-    int pixels = 0, wrong = 0, renders = 0;
-    for (const Sweep& sweep : scale_sweep()) {
-        const glm::dvec3 c = offset_of(sweep);
-        const Scene scene = one_object(transformed(unit_box, sweep.scale, c), glass);
-        for (const bool instanced : {false, true}) {
-            for (const glm::dvec3 eye : {glm::dvec3(2.5, 1.5, 3.0), glm::dvec3(0.1, -0.05, 0.15)}) {  // outside, inside
-                Camera camera;
-                camera.eye = glm::vec3(c + sweep.scale * eye);
-                camera.target = glm::vec3(c + sweep.scale * glm::dvec3(-0.2, 0.1, -0.3));
-                camera.fov_y_deg = 90.0f;
-                const std::string what = "scale " + std::to_string(sweep.scale) + " offset " +
-                                         std::to_string(sweep.offset) + (instanced ? " rigid" : "");
-                const Count count = render_and_check(scene, instanced, camera, size, what);
-                EXPECT_EQ(count.wrong, 0) << count.first;
-                pixels += count.pixels_on_surface;
-                wrong += count.wrong;
-                ++renders;
-            }
-        }
-    }
-    EXPECT_GT(pixels, renders * size * size / 8);
-    std::printf("secondary rays, clear glass box: %d renders x 2 tracers, %d glass pixels, %d not the background\n",
-                renders, pixels, wrong);
+    const glm::dvec3 eyes[] = {{2.5, 1.5, 3.0}, {0.1, -0.05, 0.15}};  // outside, inside
+    sweep_and_check(box_mesh(3, glm::vec3(-1.0f, -0.75f, -1.25f), glm::vec3(1.0f, 0.75f, 1.25f)), glass, eyes,
+                    glm::dvec3(-0.2, 0.1, -0.3), 90.0f, "clear glass box");
 }
 
 }  // namespace

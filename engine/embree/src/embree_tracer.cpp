@@ -312,11 +312,19 @@ double EmbreeTracer::intersect16(const Camera& camera, int width, int height, Pi
 
 namespace {
 
-/// Where each logged packet's rays start in log order.
-std::vector<std::size_t> first_ray_of(const SecondaryRayLog& log) {
+/// Sizes `out` for one entry per logged ray, then runs body(packet, index of its first ray in
+/// `out`) for every logged packet in parallel, in Embree's floating-point mode; returns ms.
+template <typename Body>
+double for_each_logged_packet(const SecondaryRayLog& log, PixelHits& out, Body&& body) {
     std::vector<std::size_t> first(log.packets.size() + 1, 0);
     for (std::size_t i = 0; i < log.packets.size(); ++i) first[i + 1] = first[i] + log.packets[i].rays.size();
-    return first;
+    resize_hits(out, first.back());
+    const Stopwatch clock;
+    tbb::parallel_for(std::size_t(0), log.packets.size(), [&](std::size_t i) {
+        const EmbreeFloatMode mode;
+        body(log.packets[i], first[i]);
+    });
+    return clock.elapsed_ms();
 }
 
 }  // namespace
@@ -324,12 +332,7 @@ std::vector<std::size_t> first_ray_of(const SecondaryRayLog& log) {
 double EmbreeTracer::intersect16_logged(const SecondaryRayLog& log, bool coherent, PixelHits& out) {
     if (!state_->scene) throw std::logic_error("EmbreeTracer::intersect16_logged before build");
     RTCScene scene = state_->scene;
-    const std::vector<std::size_t> first = first_ray_of(log);
-    resize_hits(out, first.back());
-    const Stopwatch clock;
-    tbb::parallel_for(std::size_t(0), log.packets.size(), [&](std::size_t i) {
-        const EmbreeFloatMode mode;
-        const SecondaryRayPacket& logged = log.packets[i];
+    return for_each_logged_packet(log, out, [&](const SecondaryRayPacket& logged, std::size_t first) {
         RTCIntersectContext context;
         rtcInitIntersectContext(&context);
         if (coherent) context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
@@ -358,35 +361,27 @@ double EmbreeTracer::intersect16_logged(const SecondaryRayLog& log, bool coheren
                 for (int b = 0; b < kLanes; ++b) {
                     const int lane = (by + b / kBlockSide) * packet::kTileSize + bx + b % kBlockSide;
                     if (ray_of[lane] < 0 || rh.hit.geomID[b] == RTC_INVALID_GEOMETRY_ID) continue;
-                    const std::size_t p = first[i] + std::size_t(ray_of[lane]);
-                    store_hit(out, p, rh.hit.geomID[b], rh.hit.primID[b], rh.hit.u[b], rh.hit.v[b]);
+                    store_hit(out, first + std::size_t(ray_of[lane]), rh.hit.geomID[b], rh.hit.primID[b],
+                              rh.hit.u[b], rh.hit.v[b]);
                 }
             }
         }
     });
-    return clock.elapsed_ms();
 }
 
 double EmbreeTracer::intersect1_logged(const SecondaryRayLog& log, PixelHits& out) {
     if (!state_->scene) throw std::logic_error("EmbreeTracer::intersect1_logged before build");
     RTCScene scene = state_->scene;
-    const std::vector<std::size_t> first = first_ray_of(log);
-    resize_hits(out, first.back());
-    const Stopwatch clock;
-    tbb::parallel_for(std::size_t(0), log.packets.size(), [&](std::size_t i) {
-        const EmbreeFloatMode mode;
+    return for_each_logged_packet(log, out, [&](const SecondaryRayPacket& logged, std::size_t first) {
         RTCIntersectContext context;
         rtcInitIntersectContext(&context);
-        const std::vector<bvh::Ray>& rays = log.packets[i].rays;
-        for (std::size_t r = 0; r < rays.size(); ++r) {
-            RTCRayHit rh = to_rtc_ray_hit(rays[r]);
+        for (std::size_t r = 0; r < logged.rays.size(); ++r) {
+            RTCRayHit rh = to_rtc_ray_hit(logged.rays[r]);
             rtcIntersect1(scene, &context, &rh);
             if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
-            const std::size_t p = first[i] + r;
-            store_hit(out, p, rh.hit.geomID, rh.hit.primID, rh.hit.u, rh.hit.v);
+            store_hit(out, first + r, rh.hit.geomID, rh.hit.primID, rh.hit.u, rh.hit.v);
         }
     });
-    return clock.elapsed_ms();
 }
 
 namespace {

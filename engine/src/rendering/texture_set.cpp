@@ -13,7 +13,9 @@
 #include <atomic>
 #include <cmath>
 #include <iostream>
+#include <mutex>
 #include <string>
+#include <vector>
 
 namespace dynrt {
 
@@ -51,6 +53,52 @@ std::string one_line(std::string text) {
     return text.empty() ? std::string("no reason given") : text;
 }
 
+/// Texture systems are pooled, never destroyed: Debian's OpenImageIO 2.4 frees one in
+/// TextureSystem::destroy with a sized delete of the wrong size (AddressSanitizer's
+/// new-delete-type-mismatch, inside the library). A set takes a system from the pool and gives
+/// it back emptied (every file closed and forgotten), so the pool holds as many systems as
+/// sets were ever alive at once, reachable from here to the end of the process.
+class SystemPool {
+public:
+    static OIIO::TextureSystem* take() {
+        SystemPool& pool = instance();
+        {
+            const std::lock_guard<std::mutex> lock(pool.mutex_);
+            if (!pool.free_.empty()) {
+                OIIO::TextureSystem* system = pool.free_.back();
+                pool.free_.pop_back();
+                return system;
+            }
+        }
+        OIIO::TextureSystem* system = OIIO::TextureSystem::create(false);
+        // Images without MIP levels (PNG, JPEG) get them made on first use, in tiles.
+        system->attribute("automip", 1);
+        system->attribute("autotile", 64);
+        system->attribute("gray_to_rgb", 1);
+        const std::lock_guard<std::mutex> lock(pool.mutex_);
+        pool.all_.push_back(system);
+        return system;
+    }
+
+    static void give_back(OIIO::TextureSystem* system) {
+        // Closes and forgets every file, so a later set reads files afresh and no embedded
+        // image's proxy (freed with its set) is touched again.
+        system->invalidate_all(true);
+        SystemPool& pool = instance();
+        const std::lock_guard<std::mutex> lock(pool.mutex_);
+        pool.free_.push_back(system);
+    }
+
+private:
+    static SystemPool& instance() {
+        // Never destroyed either: the systems stay reachable (no leak report) to the end.
+        static SystemPool* const pool = new SystemPool;
+        return *pool;
+    }
+    std::mutex mutex_;
+    std::vector<OIIO::TextureSystem*> all_, free_;
+};
+
 }  // namespace
 
 struct TextureSet::Impl {
@@ -61,7 +109,7 @@ struct TextureSet::Impl {
         bool usable = false;
         std::string problem;  ///< why it cannot be read
         /// An embedded image: its bytes and the proxy OpenImageIO reads them through (both
-        /// outlive the texture system, which is destroyed first).
+        /// outlive their use: the set empties its texture system before they go).
         std::vector<unsigned char> bytes;
         std::unique_ptr<OIIO::Filesystem::IOMemReader> proxy;
     };
@@ -78,7 +126,7 @@ struct TextureSet::Impl {
     OIIO::TextureSystem* system = nullptr;
 
     ~Impl() {
-        if (system != nullptr) OIIO::TextureSystem::destroy(system);
+        if (system != nullptr) SystemPool::give_back(system);
     }
 
     /// Opens scene texture i (once), reading its header to learn whether it can be read.
@@ -124,11 +172,7 @@ bool TextureSet::needed(const Scene& scene) {
 
 TextureSet::TextureSet(const Scene& scene, bool print_warnings) : impl_(std::make_unique<Impl>()) {
     Impl& s = *impl_;
-    s.system = OIIO::TextureSystem::create(false);
-    // Images without MIP levels (PNG, JPEG) get them made on first use, in tiles.
-    s.system->attribute("automip", 1);
-    s.system->attribute("autotile", 64);
-    s.system->attribute("gray_to_rgb", 1);
+    s.system = SystemPool::take();
     s.textures.resize(scene.textures.size());
     s.materials.resize(scene.materials.size());
     for (std::size_t m = 0; m < scene.materials.size(); ++m) {

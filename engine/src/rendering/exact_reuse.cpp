@@ -435,7 +435,7 @@ void trace_frame_reusing(const TraceInputs& in, const Camera& camera, const Trac
     });
     double secondary_thread_ms = 0.0;
     secondary_work.combine_each([&](const SecondaryWork& w) {
-        secondary_thread_ms += w.reflection_ms + w.refraction_ms + w.shadow_ms + w.other_ms;
+        secondary_thread_ms += w.thread_ms();
     });
     const double wall_ms = wall.elapsed_ms();
     const double thread_total = sum.primary_ms + sum.shadow_ms + sum.shade_ms + secondary_thread_ms;

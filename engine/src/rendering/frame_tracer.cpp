@@ -208,7 +208,7 @@ void trace_frame(const TraceInputs& in, const Camera& camera, const TraceSetting
         double secondary_thread_ms = 0.0;
         if (secondary) {
             secondary_work.combine_each([&](const detail::SecondaryWork& w) {
-                secondary_thread_ms += w.reflection_ms + w.refraction_ms + w.shadow_ms + w.other_ms;
+                secondary_thread_ms += w.thread_ms();
             });
         }
         const double thread_total = shadow_thread_ms + shade_thread_ms + secondary_thread_ms;

@@ -351,7 +351,7 @@ void add_secondary(const SecondaryFrame& f, const TileShadowOrigins& primary,
 
 void report_secondary(const SecondaryWork& work, double scale, TraceStats& stats) {
     stats.secondary_ms =
-        (work.reflection_ms + work.refraction_ms + work.shadow_ms + work.other_ms) * scale;
+        work.thread_ms() * scale;
     stats.reflection_rays = work.reflection_rays;
     stats.refraction_rays = work.refraction_rays;
     stats.secondary_shadow_rays = work.shadow_rays;

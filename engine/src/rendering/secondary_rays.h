@@ -68,6 +68,9 @@ struct SecondaryWork {
     packet::PacketStats packet_work;
     bvh::TraversalStats single_work;
 
+    /// All of the thread's secondary time.
+    double thread_ms() const { return reflection_ms + refraction_ms + shadow_ms + other_ms; }
+
     SecondaryWork& operator+=(const SecondaryWork& other);
 };
 

@@ -223,7 +223,7 @@ TEST(ApiQueries, ARayAloneOrInAnyBatchSizeGetsTheSameAnswer) {
         EXPECT_EQ(occluded, all_occluded[i]) << "ray " << i;
     }
     // An empty batch costs nothing and touches nothing.
-    const QueryStats empty = engine.intersect({}, {});
+    const QueryStats empty = engine.intersect(std::span<const Ray>{}, {});
     EXPECT_EQ(empty.rays, 0u);
     EXPECT_EQ(empty.hits, 0u);
 }
@@ -251,6 +251,78 @@ TEST(ApiQueries, DirectionLengthOnlyScalesT) {
         ASSERT_TRUE(hit.hit());
         EXPECT_NEAR(hit.t * scale, 6.0f, 0.02f) << "scale " << scale;
     }
+}
+
+
+/// Rays held as arrays (RayArrays) get the answers of the same rays as dynrt::Ray structs, bit
+/// for bit, with per-ray and with shared tmin / tmax, on both the packet and the single path.
+TEST(ApiQueries, RayArraysGetTheAnswersOfTheSameRayStructs) {
+    Engine engine;
+    World world(engine);
+    world.move_to(2);
+    engine.update();
+    std::mt19937 rng(5);
+    std::vector<Ray> rays = coherent_rays(rng, {3.5f, 3.0f, 4.0f}, kCentre, 0.15f, 600);
+    const std::vector<Ray> incoherent = incoherent_rays(rng, kCentre, 4.0f, kHalf, 300);
+    rays.insert(rays.end(), incoherent.begin(), incoherent.end());
+    std::uniform_real_distribution<float> near(0.0f, 1.5f), span(0.5f, 6.0f);
+    for (std::size_t i = 0; i < rays.size(); i += 2) {
+        rays[i].tmin = near(rng);
+        rays[i].tmax = rays[i].tmin + span(rng);
+    }
+    std::vector<float> origins, directions, tmin, tmax;
+    for (const Ray& r : rays) {
+        origins.insert(origins.end(), {r.origin.x, r.origin.y, r.origin.z});
+        directions.insert(directions.end(), {r.direction.x, r.direction.y, r.direction.z});
+        tmin.push_back(r.tmin);
+        tmax.push_back(r.tmax);
+    }
+    const auto compare = [&](const std::vector<Ray>& structs, const RayArrays& arrays) {
+        std::vector<RayHit> expected(structs.size()), hits(structs.size());
+        std::vector<std::uint8_t> expected_occluded(structs.size()), occluded(structs.size(), 7);
+        const QueryStats e = engine.intersect(structs, expected);
+        engine.occluded(structs, expected_occluded);
+        const QueryStats s = engine.intersect(arrays, hits);
+        engine.occluded(arrays, occluded);
+        EXPECT_EQ(s.packet_rays, e.packet_rays);
+        EXPECT_EQ(s.hits, e.hits);
+        EXPECT_GT(e.packet_rays, 0u);
+        EXPECT_GT(e.single_rays, 0u);
+        for (std::size_t i = 0; i < structs.size(); ++i) {
+            EXPECT_TRUE(identical(hits[i], expected[i]))
+                << "ray " << i << ": " << describe(hits[i]) << " vs " << describe(expected[i]);
+            EXPECT_EQ(occluded[i], expected_occluded[i]) << "ray " << i;
+        }
+    };
+    compare(rays, RayArrays{origins, directions, tmin, tmax});
+    // Shared limits.
+    std::vector<Ray> shared = rays;
+    for (Ray& r : shared) {
+        r.tmin = 0.25f;
+        r.tmax = 5.0f;
+    }
+    compare(shared, RayArrays{origins, directions, {}, {}, 0.25f, 5.0f});
+
+    // Sizes that disagree, and a bad ray, are refused with the Ray path's messages.
+    std::vector<RayHit> hits(rays.size());
+    const auto refused = [&](const RayArrays& arrays, const std::string& expected) {
+        try {
+            engine.intersect(arrays, std::span<RayHit>(hits.data(), arrays.size()));
+            ADD_FAILURE() << "accepted; expected " << expected;
+        } catch (const Error& e) {
+            EXPECT_EQ(e.code(), Error::Code::invalid_argument);
+            EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+        }
+    };
+    const std::span<const float> o(origins), d(directions);
+    refused(RayArrays{o.first(7), d.first(7)}, "7 origin floats, not 3 per ray");
+    refused(RayArrays{o.first(9), d.first(6)}, "3 origins but 6 direction floats");
+    refused(RayArrays{o.first(9), d.first(9), std::span<const float>(tmin).first(2)}, "3 rays but 2 tmin values");
+    refused(RayArrays{o.first(9), d.first(9), {}, std::span<const float>(tmax).first(4)}, "3 rays but 4 tmax values");
+    std::vector<float> bad = directions;
+    bad[3 * 17 + 1] = std::numeric_limits<float>::quiet_NaN();
+    refused(RayArrays{o, bad}, "ray 17: direction is not finite");
+    refused(RayArrays{o, d, {}, {}, 2.0f, 1.0f}, ": tmax is not >= tmin");
 }
 
 }  // namespace

@@ -720,4 +720,18 @@ QueryStats Engine::occluded(std::span<const Ray> rays, std::span<std::uint8_t> o
     return s.run([&] { return api_detail::occluded_batch(s.pipeline.accel(), rays, occluded); });
 }
 
+QueryStats Engine::intersect(const RayArrays& rays, std::span<RayHit> hits) const {
+    const Impl& s = *impl_;
+    const AccessGuard::Read read(s.guard);
+    s.check_traced("intersect");
+    return s.run([&] { return api_detail::intersect_batch(s.pipeline.accel(), rays, hits); });
+}
+
+QueryStats Engine::occluded(const RayArrays& rays, std::span<std::uint8_t> occluded) const {
+    const Impl& s = *impl_;
+    const AccessGuard::Read read(s.guard);
+    s.check_traced("occluded");
+    return s.run([&] { return api_detail::occluded_batch(s.pipeline.accel(), rays, occluded); });
+}
+
 }  // namespace dynrt

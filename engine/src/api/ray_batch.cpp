@@ -49,18 +49,59 @@ bool valid_ray(const Ray& ray) {
                 "dynrt::Engine: ray " + std::to_string(index) + ": " + problem);
 }
 
+/// Where a batch's rays come from: an array of dynrt::Ray or separate arrays (RayArrays). Both
+/// hand out ray i as a dynrt::Ray value, which the compiler keeps in registers.
+struct RayStructs {
+    std::span<const Ray> rays;
+    std::size_t size() const { return rays.size(); }
+    Ray operator[](std::size_t i) const { return rays[i]; }
+};
+
+struct RayColumns {
+    const RayArrays& arrays;
+    std::size_t size() const { return arrays.size(); }
+    Ray operator[](std::size_t i) const {
+        const float* o = arrays.origins.data() + 3 * i;
+        const float* d = arrays.directions.data() + 3 * i;
+        return Ray{{o[0], o[1], o[2]}, {d[0], d[1], d[2]},
+                   arrays.tmin.empty() ? arrays.tmin_all : arrays.tmin[i],
+                   arrays.tmax.empty() ? arrays.tmax_all : arrays.tmax[i]};
+    }
+};
+
+/// RayArrays whose sizes agree, or an Error saying which does not.
+void check_sizes(const RayArrays& a) {
+    const auto fail = [](const std::string& what) {
+        throw Error(Error::Code::invalid_argument, "dynrt::Engine: ray arrays: " + what);
+    };
+    if (a.origins.size() % 3 != 0) {
+        fail(std::to_string(a.origins.size()) + " origin floats, not 3 per ray");
+    }
+    const std::size_t n = a.size();
+    if (a.directions.size() != a.origins.size()) {
+        fail(std::to_string(n) + " origins but " + std::to_string(a.directions.size()) +
+             " direction floats (3 per ray)");
+    }
+    if (!a.tmin.empty() && a.tmin.size() != n) {
+        fail(std::to_string(n) + " rays but " + std::to_string(a.tmin.size()) + " tmin values");
+    }
+    if (!a.tmax.empty() && a.tmax.size() != n) {
+        fail(std::to_string(n) + " rays but " + std::to_string(a.tmax.size()) + " tmax values");
+    }
+}
+
 /// Loads rays [first, first + n) into lanes 0..n-1 of `packet` (the others inactive),
 /// checking each (an Error names a bad one). Returns whether the whole run is one coherent
 /// group (see group_run), the common case of a batch in a coherent order, decided in the same
 /// pass: every direction with the signs of the run's middle ray's and within kCoherentCosine
 /// of it. No branch in the loop, so the compiler can vectorise it.
-bool load_run(std::span<const Ray> rays, std::size_t first, std::size_t n,
-              packet::RayPacket& packet) {
-    const Vec3& r = rays[first + n / 2].direction;
+template <typename Source>
+bool load_run(const Source& rays, std::size_t first, std::size_t n, packet::RayPacket& packet) {
+    const Vec3 r = rays[first + n / 2].direction;
     const float c2rr = kCoherentCosine * kCoherentCosine * (r.x * r.x + r.y * r.y + r.z * r.z);
     bool valid = true, coherent = true;
     for (std::size_t i = 0; i < n; ++i) {
-        const Ray& ray = rays[first + i];
+        const Ray ray = rays[first + i];
         const Vec3& o = ray.origin;
         const Vec3& d = ray.direction;
         valid &= valid_ray(ray);
@@ -148,8 +189,8 @@ struct RunWork {
 /// Runs per_group(first, packet, as_packet, work) for every group of every run of kRun rays,
 /// in parallel: the packet holds the run (lane i is ray first + i) with the group's lanes
 /// active. Sums the work into QueryStats.
-template <typename PerGroup>
-QueryStats for_each_group(std::span<const Ray> rays, std::size_t outputs, PerGroup&& per_group) {
+template <typename Source, typename PerGroup>
+QueryStats for_each_group(const Source& rays, std::size_t outputs, PerGroup&& per_group) {
     if (outputs != rays.size()) {
         throw Error(Error::Code::invalid_argument,
                     "dynrt::Engine: " + std::to_string(rays.size()) + " rays but room for " +
@@ -208,10 +249,8 @@ void for_each_lane(const packet::LaneMask& lanes, PerLane&& per_lane) {
     }
 }
 
-}  // namespace
-
-QueryStats intersect_batch(const SceneAccel& accel, std::span<const Ray> rays,
-                           std::span<RayHit> hits) {
+template <typename Source>
+QueryStats intersect_rays(const SceneAccel& accel, const Source& rays, std::span<RayHit> hits) {
     const bvh::TwoLevelBvh& tlas = accel.top_level();
     return for_each_group(rays, hits.size(), [&](std::size_t first,
                                                   const packet::RayPacket& packet,
@@ -236,8 +275,9 @@ QueryStats intersect_batch(const SceneAccel& accel, std::span<const Ray> rays,
     });
 }
 
-QueryStats occluded_batch(const SceneAccel& accel, std::span<const Ray> rays,
-                          std::span<std::uint8_t> occluded) {
+template <typename Source>
+QueryStats occluded_rays(const SceneAccel& accel, const Source& rays,
+                         std::span<std::uint8_t> occluded) {
     const bvh::TwoLevelBvh& tlas = accel.top_level();
     return for_each_group(rays, occluded.size(), [&](std::size_t first,
                                                       const packet::RayPacket& packet,
@@ -260,6 +300,30 @@ QueryStats occluded_batch(const SceneAccel& accel, std::span<const Ray> rays,
             work.single_rays += n;
         }
     });
+}
+
+}  // namespace
+
+QueryStats intersect_batch(const SceneAccel& accel, std::span<const Ray> rays,
+                           std::span<RayHit> hits) {
+    return intersect_rays(accel, RayStructs{rays}, hits);
+}
+
+QueryStats intersect_batch(const SceneAccel& accel, const RayArrays& rays,
+                           std::span<RayHit> hits) {
+    check_sizes(rays);
+    return intersect_rays(accel, RayColumns{rays}, hits);
+}
+
+QueryStats occluded_batch(const SceneAccel& accel, std::span<const Ray> rays,
+                          std::span<std::uint8_t> occluded) {
+    return occluded_rays(accel, RayStructs{rays}, occluded);
+}
+
+QueryStats occluded_batch(const SceneAccel& accel, const RayArrays& rays,
+                          std::span<std::uint8_t> occluded) {
+    check_sizes(rays);
+    return occluded_rays(accel, RayColumns{rays}, occluded);
 }
 
 }  // namespace dynrt::api_detail

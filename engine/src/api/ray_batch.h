@@ -31,4 +31,11 @@ QueryStats intersect_batch(const SceneAccel& accel, std::span<const Ray> rays,
 QueryStats occluded_batch(const SceneAccel& accel, std::span<const Ray> rays,
                           std::span<std::uint8_t> occluded);
 
+/// The same on rays held as arrays (RayArrays, read in place); also throws Error when the
+/// arrays' sizes disagree. Same results bit for bit as on the equal Ray batch.
+QueryStats intersect_batch(const SceneAccel& accel, const RayArrays& rays,
+                           std::span<RayHit> hits);
+QueryStats occluded_batch(const SceneAccel& accel, const RayArrays& rays,
+                          std::span<std::uint8_t> occluded);
+
 }  // namespace dynrt::api_detail

@@ -39,6 +39,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <span>
 #include <string>
@@ -155,6 +156,23 @@ struct RenderSettings {
     bool smooth_normals = true;
 };
 
+/// A batch of rays held as separate arrays rather than as dynrt::Ray structs: the layout of
+/// numpy's (N, 3) arrays and of most simulators' buffers, read in place (no Ray is built in
+/// memory). Ray i is origins[3i..3i+2] + t directions[3i..3i+2] for t in [tmin, tmax], with the
+/// same rules as dynrt::Ray. `tmin` and `tmax` hold one value per ray, or are empty: then
+/// every ray takes `tmin_all` / `tmax_all`.
+struct RayArrays {
+    std::span<const float> origins;
+    std::span<const float> directions;
+    std::span<const float> tmin = {};
+    std::span<const float> tmax = {};
+    float tmin_all = 0.0f;
+    float tmax_all = std::numeric_limits<float>::infinity();
+
+    /// The number of rays: origins.size() / 3.
+    std::size_t size() const { return origins.size() / 3; }
+};
+
 /// What a ray batch cost. Packet rays were traced in packets (see Engine::intersect); the
 /// others one by one.
 struct QueryStats {
@@ -237,6 +255,13 @@ public:
     /// Whether anything is hit within [tmin, tmax] of every ray (1) or not (0): shadow and
     /// visibility tests, cheaper than closest hits. Errors as for intersect.
     QueryStats occluded(std::span<const Ray> rays, std::span<std::uint8_t> occluded) const;
+
+    /// The same two queries on rays held as arrays (RayArrays), with the same results bit for
+    /// bit as on the equal dynrt::Ray batch. Also throws Error when the arrays' sizes disagree
+    /// (origins not 3 floats per ray, directions not as many, tmin or tmax neither empty nor
+    /// one per ray).
+    QueryStats intersect(const RayArrays& rays, std::span<RayHit> hits) const;
+    QueryStats occluded(const RayArrays& rays, std::span<std::uint8_t> occluded) const;
 
 private:
     struct Impl;

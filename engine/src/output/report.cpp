@@ -136,6 +136,8 @@ void print_row(std::ostream& out, const std::string& label, double triangles, do
 
 }  // namespace
 
+std::string frame_report_json(const FrameStats& stats) { return frame_json(stats).dump(); }
+
 std::string report_json(const RunInfo& run, const std::vector<FrameStats>& frames) {
     nlohmann::ordered_json doc;
     doc["dynrt_report_version"] = 1;

@@ -27,6 +27,10 @@ struct RunInfo {
 ///  "summary": {"median": {...}, "min": {...}, "max": {...}}}, pretty-printed.
 std::string report_json(const RunInfo& run, const std::vector<FrameStats>& frames);
 
+/// One frame's record as report_json writes it under "frames", on one line: what the library
+/// API's Python bindings hand back from update() and render().
+std::string frame_report_json(const FrameStats& stats);
+
 /// Writes report_json to `path`. Throws std::runtime_error naming the file on failure.
 void write_report(const std::filesystem::path& path, const RunInfo& run,
                   const std::vector<FrameStats>& frames);

@@ -1,0 +1,361 @@
+#include "engine_binding.h"
+
+#include "numpy_args.h"
+
+#include "dynrt/engine/report.h"
+
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <cstddef>
+#include <limits>
+#include <string>
+
+namespace dynrt::python {
+
+// intersect writes RayHit structs straight into the rows of a hit_dtype array.
+static_assert(sizeof(RayHit) == 20 && offsetof(RayHit, t) == 0 && offsetof(RayHit, mesh) == 4 &&
+              offsetof(RayHit, primitive) == 8 && offsetof(RayHit, u) == 12 && offsetof(RayHit, v) == 16);
+static_assert(sizeof(MeshId) == 4);
+
+py::object report_dict(const FrameStats& stats) {
+    return py::module_::import("json").attr("loads")(frame_report_json(stats));
+}
+
+py::dtype hit_dtype() {
+    // Created once and kept for the life of the process (a leaked reference: the interpreter
+    // may be finalising when statics are destroyed).
+    static py::dtype* dtype = [] {
+        py::list fields;
+        for (const auto& [name, type] : {std::pair{"t", "<f4"}, std::pair{"mesh", "<i4"},
+                                          std::pair{"triangle", "<i4"}, std::pair{"u", "<f4"},
+                                          std::pair{"v", "<f4"}}) {
+            fields.append(py::make_tuple(name, type));
+        }
+        return new py::dtype(py::module_::import("numpy").attr("dtype")(fields));
+    }();
+    return *dtype;
+}
+
+namespace {
+
+const std::string kAddMesh = "dynrt.Engine.add_mesh";
+const std::string kSetPositions = "dynrt.Engine.set_positions";
+
+ArraySpec position_spec(const char* name) { return ArraySpec{name, dtype("float32"), 3, false}; }
+
+/// A positions argument: read in place when borrowed, else any float32 (N, 3) array (copied
+/// by the engine during the call).
+py::array positions_array(py::handle value, const std::string& where, const char* name) {
+    return checked_array(value, where, position_spec(name));
+}
+
+}  // namespace
+
+std::uint32_t PyEngine::add_mesh(py::handle positions, py::handle indices, const std::string& motion_text,
+                                 py::handle transform_value, const Surface* surface, py::handle normals,
+                                 const std::string& name, bool borrow) {
+    const py::array p = positions_array(positions, kAddMesh, "positions");
+    const std::vector<std::uint32_t> index_values = index_list(indices, kAddMesh);
+    py::array n;
+    if (!normals.is_none()) {
+        n = positions_array(normals, kAddMesh, "normals");
+        if (rows(n) != rows(p)) {
+            invalid(kAddMesh, std::to_string(rows(p)) + " positions but " + std::to_string(rows(n)) + " normals");
+        }
+    }
+    MeshDesc desc;
+    desc.name = name;
+    desc.positions = floats(p);
+    desc.indices = index_values;
+    if (n) desc.normals = floats(n);
+    desc.motion = motion(motion_text, kAddMesh);
+    desc.ownership = borrow ? Ownership::borrow : Ownership::copy;
+    desc.transform = transform(transform_value, kAddMesh);
+    if (surface) desc.surface = *surface;
+    const MeshId id = engine_.add_mesh(desc);
+    if (borrow) {
+        borrowed_[id.value] = p;
+        borrowing_[id.value] = true;
+    }
+    return id.value;
+}
+
+void PyEngine::set_positions(std::uint32_t mesh, py::handle positions, py::handle normals) {
+    const py::array p = positions_array(positions, kSetPositions, "positions");
+    py::array n;
+    if (!normals.is_none()) n = positions_array(normals, kSetPositions, "normals");
+    engine_.set_positions(MeshId{mesh}, floats(p), n ? floats(n) : std::span<const float>{});
+    // The engine took the call: a borrowed mesh now reads this array (the old one is released).
+    if (borrowing_.count(mesh)) borrowed_[mesh] = p;
+}
+
+void PyEngine::remove_mesh(std::uint32_t mesh) {
+    engine_.remove_mesh(MeshId{mesh});
+    borrowed_.erase(mesh);
+    borrowing_.erase(mesh);
+}
+
+namespace {
+
+/// The keyword arguments every render takes, as the API's RenderSettings.
+RenderSettings render_settings(py::handle lights, py::handle background, float ambient, bool reuse_pixels,
+                               int max_depth, float cutoff, bool smooth_normals, const std::string& where) {
+    RenderSettings s;
+    if (!lights.is_none()) {
+        for (py::handle light : lights) {
+            if (!py::isinstance<Light>(light)) invalid(where, "lights must be dynrt.Light values");
+            s.lights.push_back(light.cast<Light>());
+        }
+    }
+    s.background = vec3(background, where, "background");
+    s.ambient = ambient;
+    s.reuse_pixels = reuse_pixels;
+    s.max_depth = max_depth;
+    s.cutoff = cutoff;
+    s.smooth_normals = smooth_normals;
+    return s;
+}
+
+/// Renders into checked arrays with the GIL released; returns the frame's figures.
+FrameStats render_arrays(const PyEngine& self, const View& view, py::array& rgb, py::array* depth,
+                         py::array* mesh, const RenderSettings& settings) {
+    ImageView image;
+    image.height = int(rgb.shape(0));
+    image.width = int(rgb.shape(1));
+    image.rgb = mutable_floats(rgb);
+    if (depth) image.depth = mutable_floats(*depth);
+    if (mesh) image.mesh = {static_cast<std::int32_t*>(mesh->mutable_data()), std::size_t(mesh->size())};
+    const py::gil_scoped_release nogil;
+    return self.engine().render(view, image, settings);
+}
+
+/// An image array of shape (height, width[, 3]) checked for render_into.
+py::array image_array(py::handle value, const std::string& where, const char* name, const char* type,
+                      int channels, int height, int width, bool writeable = true) {
+    if (!py::isinstance<py::array>(value)) invalid(where, std::string(name) + " must be a numpy array");
+    py::array a = py::reinterpret_borrow<py::array>(value);
+    if (!a.dtype().equal(dtype(type))) {
+        invalid(where, std::string(name) + " must have dtype " + type + ", got " + a.dtype().attr("name").cast<std::string>());
+    }
+    const bool shape_ok = channels ? (a.ndim() == 3 && a.shape(2) == channels) : a.ndim() == 2;
+    if (!shape_ok || (height >= 0 && (a.shape(0) != height || a.shape(1) != width))) {
+        invalid(where, std::string(name) + " must have shape " +
+                           (height >= 0 ? "(" + std::to_string(height) + ", " + std::to_string(width)
+                                        : std::string("(H, W")) +
+                           (channels ? ", 3)" : ")"));
+    }
+    if (!(a.flags() & py::array::c_style)) invalid(where, std::string(name) + " must be C-contiguous");
+    if (writeable && !a.writeable()) invalid(where, std::string(name) + " is read-only");
+    return a;
+}
+
+/// A ray batch's arrays, checked and read in place.
+struct RayBatch {
+    py::array origins, directions, tmin, tmax;
+    RayArrays arrays;
+};
+
+RayBatch ray_batch(py::handle origins, py::handle directions, py::handle tmin, py::handle tmax,
+                   const std::string& where) {
+    RayBatch b;
+    b.origins = checked_array(origins, where, ArraySpec{"origins", dtype("float32"), 3, false});
+    b.directions = checked_array(directions, where, ArraySpec{"directions", dtype("float32"), 3, false});
+    if (rows(b.directions) != rows(b.origins)) {
+        invalid(where, std::to_string(rows(b.origins)) + " origins but " + std::to_string(rows(b.directions)) +
+                           " directions");
+    }
+    b.arrays.origins = floats(b.origins);
+    b.arrays.directions = floats(b.directions);
+    const auto limit = [&](py::handle value, const char* name, py::array& keep, std::span<const float>& per_ray,
+                           float& all) {
+        if (py::isinstance<py::float_>(value) || py::isinstance<py::int_>(value)) {
+            all = value.cast<float>();
+            return;
+        }
+        keep = checked_array(value, where, ArraySpec{name, dtype("float32"), 0, false});
+        if (rows(keep) != rows(b.origins)) {
+            invalid(where, std::to_string(rows(b.origins)) + " rays but " + std::to_string(rows(keep)) + " " + name +
+                               " values");
+        }
+        per_ray = floats(keep);
+    };
+    limit(tmin, "tmin", b.tmin, b.arrays.tmin, b.arrays.tmin_all);
+    limit(tmax, "tmax", b.tmax, b.arrays.tmax, b.arrays.tmax_all);
+    return b;
+}
+
+py::dict query_dict(const QueryStats& q) {
+    py::dict d;
+    d["rays"] = q.rays;
+    d["hits"] = q.hits;
+    d["packet_rays"] = q.packet_rays;
+    d["single_rays"] = q.single_rays;
+    d["ms"] = q.ms;
+    d["mrays_per_s"] = q.mrays_per_s;
+    return d;
+}
+
+/// `out` checked as a result array of `dtype` with `n` rows, or a new one.
+py::array result_array(py::handle out, const py::dtype& type, std::size_t n, const char* name,
+                       const std::string& where) {
+    if (out.is_none()) return py::array(type, std::vector<py::ssize_t>{py::ssize_t(n)});
+    py::array a = checked_array(out, where, ArraySpec{name, type, 0, true});
+    if (rows(a) != n) invalid(where, std::string(name) + " has " + std::to_string(rows(a)) + " rows for " + std::to_string(n) + " rays");
+    return a;
+}
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+}  // namespace
+
+void bind_engine(py::module_& m) {
+    m.attr("hit_dtype") = hit_dtype();
+
+    py::class_<PyEngine, std::shared_ptr<PyEngine>> engine(m, "Engine", R"(The engine of a simulation loop.
+
+Add meshes once, then every step change vertices (set_positions) or transforms (set_transform),
+call update(), and render() a view or intersect() / occluded() a batch of rays. The thread-safety
+rules of the C++ API hold: between two update() calls the engine is read-only, and render,
+intersect and occluded may run from several threads at once (they release the GIL).)");
+    engine.def(py::init([](int threads, float cost_ratio, int leaf_size, float cost_ratio_exploding,
+                           double rebuild_threshold) {
+                   EngineOptions o;
+                   o.threads = threads;
+                   o.cost_ratio = cost_ratio;
+                   o.leaf_size = leaf_size;
+                   o.cost_ratio_exploding = cost_ratio_exploding;
+                   o.rebuild_threshold = rebuild_threshold;
+                   if (threads < 0) invalid("dynrt.Engine", "threads must be >= 0 (0: all cores)");
+                   return std::make_shared<PyEngine>(o);
+               }),
+               py::kw_only(), py::arg("threads") = 0, py::arg("cost_ratio") = 1.0f, py::arg("leaf_size") = 8,
+               py::arg("cost_ratio_exploding") = 0.3f, py::arg("rebuild_threshold") = 0.3);
+
+    engine.def("add_mesh", &PyEngine::add_mesh, py::arg("positions"), py::arg("indices"), py::kw_only(),
+               py::arg("motion") = "automatic", py::arg("transform") = py::none(),
+               py::arg("surface") = py::none(), py::arg("normals") = py::none(),
+               py::arg("name") = "", py::arg("borrow") = false,
+               R"(Adds a mesh and returns its id (an int). positions: float32 (V, 3); indices: integers
+(T, 3). With borrow=True the engine reads `positions` in place from then on and keeps a
+reference to it: write new positions into it and call set_positions(mesh, positions).)");
+    engine.def("set_positions", &PyEngine::set_positions, py::arg("mesh"), py::arg("positions"),
+               py::arg("normals") = py::none());
+    engine.def("set_transform", [](PyEngine& self, std::uint32_t mesh, py::handle t) {
+        self.engine().set_transform(MeshId{mesh}, transform(t, "dynrt.Engine.set_transform"));
+    }, py::arg("mesh"), py::arg("transform"));
+    engine.def("set_surface", [](PyEngine& self, std::uint32_t mesh, const Surface& s) {
+        self.engine().set_surface(MeshId{mesh}, s);
+    }, py::arg("mesh"), py::arg("surface"));
+    engine.def("remove_mesh", &PyEngine::remove_mesh, py::arg("mesh"));
+    engine.def("motion", [](const PyEngine& self, std::uint32_t mesh) {
+        return std::string(motion_name(self.engine().motion(MeshId{mesh})));
+    }, py::arg("mesh"));
+    engine.def("borrows", &PyEngine::borrows, py::arg("mesh"),
+               "Whether the engine holds the mesh's positions array (added with borrow=True).");
+    engine.def_property_readonly("mesh_count", [](const PyEngine& self) { return self.engine().mesh_count(); });
+    engine.def("__len__", [](const PyEngine& self) { return self.engine().mesh_count(); });
+
+    engine.def("update", [](PyEngine& self) {
+        FrameStats stats;
+        {
+            const py::gil_scoped_release nogil;
+            stats = self.engine().update();
+        }
+        return report_dict(stats);
+    }, "Brings every tree up to date; returns the step's report as a dict (README \"Report\").");
+
+    engine.def("render", [](const PyEngine& self, const View& view, int width, int height, bool depth, bool mesh,
+                            bool report, py::handle lights, py::handle background, float ambient, bool reuse_pixels,
+                            int max_depth, float cutoff, bool smooth_normals) -> py::object {
+        const std::string where = "dynrt.Engine.render";
+        if (width < 1 || height < 1) invalid(where, "width and height must be >= 1");
+        const RenderSettings settings =
+            render_settings(lights, background, ambient, reuse_pixels, max_depth, cutoff, smooth_normals, where);
+        py::array rgb(dtype("float32"), {py::ssize_t(height), py::ssize_t(width), py::ssize_t(3)});
+        py::array depth_image, mesh_image;
+        if (depth) depth_image = py::array(dtype("float32"), {py::ssize_t(height), py::ssize_t(width)});
+        if (mesh) mesh_image = py::array(dtype("int32"), {py::ssize_t(height), py::ssize_t(width)});
+        const FrameStats stats = render_arrays(self, view, rgb, depth ? &depth_image : nullptr,
+                                               mesh ? &mesh_image : nullptr, settings);
+        if (!depth && !mesh && !report) return rgb;
+        py::list out;
+        out.append(rgb);
+        if (depth) out.append(depth_image);
+        if (mesh) out.append(mesh_image);
+        if (report) out.append(report_dict(stats));
+        return py::tuple(out);
+    }, py::arg("view"), py::arg("width"), py::arg("height"), py::kw_only(), py::arg("depth") = false,
+       py::arg("mesh") = false, py::arg("report") = false, py::arg("lights") = py::none(),
+       py::arg("background") = py::make_tuple(0.05f, 0.06f, 0.08f), py::arg("ambient") = 0.08f,
+       py::arg("reuse_pixels") = true, py::arg("max_depth") = 5, py::arg("cutoff") = 1.0f / 256.0f,
+       py::arg("smooth_normals") = true,
+       R"(Renders `view` at width x height: an (H, W, 3) float32 linear RGB array, or a tuple
+(rgb, depth, mesh, report) of the parts asked for: depth (H, W) float32 (+inf on a miss),
+mesh (H, W) int32 (the mesh id hit, -1 on a miss), report the frame's dict.)");
+
+    engine.def("render_into", [](const PyEngine& self, const View& view, py::handle rgb, py::handle depth,
+                                 py::handle mesh, py::handle lights, py::handle background, float ambient,
+                                 bool reuse_pixels, int max_depth, float cutoff, bool smooth_normals) {
+        const std::string where = "dynrt.Engine.render_into";
+        py::array rgb_image = image_array(rgb, where, "rgb", "float32", 3, -1, -1);
+        const int height = int(rgb_image.shape(0)), width = int(rgb_image.shape(1));
+        py::array depth_image, mesh_image;
+        if (!depth.is_none()) depth_image = image_array(depth, where, "depth", "float32", 0, height, width);
+        if (!mesh.is_none()) mesh_image = image_array(mesh, where, "mesh", "int32", 0, height, width);
+        const RenderSettings settings =
+            render_settings(lights, background, ambient, reuse_pixels, max_depth, cutoff, smooth_normals, where);
+        const FrameStats stats = render_arrays(self, view, rgb_image, depth_image ? &depth_image : nullptr,
+                                               mesh_image ? &mesh_image : nullptr, settings);
+        return report_dict(stats);
+    }, py::arg("view"), py::arg("rgb"), py::kw_only(), py::arg("depth") = py::none(), py::arg("mesh") = py::none(),
+       py::arg("lights") = py::none(), py::arg("background") = py::make_tuple(0.05f, 0.06f, 0.08f),
+       py::arg("ambient") = 0.08f, py::arg("reuse_pixels") = true, py::arg("max_depth") = 5,
+       py::arg("cutoff") = 1.0f / 256.0f, py::arg("smooth_normals") = true,
+       "Renders into arrays the caller owns (rgb (H, W, 3) float32; depth, mesh (H, W)); returns the report.");
+
+    engine.def("intersect", [](const PyEngine& self, py::handle origins, py::handle directions, py::handle tmin,
+                               py::handle tmax, py::handle out, bool stats) -> py::object {
+        const std::string where = "dynrt.Engine.intersect";
+        const RayBatch batch = ray_batch(origins, directions, tmin, tmax, where);
+        py::array hits = result_array(out, hit_dtype(), batch.arrays.size(), "out", where);
+        const std::span<RayHit> results(static_cast<RayHit*>(hits.mutable_data()), batch.arrays.size());
+        QueryStats q;
+        {
+            const py::gil_scoped_release nogil;
+            q = self.engine().intersect(batch.arrays, results);
+        }
+        if (stats) return py::make_tuple(hits, query_dict(q));
+        return hits;
+    }, py::arg("origins"), py::arg("directions"), py::arg("tmin") = 0.0f, py::arg("tmax") = kInf, py::kw_only(),
+       py::arg("out") = py::none(), py::arg("stats") = false,
+       R"(Closest hit of every ray: a structured array of dynrt.hit_dtype (t, mesh, triangle, u, v;
+t = inf, mesh = triangle = -1 on a miss). origins, directions: float32 (N, 3), read in place;
+tmin, tmax: numbers or float32 (N,). out: a hit_dtype (N,) array to write into. stats=True
+also returns the batch's figures.)");
+
+    engine.def("occluded", [](const PyEngine& self, py::handle origins, py::handle directions, py::handle tmin,
+                              py::handle tmax, py::handle out, bool stats) -> py::object {
+        const std::string where = "dynrt.Engine.occluded";
+        const RayBatch batch = ray_batch(origins, directions, tmin, tmax, where);
+        py::array flags = result_array(out, dtype("bool"), batch.arrays.size(), "out", where);
+        const std::span<std::uint8_t> results(static_cast<std::uint8_t*>(flags.mutable_data()), batch.arrays.size());
+        QueryStats q;
+        {
+            const py::gil_scoped_release nogil;
+            q = self.engine().occluded(batch.arrays, results);
+        }
+        if (stats) return py::make_tuple(flags, query_dict(q));
+        return flags;
+    }, py::arg("origins"), py::arg("directions"), py::arg("tmin") = 0.0f, py::arg("tmax") = kInf, py::kw_only(),
+       py::arg("out") = py::none(), py::arg("stats") = false,
+       "Whether anything is hit within [tmin, tmax] of every ray: a bool (N,) array (out: one to write into).");
+
+    m.def("save_image", [](const std::string& path, py::handle rgb) {
+        const py::array image = image_array(rgb, "dynrt.save_image", "rgb", "float32", 3, -1, -1, false);
+        save_image(path, int(image.shape(1)), int(image.shape(0)), floats(image));
+    }, py::arg("path"), py::arg("rgb"),
+       "Writes an (H, W, 3) float32 linear RGB array: .png, .jpg, .bmp, .tga (sRGB, 8-bit) or .hdr.");
+}
+
+}  // namespace dynrt::python

@@ -1,0 +1,53 @@
+#pragma once
+// dynrt.Engine: the library API's dynrt::Engine for Python (README "Python"). Positions may be
+// borrowed (the engine keeps a reference to the numpy array, so it stays alive while the
+// engine may read it), ray batches are read in place (Engine::intersect on RayArrays), results
+// are written into numpy arrays the caller may pass in, and the GIL is released while the
+// engine updates, renders or traces.
+
+#include "dynrt/dynrt.h"
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <cstdint>
+#include <unordered_map>
+
+namespace dynrt::python {
+
+namespace py = pybind11;
+
+class PyEngine {
+public:
+    explicit PyEngine(const EngineOptions& options) : engine_(options) {}
+
+    std::uint32_t add_mesh(py::handle positions, py::handle indices, const std::string& motion,
+                           py::handle transform, const Surface* surface, py::handle normals,
+                           const std::string& name, bool borrow);
+    void set_positions(std::uint32_t mesh, py::handle positions, py::handle normals);
+    void remove_mesh(std::uint32_t mesh);
+    /// Whether the engine holds a reference to the mesh's positions array.
+    bool borrows(std::uint32_t mesh) const { return borrowed_.count(mesh) != 0; }
+
+    Engine& engine() { return engine_; }
+    const Engine& engine() const { return engine_; }
+
+private:
+    /// The arrays of borrowed meshes, kept alive while the engine may read them. Declared
+    /// before engine_ so that the engine is destroyed first.
+    std::unordered_map<std::uint32_t, py::object> borrowed_;
+    /// Meshes added with borrow=True (set_positions keeps borrowing for them).
+    std::unordered_map<std::uint32_t, bool> borrowing_;
+    Engine engine_;
+};
+
+/// A frame's figures (FrameStats) as the report's dict (README "Report": the keys of a frame).
+py::object report_dict(const FrameStats& stats);
+
+/// The structured dtype of intersect's results: t, mesh, triangle, u, v (dynrt::RayHit's
+/// layout, so hits are written in place).
+py::dtype hit_dtype();
+
+void bind_engine(py::module_& m);
+
+}  // namespace dynrt::python

@@ -1,0 +1,143 @@
+#include "numpy_args.h"
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace dynrt::python {
+
+void invalid(const std::string& where, const std::string& message) {
+    throw Error(Error::Code::invalid_argument, where + ": " + message);
+}
+
+py::dtype dtype(const char* name) { return py::dtype(name); }
+
+namespace {
+
+std::string shape_text(const py::array& a) {
+    std::ostringstream out;
+    out << "(";
+    for (py::ssize_t d = 0; d < a.ndim(); ++d) out << (d ? ", " : "") << a.shape(d);
+    out << (a.ndim() == 1 ? ",)" : ")");
+    return out.str();
+}
+
+std::string type_name(py::handle value) {
+    return py::str(py::type::handle_of(value).attr("__name__")).cast<std::string>();
+}
+
+}  // namespace
+
+py::array checked_array(py::handle value, const std::string& where, const ArraySpec& spec) {
+    const std::string name = spec.name;
+    const std::string wanted = spec.columns ? "(N, " + std::to_string(spec.columns) + ")" : "(N,)";
+    const std::string dtype_name = spec.dtype.attr("name").cast<std::string>();
+    if (!py::isinstance<py::array>(value)) {
+        invalid(where, name + " must be a numpy array of " + dtype_name + " with shape " + wanted +
+                           ", got " + type_name(value) + " (use np.ascontiguousarray(x, dtype=np.float32))");
+    }
+    py::array a = py::reinterpret_borrow<py::array>(value);
+    if (!a.dtype().is(spec.dtype) && !a.dtype().equal(spec.dtype)) {
+        invalid(where, name + " must have dtype " + dtype_name + ", got " +
+                           a.dtype().attr("name").cast<std::string>() +
+                           " (it is read in place, not converted: use np.ascontiguousarray(" + name +
+                           ", dtype=np." + dtype_name + "))");
+    }
+    const bool shape_ok = spec.columns ? (a.ndim() == 2 && a.shape(1) == spec.columns) : a.ndim() == 1;
+    if (!shape_ok) invalid(where, name + " must have shape " + wanted + ", got " + shape_text(a));
+    if (!(a.flags() & py::array::c_style)) {
+        invalid(where, name + " must be C-contiguous (it is read in place): use np.ascontiguousarray(" +
+                           name + ")");
+    }
+    if (spec.writeable && !a.writeable()) invalid(where, name + " is read-only; the results are written into it");
+    return a;
+}
+
+std::span<const float> floats(const py::array& a) {
+    return {static_cast<const float*>(a.data()), std::size_t(a.size())};
+}
+
+std::span<float> mutable_floats(py::array& a) {
+    return {static_cast<float*>(a.mutable_data()), std::size_t(a.size())};
+}
+
+std::vector<std::uint32_t> index_list(py::handle value, const std::string& where) {
+    py::array any = py::array::ensure(value);
+    if (!any) invalid(where, "indices must be an array of integers with shape (T, 3)");
+    const char kind = any.dtype().kind();
+    if (kind != 'i' && kind != 'u') {
+        invalid(where, "indices must have an integer dtype, got " + any.dtype().attr("name").cast<std::string>());
+    }
+    if (!((any.ndim() == 2 && any.shape(1) == 3) || (any.ndim() == 1 && any.shape(0) % 3 == 0))) {
+        invalid(where, "indices must have shape (T, 3) or (3T,), got " + shape_text(any));
+    }
+    // int64 holds every uint32 and every negative value: check in it, then narrow.
+    const auto wide = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(any);
+    if (!wide) invalid(where, "indices could not be read as integers");
+    if (any.dtype().kind() == 'u' && any.dtype().itemsize() == 8) {
+        // uint64 values above int64's range would wrap: check them before the cast.
+        const auto big = py::array_t<std::uint64_t, py::array::c_style | py::array::forcecast>::ensure(any);
+        for (py::ssize_t i = 0; i < big.size(); ++i) {
+            if (big.data()[i] > std::numeric_limits<std::uint32_t>::max()) {
+                invalid(where, "index " + std::to_string(i) + " is " + std::to_string(big.data()[i]) +
+                                   ", beyond uint32");
+            }
+        }
+    }
+    std::vector<std::uint32_t> out(std::size_t(wide.size()));
+    const std::int64_t* in = wide.data();
+    for (std::size_t i = 0; i < out.size(); ++i) {
+        if (in[i] < 0 || in[i] > std::int64_t(std::numeric_limits<std::uint32_t>::max())) {
+            invalid(where, "index " + std::to_string(i) + " is " + std::to_string(in[i]) +
+                               (in[i] < 0 ? ", negative" : ", beyond uint32"));
+        }
+        out[i] = std::uint32_t(in[i]);
+    }
+    return out;
+}
+
+Vec3 vec3(py::handle value, const std::string& where, const char* name) {
+    const auto numbers = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(value);
+    if (!numbers || numbers.size() != 3 || numbers.ndim() != 1) {
+        PyErr_Clear();
+        invalid(where, std::string(name) + " must be three numbers (x, y, z)");
+    }
+    const double* v = numbers.data();
+    return Vec3{float(v[0]), float(v[1]), float(v[2])};
+}
+
+py::tuple to_tuple(const Vec3& v) { return py::make_tuple(v.x, v.y, v.z); }
+
+Transform transform(py::handle value, const std::string& where) {
+    if (value.is_none()) return Transform::identity();
+    const auto m = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(value);
+    if (!m || m.ndim() != 2 || m.shape(0) != 4 || m.shape(1) != 4) {
+        PyErr_Clear();
+        invalid(where, "transform must be a 4x4 matrix (rows first, as numpy writes it)");
+    }
+    Transform t;
+    for (int row = 0; row < 4; ++row) {
+        for (int column = 0; column < 4; ++column) t.m[std::size_t(column * 4 + row)] = float(m.at(row, column));
+    }
+    return t;
+}
+
+py::array_t<double> transform_array(const Transform& t) {
+    py::array_t<double> m({4, 4});
+    auto out = m.mutable_unchecked<2>();
+    for (int row = 0; row < 4; ++row) {
+        for (int column = 0; column < 4; ++column) out(row, column) = t.m[std::size_t(column * 4 + row)];
+    }
+    return m;
+}
+
+Motion motion(const std::string& name, const std::string& where) {
+    for (const Motion m : {Motion::automatic, Motion::static_, Motion::rigid, Motion::deformable,
+                           Motion::exploding}) {
+        if (name == motion_name(m)) return m;
+    }
+    invalid(where, "motion must be \"automatic\", \"static\", \"rigid\", \"deformable\" or "
+                   "\"exploding\", got \"" + name + "\"");
+}
+
+}  // namespace dynrt::python

@@ -1,0 +1,65 @@
+#pragma once
+// Turning Python arguments into the library API's values, checked: numpy arrays read in place
+// (float32, C-contiguous, the right shape), vectors, transforms, surfaces and motions. Every
+// problem throws dynrt::Error (invalid_argument) with a message naming the call and the
+// argument, which the module raises as dynrt.InvalidArgument (a ValueError); nothing reaches
+// the engine unchecked and nothing crashes the interpreter.
+
+#include "dynrt/dynrt.h"
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace dynrt::python {
+
+namespace py = pybind11;
+
+/// Throws dynrt::Error(invalid_argument, "<where>: <message>").
+[[noreturn]] void invalid(const std::string& where, const std::string& message);
+
+/// What an array argument must be: its dtype, its trailing dimension (0: one-dimensional)
+/// and whether the engine writes into it.
+struct ArraySpec {
+    const char* name;     ///< the argument's name, for errors ("positions")
+    py::dtype dtype;      ///< exactly this dtype
+    int columns = 3;      ///< shape (N, columns), or (N,) when 0
+    bool writeable = false;
+};
+
+/// `value` as an ndarray meeting `spec`, to be read or written in place (no copy is made, so
+/// no conversion either: a float64 array is refused with a hint, not silently converted).
+py::array checked_array(py::handle value, const std::string& where, const ArraySpec& spec);
+
+/// Its rows: shape[0].
+inline std::size_t rows(const py::array& a) { return a.ndim() == 0 ? 0 : std::size_t(a.shape(0)); }
+
+/// The floats of a checked float32 array, read in place.
+std::span<const float> floats(const py::array& a);
+std::span<float> mutable_floats(py::array& a);
+
+/// Triangle indices from any integer array-like of shape (T, 3) or (3T,), copied to uint32
+/// (the engine copies indices anyway); negative or too large values are refused.
+std::vector<std::uint32_t> index_list(py::handle value, const std::string& where);
+
+/// Three numbers (a tuple, list or array).
+Vec3 vec3(py::handle value, const std::string& where, const char* name);
+py::tuple to_tuple(const Vec3& v);
+
+/// A 4x4 array-like, rows first as numpy writes matrices (M[row, column], acting on column
+/// vectors), to the API's column-major Transform. None is the identity.
+Transform transform(py::handle value, const std::string& where);
+/// The API's Transform as a (4, 4) float64 array, rows first.
+py::array_t<double> transform_array(const Transform& t);
+
+/// "automatic", "static", "rigid", "deformable" or "exploding".
+Motion motion(const std::string& name, const std::string& where);
+
+/// numpy's dtypes, by name ("float32", "int32", ...).
+py::dtype dtype(const char* name);
+
+}  // namespace dynrt::python

@@ -1,0 +1,192 @@
+#include "scene_binding.h"
+
+#include "engine_binding.h"
+#include "numpy_args.h"
+
+#include "dynrt/anim/posed_scene.h"
+#include "dynrt/engine/camera.h"
+#include "dynrt/engine/renderer.h"
+#include "dynrt/engine/scene_loading.h"
+#include "dynrt/scene/scene.h"
+
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace dynrt::python {
+
+namespace {
+
+std::span<const float> flat(std::span<const glm::vec3> v) {
+    return {reinterpret_cast<const float*>(v.data()), 3 * v.size()};
+}
+
+Vec3 vec(const glm::vec3& v) { return Vec3{v.x, v.y, v.z}; }
+
+Transform transform_of(const glm::dmat4& m) {
+    Transform t;
+    for (int column = 0; column < 4; ++column) {
+        for (int row = 0; row < 4; ++row) t.m[std::size_t(column * 4 + row)] = float(m[column][row]);
+    }
+    return t;
+}
+
+Motion motion_of(anim::MotionClass c) {
+    switch (c) {
+        case anim::MotionClass::static_: return Motion::static_;
+        case anim::MotionClass::rigid: return Motion::rigid;
+        case anim::MotionClass::deformable: return Motion::deformable;
+        case anim::MotionClass::exploding: return Motion::exploding;
+    }
+    return Motion::exploding;
+}
+
+View view_of(const Camera& c) { return View{vec(c.eye), vec(c.target), vec(c.up), c.fov_y_deg}; }
+
+/// A loaded scene, its poser and the engine it plays into.
+class SceneAnimation {
+public:
+    SceneAnimation(const std::string& source, double fps, std::shared_ptr<PyEngine> engine)
+        : engine_(std::move(engine)) {
+        {
+            const py::gil_scoped_release nogil;
+            scene_ = std::make_unique<Scene>(load_scene(source));
+        }
+        anim::PoseSettings settings;
+        settings.fps = fps > 0.0 ? fps : (scene_->setup ? scene_->setup->fps : anim::kDefaultFps);
+        // Static and rigid objects are added once, from the poser's fixed vertices.
+        settings.skip_fixed_positions = true;
+        const py::gil_scoped_release nogil;
+        poser_ = std::make_unique<anim::ScenePoser>(*scene_, settings);
+        poser_->pose(0, posed_);
+        std::vector<glm::vec3> world, world_normals;
+        for (std::size_t i = 0; i < scene_->objects.size(); ++i) {
+            const Object& object = scene_->objects[i];
+            const anim::PosedObject& posed = posed_.objects[i];
+            const Material& material = scene_->materials.at(object.material);
+            MeshDesc desc;
+            desc.name = object.name;
+            std::vector<std::uint32_t> indices(3 * object.mesh.triangles.size());
+            for (std::size_t t = 0; t < object.mesh.triangles.size(); ++t) {
+                for (int k = 0; k < 3; ++k) indices[3 * t + std::size_t(k)] = object.mesh.triangles[t][k];
+            }
+            desc.indices = indices;
+            desc.motion = motion_of(poser_->motion_class(i));
+            desc.surface = Surface{vec(material.diffuse), vec(material.specular), material.shininess,
+                                   vec(material.reflectance), vec(material.transmittance), material.ior};
+            switch (poser_->motion_class(i)) {
+                case anim::MotionClass::static_:
+                    poser_->fixed_world_positions(i, posed_, world);
+                    poser_->fixed_world_normals(i, posed_, world_normals);
+                    desc.positions = flat(world);
+                    desc.normals = flat(world_normals);
+                    break;
+                case anim::MotionClass::rigid:
+                    desc.positions = flat(poser_->object_space_positions(i));
+                    desc.normals = flat(poser_->object_space_normals(i));
+                    desc.transform = transform_of(posed.transform);
+                    break;
+                default:
+                    desc.positions = flat(posed.positions);
+                    desc.normals = flat(posed.normals);
+                    break;
+            }
+            ids_.push_back(engine_->engine().add_mesh(desc).value);
+        }
+        frame_ = 0;
+    }
+
+    /// Poses `frame`, hands what moved to the engine and updates it.
+    py::object pose(int frame) {
+        FrameStats stats;
+        {
+            const py::gil_scoped_release nogil;
+            Engine& engine = engine_->engine();
+            poser_->pose(frame, posed_);
+            for (std::size_t i = 0; i < ids_.size(); ++i) {
+                const anim::PosedObject& posed = posed_.objects[i];
+                if (!posed.changed) continue;
+                const MeshId id{ids_[i]};
+                switch (poser_->motion_class(i)) {
+                    case anim::MotionClass::static_: break;
+                    case anim::MotionClass::rigid: engine.set_transform(id, transform_of(posed.transform)); break;
+                    default: engine.set_positions(id, flat(posed.positions), flat(posed.normals)); break;
+                }
+            }
+            frame_ = frame;
+            stats = engine.update();
+        }
+        return report_dict(stats);
+    }
+
+    /// The scene's first camera at the posed frame, or None.
+    py::object camera() const {
+        if (!posed_.camera) return py::none();
+        return py::cast(view_of(camera_from_scene(*posed_.camera)));
+    }
+
+    View default_view() const { return view_of(default_camera(scene_bounds(*scene_))); }
+
+    std::vector<Light> lights() const {
+        std::vector<Light> out;
+        for (const PointLight& l : effective_lights(*scene_, RenderOptions{})) {
+            out.push_back(Light{vec(l.position), l.intensity});
+        }
+        return out;
+    }
+
+    int frame_count() const {
+        if (scene_->setup) return scene_->setup->frame_count;
+        return int(std::ceil(poser_->end_time() * poser_->settings().fps)) + 1;
+    }
+
+    std::vector<std::string> names() const {
+        std::vector<std::string> out;
+        for (const Object& o : scene_->objects) out.push_back(o.name);
+        return out;
+    }
+
+    std::vector<std::string> motions() const {
+        std::vector<std::string> out;
+        for (std::size_t i = 0; i < ids_.size(); ++i) out.push_back(motion_name(motion_of(poser_->motion_class(i))));
+        return out;
+    }
+
+    std::shared_ptr<PyEngine> engine_;
+    std::unique_ptr<Scene> scene_;
+    std::unique_ptr<anim::ScenePoser> poser_;
+    anim::PosedScene posed_;
+    std::vector<std::uint32_t> ids_;
+    int frame_ = 0;
+};
+
+}  // namespace
+
+void bind_scene(py::module_& m) {
+    py::class_<SceneAnimation>(m, "SceneAnimation",
+                               "A scene file played into an Engine; dynrt.load_scene wraps it as dynrt.Scene.")
+        .def(py::init<const std::string&, double, std::shared_ptr<PyEngine>>(), py::arg("source"), py::arg("fps"),
+             py::arg("engine"))
+        .def("pose", &SceneAnimation::pose, py::arg("frame"))
+        .def_property_readonly("engine", [](const SceneAnimation& s) { return s.engine_; })
+        .def_property_readonly("mesh_ids", [](const SceneAnimation& s) { return s.ids_; })
+        .def_property_readonly("names", &SceneAnimation::names)
+        .def_property_readonly("motions", &SceneAnimation::motions)
+        .def_property_readonly("frame", [](const SceneAnimation& s) { return s.frame_; })
+        .def_property_readonly("fps", [](const SceneAnimation& s) { return s.poser_->settings().fps; })
+        .def_property_readonly("frame_count", &SceneAnimation::frame_count)
+        .def_property_readonly("camera", &SceneAnimation::camera)
+        .def_property_readonly("default_view", &SceneAnimation::default_view)
+        .def_property_readonly("lights", &SceneAnimation::lights)
+        .def_property_readonly("background", [](const SceneAnimation& s) {
+            return s.scene_->setup ? to_tuple(vec(s.scene_->setup->background)) : to_tuple(RenderSettings{}.background);
+        })
+        .def_property_readonly("source", [](const SceneAnimation& s) { return s.scene_->source; })
+        .def_property_readonly("ignored", [](const SceneAnimation& s) { return s.scene_->ignored; });
+}
+
+}  // namespace dynrt::python

@@ -1,0 +1,84 @@
+#include "value_types.h"
+
+#include "numpy_args.h"
+
+#include <iomanip>
+#include <sstream>
+
+namespace dynrt::python {
+
+namespace {
+
+std::string text(const Vec3& v) {
+    std::ostringstream out;
+    out << std::setprecision(9) << "(" << v.x << ", " << v.y << ", " << v.z << ")";
+    return out.str();
+}
+
+/// A read-write property holding a Vec3 member as a tuple.
+template <typename Class>
+void vec3_property(py::class_<Class>& c, const char* name, Vec3 Class::*member) {
+    const std::string where = std::string("dynrt.") + py::str(c.attr("__name__")).cast<std::string>();
+    c.def_property(
+        name, [member](const Class& self) { return to_tuple(self.*member); },
+        [member, where, name](Class& self, py::handle value) { self.*member = vec3(value, where, name); });
+}
+
+}  // namespace
+
+void bind_value_types(py::module_& m) {
+    py::class_<View> view(m, "View", "A pinhole camera: eye, target, up, vertical field of view in degrees.");
+    view.def(py::init([](py::handle eye, py::handle target, py::handle up, float fov_y_deg) {
+                 return View{vec3(eye, "dynrt.View", "eye"), vec3(target, "dynrt.View", "target"),
+                             vec3(up, "dynrt.View", "up"), fov_y_deg};
+             }),
+             py::arg("eye") = py::make_tuple(0.0, 0.0, 5.0), py::arg("target") = py::make_tuple(0.0, 0.0, 0.0),
+             py::arg("up") = py::make_tuple(0.0, 1.0, 0.0), py::arg("fov_y_deg") = 45.0f);
+    vec3_property(view, "eye", &View::eye);
+    vec3_property(view, "target", &View::target);
+    vec3_property(view, "up", &View::up);
+    view.def_readwrite("fov_y_deg", &View::fov_y_deg);
+    view.def("__repr__", [](const View& v) {
+        return "dynrt.View(eye=" + text(v.eye) + ", target=" + text(v.target) + ", up=" + text(v.up) +
+               ", fov_y_deg=" + std::to_string(v.fov_y_deg) + ")";
+    });
+
+    py::class_<Surface> surface(m, "Surface",
+                                "A mesh's material: Phong terms, mirror reflectance, transmittance and "
+                                "index of refraction (linear RGB).");
+    const Surface d;
+    surface.def(py::init([](py::handle diffuse, py::handle specular, float shininess, py::handle reflectance,
+                            py::handle transmittance, float ior) {
+                    const char* w = "dynrt.Surface";
+                    return Surface{vec3(diffuse, w, "diffuse"), vec3(specular, w, "specular"), shininess,
+                                   vec3(reflectance, w, "reflectance"), vec3(transmittance, w, "transmittance"),
+                                   ior};
+                }),
+                py::arg("diffuse") = to_tuple(d.diffuse), py::arg("specular") = to_tuple(d.specular),
+                py::arg("shininess") = d.shininess, py::arg("reflectance") = to_tuple(d.reflectance),
+                py::arg("transmittance") = to_tuple(d.transmittance), py::arg("ior") = d.ior);
+    vec3_property(surface, "diffuse", &Surface::diffuse);
+    vec3_property(surface, "specular", &Surface::specular);
+    surface.def_readwrite("shininess", &Surface::shininess);
+    vec3_property(surface, "reflectance", &Surface::reflectance);
+    vec3_property(surface, "transmittance", &Surface::transmittance);
+    surface.def_readwrite("ior", &Surface::ior);
+    surface.def("__repr__", [](const Surface& s) {
+        return "dynrt.Surface(diffuse=" + text(s.diffuse) + ", specular=" + text(s.specular) +
+               ", shininess=" + std::to_string(s.shininess) + ", reflectance=" + text(s.reflectance) +
+               ", transmittance=" + text(s.transmittance) + ", ior=" + std::to_string(s.ior) + ")";
+    });
+
+    py::class_<Light> light(m, "Light", "A point light; no distance falloff.");
+    light.def(py::init([](py::handle position, float intensity) {
+                  return Light{vec3(position, "dynrt.Light", "position"), intensity};
+              }),
+              py::arg("position"), py::arg("intensity") = 1.0f);
+    vec3_property(light, "position", &Light::position);
+    light.def_readwrite("intensity", &Light::intensity);
+    light.def("__repr__", [](const Light& l) {
+        return "dynrt.Light(position=" + text(l.position) + ", intensity=" + std::to_string(l.intensity) + ")";
+    });
+}
+
+}  // namespace dynrt::python

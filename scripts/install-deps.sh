@@ -6,7 +6,8 @@ set -euo pipefail
 required=(build-essential cmake ninja-build pkg-config
           libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libtbb-dev
           libopenimageio-dev libbenchmark-dev libgtest-dev libcli11-dev
-          gnuplot-nox)  # gnuplot draws the charts of `dynrt bench --plot`
+          gnuplot-nox   # gnuplot draws the charts of `dynrt bench --plot`
+          pybind11-dev python3-dev python3-numpy python3-pytest)  # the Python module (engine/python)
 # The fuzz targets (scripts/fuzz.sh, run by scripts/test.sh) need clang and libFuzzer's runtime,
 # which Debian ships in libclang-rt-dev; older archives have it in a dependency of clang itself.
 fuzz=(clang libclang-rt-dev)

@@ -7,11 +7,14 @@
 #      out/sequence.json; the table shows the first (cold) frame beside the steady-state
 #      frames after it;
 #   2. a still frame: out/default.png (+ depth/object AOVs) and out/report.json.
+# It also builds the Python module and makes `import dynrt` work (scripts/install-python.sh).
 # Extra arguments go to both renders (e.g. --res 1920x1080).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
-bash scripts/build.sh release -DCMAKE_BUILD_TYPE=Release -- dynrt
+bash scripts/build.sh release -DCMAKE_BUILD_TYPE=Release -- dynrt dynrt_python
+# `import dynrt` from Debian's python3 from now on (README "Python").
+bash scripts/install-python.sh build/release
 mkdir -p out
 dynrt=./build/release/engine/dynrt
 motions=(--anim wave:ground --anim rigid:blue_torus --anim rigid:box_top

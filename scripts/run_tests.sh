@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Runs the tests of one build tree: each GoogleTest program once, split into as many shards as
 # there are cores run side by side, then ctest for the tests that are not GoogleTest cases
-# (label gtest: examples, the README check, the installed-package build).
+# (label gtest: examples, the README check, the installed-package build), then the Python
+# module's pytest suite (tests/python) when the tree built the module.
 # With DYNRT_TEST_TALLY set to a file, appends a line "PASSED FAILED" per program and one for
 # ctest, which scripts/test.sh sums into its closing summary line.
 #   scripts/run_tests.sh BUILD_DIR [GTEST_FILTER]
@@ -50,4 +51,34 @@ ctest --test-dir "$dir" --output-on-failure -j "$shards" -LE gtest | tee "$ctest
 read -r ctest_failed ctest_total < <(sed -n 's/.*tests passed, \([0-9]*\) tests\{0,1\} failed out of \([0-9]*\).*/\1 \2/p' "$ctest_log" | tail -n 1) || true
 rm -f "$ctest_log"
 if [ -n "${ctest_total:-}" ]; then tally $((ctest_total - ctest_failed)) "$ctest_failed"; else tally 0 1; fi
+
+# pytest, with the interpreter the module was built for; each test case counts. Its summary
+# line reads e.g. "3 failed, 61 passed, 2 skipped in 31.2s": skipped tests did not run, errors
+# (a fixture or collection failing) count as failed.
+python=$(sed -n 's/^DYNRT_PYTHON_EXECUTABLE:INTERNAL=//p' "$dir/CMakeCache.txt" 2>/dev/null || true)
+if [ -n "$python" ] && [ -f "$dir/python/dynrt/__init__.py" ]; then
+  pytest_env=(PYTHONPATH="$(cd "$dir" && pwd)/python"
+              DYNRT_API_ORACLE="$(cd "$dir" && pwd)/tests/python/dynrt_python_api_oracle")
+  pytest_args=()
+  if grep -q '^DYNRT_SANITIZE:BOOL=ON' "$dir/CMakeCache.txt"; then
+    # The interpreter is not built with the sanitizers: their runtimes are preloaded for the
+    # module and libdynrt. Leak checking is off for the Python process (the interpreter keeps
+    # its own objects to the end by design); tests marked heavy (timing-based and long
+    # ones) are left to the optimised run, as the GoogleTest Heavy* cases are.
+    pytest_env+=(LD_PRELOAD="$(gcc -print-file-name=libasan.so) $(gcc -print-file-name=libubsan.so)"
+                 ASAN_OPTIONS="detect_leaks=0:abort_on_error=1")
+    pytest_args+=(-m "not heavy")
+  fi
+  pytest_log=$(mktemp)
+  env "${pytest_env[@]}" timeout 1200 "$python" -m pytest -q -p no:cacheprovider "${pytest_args[@]}" \
+    tests/python 2>&1 | tee "$pytest_log" || failed=1
+  summary=$(tail -n 1 "$pytest_log")
+  rm -f "$pytest_log"
+  count() { echo "$summary" | grep -oE "[0-9]+ $1" | grep -oE '^[0-9]+' || echo 0; }
+  py_passed=$(count passed); py_failed=$(( $(count failed) + $(count error) ))
+  if [ "$py_passed" -eq 0 ] && [ "$py_failed" -eq 0 ]; then py_failed=1; fi  # pytest did not run
+  tally "$py_passed" "$py_failed"
+else
+  echo "run_tests: $dir has no Python module; tests/python skipped"
+fi
 exit $failed

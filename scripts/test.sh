@@ -16,6 +16,7 @@ trap 'rm -f "$DYNRT_TEST_TALLY"' EXIT
 status=0
 
 bash scripts/build.sh release -DCMAKE_BUILD_TYPE=Release
+bash scripts/install-python.sh build/release
 bash scripts/run_tests.sh build/release || status=1
 
 # -O1 with line tables only, as sanitizer builds usually are: reports still give file and line,

@@ -146,6 +146,7 @@ py::array image_array(py::handle value, const std::string& where, const char* na
                            (channels ? ", 3)" : ")"));
     }
     if (!(a.flags() & py::array::c_style)) invalid(where, std::string(name) + " must be C-contiguous");
+    require_aligned(a, where, name);
     if (writeable && !a.writeable()) invalid(where, std::string(name) + " is read-only");
     return a;
 }
@@ -226,7 +227,6 @@ intersect and occluded may run from several threads at once (they release the GI
                    o.leaf_size = leaf_size;
                    o.cost_ratio_exploding = cost_ratio_exploding;
                    o.rebuild_threshold = rebuild_threshold;
-                   if (threads < 0) invalid("dynrt.Engine", "threads must be >= 0 (0: all cores)");
                    return std::make_shared<PyEngine>(o);
                }),
                py::kw_only(), py::arg("threads") = 0, py::arg("cost_ratio") = 1.0f, py::arg("leaf_size") = 8,

@@ -1,6 +1,7 @@
 #include "numpy_args.h"
 
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <sstream>
 
@@ -49,8 +50,16 @@ py::array checked_array(py::handle value, const std::string& where, const ArrayS
         invalid(where, name + " must be C-contiguous (it is read in place): use np.ascontiguousarray(" +
                            name + ")");
     }
+    require_aligned(a, where, name);
     if (spec.writeable && !a.writeable()) invalid(where, name + " is read-only; the results are written into it");
     return a;
+}
+
+void require_aligned(const py::array& a, const std::string& where, const std::string& name) {
+    if (reinterpret_cast<std::uintptr_t>(a.data()) % a.dtype().attr("alignment").cast<std::uintptr_t>() != 0) {
+        // A view at an odd byte offset into a buffer (np.frombuffer): not a valid float array.
+        invalid(where, name + " is not aligned in memory: pass a copy (" + name + ".copy())");
+    }
 }
 
 std::span<const float> floats(const py::array& a) {

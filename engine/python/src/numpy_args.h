@@ -35,6 +35,10 @@ struct ArraySpec {
 /// no conversion either: a float64 array is refused with a hint, not silently converted).
 py::array checked_array(py::handle value, const std::string& where, const ArraySpec& spec);
 
+/// Throws unless the array's data is aligned for its dtype (a view at an odd byte offset into a
+/// buffer is not), as the engine reads and writes it as C++ values.
+void require_aligned(const py::array& a, const std::string& where, const std::string& name);
+
 /// Its rows: shape[0].
 inline std::size_t rows(const py::array& a) { return a.ndim() == 0 ? 0 : std::size_t(a.shape(0)); }
 

@@ -11,6 +11,7 @@
 
 #include <pybind11/stl.h>
 
+#include <atomic>
 #include <cmath>
 #include <memory>
 #include <span>
@@ -100,25 +101,43 @@ public:
         frame_ = 0;
     }
 
-    /// Poses `frame`, hands what moved to the engine and updates it.
+    /// Poses `frame`, hands what moved to the engine and updates it. One thread at a time (the
+    /// posed frame is this object's state): a second one raises InvalidState. When a call fails
+    /// part way (an engine change refused because another thread renders, a non-finite pose),
+    /// the engine may hold some of the frame's changes and not others, so the next call hands it
+    /// every moving object, not only those the poser saw change.
     py::object pose(int frame) {
+        bool idle = false;
+        if (!posing_.compare_exchange_strong(idle, true)) {
+            throw Error(Error::Code::invalid_state, "dynrt.Scene.pose: another thread is posing this scene");
+        }
+        struct Done {
+            std::atomic<bool>& posing;
+            ~Done() { posing = false; }
+        } done{posing_};
         FrameStats stats;
         {
             const py::gil_scoped_release nogil;
             Engine& engine = engine_->engine();
-            poser_->pose(frame, posed_);
-            for (std::size_t i = 0; i < ids_.size(); ++i) {
-                const anim::PosedObject& posed = posed_.objects[i];
-                if (!posed.changed) continue;
-                const MeshId id{ids_[i]};
-                switch (poser_->motion_class(i)) {
-                    case anim::MotionClass::static_: break;
-                    case anim::MotionClass::rigid: engine.set_transform(id, transform_of(posed.transform)); break;
-                    default: engine.set_positions(id, flat(posed.positions), flat(posed.normals)); break;
+            try {
+                poser_->pose(frame, posed_);
+                for (std::size_t i = 0; i < ids_.size(); ++i) {
+                    const anim::PosedObject& posed = posed_.objects[i];
+                    if (!posed.changed && !resend_all_) continue;
+                    const MeshId id{ids_[i]};
+                    switch (poser_->motion_class(i)) {
+                        case anim::MotionClass::static_: break;
+                        case anim::MotionClass::rigid: engine.set_transform(id, transform_of(posed.transform)); break;
+                        default: engine.set_positions(id, flat(posed.positions), flat(posed.normals)); break;
+                    }
                 }
+                resend_all_ = false;
+                frame_ = frame;
+                stats = engine.update();
+            } catch (...) {
+                resend_all_ = true;
+                throw;
             }
-            frame_ = frame;
-            stats = engine.update();
         }
         return report_dict(stats);
     }
@@ -162,6 +181,8 @@ public:
     anim::PosedScene posed_;
     std::vector<std::uint32_t> ids_;
     int frame_ = 0;
+    std::atomic<bool> posing_{false};
+    bool resend_all_ = false;
 };
 
 }  // namespace

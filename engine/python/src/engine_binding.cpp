@@ -42,12 +42,12 @@ namespace {
 const std::string kAddMesh = "dynrt.Engine.add_mesh";
 const std::string kSetPositions = "dynrt.Engine.set_positions";
 
-ArraySpec position_spec(const char* name) { return ArraySpec{name, dtype("float32"), 3, false}; }
-
-/// A positions argument: read in place when borrowed, else any float32 (N, 3) array (copied
-/// by the engine during the call).
-py::array positions_array(py::handle value, const std::string& where, const char* name) {
-    return checked_array(value, where, position_spec(name));
+/// A positions or normals argument: read in place when the mesh borrows it, so exactly a
+/// C-contiguous float32 (N, 3) array; else any (N, 3) array of numbers, converted when needed
+/// (the engine copies it during the call anyway).
+py::array positions_array(py::handle value, const std::string& where, const char* name, bool borrow) {
+    if (borrow) return checked_array(value, where, ArraySpec{name, dtype("float32"), 3, false});
+    return converted_rows(value, where, name, 3);
 }
 
 }  // namespace
@@ -55,11 +55,11 @@ py::array positions_array(py::handle value, const std::string& where, const char
 std::uint32_t PyEngine::add_mesh(py::handle positions, py::handle indices, const std::string& motion_text,
                                  py::handle transform_value, const Surface* surface, py::handle normals,
                                  const std::string& name, bool borrow) {
-    const py::array p = positions_array(positions, kAddMesh, "positions");
+    const py::array p = positions_array(positions, kAddMesh, "positions", borrow);
     const std::vector<std::uint32_t> index_values = index_list(indices, kAddMesh);
     py::array n;
     if (!normals.is_none()) {
-        n = positions_array(normals, kAddMesh, "normals");
+        n = positions_array(normals, kAddMesh, "normals", false);
         if (rows(n) != rows(p)) {
             invalid(kAddMesh, std::to_string(rows(p)) + " positions but " + std::to_string(rows(n)) + " normals");
         }
@@ -82,9 +82,10 @@ std::uint32_t PyEngine::add_mesh(py::handle positions, py::handle indices, const
 }
 
 void PyEngine::set_positions(std::uint32_t mesh, py::handle positions, py::handle normals) {
-    const py::array p = positions_array(positions, kSetPositions, "positions");
+    const bool borrow = borrowing_.count(mesh) != 0;
+    const py::array p = positions_array(positions, kSetPositions, "positions", borrow);
     py::array n;
-    if (!normals.is_none()) n = positions_array(normals, kSetPositions, "normals");
+    if (!normals.is_none()) n = positions_array(normals, kSetPositions, "normals", false);
     engine_.set_positions(MeshId{mesh}, floats(p), n ? floats(n) : std::span<const float>{});
     // The engine took the call: a borrowed mesh now reads this array (the old one is released).
     if (borrowing_.count(mesh)) borrowed_[mesh] = p;
@@ -170,8 +171,8 @@ RayBatch ray_batch(py::handle origins, py::handle directions, py::handle tmin, p
     b.arrays.directions = floats(b.directions);
     const auto limit = [&](py::handle value, const char* name, py::array& keep, std::span<const float>& per_ray,
                            float& all) {
-        if (py::isinstance<py::float_>(value) || py::isinstance<py::int_>(value)) {
-            all = value.cast<float>();
+        if (const std::optional<float> number = scalar(value)) {
+            all = *number;
             return;
         }
         keep = checked_array(value, where, ArraySpec{name, dtype("float32"), 0, false});
@@ -198,10 +199,10 @@ py::dict query_dict(const QueryStats& q) {
 }
 
 /// `out` checked as a result array of `dtype` with `n` rows, or a new one.
-py::array result_array(py::handle out, const py::dtype& type, std::size_t n, const char* name,
-                       const std::string& where) {
+py::array result_array(py::handle out, const py::dtype& type, const char* type_name, std::size_t n,
+                       const char* name, const std::string& where) {
     if (out.is_none()) return py::array(type, std::vector<py::ssize_t>{py::ssize_t(n)});
-    py::array a = checked_array(out, where, ArraySpec{name, type, 0, true});
+    py::array a = checked_array(out, where, ArraySpec{name, type, 0, true, type_name});
     if (rows(a) != n) invalid(where, std::string(name) + " has " + std::to_string(rows(a)) + " rows for " + std::to_string(n) + " rays");
     return a;
 }
@@ -292,7 +293,9 @@ reference to it: write new positions into it and call set_positions(mesh, positi
        py::arg("smooth_normals") = true,
        R"(Renders `view` at width x height: an (H, W, 3) float32 linear RGB array, or a tuple
 (rgb, depth, mesh, report) of the parts asked for: depth (H, W) float32 (+inf on a miss),
-mesh (H, W) int32 (the mesh id hit, -1 on a miss), report the frame's dict.)");
+mesh (H, W) int32 (the mesh id hit, -1 on a miss), report the frame's dict: the last
+update's figures (refit_ms, rebuild_ms, ...) with the render's (primary_ms, shadow_ms,
+shade_ms, secondary_ms, rays); its total_ms covers that update and this render.)");
 
     engine.def("render_into", [](const PyEngine& self, const View& view, py::handle rgb, py::handle depth,
                                  py::handle mesh, py::handle lights, py::handle background, float ambient,
@@ -318,7 +321,7 @@ mesh (H, W) int32 (the mesh id hit, -1 on a miss), report the frame's dict.)");
                                py::handle tmax, py::handle out, bool stats) -> py::object {
         const std::string where = "dynrt.Engine.intersect";
         const RayBatch batch = ray_batch(origins, directions, tmin, tmax, where);
-        py::array hits = result_array(out, hit_dtype(), batch.arrays.size(), "out", where);
+        py::array hits = result_array(out, hit_dtype(), "dynrt.hit_dtype", batch.arrays.size(), "out", where);
         const std::span<RayHit> results(static_cast<RayHit*>(hits.mutable_data()), batch.arrays.size());
         QueryStats q;
         {
@@ -338,7 +341,7 @@ also returns the batch's figures.)");
                               py::handle tmax, py::handle out, bool stats) -> py::object {
         const std::string where = "dynrt.Engine.occluded";
         const RayBatch batch = ray_batch(origins, directions, tmin, tmax, where);
-        py::array flags = result_array(out, dtype("bool"), batch.arrays.size(), "out", where);
+        py::array flags = result_array(out, dtype("bool"), "bool", batch.arrays.size(), "out", where);
         const std::span<std::uint8_t> results(static_cast<std::uint8_t*>(flags.mutable_data()), batch.arrays.size());
         QueryStats q;
         {
@@ -351,9 +354,11 @@ also returns the batch's figures.)");
        py::arg("out") = py::none(), py::arg("stats") = false,
        "Whether anything is hit within [tmin, tmax] of every ray: a bool (N,) array (out: one to write into).");
 
-    m.def("save_image", [](const std::string& path, py::handle rgb) {
+    m.def("save_image", [](py::handle path, py::handle rgb) {
         const py::array image = image_array(rgb, "dynrt.save_image", "rgb", "float32", 3, -1, -1, false);
-        save_image(path, int(image.shape(1)), int(image.shape(0)), floats(image));
+        // Any path-like (str, pathlib.Path), as open() takes.
+        const std::string file = py::str(py::module_::import("os").attr("fspath")(path)).cast<std::string>();
+        save_image(file, int(image.shape(1)), int(image.shape(0)), floats(image));
     }, py::arg("path"), py::arg("rgb"),
        "Writes an (H, W, 3) float32 linear RGB array: .png, .jpg, .bmp, .tga (sRGB, 8-bit) or .hdr.");
 }

@@ -38,7 +38,11 @@ py::array checked_array(py::handle value, const std::string& where, const ArrayS
                            ", got " + type_name(value) + " (use np.ascontiguousarray(x, dtype=np.float32))");
     }
     py::array a = py::reinterpret_borrow<py::array>(value);
-    if (!a.dtype().is(spec.dtype) && !a.dtype().equal(spec.dtype)) {
+    if (!a.dtype().equal(spec.dtype)) {
+        if (spec.result_dtype) {
+            invalid(where, name + " must have dtype " + spec.result_dtype + ": allocate it with np.empty(n, dtype=" +
+                               spec.result_dtype + ")");
+        }
         invalid(where, name + " must have dtype " + dtype_name + ", got " +
                            a.dtype().attr("name").cast<std::string>() +
                            " (it is read in place, not converted: use np.ascontiguousarray(" + name +
@@ -60,6 +64,41 @@ void require_aligned(const py::array& a, const std::string& where, const std::st
         // A view at an odd byte offset into a buffer (np.frombuffer): not a valid float array.
         invalid(where, name + " is not aligned in memory: pass a copy (" + name + ".copy())");
     }
+}
+
+py::array converted_rows(py::handle value, const std::string& where, const char* name, int columns) {
+    const std::string wanted = "(N, " + std::to_string(columns) + ")";
+    py::array any = py::array::ensure(value);
+    if (!any) {
+        PyErr_Clear();
+        invalid(where, std::string(name) + " must be an array of numbers with shape " + wanted);
+    }
+    const char kind = any.dtype().kind();
+    if (kind != 'f' && kind != 'i' && kind != 'u') {
+        invalid(where, std::string(name) + " must hold real numbers, got dtype " +
+                           any.dtype().attr("name").cast<std::string>());
+    }
+    if (any.ndim() != 2 || any.shape(1) != columns) {
+        invalid(where, std::string(name) + " must have shape " + wanted + ", got " + shape_text(any));
+    }
+    return py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(any);
+}
+
+std::optional<float> scalar(py::handle value) {
+    if (py::isinstance<py::array>(value)) {
+        const py::array a = py::reinterpret_borrow<py::array>(value);
+        if (a.ndim() != 0) return std::nullopt;
+    } else if (!PyNumber_Check(value.ptr()) || PyBool_Check(value.ptr())) {
+        return std::nullopt;
+    }
+    PyObject* f = PyNumber_Float(value.ptr());
+    if (!f) {
+        PyErr_Clear();
+        return std::nullopt;
+    }
+    const double d = PyFloat_AsDouble(f);
+    Py_DECREF(f);
+    return float(d);
 }
 
 std::span<const float> floats(const py::array& a) {

@@ -11,6 +11,7 @@
 #include <pybind11/pybind11.h>
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -29,11 +30,21 @@ struct ArraySpec {
     py::dtype dtype;      ///< exactly this dtype
     int columns = 3;      ///< shape (N, columns), or (N,) when 0
     bool writeable = false;
+    /// For result arrays: how the dtype is named in errors and passed to np.empty in the
+    /// hint ("dynrt.hit_dtype", "bool"); null for plain input arrays.
+    const char* result_dtype = nullptr;
 };
 
 /// `value` as an ndarray meeting `spec`, to be read or written in place (no copy is made, so
 /// no conversion either: a float64 array is refused with a hint, not silently converted).
 py::array checked_array(py::handle value, const std::string& where, const ArraySpec& spec);
+
+/// `value` (any array-like of real numbers) as a C-contiguous float32 array of shape (N,
+/// columns), converted when it is not one already: for data the engine copies anyway.
+py::array converted_rows(py::handle value, const std::string& where, const char* name, int columns);
+
+/// A number (a Python or numpy scalar, or a 0-d array) as a float, or nullopt for anything else.
+std::optional<float> scalar(py::handle value);
 
 /// Throws unless the array's data is aligned for its dtype (a view at an odd byte offset into a
 /// buffer is not), as the engine reads and writes it as C++ values.

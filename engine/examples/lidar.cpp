@@ -18,11 +18,12 @@
 //
 // Ray order. The engine traces each run of 256 consecutive rays of a batch as one packet when
 // the run is coherent: every direction within about 25 degrees of the run's mean and of one sign
-// per axis (src/api/ray_batch.h); other runs go ray by ray. So the order in which the program
-// lays its rays out decides which tracer runs. --order picks it:
+// per axis (src/api/ray_batch.h); otherwise it splits the run by the directions' signs and
+// traces each coherent group of 16 or more as a packet, the rest ray by ray. So the order in
+// which the program lays its rays out decides how well the packets fill. --order picks it:
 //   firing   for each azimuth, every channel (the order a spinning lidar fires in): a run is
-//            8 azimuth columns of the 32 channels; the fan crosses the horizon, so the rays'
-//            vertical signs differ and no run is coherent.
+//            8 azimuth columns of the 32 channels; the fan crosses the horizon, so each run
+//            splits by the vertical sign into two partly filled packets.
 //   channel  for each channel, every azimuth (a range image row by row): a run of 256 sweeps
 //            90 degrees of azimuth, far too wide for a packet.
 //   horizon  (default) the rays below the horizon first, then those above it, each half in

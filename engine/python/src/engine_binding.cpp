@@ -207,6 +207,25 @@ py::array result_array(py::handle out, const py::dtype& type, const char* type_n
     return a;
 }
 
+/// intersect and occluded: the batch checked, the result array (of `Result` rows) made or
+/// checked, `query` run with the GIL released; the results, with the batch's figures when
+/// `stats`.
+template <typename Result, typename Query>
+py::object run_query(const PyEngine& self, const std::string& where, py::handle origins, py::handle directions,
+                     py::handle tmin, py::handle tmax, py::handle out, bool stats, const py::dtype& type,
+                     const char* type_name, Query&& query) {
+    const RayBatch batch = ray_batch(origins, directions, tmin, tmax, where);
+    py::array results = result_array(out, type, type_name, batch.arrays.size(), "out", where);
+    const std::span<Result> rows(static_cast<Result*>(results.mutable_data()), batch.arrays.size());
+    QueryStats q;
+    {
+        const py::gil_scoped_release nogil;
+        q = query(self.engine(), batch.arrays, rows);
+    }
+    if (stats) return py::make_tuple(results, query_dict(q));
+    return results;
+}
+
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
 }  // namespace
@@ -318,18 +337,12 @@ shade_ms, secondary_ms, rays); its total_ms covers that update and this render.)
        "Renders into arrays the caller owns (rgb (H, W, 3) float32; depth, mesh (H, W)); returns the report.");
 
     engine.def("intersect", [](const PyEngine& self, py::handle origins, py::handle directions, py::handle tmin,
-                               py::handle tmax, py::handle out, bool stats) -> py::object {
-        const std::string where = "dynrt.Engine.intersect";
-        const RayBatch batch = ray_batch(origins, directions, tmin, tmax, where);
-        py::array hits = result_array(out, hit_dtype(), "dynrt.hit_dtype", batch.arrays.size(), "out", where);
-        const std::span<RayHit> results(static_cast<RayHit*>(hits.mutable_data()), batch.arrays.size());
-        QueryStats q;
-        {
-            const py::gil_scoped_release nogil;
-            q = self.engine().intersect(batch.arrays, results);
-        }
-        if (stats) return py::make_tuple(hits, query_dict(q));
-        return hits;
+                               py::handle tmax, py::handle out, bool stats) {
+        return run_query<RayHit>(self, "dynrt.Engine.intersect", origins, directions, tmin, tmax, out, stats,
+                                 hit_dtype(), "dynrt.hit_dtype",
+                                 [](const Engine& e, const RayArrays& rays, std::span<RayHit> hits) {
+                                     return e.intersect(rays, hits);
+                                 });
     }, py::arg("origins"), py::arg("directions"), py::arg("tmin") = 0.0f, py::arg("tmax") = kInf, py::kw_only(),
        py::arg("out") = py::none(), py::arg("stats") = false,
        R"(Closest hit of every ray: a structured array of dynrt.hit_dtype (t, mesh, triangle, u, v;
@@ -338,18 +351,12 @@ tmin, tmax: numbers or float32 (N,). out: a hit_dtype (N,) array to write into. 
 also returns the batch's figures.)");
 
     engine.def("occluded", [](const PyEngine& self, py::handle origins, py::handle directions, py::handle tmin,
-                              py::handle tmax, py::handle out, bool stats) -> py::object {
-        const std::string where = "dynrt.Engine.occluded";
-        const RayBatch batch = ray_batch(origins, directions, tmin, tmax, where);
-        py::array flags = result_array(out, dtype("bool"), "bool", batch.arrays.size(), "out", where);
-        const std::span<std::uint8_t> results(static_cast<std::uint8_t*>(flags.mutable_data()), batch.arrays.size());
-        QueryStats q;
-        {
-            const py::gil_scoped_release nogil;
-            q = self.engine().occluded(batch.arrays, results);
-        }
-        if (stats) return py::make_tuple(flags, query_dict(q));
-        return flags;
+                              py::handle tmax, py::handle out, bool stats) {
+        return run_query<std::uint8_t>(self, "dynrt.Engine.occluded", origins, directions, tmin, tmax, out, stats,
+                                       dtype("bool"), "bool",
+                                       [](const Engine& e, const RayArrays& rays, std::span<std::uint8_t> flags) {
+                                           return e.occluded(rays, flags);
+                                       });
     }, py::arg("origins"), py::arg("directions"), py::arg("tmin") = 0.0f, py::arg("tmax") = kInf, py::kw_only(),
        py::arg("out") = py::none(), py::arg("stats") = false,
        "Whether anything is hit within [tmin, tmax] of every ray: a bool (N,) array (out: one to write into).");

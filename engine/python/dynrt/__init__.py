@@ -107,12 +107,11 @@ class Scene:
     def frame_at(self, time):
         """The frame at `time` seconds; raises ValueError unless it falls on a frame."""
         exact = float(time) * self.fps
-        frame = round(exact)
-        if not _math.isfinite(exact) or abs(exact - frame) > 1e-6 * max(1.0, abs(exact)):
+        if not _math.isfinite(exact) or abs(exact - round(exact)) > 1e-6 * max(1.0, abs(exact)):
             raise InvalidArgument(
                 f"dynrt.Scene: time {time} s is not on a frame at {self.fps} fps; "
                 f"load the scene with another fps, or pose a frame")
-        return frame
+        return round(exact)
 
     def pose(self, time=None, *, frame=None):
         """Poses the scene at `time` seconds (or at `frame`), hands what moved to the engine and

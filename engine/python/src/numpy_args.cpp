@@ -15,6 +15,11 @@ py::dtype dtype(const char* name) { return py::dtype(name); }
 
 namespace {
 
+/// How arrays the engine copies anyway are taken: converted when needed to a C-contiguous array
+/// of the wanted type with its data aligned (numpy copies an array at an odd byte offset rather
+/// than hand it over as it is, which would make every load misaligned).
+constexpr int kConverted = py::array::c_style | py::array::forcecast | py::detail::npy_api::NPY_ARRAY_ALIGNED_;
+
 std::string shape_text(const py::array& a) {
     std::ostringstream out;
     out << "(";
@@ -43,8 +48,10 @@ py::array checked_array(py::handle value, const std::string& where, const ArrayS
             invalid(where, name + " must have dtype " + spec.result_dtype + ": allocate it with np.empty(n, dtype=" +
                                spec.result_dtype + ")");
         }
-        invalid(where, name + " must have dtype " + dtype_name + ", got " +
-                           a.dtype().attr("name").cast<std::string>() +
+        // dtype.name drops the byte order: say '>f4' for a big-endian float32.
+        std::string got = a.dtype().attr("name").cast<std::string>();
+        if (got == dtype_name) got = a.dtype().attr("str").cast<std::string>() + ", not in native byte order";
+        invalid(where, name + " must have dtype " + dtype_name + ", got " + got +
                            " (it is read in place, not converted: use np.ascontiguousarray(" + name +
                            ", dtype=np." + dtype_name + "))");
     }
@@ -81,7 +88,7 @@ py::array converted_rows(py::handle value, const std::string& where, const char*
     if (any.ndim() != 2 || any.shape(1) != columns) {
         invalid(where, std::string(name) + " must have shape " + wanted + ", got " + shape_text(any));
     }
-    return py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(any);
+    return py::array_t<float, kConverted>::ensure(any);
 }
 
 std::optional<float> scalar(py::handle value) {
@@ -120,11 +127,11 @@ std::vector<std::uint32_t> index_list(py::handle value, const std::string& where
         invalid(where, "indices must have shape (T, 3) or (3T,), got " + shape_text(any));
     }
     // int64 holds every uint32 and every negative value: check in it, then narrow.
-    const auto wide = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(any);
+    const auto wide = py::array_t<std::int64_t, kConverted>::ensure(any);
     if (!wide) invalid(where, "indices could not be read as integers");
     if (any.dtype().kind() == 'u' && any.dtype().itemsize() == 8) {
         // uint64 values above int64's range would wrap: check them before the cast.
-        const auto big = py::array_t<std::uint64_t, py::array::c_style | py::array::forcecast>::ensure(any);
+        const auto big = py::array_t<std::uint64_t, kConverted>::ensure(any);
         for (py::ssize_t i = 0; i < big.size(); ++i) {
             if (big.data()[i] > std::numeric_limits<std::uint32_t>::max()) {
                 invalid(where, "index " + std::to_string(i) + " is " + std::to_string(big.data()[i]) +
@@ -145,7 +152,7 @@ std::vector<std::uint32_t> index_list(py::handle value, const std::string& where
 }
 
 Vec3 vec3(py::handle value, const std::string& where, const char* name) {
-    const auto numbers = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(value);
+    const auto numbers = py::array_t<double, kConverted>::ensure(value);
     if (!numbers || numbers.size() != 3 || numbers.ndim() != 1) {
         PyErr_Clear();
         invalid(where, std::string(name) + " must be three numbers (x, y, z)");
@@ -158,7 +165,7 @@ py::tuple to_tuple(const Vec3& v) { return py::make_tuple(v.x, v.y, v.z); }
 
 Transform transform(py::handle value, const std::string& where) {
     if (value.is_none()) return Transform::identity();
-    const auto m = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(value);
+    const auto m = py::array_t<double, kConverted>::ensure(value);
     if (!m || m.ndim() != 2 || m.shape(0) != 4 || m.shape(1) != 4) {
         PyErr_Clear();
         invalid(where, "transform must be a 4x4 matrix (rows first, as numpy writes it)");

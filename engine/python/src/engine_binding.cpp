@@ -81,7 +81,8 @@ std::uint32_t PyEngine::add_mesh(py::handle positions, py::handle indices, const
     return id.value;
 }
 
-void PyEngine::set_positions(std::uint32_t mesh, py::handle positions, py::handle normals) {
+void PyEngine::set_positions(py::handle mesh_value, py::handle positions, py::handle normals) {
+    const std::uint32_t mesh = mesh_id(mesh_value, kSetPositions).value;
     const bool borrow = borrowing_.count(mesh) != 0;
     const py::array p = positions_array(positions, kSetPositions, "positions", borrow);
     py::array n;
@@ -91,7 +92,12 @@ void PyEngine::set_positions(std::uint32_t mesh, py::handle positions, py::handl
     if (borrowing_.count(mesh)) borrowed_[mesh] = p;
 }
 
-void PyEngine::remove_mesh(std::uint32_t mesh) {
+bool PyEngine::borrows(py::handle mesh_value) const {
+    return borrowed_.count(mesh_id(mesh_value, "dynrt.Engine.borrows").value) != 0;
+}
+
+void PyEngine::remove_mesh(py::handle mesh_value) {
+    const std::uint32_t mesh = mesh_id(mesh_value, "dynrt.Engine.remove_mesh").value;
     engine_.remove_mesh(MeshId{mesh});
     borrowed_.erase(mesh);
     borrowing_.erase(mesh);
@@ -174,6 +180,10 @@ RayBatch ray_batch(py::handle origins, py::handle directions, py::handle tmin, p
         if (const std::optional<float> number = scalar(value)) {
             all = *number;
             return;
+        }
+        if (!py::isinstance<py::array>(value) && PyNumber_Check(value.ptr()) && !PyBool_Check(value.ptr())) {
+            invalid(where, std::string(name) + " must be a number or a float32 (N,) array; " +
+                               py::str(value).cast<std::string>().substr(0, 40) + " is not representable as a float");
         }
         keep = checked_array(value, where, ArraySpec{name, dtype("float32"), 0, false});
         if (rows(keep) != rows(b.origins)) {
@@ -261,15 +271,16 @@ intersect and occluded may run from several threads at once (they release the GI
 reference to it: write new positions into it and call set_positions(mesh, positions).)");
     engine.def("set_positions", &PyEngine::set_positions, py::arg("mesh"), py::arg("positions"),
                py::arg("normals") = py::none());
-    engine.def("set_transform", [](PyEngine& self, std::uint32_t mesh, py::handle t) {
-        self.engine().set_transform(MeshId{mesh}, transform(t, "dynrt.Engine.set_transform"));
+    engine.def("set_transform", [](PyEngine& self, py::handle mesh, py::handle t) {
+        const std::string where = "dynrt.Engine.set_transform";
+        self.engine().set_transform(mesh_id(mesh, where), transform(t, where));
     }, py::arg("mesh"), py::arg("transform"));
-    engine.def("set_surface", [](PyEngine& self, std::uint32_t mesh, const Surface& s) {
-        self.engine().set_surface(MeshId{mesh}, s);
+    engine.def("set_surface", [](PyEngine& self, py::handle mesh, const Surface& s) {
+        self.engine().set_surface(mesh_id(mesh, "dynrt.Engine.set_surface"), s);
     }, py::arg("mesh"), py::arg("surface"));
     engine.def("remove_mesh", &PyEngine::remove_mesh, py::arg("mesh"));
-    engine.def("motion", [](const PyEngine& self, std::uint32_t mesh) {
-        return std::string(motion_name(self.engine().motion(MeshId{mesh})));
+    engine.def("motion", [](const PyEngine& self, py::handle mesh) {
+        return std::string(motion_name(self.engine().motion(mesh_id(mesh, "dynrt.Engine.motion"))));
     }, py::arg("mesh"));
     engine.def("borrows", &PyEngine::borrows, py::arg("mesh"),
                "Whether the engine holds the mesh's positions array (added with borrow=True).");

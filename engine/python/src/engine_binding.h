@@ -24,10 +24,11 @@ public:
     std::uint32_t add_mesh(py::handle positions, py::handle indices, const std::string& motion,
                            py::handle transform, const Surface* surface, py::handle normals,
                            const std::string& name, bool borrow);
-    void set_positions(std::uint32_t mesh, py::handle positions, py::handle normals);
-    void remove_mesh(std::uint32_t mesh);
-    /// Whether the engine holds a reference to the mesh's positions array.
-    bool borrows(std::uint32_t mesh) const { return borrowed_.count(mesh) != 0; }
+    void set_positions(py::handle mesh, py::handle positions, py::handle normals);
+    void remove_mesh(py::handle mesh);
+    /// Whether the engine holds a reference to the mesh's positions array: false for a mesh
+    /// added without borrowing, removed, or never added.
+    bool borrows(py::handle mesh) const;
 
     Engine& engine() { return engine_; }
     const Engine& engine() const { return engine_; }

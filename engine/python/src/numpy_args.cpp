@@ -186,6 +186,19 @@ py::array_t<double> transform_array(const Transform& t) {
     return m;
 }
 
+MeshId mesh_id(py::handle value, const std::string& where) {
+    if (PyBool_Check(value.ptr()) || !PyIndex_Check(value.ptr())) {
+        invalid(where, "mesh must be an integer id (what add_mesh returned), got " + type_name(value));
+    }
+    const py::int_ index = py::reinterpret_steal<py::int_>(PyNumber_Index(value.ptr()));
+    const long long id = PyLong_AsLongLong(index.ptr());
+    if (PyErr_Occurred() || id < 0 || id >= (long long)(std::numeric_limits<std::uint32_t>::max())) {
+        PyErr_Clear();
+        invalid(where, "mesh " + py::str(value).cast<std::string>() + " is not a mesh id");
+    }
+    return MeshId{std::uint32_t(id)};
+}
+
 Motion motion(const std::string& name, const std::string& where) {
     for (const Motion m : {Motion::automatic, Motion::static_, Motion::rigid, Motion::deformable,
                            Motion::exploding}) {

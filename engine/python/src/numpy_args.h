@@ -71,6 +71,10 @@ Transform transform(py::handle value, const std::string& where);
 /// The API's Transform as a (4, 4) float64 array, rows first.
 py::array_t<double> transform_array(const Transform& t);
 
+/// A mesh id: a Python or numpy integer (hits' `mesh` field) in the range of MeshId values;
+/// whether the engine knows it is the engine's to say.
+MeshId mesh_id(py::handle value, const std::string& where);
+
 /// "automatic", "static", "rigid", "deformable" or "exploding".
 Motion motion(const std::string& name, const std::string& where);
 

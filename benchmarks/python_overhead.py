@@ -71,7 +71,7 @@ def cpp_round(bm, borrow, min_time):
 
 
 class PythonStep:
-    def __init__(self, borrow):
+    def __init__(self, borrow, per_ray_limits=False):
         self.frames = [wave_frame(0.0), wave_frame(1.0)]
         self.borrow = borrow
         self.buffer = self.frames[0].copy()
@@ -81,6 +81,11 @@ class PythonStep:
         self.engine.update()
         self.origins, self.directions = tile_rays()
         self.hits = np.empty(len(self.origins), dtype=dynrt.hit_dtype)
+        # Scalar limits read 24 bytes per ray (origin, direction); per-ray limit arrays 32, as
+        # the C++ side's dynrt::Ray structs.
+        n = len(self.origins)
+        self.tmin, self.tmax = ((np.zeros(n, np.float32), np.full(n, 100.0, np.float32)) if per_ray_limits
+                                else (0.0, 100.0))
         self.step = 0
 
     def run(self, steps):
@@ -97,7 +102,7 @@ class PythonStep:
             start = time.perf_counter()
             self.engine.set_positions(self.mesh, positions)
             report = self.engine.update()
-            self.engine.intersect(self.origins, self.directions, 0.0, 100.0, out=self.hits)
+            self.engine.intersect(self.origins, self.directions, self.tmin, self.tmax, out=self.hits)
             total += time.perf_counter() - start
             assert report["triangles_refitted"] == 99458
         return 1e3 * total / steps
@@ -134,6 +139,8 @@ def main():
     parser.add_argument("--rounds", type=int, default=7)
     parser.add_argument("--steps", type=int, default=30, help="Python steps per round")
     parser.add_argument("--min-time", type=float, default=2.0, help="bm_api's --benchmark_min_time per round (s)")
+    parser.add_argument("--per-ray-limits", action="store_true",
+                        help="pass tmin and tmax as float32 (N,) arrays (32 bytes per ray, as a dynrt::Ray)")
     parser.add_argument("--bm", default=str(pathlib.Path(__file__).resolve().parents[1] / "build/release/benchmarks/bm_api"))
     args = parser.parse_args()
 
@@ -141,7 +148,7 @@ def main():
     print("per-call floor on a one-triangle mesh (us, median of 5 x 2000 calls): " +
           ", ".join(f"{name} {us:.1f}" for name, us in fixed_costs().items()))
     for borrow in (True, False):
-        py = PythonStep(borrow)
+        py = PythonStep(borrow, args.per_ray_limits)
         py.run(3)  # warm up: trees, caches, first-touch of the hit array
         cpp_ms, py_ms, iterations = [], [], []
         for _ in range(args.rounds):
@@ -150,7 +157,8 @@ def main():
             iterations.append(n)
             py_ms.append(py.run(args.steps))
         c, p = statistics.median(cpp_ms), statistics.median(py_ms)
-        print(f"\n{'borrow' if borrow else 'copy'}: {args.rounds} rounds, C++ {min(iterations)}-{max(iterations)} "
+        limits = "per-ray tmin/tmax arrays" if args.per_ray_limits else "scalar tmin/tmax"
+        print(f"\n{'borrow' if borrow else 'copy'} ({limits}): {args.rounds} rounds, C++ {min(iterations)}-{max(iterations)} "
               f"steps per round, Python {args.steps}")
         print(f"  C++ API    ms/step: median {c:8.2f}  (min {min(cpp_ms):.2f}, max {max(cpp_ms):.2f})")
         print(f"  Python     ms/step: median {p:8.2f}  (min {min(py_ms):.2f}, max {max(py_ms):.2f})")

@@ -22,6 +22,13 @@ const PinholeCamera& checked(const PinholeCamera& camera, int width, int height)
     if (!(camera.fov_y_deg > 0.0f && camera.fov_y_deg < 180.0f)) {
         throw std::invalid_argument("camera fov must be in (0, 180) degrees");
     }
+    const auto finite = [](const glm::vec3& v) {
+        return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+    };
+    // Before the other checks: a NaN eye would otherwise read as "eye equals target".
+    if (!finite(camera.eye) || !finite(camera.target) || !finite(camera.up)) {
+        throw std::invalid_argument("camera eye, target and up must be finite");
+    }
     const glm::vec3 view = camera.target - camera.eye;
     if (!(glm::length(view) > 0.0f)) throw std::invalid_argument("camera eye equals target");
     const glm::vec3 side = glm::cross(glm::normalize(view), camera.up);

@@ -261,6 +261,8 @@ ENGINE_CASES = [
      exact("dynrt::Engine: render: image size 70000x1 outside 1..65536")),
     ("render_eye_is_target", lambda c: c.engine.render(dynrt.View(eye=(1, 2, 3), target=(1, 2, 3)), 8, 8), IA,
      exact("dynrt::Engine: render: camera eye equals target")),
+    ("render_eye_nan", lambda c: c.engine.render(dynrt.View(eye=(float("nan"), 2, 3)), 8, 8), IA,
+     exact("dynrt::Engine: render: camera eye, target and up must be finite")),
     ("render_up_along_view", lambda c: c.engine.render(dynrt.View(eye=(0, 5, 0), target=(0, 0, 0)), 8, 8), IA,
      exact("dynrt::Engine: render: camera up is parallel to the view direction")),
     ("render_fov_0", lambda c: c.engine.render(dynrt.View(fov_y_deg=0), 8, 8), IA,

@@ -24,14 +24,7 @@ using testing::boxes_of;
 using testing::bounds_of;
 using testing::random_soup;
 
-BuildConfig config_with(std::uint32_t leaf_size_max, float cost_ratio = 1.0f,
-                        std::uint32_t bin_count = 16) {
-    BuildConfig c;
-    c.leaf_size_max = leaf_size_max;
-    c.cost_ratio = cost_ratio;
-    c.bin_count = bin_count;
-    return c;
-}
+using testing::config_with;
 
 std::vector<glm::vec3> centers_of(const std::vector<Aabb>& boxes) {
     std::vector<glm::vec3> centers;

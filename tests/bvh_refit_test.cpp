@@ -37,12 +37,7 @@ using testing::random_soup;
 
 using Motion = std::function<glm::vec3(const glm::vec3&)>;
 
-BuildConfig config_with(std::uint32_t leaf_size_max, float cost_ratio = 1.0f) {
-    BuildConfig c;
-    c.leaf_size_max = leaf_size_max;
-    c.cost_ratio = cost_ratio;
-    return c;
-}
+using testing::config_with;
 
 /// Applies `motion` to every vertex. A pure function of the position, so vertices shared by
 /// neighbouring triangles of a closed mesh stay bit-identical (the mesh stays watertight).

@@ -3,6 +3,7 @@
 // closed meshes, random rays, and the brute-force loops the BVH is compared against (the same
 // watertight test over every triangle, so answers must agree bit for bit).
 
+#include "dynrt/bvh/binned_sah_builder.h"
 #include "dynrt/bvh/ray.h"
 #include "dynrt/bvh/triangle.h"
 #include "dynrt/bvh/watertight_intersector.h"
@@ -22,6 +23,16 @@
 namespace dynrt::bvh::testing {
 
 inline constexpr float kInf = std::numeric_limits<float>::infinity();
+
+/// A build configuration with this leaf size, cost ratio and bin count, the rest default.
+inline BuildConfig config_with(std::uint32_t leaf_size_max, float cost_ratio = 1.0f,
+                               std::uint32_t bin_count = 16) {
+    BuildConfig c;
+    c.leaf_size_max = leaf_size_max;
+    c.cost_ratio = cost_ratio;
+    c.bin_count = bin_count;
+    return c;
+}
 
 inline Ray make_ray(glm::vec3 org, glm::vec3 dir, float tmin = 0.0f, float tmax = kInf) {
     Ray r;

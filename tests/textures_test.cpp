@@ -70,7 +70,7 @@ std::vector<unsigned char> file_bytes(const fs::path& path) {
     return std::vector<unsigned char>(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
-::testing::AssertionResult near(const glm::vec3& a, const glm::vec3& b, float tolerance) {
+::testing::AssertionResult near_per_channel(const glm::vec3& a, const glm::vec3& b, float tolerance) {
     const glm::vec3 d = glm::abs(a - b);
     if (std::max({d.x, d.y, d.z}) <= tolerance) return ::testing::AssertionSuccess();
     return ::testing::AssertionFailure() << "(" << a.x << ", " << a.y << ", " << a.z << ") vs (" << b.x << ", "
@@ -105,11 +105,11 @@ TEST(TextureSet, TexelCentresGiveTheirLinearColoursTopRowFirst) {
     for (int y = 0; y < 2; ++y) {
         for (int x = 0; x < 2; ++x) {
             const glm::vec2 st(0.25f + 0.5f * float(x), 0.25f + 0.5f * float(y));
-            EXPECT_TRUE(near(set.diffuse(0, st, 0.0f), texel(x, y), 1e-4f)) << x << "," << y;
+            EXPECT_TRUE(near_per_channel(set.diffuse(0, st, 0.0f), texel(x, y), 1e-4f)) << x << "," << y;
         }
     }
     // Between texel centres, bilinear: halfway between red and green.
-    EXPECT_TRUE(near(set.diffuse(0, {0.5f, 0.25f}, 0.0f),
+    EXPECT_TRUE(near_per_channel(set.diffuse(0, {0.5f, 0.25f}, 0.0f),
                      glm::vec3(srgb_to_linear(128), srgb_to_linear(128), 0.0f), 2e-3f))
         << "sRGB texels are filtered as stored, then decoded";
     // A footprint as wide as the image reads its coarsest level: the mean of the four texels
@@ -125,13 +125,13 @@ TEST(TextureSet, WrapModesFoldCoordinatesOutsideTheImage) {
     const fs::path png = temp_path("wrap.png");
     write_image(png, 2, 2, kTexels);
     const glm::vec2 outside(1.25f, 0.25f);  // a quarter past the right edge, top row
-    EXPECT_TRUE(near(TextureSet(mapped(file_texture(png), TextureWrap::repeat)).diffuse(0, outside, 0.0f),
+    EXPECT_TRUE(near_per_channel(TextureSet(mapped(file_texture(png), TextureWrap::repeat)).diffuse(0, outside, 0.0f),
                      texel(0, 0), 1e-4f));
-    EXPECT_TRUE(near(TextureSet(mapped(file_texture(png), TextureWrap::clamp)).diffuse(0, outside, 0.0f),
+    EXPECT_TRUE(near_per_channel(TextureSet(mapped(file_texture(png), TextureWrap::clamp)).diffuse(0, outside, 0.0f),
                      texel(1, 0), 1e-4f));
-    EXPECT_TRUE(near(TextureSet(mapped(file_texture(png), TextureWrap::mirror)).diffuse(0, outside, 0.0f),
+    EXPECT_TRUE(near_per_channel(TextureSet(mapped(file_texture(png), TextureWrap::mirror)).diffuse(0, outside, 0.0f),
                      texel(1, 0), 1e-4f));
-    EXPECT_TRUE(near(TextureSet(mapped(file_texture(png), TextureWrap::mirror)).diffuse(0, {1.75f, 0.25f}, 0.0f),
+    EXPECT_TRUE(near_per_channel(TextureSet(mapped(file_texture(png), TextureWrap::mirror)).diffuse(0, {1.75f, 0.25f}, 0.0f),
                      texel(0, 0), 1e-4f));
 }
 
@@ -144,7 +144,7 @@ TEST(TextureSet, EmbeddedImagesReadFromMemory) {
     embedded.mime_type = "image/png";
     const TextureSet set(mapped(embedded));
     ASSERT_TRUE(set.maps(0)) << (set.warnings().empty() ? "" : set.warnings()[0]);
-    EXPECT_TRUE(near(set.diffuse(0, {0.25f, 0.75f}, 0.0f), texel(0, 1), 1e-4f));
+    EXPECT_TRUE(near_per_channel(set.diffuse(0, {0.25f, 0.75f}, 0.0f), texel(0, 1), 1e-4f));
 }
 
 TEST(TextureSet, UnreadableTexturesWarnNamingFileAndMaterialAndMapNothing) {
@@ -221,7 +221,7 @@ void expect_quadrants(const RenderedFrame& f, glm::vec3 kd, float ambient) {
         for (int x = 0; x < 2; ++x) {
             const int px = 8 + 17 * x, py = 8 + 17 * y;
             const glm::vec3 want = kd * texel(x, y) * (ambient + 1.0f);
-            EXPECT_TRUE(near(f.color[std::size_t(py * f.width + px)], want, 2e-3f)) << "quadrant " << x << "," << y;
+            EXPECT_TRUE(near_per_channel(f.color[std::size_t(py * f.width + px)], want, 2e-3f)) << "quadrant " << x << "," << y;
         }
     }
 }

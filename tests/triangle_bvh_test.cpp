@@ -28,12 +28,7 @@ using testing::kInf;
 using testing::make_ray;
 using testing::random_soup;
 
-BuildConfig config_with(std::uint32_t leaf_size_max, float cost_ratio = 1.0f) {
-    BuildConfig c;
-    c.leaf_size_max = leaf_size_max;
-    c.cost_ratio = cost_ratio;
-    return c;
-}
+using testing::config_with;
 
 /// Closest and any hit of `accel` agree with brute force over `tris` for `ray`.
 ::testing::AssertionResult agrees_with_brute_force(const TriangleBvh& accel,

@@ -16,6 +16,7 @@
 #include "dynrt/anim/procedural_motion.h"
 #include "dynrt/anim/skinning.h"
 #include "dynrt/engine/scene_loading.h"
+#include "shared_scene_files.h"
 #include "dynrt/scene/scene_error.h"
 #include "dynrt/scene/vertex_normals.h"
 
@@ -31,7 +32,6 @@
 namespace dynrt::anim {
 namespace {
 
-namespace fs = std::filesystem;
 
 constexpr double kRelativeTolerance = 1e-6;
 
@@ -172,11 +172,6 @@ INSTANTIATE_TEST_SUITE_P(Motions, MotionPrecision,
                                            std::vector<std::string>{"explode", "wave"},
                                            std::vector<std::string>{"rigid", "explode"}));
 
-/// Loads a shared model, or skips the test when the shared folder is absent.
-#define LOAD_SHARED_OR_SKIP(scene, relative)                                                        \
-    const fs::path scene##_path = fs::path(DYNRT_SHARED_SCENES_DIR) / relative;                     \
-    if (!fs::exists(scene##_path)) GTEST_SKIP() << scene##_path << " does not exist";             \
-    const Scene scene = load_gltf(scene##_path)
 
 /// The double evaluation of object i from the posed inputs: morph, then skinning or the node
 /// transform (morphing.h's and skinning.h's definitions, term by term).

@@ -6,6 +6,7 @@
 #include "dynrt/anim/clip_selection.h"
 #include "dynrt/anim/posed_scene.h"
 #include "dynrt/engine/scene_loading.h"
+#include "shared_scene_files.h"
 
 #include <gtest/gtest.h>
 
@@ -21,14 +22,6 @@ namespace dynrt::anim {
 namespace {
 
 namespace fs = std::filesystem;
-
-fs::path shared_scene(const std::string& relative) { return fs::path(DYNRT_SHARED_SCENES_DIR) / relative; }
-
-/// Loads a shared model, or skips the test when the shared folder is absent.
-#define LOAD_SHARED_OR_SKIP(scene, relative)                                                  \
-    const fs::path scene##_path = shared_scene(relative);                                     \
-    if (!fs::exists(scene##_path)) GTEST_SKIP() << scene##_path << " does not exist";       \
-    const Scene scene = load_gltf(scene##_path)
 
 struct Model {
     std::string path;

@@ -110,15 +110,7 @@ public:
         return path;
     }
 
-private:
-    static std::size_t components(const std::string& type) {
-        if (type == "SCALAR") return 1;
-        if (type == "VEC2") return 2;
-        if (type == "VEC3") return 3;
-        if (type == "VEC4") return 4;
-        return 16;
-    }
-
+    /// Standard base64 with padding (for data: URIs).
     static std::string base64(const std::vector<unsigned char>& bytes) {
         static const char* const alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
         std::string out;
@@ -132,6 +124,15 @@ private:
             out += i + 2 < bytes.size() ? alphabet[triple & 63] : '=';
         }
         return out;
+    }
+
+private:
+    static std::size_t components(const std::string& type) {
+        if (type == "SCALAR") return 1;
+        if (type == "VEC2") return 2;
+        if (type == "VEC3") return 3;
+        if (type == "VEC4") return 4;
+        return 16;
     }
 
     int push(const char* array, const nlohmann::json& value) {

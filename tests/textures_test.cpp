@@ -260,19 +260,7 @@ fs::path gltf_quad(const fs::path& png, bool embed, const std::string& name) {
     file.add_node({{"name", "quad"}, {"mesh", mesh}});
     nlohmann::json image;
     if (embed) {
-        static const char* const alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-        const std::vector<unsigned char> bytes = file_bytes(png);
-        std::string b64;
-        for (std::size_t i = 0; i < bytes.size(); i += 3) {
-            const std::uint32_t b0 = bytes[i], b1 = i + 1 < bytes.size() ? bytes[i + 1] : 0,
-                                b2 = i + 2 < bytes.size() ? bytes[i + 2] : 0;
-            const std::uint32_t triple = b0 << 16 | b1 << 8 | b2;
-            b64 += alphabet[triple >> 18 & 63];
-            b64 += alphabet[triple >> 12 & 63];
-            b64 += i + 1 < bytes.size() ? alphabet[triple >> 6 & 63] : '=';
-            b64 += i + 2 < bytes.size() ? alphabet[triple & 63] : '=';
-        }
-        image = {{"uri", "data:image/png;base64," + b64}};
+        image = {{"uri", "data:image/png;base64," + test::GltfTestFile::base64(file_bytes(png))}};
     } else {
         image = {{"uri", png.filename().string()}};
     }

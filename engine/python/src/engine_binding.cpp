@@ -74,22 +74,19 @@ std::uint32_t PyEngine::add_mesh(py::handle positions, py::handle indices, const
     desc.transform = transform(transform_value, kAddMesh);
     if (surface) desc.surface = *surface;
     const MeshId id = engine_.add_mesh(desc);
-    if (borrow) {
-        borrowed_[id.value] = p;
-        borrowing_[id.value] = true;
-    }
+    if (borrow) borrowed_[id.value] = p;
     return id.value;
 }
 
 void PyEngine::set_positions(py::handle mesh_value, py::handle positions, py::handle normals) {
     const std::uint32_t mesh = mesh_id(mesh_value, kSetPositions).value;
-    const bool borrow = borrowing_.count(mesh) != 0;
+    const bool borrow = borrowed_.count(mesh) != 0;
     const py::array p = positions_array(positions, kSetPositions, "positions", borrow);
     py::array n;
     if (!normals.is_none()) n = positions_array(normals, kSetPositions, "normals", false);
     engine_.set_positions(MeshId{mesh}, floats(p), n ? floats(n) : std::span<const float>{});
     // The engine took the call: a borrowed mesh now reads this array (the old one is released).
-    if (borrowing_.count(mesh)) borrowed_[mesh] = p;
+    if (borrow) borrowed_[mesh] = p;
 }
 
 bool PyEngine::borrows(py::handle mesh_value) const {
@@ -100,7 +97,6 @@ void PyEngine::remove_mesh(py::handle mesh_value) {
     const std::uint32_t mesh = mesh_id(mesh_value, "dynrt.Engine.remove_mesh").value;
     engine_.remove_mesh(MeshId{mesh});
     borrowed_.erase(mesh);
-    borrowing_.erase(mesh);
 }
 
 namespace {

@@ -34,11 +34,10 @@ public:
     const Engine& engine() const { return engine_; }
 
 private:
-    /// The arrays of borrowed meshes, kept alive while the engine may read them. Declared
-    /// before engine_ so that the engine is destroyed first.
+    /// The arrays of meshes added with borrow=True, kept alive while the engine may read them
+    /// (set_positions replaces a mesh's entry). Declared before engine_ so that the engine is
+    /// destroyed first.
     std::unordered_map<std::uint32_t, py::object> borrowed_;
-    /// Meshes added with borrow=True (set_positions keeps borrowing for them).
-    std::unordered_map<std::uint32_t, bool> borrowing_;
     Engine engine_;
 };
 

@@ -26,6 +26,8 @@ std::span<const float> flat(std::span<const glm::vec3> v) {
     return {reinterpret_cast<const float*>(v.data()), 3 * v.size()};
 }
 
+static_assert(sizeof(glm::uvec3) == 3 * sizeof(std::uint32_t) && sizeof(glm::vec3) == 3 * sizeof(float));
+
 Vec3 vec(const glm::vec3& v) { return Vec3{v.x, v.y, v.z}; }
 
 Transform transform_of(const glm::dmat4& m) {
@@ -71,11 +73,8 @@ public:
             const Material& material = scene_->materials.at(object.material);
             MeshDesc desc;
             desc.name = object.name;
-            std::vector<std::uint32_t> indices(3 * object.mesh.triangles.size());
-            for (std::size_t t = 0; t < object.mesh.triangles.size(); ++t) {
-                for (int k = 0; k < 3; ++k) indices[3 * t + std::size_t(k)] = object.mesh.triangles[t][k];
-            }
-            desc.indices = indices;
+            desc.indices = {reinterpret_cast<const std::uint32_t*>(object.mesh.triangles.data()),
+                            3 * object.mesh.triangles.size()};
             desc.motion = motion_of(poser_->motion_class(i));
             desc.surface = Surface{vec(material.diffuse), vec(material.specular), material.shininess,
                                    vec(material.reflectance), vec(material.transmittance), material.ior};

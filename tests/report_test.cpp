@@ -70,3 +70,63 @@ TEST(Report, SummaryIsFieldwiseMedianMinMax) {
 
 }  // namespace
 }  // namespace dynrt
+
+namespace dynrt {
+namespace report_record_test {
+
+/// A frame with every kind of field set: columns, lists, reasons, a rebuild and a choice.
+FrameStats full_record() {
+    FrameStats s;
+    s.frame = 17;
+    s.triangles = 123456;
+    s.build_ms = 1.0 / 3.0;
+    s.primary_mrays_per_s = 41.25;
+    s.sah_cost = 12.75;
+    s.leaf_tris_mean = 2.5f;
+    s.pixels_reused = 99;
+    s.secondary_rays_per_depth = {5, 3};
+    s.secondary_packet_rays_per_depth = {4, 0};
+    s.reuse_mode = "exact";
+    s.reuse_reason = "camera moved";
+    s.rebuilds.push_back(TreeRebuild{2, "cloth", RebuildReason::sah_degraded, 9.5, 7.25, "morton"});
+    s.rebuilds.push_back(TreeRebuild{0, "floor", RebuildReason::first_build, 0, 0, "sah"});
+    s.choices.push_back(TreeChoice{2, "cloth", "refit", "refits' extra trace 0.1 ms < 3 ms"});
+    return s;
+}
+
+TEST(ReportRecord, ReadingARecordBackGivesItsTextAgain) {
+    FrameStats s = full_record();
+    const std::string once = frame_report_json(s);
+    const FrameStats back = parse_frame_report_json(once);
+    EXPECT_EQ(frame_report_json(back), once);
+    EXPECT_EQ(back.frame, 17);
+    EXPECT_EQ(back.build_ms, 1.0 / 3.0);
+    EXPECT_EQ(back.rebuilds.at(0).reason, RebuildReason::sah_degraded);
+    EXPECT_EQ(back.rank, -1);
+    EXPECT_EQ(once.find("\"rank\""), std::string::npos);  // one process: no rank in the report
+    // A frame of a render across processes keeps its rank and distribution figures.
+    s.rank = 2;
+    s.handout_ms = 0.125;
+    const FrameStats handed = parse_frame_report_json(frame_report_json(s));
+    EXPECT_EQ(handed.rank, 2);
+    EXPECT_EQ(handed.handout_ms, 0.125);
+    s.rank = 0;
+    s.rank_trace_ms = {10.5, 11.0, 9.75};
+    s.gather_ms = 1.5;
+    const FrameStats gathered = parse_frame_report_json(frame_report_json(s));
+    EXPECT_EQ(gathered.rank_trace_ms, s.rank_trace_ms);
+    EXPECT_EQ(gathered.gather_ms, 1.5);
+    EXPECT_EQ(frame_report_json(gathered), frame_report_json(s));
+}
+
+TEST(ReportRecord, WhatIsNotARecordIsRefused) {
+    for (const char* text : {"", "{\"frame\": 1", "[]", "{\"frame\": 1}"}) {
+        EXPECT_THROW(parse_frame_report_json(text), std::invalid_argument) << text;
+    }
+    std::string torn = frame_report_json(full_record());
+    torn.resize(torn.size() / 2);
+    EXPECT_THROW(parse_frame_report_json(torn), std::invalid_argument);
+}
+
+}  // namespace report_record_test
+}  // namespace dynrt

@@ -27,7 +27,7 @@ Scene waving_sphere() {
     return scene;
 }
 
-RenderOptions small_options() {
+RenderOptions sequence_bench_options() {
     RenderOptions options;
     // Large enough that adaptive sampling finds cells to interpolate (at 64x64 every cell of
     // the sphere's tiles meets its outline and is traced).
@@ -50,7 +50,7 @@ CameraSource fixed_view(const Scene& scene) {
 
 TEST(SequenceErrorBench, ExactConfigurationsEqualTheFullRenders) {
     const Scene scene = waving_sphere();
-    const RenderOptions base = small_options();
+    const RenderOptions base = sequence_bench_options();
     const SequenceErrorBench bench = bench_sequence_error(
         scene, fixed_view(scene), base, {with(base, "off"), with(base, "exact")},
         FrameRange{2, 5}, 1, 0);
@@ -77,7 +77,7 @@ TEST(SequenceErrorBench, ExactConfigurationsEqualTheFullRenders) {
 
 TEST(SequenceErrorBench, AdaptiveSamplingShowsItsError) {
     const Scene scene = waving_sphere();
-    const RenderOptions base = small_options();
+    const RenderOptions base = sequence_bench_options();
     const SequenceErrorBench bench = bench_sequence_error(
         scene, fixed_view(scene), base, {with(base, "off", 0.5f)}, FrameRange{0, 2}, 2, 1);
     ASSERT_EQ(bench.rows.size(), 1u);
@@ -108,7 +108,7 @@ TEST(SequenceErrorBench, AdaptiveSamplingShowsItsError) {
 
 TEST(SequenceErrorBench, TableJsonAndCsvHaveTheDocumentedFields) {
     const Scene scene = waving_sphere();
-    const RenderOptions base = small_options();
+    const RenderOptions base = sequence_bench_options();
     const SequenceErrorBench bench = bench_sequence_error(
         scene, fixed_view(scene), base, {with(base, "exact"), with(base, "off", 0.5f)},
         FrameRange{0, 1}, 1, 0);
@@ -153,7 +153,7 @@ TEST(SequenceErrorBench, TableJsonAndCsvHaveTheDocumentedFields) {
 
 TEST(SequenceErrorBench, BadInputIsRefused) {
     const Scene scene = waving_sphere();
-    const RenderOptions base = small_options();
+    const RenderOptions base = sequence_bench_options();
     const CameraSource view = fixed_view(scene);
     EXPECT_THROW(bench_sequence_error(scene, view, base, {}, FrameRange{0, 1}, 1, 0),
                  std::invalid_argument);

@@ -1,5 +1,6 @@
 #include "dynrt/engine/image_output.h"
 
+#include "dynrt/engine/atomic_file.h"
 #include "srgb.h"
 
 #include <OpenImageIO/imageio.h>
@@ -8,6 +9,7 @@
 #include <cctype>
 #include <cmath>
 #include <stdexcept>
+#include <system_error>
 
 namespace dynrt {
 
@@ -15,18 +17,25 @@ namespace {
 
 constexpr const char* kAovNames[] = {"depth", "object", "prim", "normal"};
 
+/// Writes the image to a temporary file beside `path`, then renames it over `path`
+/// (atomic_file.h): a render killed part way never leaves a torn image.
 void write_floats(const std::filesystem::path& path, int width, int height, int channels,
                   const float* data, OIIO::TypeDesc file_type) {
+    const std::filesystem::path partial = partial_path(path);
     std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create(path.string());
     if (!out) {
         throw std::runtime_error(path.string() + ": unknown or unsupported image format (" +
                                  OIIO::geterror() + ")");
     }
     const OIIO::ImageSpec spec(width, height, channels, file_type);
-    if (!out->open(path.string(), spec) || !out->write_image(OIIO::TypeDesc::FLOAT, data) ||
+    if (!out->open(partial.string(), spec) || !out->write_image(OIIO::TypeDesc::FLOAT, data) ||
         !out->close()) {
-        throw std::runtime_error(path.string() + ": " + out->geterror());
+        std::string message = out->geterror();
+        std::error_code ignored;
+        std::filesystem::remove(partial, ignored);
+        throw std::runtime_error(path.string() + ": " + message);
     }
+    commit_partial(partial, path);
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 #include "dynrt/engine/report.h"
 
+#include "dynrt/engine/atomic_file.h"
 #include "dynrt/engine/spread.h"
 
 #include <nlohmann/json.hpp>
@@ -9,15 +10,16 @@
 #include <iomanip>
 #include <ostream>
 #include <stdexcept>
+#include <type_traits>
 
 namespace dynrt {
 
 namespace {
 
-/// Calls visit(key, value) for every report field in schema order: the one list of the keys,
-/// shared by the JSON writer and the summary.
-template <typename Visit>
-void for_each_field(const FrameStats& s, Visit&& visit) {
+/// Calls visit(key, field) for every report column in schema order: the one list of the keys,
+/// shared by the JSON writer, its reader and the summary. `Stats` is FrameStats, const or not.
+template <typename Stats, typename Visit>
+void for_each_field(Stats& s, Visit&& visit) {
     visit("frame", s.frame);
     visit("triangles", s.triangles);
     visit("degenerate_skipped", s.degenerate_skipped);
@@ -70,7 +72,7 @@ void for_each_field(const FrameStats& s, Visit&& visit) {
 
 nlohmann::ordered_json frame_json(const FrameStats& s) {
     nlohmann::ordered_json j;
-    for_each_field(s, [&](const char* key, auto value) { j[key] = value; });
+    for_each_field(s, [&](const char* key, const auto& value) { j[key] = value; });
     // Not columns (no median of reasons): the pixel reuse mode and why the frame re-traced what
     // it did, and the list of this frame's tree builds.
     // Reflection and refraction rays per depth (index 0: depth 1); empty without any.
@@ -94,7 +96,50 @@ nlohmann::ordered_json frame_json(const FrameStats& s) {
         j["choices"].push_back(
             {{"object", c.object}, {"name", c.name}, {"chosen", c.chosen}, {"why", c.why}});
     }
+    // A frame rendered across processes: which one made it and what the distribution cost.
+    if (s.rank >= 0) {
+        j["rank"] = s.rank;
+        if (s.rank_trace_ms.empty()) {
+            j["handout_ms"] = s.handout_ms;
+        } else {
+            j["rank_trace_ms"] = s.rank_trace_ms;
+            j["gather_ms"] = s.gather_ms;
+        }
+    }
     return j;
+}
+
+FrameStats frame_from_json(const nlohmann::json& j) {
+    FrameStats s;
+    for_each_field(s, [&](const char* key, auto& value) {
+        value = j.at(key).get<std::remove_reference_t<decltype(value)>>();
+    });
+    j.at("secondary_rays_per_depth").get_to(s.secondary_rays_per_depth);
+    j.at("secondary_packet_rays_per_depth").get_to(s.secondary_packet_rays_per_depth);
+    j.at("reuse_mode").get_to(s.reuse_mode);
+    j.at("reuse_reason").get_to(s.reuse_reason);
+    for (const nlohmann::json& event : j.at("rebuilds")) {
+        TreeRebuild& r = s.rebuilds.emplace_back();
+        event.at("object").get_to(r.object);
+        event.at("name").get_to(r.name);
+        if (!parse_rebuild_reason(event.at("reason").get<std::string>(), r.reason)) {
+            throw std::invalid_argument("unknown rebuild reason " + event.at("reason").dump());
+        }
+        event.at("builder").get_to(r.builder);
+        r.sah_refitted = event.value("sah_refitted", 0.0);
+        r.sah_at_last_build = event.value("sah_at_last_build", 0.0);
+    }
+    for (const nlohmann::json& choice : j.at("choices")) {
+        s.choices.push_back(TreeChoice{choice.at("object").get<std::size_t>(),
+                                       choice.at("name").get<std::string>(),
+                                       choice.at("chosen").get<std::string>(),
+                                       choice.at("why").get<std::string>()});
+    }
+    s.rank = j.value("rank", -1);
+    s.handout_ms = j.value("handout_ms", 0.0);
+    s.gather_ms = j.value("gather_ms", 0.0);
+    if (j.contains("rank_trace_ms")) j.at("rank_trace_ms").get_to(s.rank_trace_ms);
+    return s;
 }
 
 /// Field-wise median, min and max over frames, as JSON objects with the frame keys.
@@ -138,6 +183,24 @@ void print_row(std::ostream& out, const std::string& label, double triangles, do
 
 std::string frame_report_json(const FrameStats& stats) { return frame_json(stats).dump(); }
 
+bool parse_rebuild_reason(const std::string& name, RebuildReason& reason) {
+    for (int r = 0; r <= int(RebuildReason::update_method); ++r) {
+        if (name == rebuild_reason_name(RebuildReason(r))) {
+            reason = RebuildReason(r);
+            return true;
+        }
+    }
+    return false;
+}
+
+FrameStats parse_frame_report_json(const std::string& record) {
+    try {
+        return frame_from_json(nlohmann::json::parse(record));
+    } catch (const nlohmann::json::exception& e) {
+        throw std::invalid_argument(std::string("not a frame record of the report: ") + e.what());
+    }
+}
+
 std::string report_json(const RunInfo& run, const std::vector<FrameStats>& frames) {
     nlohmann::ordered_json doc;
     doc["dynrt_report_version"] = 1;
@@ -153,9 +216,7 @@ std::string report_json(const RunInfo& run, const std::vector<FrameStats>& frame
 
 void write_report(const std::filesystem::path& path, const RunInfo& run,
                   const std::vector<FrameStats>& frames) {
-    std::ofstream file(path);
-    file << report_json(run, frames);
-    if (!file) throw std::runtime_error(path.string() + ": cannot write the report");
+    write_file_atomically(path, report_json(run, frames), "the report");
 }
 
 void print_frame_header(std::ostream& out) {

@@ -31,7 +31,7 @@ bool same_image_settings(const TraceSettings& a, const TraceSettings& b) {
            a.hit_buffers == b.hit_buffers && a.background == b.background &&
            a.ambient == b.ambient && a.packet.lanes == b.packet.lanes &&
            a.secondary.max_depth == b.secondary.max_depth && a.secondary.cutoff == b.secondary.cutoff &&
-           a.smooth_normals == b.smooth_normals;
+           a.smooth_normals == b.smooth_normals && a.tiles == b.tiles;
 }
 
 bool same_whitted_terms(const Material& a, const Material& b) {
@@ -204,7 +204,9 @@ void trace_frame_reusing(const TraceInputs& in, const Camera& camera, const Trac
     const int width = options.width, height = options.height;
     const std::size_t pixels = std::size_t(width) * std::size_t(height);
     const packet::PinholeRays pinhole(camera, width, height);
-    const packet::Tiling tiling(width, height);
+    // The tiles this trace renders (a process's share, or all); the memory is per tile of it.
+    const packet::Tiling tiling(width, height, options.tiles);
+    const std::size_t share_pixels = options.tiles.whole() ? pixels : tiling.pixel_count();
     const std::span<const PointLight> lights = in.lights;
     const std::size_t light_count = lights.size();
     TraceStats& stats = out.stats;
@@ -249,7 +251,7 @@ void trace_frame_reusing(const TraceInputs& in, const Camera& camera, const Trac
         stats.shadow_rays = sum.shadow_rays;
         stats.pixels_traced = sum.primary_rays;
         stats.pixels_shadows_retraced = sum.shadows_only;
-        stats.pixels_reused = pixels - sum.primary_rays - sum.shadows_only;
+        stats.pixels_reused = share_pixels - sum.primary_rays - sum.shadows_only;
         const auto mrays_per_s = [](std::size_t rays, double ms) {
             return ms > 0.0 ? double(rays) / (ms * 1e3) : 0.0;
         };

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <optional>
 #include <stdexcept>
+#include <string>
 
 namespace dynrt {
 
@@ -106,6 +107,17 @@ void FramePipeline::trace(const Scene& scene, const Camera& camera, const TraceS
     // approximate modes' ranking and adaptive sampling's interpolation cannot account for it,
     // so a frame with secondary rays traces every pixel instead of them.
     const bool secondary = detail::any_secondary(scene.materials, options.secondary);
+    if (!options.tiles.valid()) {
+        throw std::invalid_argument("tile share " + std::to_string(options.tiles.index) + " of " +
+                                    std::to_string(options.tiles.count) +
+                                    ": needs 0 <= index < count");
+    }
+    // The render cache and frameless rendering reproject and rank pixels over the whole image.
+    if (options.reuse.approximate() && !options.tiles.whole()) {
+        throw std::invalid_argument(std::string("pixel reuse '") + pixel_reuse_name(options.reuse.mode) +
+                                    "' needs the whole image: a frame split into tile shares "
+                                    "can use exact reuse or none");
+    }
     const bool approximate = options.reuse.approximate() && options.adaptive_tolerance == 0.0f &&
                              !secondary;
     const bool exact = options.reuse.mode == PixelReuse::exact && options.adaptive_tolerance == 0.0f;

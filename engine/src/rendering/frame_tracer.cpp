@@ -31,8 +31,7 @@ using detail::TileShading;
 using detail::TileShadowOrigins;
 
 template <typename PerPixel>
-void for_each_pixel_in_tiles(int width, int height, PerPixel&& per_pixel) {
-    const packet::Tiling tiling(width, height);
+void for_each_pixel_in_tiles(const packet::Tiling& tiling, int width, PerPixel&& per_pixel) {
     tbb::parallel_for(0, tiling.count(), [&](int i) {
         const packet::Tile tile = tiling.tile(i);
         for (int y = tile.y0; y < tile.y1; ++y) {
@@ -43,8 +42,7 @@ void for_each_pixel_in_tiles(int width, int height, PerPixel&& per_pixel) {
 
 
 template <typename PerTile>
-void for_each_tile(int width, int height, PerTile&& per_tile) {
-    const packet::Tiling tiling(width, height);
+void for_each_tile(const packet::Tiling& tiling, PerTile&& per_tile) {
     tbb::parallel_for(0, tiling.count(), [&](int i) { per_tile(tiling.tile(i)); });
 }
 
@@ -54,13 +52,13 @@ void for_each_tile(int width, int height, PerTile&& per_tile) {
 /// shaded by trace_tile_adaptive in one task; the stage times split the loop's wall time in
 /// proportion to the workers' time in each stage, as the exact packet path does for its
 /// shadow and shading stages.
-void trace_adaptive(const detail::AdaptiveFrame& frame, std::vector<bvh::InstanceHit>& hits,
-                    bool count, RenderedFrame& out) {
+void trace_adaptive(const detail::AdaptiveFrame& frame, const packet::Tiling& tiling,
+                    std::vector<bvh::InstanceHit>& hits, bool count, RenderedFrame& out) {
     TraceStats& stats = out.stats;  // the trace stage fills its part only
     tbb::combinable<detail::AdaptiveTileWork> work;
     tbb::combinable<packet::PacketStats> packet_work;
     const Stopwatch clock;
-    for_each_tile(out.width, out.height, [&](const packet::Tile& tile) {
+    for_each_tile(tiling, [&](const packet::Tile& tile) {
         detail::trace_tile_adaptive(frame, tile, hits, out, work.local(),
                                     count ? &packet_work.local() : nullptr);
     });
@@ -101,6 +99,8 @@ void trace_frame(const TraceInputs& in, const Camera& camera, const TraceSetting
     const int width = options.width, height = options.height;
     const packet::PinholeRays rays(camera, width, height);
     const std::size_t pixels = std::size_t(width) * std::size_t(height);
+    // The tiles this trace renders: every one, or a process's share of them.
+    const packet::Tiling tiling(width, height, options.tiles);
     TraceStats& stats = out.stats;  // the trace stage fills its part only
     const bvh::TwoLevelBvh& accel = in.accel.top_level();
     // The shading kernel's view of the lights (bookkeeping, outside the stage clocks).
@@ -138,7 +138,7 @@ void trace_frame(const TraceInputs& in, const Camera& camera, const TraceSetting
         const detail::AdaptiveFrame frame{in.accel, rays, lights, shading,
                                           in.object_material, options.packet,
                                           options.adaptive_tolerance, width};
-        trace_adaptive(frame, scratch.hits, options.count_packet_work, out);
+        trace_adaptive(frame, tiling, scratch.hits, options.count_packet_work, out);
         finish();
         return;
     }
@@ -150,7 +150,7 @@ void trace_frame(const TraceInputs& in, const Camera& camera, const TraceSetting
     tbb::combinable<bvh::TraversalStats> single_work;
     if (options.tracer == Tracer::packet) {
         const packet::PinholeRays& pinhole = rays;
-        for_each_tile(width, height, [&](const packet::Tile& tile) {
+        for_each_tile(tiling, [&](const packet::Tile& tile) {
             packet::RayPacket packet_rays;
             packet::InstanceHits packet_hits;
             pinhole.fill_tile(tile, packet_rays);
@@ -169,7 +169,7 @@ void trace_frame(const TraceInputs& in, const Camera& camera, const TraceSetting
         // rays.ray(x, y), bit for bit), then traced one by one: making each ray on its own (a
         // normalisation per pixel) cost a third as much as tracing it on sphere:1000000.
         const packet::PinholeRays& pinhole = rays;
-        for_each_tile(width, height, [&](const packet::Tile& tile) {
+        for_each_tile(tiling, [&](const packet::Tile& tile) {
             packet::RayPacket camera_rays;
             pinhole.fill_tile(tile, camera_rays);
             for (int y = tile.y0; y < tile.y1; ++y) {
@@ -184,7 +184,7 @@ void trace_frame(const TraceInputs& in, const Camera& camera, const TraceSetting
         });
     }
     stats.primary_ms = clock.lap_ms();
-    stats.primary_rays = pixels;
+    stats.primary_rays = options.tiles.whole() ? pixels : tiling.pixel_count();
 
     // ---- Shadow rays (one per hit and light on the lit side), then shading ----
     const packet::PinholeRays& pinhole = rays;
@@ -217,7 +217,6 @@ void trace_frame(const TraceInputs& in, const Camera& camera, const TraceSetting
         stats.shade_ms = wall_ms - stats.shadow_ms;  // secondary_ms is taken out of it below
         secondary_scale = scale;
     };
-    const packet::Tiling tiling(width, height);
     tbb::combinable<std::size_t> shadow_rays([] { return std::size_t(0); });
     if (options.tracer == Tracer::packet) {
         // One shadow packet per tile and light (the tile's hit points toward the light), then
@@ -276,7 +275,7 @@ void trace_frame(const TraceInputs& in, const Camera& camera, const TraceSetting
         split_stages(wall_ms, sum.shadow, sum.shade);
     } else {
         scratch.visible.assign(pixels * lights.size(), 0);
-        for_each_pixel_in_tiles(width, height, [&](int x, int y, std::size_t p) {
+        for_each_pixel_in_tiles(tiling, width, [&](int x, int y, std::size_t p) {
             const bvh::InstanceHit& hit = scratch.hits[p];
             if (!hit.is_hit()) return;
             const ShadowOrigin origin(in.accel.world_triangle(hit.object, hit.hit.prim), hit.hit,

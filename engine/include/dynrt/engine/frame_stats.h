@@ -40,6 +40,9 @@ inline const char* rebuild_reason_name(RebuildReason reason) {
     return "unknown";
 }
 
+/// The reason rebuild_reason_name gives `name`; false when none does.
+bool parse_rebuild_reason(const std::string& name, RebuildReason& reason);
+
 /// One bottom-level tree built this frame, and why. Class changes come from the library API,
 /// whose meshes can be raised to another class.
 struct TreeRebuild {
@@ -165,10 +168,26 @@ struct TraceStats {
     std::size_t pixels_filled = 0;
 };
 
+/// Where a frame of a render across processes (`mpirun dynrt render`) was made, and what the
+/// distribution cost it; rank -1 (and nothing in the report) for a render in one process.
+struct DistributionStats {
+    /// The process that rendered the frame (`--distribute frames`), or that gathered it (0,
+    /// `--distribute tiles`).
+    int rank = -1;
+    /// `--distribute tiles`: each process's trace time of its share of the tiles, by rank.
+    std::vector<double> rank_trace_ms;
+    /// `--distribute frames`: the wall time its process spent asking for work (its share of
+    /// the hand-out of the run of frames it belongs to) and sending this frame's record.
+    double handout_ms = 0;
+    /// `--distribute tiles`: the wall time rank 0 spent gathering the shares (including the
+    /// wait for the slowest one) and unpacking them.
+    double gather_ms = 0;
+};
+
 /// One frame's figures: the three stages' parts, each filled by its stage (SceneAccel the
 /// update and the tree shape, trace_frame the trace), and the whole frame's wall time. The
 /// parts are bases, so every figure is read as stats.<field>, as the report's keys name it.
-struct FrameStats : UpdateStats, TreeShape, TraceStats {
+struct FrameStats : UpdateStats, TreeShape, TraceStats, DistributionStats {
     int frame = 0;
     double total_ms = 0;  ///< the whole frame, wall clock
 };

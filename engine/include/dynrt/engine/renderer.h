@@ -75,6 +75,7 @@
 #include "dynrt/engine/pixel_reuse.h"
 #include "dynrt/engine/secondary_ray_log.h"
 #include "dynrt/engine/update_plan.h"
+#include "dynrt/packet/tiling.h"
 #include "dynrt/packet/packet_config.h"
 #include "dynrt/scene/scene.h"
 
@@ -151,6 +152,13 @@ struct TraceSettings {
     /// this file; `--normals smooth`, the default); false shades every hit with its triangle's
     /// geometric normal (`--normals flat`), and a Renderer then poses no normals at all.
     bool smooth_normals = true;
+    /// Which of the frame's 16x16 tiles this trace renders: all of them by default, or one
+    /// process's interleaved share when a frame is split across processes (`mpirun dynrt
+    /// render --distribute tiles`, the library API's RenderSettings::tiles). The pixels of
+    /// other tiles are left as they were; the stats count the share's rays and pixels. Exact
+    /// reuse works per share (the same share frame after frame); the approximate reuse modes
+    /// (render cache, frameless) need the whole image and refuse a share.
+    packet::TileShare tiles;
 };
 
 /// A Renderer's settings, stage by stage: how the trees are updated (UpdatePolicy: build

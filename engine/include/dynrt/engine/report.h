@@ -31,7 +31,12 @@ std::string report_json(const RunInfo& run, const std::vector<FrameStats>& frame
 /// API's Python bindings hand back from update() and render().
 std::string frame_report_json(const FrameStats& stats);
 
-/// Writes report_json to `path`. Throws std::runtime_error naming the file on failure.
+/// The figures of a record frame_report_json wrote (the inverse of it: writing them again
+/// gives the same text). Throws std::invalid_argument when `record` is not such a record.
+FrameStats parse_frame_report_json(const std::string& record);
+
+/// Writes report_json to `path`, atomically (a temporary file beside it, then renamed over it:
+/// a run killed while writing leaves the old report or the new one). Throws std::runtime_error naming the file on failure.
 void write_report(const std::filesystem::path& path, const RunInfo& run,
                   const std::vector<FrameStats>& frames);
 

@@ -11,8 +11,9 @@ required=(build-essential cmake ninja-build pkg-config
 # The fuzz targets (scripts/fuzz.sh, run by scripts/test.sh) need clang and libFuzzer's runtime,
 # which Debian ships in libclang-rt-dev; older archives have it in a dependency of clang itself.
 fuzz=(clang libclang-rt-dev)
-# Embree is only a comparison backend and test oracle: install it when the archive has it.
-optional=(libembree-dev)
+# Embree is only a comparison backend and test oracle; Open MPI lets `mpirun dynrt render`
+# spread frames or tiles across processes (engine/mpi). Installed when the archive has them.
+optional=(libembree-dev libopenmpi-dev openmpi-bin)
 
 missing=()
 for p in "${required[@]}" "${fuzz[@]}" "${optional[@]}"; do
@@ -31,5 +32,7 @@ $sudo apt-get update -qq
 $sudo apt-get install -y -qq --no-install-recommends "${required[@]}" >/dev/null
 $sudo apt-get install -y -qq --no-install-recommends "${fuzz[@]}" >/dev/null \
   || $sudo apt-get install -y -qq --no-install-recommends clang >/dev/null
-$sudo apt-get install -y -qq --no-install-recommends "${optional[@]}" >/dev/null \
-  || echo "install-deps: optional ${optional[*]} not available; Embree comparisons are skipped"
+$sudo apt-get install -y -qq --no-install-recommends libembree-dev >/dev/null \
+  || echo "install-deps: optional libembree-dev not available; Embree comparisons are skipped"
+$sudo apt-get install -y -qq --no-install-recommends libopenmpi-dev openmpi-bin >/dev/null \
+  || echo "install-deps: optional Open MPI not available; dynrt is built without MPI and its tests are skipped"

@@ -58,6 +58,11 @@ struct RenderArgs : FrameArgs {
     std::string contact_sheet;
     std::string report;
     std::string aov;
+    /// Across processes (`mpirun dynrt render`): "frames" (handed out in runs, the default
+    /// under mpirun) or "tiles" (each frame's tiles shared); empty: not given.
+    std::string distribute;
+    /// Skip the frames an earlier run of the same job finished (their image and record).
+    bool resume = false;
 };
 
 struct BenchArgs : FrameArgs {

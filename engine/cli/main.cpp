@@ -1,6 +1,7 @@
 // The `dynrt` command line: its flags and subcommands. Each command is a file of its own
 // (render_command.cpp, bench_command.cpp, info_command.cpp); what they share is frame_args.h.
 
+#include "distributed/distributed_render.h"
 #include "frame_args.h"
 
 #include <CLI/CLI.hpp>
@@ -10,6 +11,7 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -169,6 +171,15 @@ int main(int argc, char** argv) {
     render_cmd->add_option("--report", render.report, "Write the frame report as JSON to this file");
     render_cmd->add_option("--aov", render.aov,
                            "Also write float EXRs next to the image: depth,object,prim,normal");
+    render_cmd->add_option("--distribute", render.distribute,
+                           "Under mpirun: frames (the default; each process renders runs of "
+                           "frames it asks for) or tiles (every process renders its share of "
+                           "each frame's 16x16 tiles, gathered by rank 0)")
+        ->check(CLI::IsMember({"frames", "tiles"}));
+    render_cmd->add_flag("--resume", render.resume,
+                         "Skip the frames whose image and record an earlier run of the same "
+                         "render left (its journal: REPORT.frames.jsonl, or .dynrt-frames.jsonl "
+                         "beside the frames), e.g. after a job was killed");
 
     BenchArgs bench;
     // A benchmark times tracing: a still frame timed again would reuse every pixel, and a
@@ -251,7 +262,24 @@ int main(int argc, char** argv) {
             limit.emplace(tbb::global_control::max_allowed_parallelism, std::size_t(thread_count));
         }
         frame_args.threads = thread_count;
-        if (*render_cmd) return dynrt::cli::run_render(render);
+        if (*render_cmd) {
+            // Across processes, or resumable: the distributed driver, with this process alone
+            // when not started by mpirun.
+            if (dynrt::cli::started_by_mpirun() || render.resume || !render.distribute.empty()) {
+                if (render.distribute.empty()) render.distribute = "frames";
+                std::unique_ptr<dynrt::cli::Cluster> cluster;
+                if (dynrt::cli::started_by_mpirun()) cluster = dynrt::cli::mpi_cluster();
+                if (!cluster) {
+                    if (dynrt::cli::started_by_mpirun()) {
+                        std::cerr << "dynrt: warning: this dynrt was built without MPI: each "
+                                     "process started by mpirun renders every frame alone\n";
+                    }
+                    cluster = dynrt::cli::local_cluster();
+                }
+                return dynrt::cli::run_distributed_render(render, *cluster);
+            }
+            return dynrt::cli::run_render(render);
+        }
         if (*bench_cmd) return dynrt::cli::run_bench(bench);
         return dynrt::cli::run_info(info_scene);
     } catch (const std::filesystem::filesystem_error& e) {

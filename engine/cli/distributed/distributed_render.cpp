@@ -1,0 +1,327 @@
+// `dynrt render` across processes: `mpirun -np N dynrt render SCENE --frames A-B --out
+// 'dir/%04d.png' [--distribute frames|tiles] [--resume]`, and `--resume` in one process.
+//
+// frames (the default): rank 0 hands out runs of consecutive frames as ranks ask for them
+//   (FrameHandout), each rank renders its runs in order with its own Renderer (its trees and
+//   pixel memory stay warm along a run) and writes their images; rank 0 records each frame as
+//   it finishes.
+// tiles: every rank renders every frame's share of the 16x16 tiles (TraceSettings::tiles,
+//   interleaved); rank 0 gathers the shares, writes the image and records the frame.
+// Either way images go to their files atomically (temporary file, then rename) and rank 0
+// keeps a journal of the frames done (RenderJournal), from which `--resume` skips them and the
+// report is written. A rank that fails stops the job, naming itself and the frame.
+
+#include "distributed/distributed_render.h"
+
+#include "distributed/cluster.h"
+#include "distributed/render_journal.h"
+#include "dynrt/engine/image_output.h"
+#include "dynrt/engine/report.h"
+#include "dynrt/engine/sequence_output.h"
+#include "dynrt/engine/stopwatch.h"
+#include "dynrt/engine/tile_share.h"
+
+#include <nlohmann/json.hpp>
+#include <tbb/info.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace dynrt::cli {
+
+namespace {
+
+/// For the tests of the hand-out only, not a user option: DYNRT_TEST_SLOW_FRAMES="F:MS,..."
+/// makes frame F take MS ms longer (a sleep after its render), so that a test can make frames
+/// deliberately uneven, or slow enough to kill a job part way, on any scene.
+std::map<int, int> test_slow_frames() {
+    std::map<int, int> slow;
+    const char* spec = std::getenv("DYNRT_TEST_SLOW_FRAMES");
+    if (!spec) return slow;
+    std::istringstream in(spec);
+    std::string item;
+    while (std::getline(in, item, ',')) {
+        const std::size_t colon = item.find(':');
+        if (colon == std::string::npos) continue;
+        slow[std::stoi(item.substr(0, colon))] = std::stoi(item.substr(colon + 1));
+    }
+    return slow;
+}
+
+/// The journal beside the report (REPORT.frames.jsonl), else hidden beside the first frame.
+std::filesystem::path journal_path(const RenderArgs& args, const std::filesystem::path& first_image) {
+    if (!args.report.empty()) return args.report + ".frames.jsonl";
+    std::filesystem::path path = first_image;
+    path.replace_filename(".dynrt-frames.jsonl");
+    return path;
+}
+
+/// A frame is done when its record and its files (image and AOVs) are all there.
+bool frame_done(const RenderJournal& journal, int frame, const std::string& out,
+                const std::vector<Aov>& aovs) {
+    if (!journal.earlier().contains(frame)) return false;
+    const std::filesystem::path image = frame_path(out, frame);
+    if (!std::filesystem::is_regular_file(image)) return false;
+    return std::all_of(aovs.begin(), aovs.end(), [&](Aov aov) {
+        return std::filesystem::is_regular_file(aov_path(image, aov));
+    });
+}
+
+void write_frame_files(const std::string& out, int frame, const std::vector<Aov>& aovs,
+                       const RenderedFrame& image) {
+    const std::string path = frame_path(out, frame);
+    write_image(path, image);
+    for (const Aov aov : aovs) write_aov(path, aov, image);
+}
+
+/// The figures each rank sends rank 0 per frame in tiles mode: its trace time, then the counts
+/// that add up over the shares.
+std::vector<double> share_figures(const FrameStats& s) {
+    return {s.primary_ms + s.shadow_ms + s.shade_ms + s.secondary_ms,
+            double(s.primary_rays), double(s.shadow_rays), double(s.interpolated_pixels),
+            double(s.pixels_traced), double(s.pixels_shadows_retraced), double(s.pixels_reused),
+            double(s.reflection_rays), double(s.refraction_rays), double(s.secondary_shadow_rays)};
+}
+
+void add_share_figures(const std::vector<double>& all, int ranks, FrameStats& s) {
+    const std::size_t n = all.size() / std::size_t(ranks);
+    s.rank_trace_ms.clear();
+    s.primary_rays = s.shadow_rays = s.interpolated_pixels = 0;
+    s.pixels_traced = s.pixels_shadows_retraced = s.pixels_reused = 0;
+    s.reflection_rays = s.refraction_rays = s.secondary_shadow_rays = 0;
+    for (int r = 0; r < ranks; ++r) {
+        const double* f = all.data() + std::size_t(r) * n;
+        s.rank_trace_ms.push_back(f[0]);
+        s.primary_rays += std::size_t(f[1]);
+        s.shadow_rays += std::size_t(f[2]);
+        s.interpolated_pixels += std::size_t(f[3]);
+        s.pixels_traced += std::size_t(f[4]);
+        s.pixels_shadows_retraced += std::size_t(f[5]);
+        s.pixels_reused += std::size_t(f[6]);
+        s.reflection_rays += std::size_t(f[7]);
+        s.refraction_rays += std::size_t(f[8]);
+        s.secondary_shadow_rays += std::size_t(f[9]);
+    }
+}
+
+/// Fails before anything is rendered when the flags cannot make a distributed render.
+void check_distributed_args(const RenderArgs& args, const FrameRange& range) {
+    if (args.distribute != "frames" && args.distribute != "tiles") {
+        throw std::invalid_argument("--distribute " + args.distribute + ": frames or tiles");
+    }
+    if (is_sequence_file(args.out) && !has_frame_number(args.out)) {
+        throw std::invalid_argument("--out '" + args.out + "': a render across processes (or "
+                                    "--resume) writes one image per frame: give a numbered "
+                                    "name, e.g. 'frames/%04d.png'");
+    }
+    if (range.count() > 1 && !has_frame_number(args.out)) {
+        throw std::invalid_argument("--out '" + args.out + "': several frames need a frame "
+                                    "number in the name, e.g. 'frames/%04d.png'");
+    }
+    if (!args.contact_sheet.empty()) {
+        throw std::invalid_argument("--contact-sheet: not with a render across processes or "
+                                    "--resume (render the sheet from the frames afterwards)");
+    }
+    if (args.distribute == "tiles" && parse_reuse(args.reuse).approximate()) {
+        throw std::invalid_argument("--reuse " + args.reuse + " with --distribute tiles: the "
+                                    "render cache and frameless rendering need the whole image; "
+                                    "use --reuse exact or off");
+    }
+}
+
+/// The per-rank lines under the table: frames and runs per rank, or the shares' trace times
+/// and the gather.
+void print_ranks(std::ostream& out, const std::vector<FrameStats>& frames, int ranks, bool tiles) {
+    for (int r = 0; r < ranks; ++r) {
+        std::vector<double> ms;
+        int count = 0, runs = 0, last = -2;
+        for (const FrameStats& f : frames) {
+            if (tiles) {
+                if (std::size_t(r) < f.rank_trace_ms.size()) ms.push_back(f.rank_trace_ms[std::size_t(r)]);
+            } else if (f.rank == r) {
+                ++count;
+                if (f.frame != last + 1) ++runs;
+                last = f.frame;
+                ms.push_back(f.total_ms);
+            }
+        }
+        std::sort(ms.begin(), ms.end());
+        const double median = ms.empty() ? 0.0 : ms[ms.size() / 2];
+        out << "rank " << r << ": ";
+        if (tiles) {
+            out << "median trace of its tiles " << median << " ms\n";
+        } else {
+            out << count << " frames in " << runs << " runs, median " << median << " ms/frame\n";
+        }
+    }
+    std::vector<double> overhead;
+    for (const FrameStats& f : frames) overhead.push_back(tiles ? f.gather_ms : f.handout_ms);
+    std::sort(overhead.begin(), overhead.end());
+    if (!overhead.empty()) {
+        out << (tiles ? "gather" : "hand-out") << ": median " << overhead[overhead.size() / 2]
+            << " ms/frame\n";
+    }
+}
+
+}  // namespace
+
+int run_distributed_render(const RenderArgs& args, Cluster& cluster) {
+    const int rank = cluster.rank(), ranks = cluster.size();
+    const bool tiles = args.distribute == "tiles";
+    // Only rank 0 speaks, but for errors.
+    if (rank != 0) std::cout.setstate(std::ios::failbit);
+    int frame = -1;  // the frame at hand, for the failure message
+    try {
+        RenderOptions options = render_options(args);
+        const std::vector<Aov> aovs = parse_aov_list(args.aov);
+        options.hit_buffers = !aovs.empty();
+        if (tiles) options.tiles = packet::TileShare{rank, ranks};
+        const FrameRange range = args.frames.empty() ? FrameRange{} : parse_frame_range(args.frames);
+        check_distributed_args(args, range);
+        const std::filesystem::path first_path = frame_path(args.out, range.first);
+        check_image_path(first_path.filename());
+        if (!args.report.empty() && std::filesystem::is_directory(args.report)) {
+            throw std::invalid_argument("--report " + args.report + ": is a folder");
+        }
+
+        const std::string source = scene_source(args);
+        const Scene scene = load_animated_scene(args, source, options);
+        if (rank == 0) warn_past_the_end(scene, options.pose, range);
+        if (first_path.has_parent_path()) std::filesystem::create_directories(first_path.parent_path());
+        const CameraSource view = camera_source(scene, args, options.pose, range);
+
+        // Rank 0 decides which frames are left and keeps the journal.
+        std::optional<RenderJournal> journal;
+        std::vector<int> todo;
+        std::map<int, FrameStats> records;
+        if (rank == 0) {
+            const nlohmann::ordered_json header = {
+                {"dynrt_journal", 1}, {"scene", source}, {"width", options.width},
+                {"height", options.height}, {"out", args.out}, {"aov", args.aov}};
+            journal.emplace(journal_path(args, first_path), header.dump(), args.resume);
+            for (int f = range.first; f <= range.last; ++f) {
+                if (args.resume && frame_done(*journal, f, args.out, aovs)) {
+                    records[f] = journal->earlier().at(f);
+                } else {
+                    todo.push_back(f);
+                }
+            }
+            std::cout << "dynrt: " << source << ": " << scene.objects.size() << " objects, "
+                      << scene.triangle_count() << " triangles, " << options.width << "x"
+                      << options.height << ", frames " << range.first << "-" << range.last
+                      << " -> " << args.out << ", " << ranks << (ranks == 1 ? " process" : " processes")
+                      << " sharing " << (tiles ? "each frame's tiles" : "the frames") << std::endl;
+            if (args.resume) {
+                std::cout << "resume: " << records.size() << " frames done, " << todo.size()
+                          << " to render" << std::endl;
+            }
+        }
+        todo = cluster.broadcast(todo);
+        const auto keep = [&](const std::string& record) {
+            journal->append(record);
+            const FrameStats stats = parse_frame_report_json(record);
+            records[stats.frame] = stats;
+        };
+        const std::map<int, int> slow = test_slow_frames();
+        const auto slow_down = [&](int f) {
+            if (const auto it = slow.find(f); it != slow.end()) {
+                std::this_thread::sleep_for(std::chrono::milliseconds(it->second));
+            }
+        };
+
+        Renderer renderer(options);
+        RenderedFrame image;
+        if (!tiles) {
+            cluster.start_handout(todo, keep);
+            for (;;) {
+                Stopwatch ask;
+                const std::vector<int> run = cluster.next_run();
+                if (run.empty()) break;
+                const double ask_ms = ask.elapsed_ms() / double(run.size());
+                for (const int f : run) {
+                    frame = f;
+                    renderer.render(scene, f, view, image);
+                    slow_down(f);
+                    write_frame_files(args.out, f, aovs, image);
+                    image.stats.rank = rank;
+                    image.stats.handout_ms = ask_ms;
+                    cluster.send_record(frame_report_json(image.stats));
+                }
+            }
+            frame = -1;
+            cluster.finish_handout();
+        } else {
+            for (const int f : todo) {
+                frame = f;
+                renderer.render(scene, f, view, image);
+                slow_down(f);
+                std::vector<float> packed;
+                pack_tiles(image, options.tiles, packed);
+                const Stopwatch gather;
+                const std::vector<float> all = cluster.gather(packed);
+                const std::vector<double> figures = cluster.gather_figures(share_figures(image.stats));
+                if (rank != 0) continue;
+                std::size_t offset = 0;
+                for (int r = 0; r < ranks; ++r) {
+                    const packet::TileShare share{r, ranks};
+                    const std::size_t size = packed_share_size(options.width, options.height,
+                                                               share, options.hit_buffers);
+                    // Rank 0's own share is in place already.
+                    if (r != 0) unpack_tiles({all.data() + offset, size}, share, options.hit_buffers, image);
+                    offset += size;
+                }
+                FrameStats& stats = image.stats;
+                stats.gather_ms = gather.elapsed_ms();
+                stats.total_ms += stats.gather_ms;
+                stats.rank = 0;
+                add_share_figures(figures, ranks, stats);
+                write_frame_files(args.out, f, aovs, image);
+                keep(frame_report_json(stats));
+            }
+            frame = -1;
+        }
+        if (rank != 0) return 0;
+
+        std::vector<FrameStats> frames;
+        for (const auto& [f, stats] : records) {
+            if (f >= range.first && f <= range.last) frames.push_back(stats);
+        }
+        print_ignored(std::cout, scene);
+        print_frame_header(std::cout);
+        if (frames.size() <= 8) {
+            for (const FrameStats& f : frames) print_frame_row(std::cout, f);
+        }
+        print_summary(std::cout, frames);
+        print_secondary_summary(std::cout, frames);
+        print_rebuild_summary(std::cout, frames);
+        print_ranks(std::cout, frames, ranks, tiles);
+        std::cout << "journal: " << journal->path().string() << "\n";
+        if (!args.report.empty()) {
+            const RunInfo run{source, options.width, options.height, options.build.cost_ratio,
+                              options.build.leaf_size_max,
+                              args.threads > 0 ? args.threads : tbb::info::default_concurrency(),
+                              scene.ignored};
+            write_report(args.report, run, frames);
+            std::cout << "report: " << args.report << "\n";
+        }
+        return 0;
+    } catch (const std::exception& e) {
+        if (ranks == 1) throw;
+        std::string where = "rank " + std::to_string(rank);
+        if (frame >= 0) where += ", frame " + std::to_string(frame);
+        cluster.fail(where + ": " + e.what());
+    }
+    return 1;  // not reached: fail() ends the job
+}
+
+}  // namespace dynrt::cli

@@ -2,6 +2,7 @@
 // The dynrt library API: include this one header. See api/engine.h for how to use it and
 // README "Library API" for a complete example.
 
+#include "dynrt/api/distribute.h"
 #include "dynrt/api/engine.h"
 #include "dynrt/api/error.h"
 #include "dynrt/api/types.h"

@@ -1,3 +1,4 @@
+#include "dynrt/api/distribute.h"
 #include "dynrt/api/engine.h"
 
 #include "dynrt/engine/camera.h"
@@ -680,6 +681,11 @@ FrameStats Engine::render(const View& view, const ImageView& image,
     options.secondary.max_depth = settings.max_depth;
     options.secondary.cutoff = settings.cutoff;
     options.smooth_normals = settings.smooth_normals;
+    if (settings.tile_shares < 1 || settings.tile_share < 0 || settings.tile_share >= settings.tile_shares) {
+        throw invalid("render: tile share " + std::to_string(settings.tile_share) + " of " +
+                      std::to_string(settings.tile_shares) + " (needs 0 <= tile_share < tile_shares)");
+    }
+    options.tiles = packet::TileShare{settings.tile_share, settings.tile_shares};
     std::vector<PointLight> lights;
     for (const Light& light : settings.lights) {
         const glm::vec3 position = to_glm(light.position);
@@ -700,9 +706,19 @@ FrameStats Engine::render(const View& view, const ImageView& image,
     } catch (const std::invalid_argument& e) {
         throw invalid(std::string("render: ") + e.what());
     }
-    std::copy_n(&frame.color[0].x, 3 * pixels, image.rgb.begin());
-    if (!image.depth.empty()) std::copy(frame.depth.begin(), frame.depth.end(), image.depth.begin());
-    if (!image.mesh.empty()) std::copy(frame.object.begin(), frame.object.end(), image.mesh.begin());
+    if (options.tiles.whole()) {
+        std::copy_n(&frame.color[0].x, 3 * pixels, image.rgb.begin());
+        if (!image.depth.empty()) std::copy(frame.depth.begin(), frame.depth.end(), image.depth.begin());
+        if (!image.mesh.empty()) std::copy(frame.object.begin(), frame.object.end(), image.mesh.begin());
+        return frame.stats;
+    }
+    // A share: its pixels only, the caller's others untouched.
+    for (const std::size_t p : tile_share_pixels(image.width, image.height, settings.tile_share,
+                                                 settings.tile_shares)) {
+        std::copy_n(&frame.color[p].x, 3, image.rgb.begin() + std::ptrdiff_t(3 * p));
+        if (!image.depth.empty()) image.depth[p] = frame.depth[p];
+        if (!image.mesh.empty()) image.mesh[p] = frame.object[p];
+    }
     return frame.stats;
 }
 

@@ -154,6 +154,12 @@ struct RenderSettings {
     /// Shade with the meshes' vertex normals interpolated across each triangle (given in
     /// MeshDesc::normals or computed); false: with each triangle's own normal (flat).
     bool smooth_normals = true;
+    /// Render only tile share `tile_share` of `tile_shares` (dynrt/api/distribute.h), for a
+    /// program whose processes each render part of a frame: the pixels tile_share_pixels names
+    /// are written, the others left as they are. Exact reuse works per share, the same share
+    /// frame after frame. Default: the whole image.
+    int tile_share = 0;
+    int tile_shares = 1;
 };
 
 /// A batch of rays held as separate arrays rather than as dynrt::Ray structs: the layout of

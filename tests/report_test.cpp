@@ -112,10 +112,12 @@ TEST(ReportRecord, ReadingARecordBackGivesItsTextAgain) {
     EXPECT_EQ(handed.handout_ms, 0.125);
     s.rank = 0;
     s.rank_trace_ms = {10.5, 11.0, 9.75};
+    s.wait_ms = 2.25;
     s.gather_ms = 1.5;
     const FrameStats gathered = parse_frame_report_json(frame_report_json(s));
     EXPECT_EQ(gathered.rank_trace_ms, s.rank_trace_ms);
     EXPECT_EQ(gathered.gather_ms, 1.5);
+    EXPECT_EQ(gathered.wait_ms, 2.25);
     EXPECT_EQ(frame_report_json(gathered), frame_report_json(s));
 }
 

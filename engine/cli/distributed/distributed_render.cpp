@@ -164,12 +164,17 @@ void print_ranks(std::ostream& out, const std::vector<FrameStats>& frames, int r
             out << count << " frames in " << runs << " runs, median " << median << " ms/frame\n";
         }
     }
-    std::vector<double> overhead;
-    for (const FrameStats& f : frames) overhead.push_back(tiles ? f.gather_ms : f.handout_ms);
-    std::sort(overhead.begin(), overhead.end());
-    if (!overhead.empty()) {
-        out << (tiles ? "gather" : "hand-out") << ": median " << overhead[overhead.size() / 2]
-            << " ms/frame\n";
+    const auto median_of = [&](double FrameStats::*field) {
+        std::vector<double> v;
+        for (const FrameStats& f : frames) v.push_back(f.*field);
+        std::sort(v.begin(), v.end());
+        return v.empty() ? 0.0 : v[v.size() / 2];
+    };
+    if (tiles) {
+        out << "gather: median " << median_of(&FrameStats::gather_ms) << " ms/frame, after "
+            << median_of(&FrameStats::wait_ms) << " ms waiting for the slowest share\n";
+    } else {
+        out << "hand-out: median " << median_of(&FrameStats::handout_ms) << " ms/frame\n";
     }
 }
 
@@ -265,24 +270,31 @@ int run_distributed_render(const RenderArgs& args, Cluster& cluster) {
                 frame = f;
                 renderer.render(scene, f, view, image);
                 slow_down(f);
-                std::vector<float> packed;
-                pack_tiles(image, options.tiles, packed);
-                const Stopwatch gather;
-                const std::vector<float> all = cluster.gather(packed);
+                // The small figures first: once rank 0 has them every share is done, so their
+                // wait is the load imbalance and the gather after it the transfer alone.
+                Stopwatch clock;
                 const std::vector<double> figures = cluster.gather_figures(share_figures(image.stats));
+                const double wait_ms = clock.lap_ms();
+                // Rank 0's own share is in place already: it sends none.
+                std::vector<float> packed;
+                if (rank != 0) pack_tiles(image, options.tiles, packed);
+                const std::vector<float> all = cluster.gather(packed);
                 if (rank != 0) continue;
                 std::size_t offset = 0;
-                for (int r = 0; r < ranks; ++r) {
+                for (int r = 1; r < ranks; ++r) {
                     const packet::TileShare share{r, ranks};
                     const std::size_t size = packed_share_size(options.width, options.height,
                                                                share, options.hit_buffers);
-                    // Rank 0's own share is in place already.
-                    if (r != 0) unpack_tiles({all.data() + offset, size}, share, options.hit_buffers, image);
+                    if (all.size() < offset + size) {
+                        throw std::runtime_error("rank " + std::to_string(r) + "'s tiles came short");
+                    }
+                    unpack_tiles({all.data() + offset, size}, share, options.hit_buffers, image);
                     offset += size;
                 }
                 FrameStats& stats = image.stats;
-                stats.gather_ms = gather.elapsed_ms();
-                stats.total_ms += stats.gather_ms;
+                stats.wait_ms = wait_ms;
+                stats.gather_ms = clock.elapsed_ms();
+                stats.total_ms += stats.wait_ms + stats.gather_ms;
                 stats.rank = 0;
                 add_share_figures(figures, ranks, stats);
                 write_frame_files(args.out, f, aovs, image);

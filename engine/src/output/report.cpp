@@ -103,6 +103,7 @@ nlohmann::ordered_json frame_json(const FrameStats& s) {
             j["handout_ms"] = s.handout_ms;
         } else {
             j["rank_trace_ms"] = s.rank_trace_ms;
+            j["wait_ms"] = s.wait_ms;
             j["gather_ms"] = s.gather_ms;
         }
     }
@@ -137,6 +138,7 @@ FrameStats frame_from_json(const nlohmann::json& j) {
     }
     s.rank = j.value("rank", -1);
     s.handout_ms = j.value("handout_ms", 0.0);
+    s.wait_ms = j.value("wait_ms", 0.0);
     s.gather_ms = j.value("gather_ms", 0.0);
     if (j.contains("rank_trace_ms")) j.at("rank_trace_ms").get_to(s.rank_trace_ms);
     return s;

@@ -179,8 +179,9 @@ struct DistributionStats {
     /// `--distribute frames`: the wall time its process spent asking for work (its share of
     /// the hand-out of the run of frames it belongs to) and sending this frame's record.
     double handout_ms = 0;
-    /// `--distribute tiles`: the wall time rank 0 spent gathering the shares (including the
-    /// wait for the slowest one) and unpacking them.
+    /// `--distribute tiles`: the wall time rank 0 waited, its own share done, for the slowest
+    /// rank's (load imbalance), then spent receiving and unpacking the shares (the gather).
+    double wait_ms = 0;
     double gather_ms = 0;
 };
 

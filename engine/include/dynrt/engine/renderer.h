@@ -154,8 +154,10 @@ struct TraceSettings {
     bool smooth_normals = true;
     /// Which of the frame's 16x16 tiles this trace renders: all of them by default, or one
     /// process's interleaved share when a frame is split across processes (`mpirun dynrt
-    /// render --distribute tiles`, the library API's RenderSettings::tiles). The pixels of
-    /// other tiles are left as they were; the stats count the share's rays and pixels. Exact
+    /// render --distribute tiles`, the library API's RenderSettings::tile_share). The pixels
+    /// of other tiles are left as they were, and the caller may write them (a gather does)
+    /// without disturbing exact reuse, which reads the share's alone; the stats count the
+    /// share's rays and pixels. Exact
     /// reuse works per share (the same share frame after frame); the approximate reuse modes
     /// (render cache, frameless) need the whole image and refuse a share.
     packet::TileShare tiles;

@@ -1,6 +1,8 @@
 // Runs the `dynrt` executable as a user would: good runs write what they promise, bad flags and
 // bad input end with a clear one-line error and a non-zero exit, never a crash.
 
+#include "shell_command.h"
+
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -17,24 +19,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct CliRun {
-    int exit_code;
-    std::string output;  // stdout and stderr together
-};
-
-/// Runs `command_line` in a shell, stdout and stderr together.
-CliRun run_dynrt_command(const std::string& command_line) {
-    const std::string command = command_line + " 2>&1";
-    FILE* pipe = popen(command.c_str(), "r");
-    if (!pipe) return {-1, "popen failed"};
-    std::string output;
-    std::array<char, 4096> buffer;
-    while (std::size_t n = fread(buffer.data(), 1, buffer.size(), pipe)) output.append(buffer.data(), n);
-    const int status = pclose(pipe);
-    // A signal (a crash) is reported as exit code 128 + signal, as a shell would.
-    const int code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    return {code, output};
-}
+using CliRun = dynrt::test::ShellRun;
+using dynrt::test::run_shell;
 
 /// run_dynrt under `timeout`: a run still going after `seconds` is killed and exits with 124.
 CliRun run_dynrt_within(int seconds, const std::string& args) {
@@ -43,7 +29,7 @@ CliRun run_dynrt_within(int seconds, const std::string& args) {
     command += DYNRT_CLI_PATH;
     command += ' ';
     command += args;
-    return run_dynrt_command(command);
+    return run_shell(command);
 }
 
 /// Every run is bounded: a hang fails its test (exit 124) instead of stalling the suite. The
@@ -330,9 +316,9 @@ TEST(Cli, SequencesGoToAnAnimatedGifAndAContactSheet) {
     const fs::path mp4 = dir / "anim.mp4";
     const CliRun video = run_dynrt("render sphere:200 --res 21x13 --anim rigid --frames 0-6 --out '" +
                                    mp4.string() + "'");
-    if (run_dynrt_command("command -v ffmpeg >/dev/null && command -v ffprobe >/dev/null").exit_code == 0) {
+    if (run_shell("command -v ffmpeg >/dev/null && command -v ffprobe >/dev/null").exit_code == 0) {
         ASSERT_EQ(video.exit_code, 0) << video.output;
-        const CliRun probe = run_dynrt_command(
+        const CliRun probe = run_shell(
             "ffprobe -v error -count_frames -select_streams v:0 -show_entries "
             "stream=nb_read_frames,width,height -of csv=p=0 '" + mp4.string() + "'");
         EXPECT_EQ(probe.exit_code, 0) << probe.output;

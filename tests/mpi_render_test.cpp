@@ -5,6 +5,8 @@
 // that a rank failing on a frame stops the job naming the rank and the frame. Skipped, with
 // the reason, when dynrt was built without MPI or mpirun is missing.
 
+#include "shell_command.h"
+
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -26,21 +28,8 @@ namespace mpi_render_test {
 
 namespace fs = std::filesystem;
 
-struct ShellRun {
-    int exit_code;
-    std::string output;
-};
-
-ShellRun run_shell(const std::string& command_line) {
-    const std::string command = command_line + " 2>&1";
-    FILE* pipe = popen(command.c_str(), "r");
-    if (!pipe) return {-1, "popen failed"};
-    std::string output;
-    std::array<char, 4096> buffer;
-    while (std::size_t n = fread(buffer.data(), 1, buffer.size(), pipe)) output.append(buffer.data(), n);
-    const int status = pclose(pipe);
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status), output};
-}
+using test::run_shell;
+using test::ShellRun;
 
 /// Why the MPI runs cannot be tested here, or empty when they can.
 std::string why_skipped() {

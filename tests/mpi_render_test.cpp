@@ -21,6 +21,7 @@
 #include <set>
 #include <string>
 #include <sys/wait.h>
+#include <unistd.h>
 #include <vector>
 
 namespace dynrt {
@@ -137,7 +138,8 @@ const std::vector<int> kTilesRanks{2, 3};
 fs::path reference_frames(int last) {
     static std::map<int, fs::path> made;
     if (made.contains(last)) return made[last];
-    const fs::path dir = fresh_dir("reference_" + std::to_string(last));
+    // Per process: the test program's shards run side by side, each making its own.
+    const fs::path dir = fresh_dir("reference_" + std::to_string(last) + "_" + std::to_string(getpid()));
     const ShellRun run = run_shell(render_command(0, "--frames 0-" + std::to_string(last) + kOut +
                                                     (dir / "%04d.png").string()));
     EXPECT_EQ(run.exit_code, 0) << run.output;
@@ -167,6 +169,9 @@ TEST(MpiRender, FramesHandedOutMatchOneProcessOnOneTwoAndThreeRanks) {
         }
         EXPECT_EQ(journal_records(dir / "r.json.frames.jsonl").size(), 10u);
         EXPECT_NE(run.output.find("rank 0: "), std::string::npos) << run.output;
+        if (ranks == 1) {
+            EXPECT_NE(run.output.find("rank 0: 10 frames in 1 run (0-9)"), std::string::npos) << run.output;
+        }
     }
 }
 
@@ -214,6 +219,19 @@ TEST(MpiRender, ASlowRanksFramesGoToTheOthers) {
     EXPECT_EQ(slow_rank_frames, 3) << run.output;
 }
 
+/// Starts `command` in the background, waits until `journal` holds `records` frame records,
+/// runs `then` (shell) and waits for the job and for every dynrt process writing into
+/// `folder_name` to be gone (mpirun may return before its ranks). Returns the job's status.
+ShellRun run_until_records(const std::string& command, const fs::path& journal, int records,
+                           const std::string& then, const std::string& folder_name) {
+    const std::string ranks_pattern = "'^[^ ]*/dynrt render .*" + folder_name + "/'";
+    return run_shell(
+        command + " > /dev/null & job=$!; for i in $(seq 600); do [ \"$(cat '" + journal.string() +
+        "' 2>/dev/null | wc -l)\" -ge " + std::to_string(records + 1) + " ] && break; sleep 0.1; done; " +
+        then + "; wait $job; status=$?; for i in $(seq 300); do pgrep -f " + ranks_pattern +
+        " > /dev/null || break; sleep 0.1; done; exit $status");
+}
+
 TEST(MpiRender, AJobKilledPartWayResumesWithNoFrameLostOrRenderedTwice) {
     SKIP_WITHOUT_MPI();
     const fs::path expected = reference_frames(9);
@@ -225,14 +243,8 @@ TEST(MpiRender, AJobKilledPartWayResumesWithNoFrameLostOrRenderedTwice) {
     // 10 frames of 0.4 s on 2 ranks take 2 s: the job is stopped (SIGTERM, which mpirun
     // passes on to its ranks) once the journal holds two records, whatever the machine's speed.
     const fs::path journal = dir / "r.json.frames.jsonl";
-    const ShellRun killed = run_shell(
-        render_command(2, args, "DYNRT_TEST_SLOW_FRAMES=" + slow) + " > /dev/null & job=$!; " +
-        "for i in $(seq 600); do [ \"$(cat '" + journal.string() + "' 2>/dev/null | wc -l)\" -ge 3 ] && break; " +
-        "sleep 0.1; done; kill -TERM $job; wait $job; status=$?; " +
-        // mpirun may return before its ranks are gone: wait for the last one (a process whose
-        // command line starts with the dynrt program, not this shell's).
-        "for i in $(seq 300); do pgrep -f '^[^ ]*/dynrt render .*dynrt_mpi_resume/' > /dev/null || break; "
-        "sleep 0.1; done; exit $status");
+    const ShellRun killed = run_until_records(render_command(2, args, "DYNRT_TEST_SLOW_FRAMES=" + slow),
+                                              journal, 2, "kill -TERM $job", "dynrt_mpi_resume");
     ASSERT_NE(killed.exit_code, 0) << killed.output;
     const std::vector<nlohmann::json> before = journal_records(dir / "r.json.frames.jsonl");
     ASSERT_LT(before.size(), 10u) << "the job finished before it was killed";
@@ -257,6 +269,29 @@ TEST(MpiRender, AJobKilledPartWayResumesWithNoFrameLostOrRenderedTwice) {
     }
     std::ifstream report(dir / "r.json");
     EXPECT_EQ(nlohmann::json::parse(report)["frames"].size(), 10u);
+}
+
+TEST(MpiRender, ARankKilledFromOutsideEndsTheJobAndResumeFinishesIt) {
+    SKIP_WITHOUT_MPI();
+    const fs::path dir = fresh_dir("dead");
+    std::string slow;
+    for (int f = 0; f < 10; ++f) slow += (f ? "," : "") + std::to_string(f) + ":400";
+    const std::string args = "--frames 0-9 --out " + (dir / "%04d.png").string();
+    const fs::path journal = dir / ".dynrt-frames.jsonl";
+    // One rank dies (SIGKILL, as a crashed node would) once a frame is recorded: the job must
+    // end, not hang (the command's timeout would exit 124).
+    const ShellRun killed = run_until_records(
+        render_command(2, args, "DYNRT_TEST_SLOW_FRAMES=" + slow), journal, 1,
+        "pkill -KILL -n -f '^[^ ]*/dynrt render .*dynrt_mpi_dead/'", "dynrt_mpi_dead");
+    EXPECT_NE(killed.exit_code, 0) << killed.output;
+    EXPECT_NE(killed.exit_code, 124) << "the job hung: " << killed.output;
+    const std::size_t done = journal_records(journal).size();
+    EXPECT_LT(done, 10u);
+    const ShellRun resumed = run_shell(render_command(2, args + " --resume"));
+    ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+    std::multiset<int> recorded;
+    for (const nlohmann::json& record : journal_records(journal)) recorded.insert(record.at("frame").get<int>());
+    for (int f = 0; f < 10; ++f) EXPECT_EQ(recorded.count(f), 1u) << "frame " << f;
 }
 
 TEST(MpiRender, ARankFailingOnAFrameStopsTheJobNamingRankAndFrame) {

@@ -18,6 +18,7 @@
 #include "dynrt/engine/image_output.h"
 #include "dynrt/engine/report.h"
 #include "dynrt/engine/sequence_output.h"
+#include "dynrt/engine/spread.h"
 #include "dynrt/engine/stopwatch.h"
 #include "dynrt/engine/tile_share.h"
 
@@ -35,6 +36,7 @@
 #include <stdexcept>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 namespace dynrt::cli {
@@ -139,42 +141,51 @@ void check_distributed_args(const RenderArgs& args, const FrameRange& range) {
     }
 }
 
-/// The per-rank lines under the table: frames and runs per rank, or the shares' trace times
-/// and the gather.
+/// The per-rank lines under the table: the frames each rank rendered, as runs ("0-2, 9-10"),
+/// and their median time (`frames`), or the median trace time of its tiles (`tiles`); then the
+/// median hand-out or gather per frame.
 void print_ranks(std::ostream& out, const std::vector<FrameStats>& frames, int ranks, bool tiles) {
+    const auto median = [](std::vector<double> values) {
+        return values.empty() ? 0.0 : spread_of(std::move(values)).median;
+    };
     for (int r = 0; r < ranks; ++r) {
         std::vector<double> ms;
-        int count = 0, runs = 0, last = -2;
+        std::vector<std::pair<int, int>> runs;  // first and last frame of each run
         for (const FrameStats& f : frames) {
             if (tiles) {
                 if (std::size_t(r) < f.rank_trace_ms.size()) ms.push_back(f.rank_trace_ms[std::size_t(r)]);
             } else if (f.rank == r) {
-                ++count;
-                if (f.frame != last + 1) ++runs;
-                last = f.frame;
+                if (!runs.empty() && runs.back().second + 1 == f.frame) {
+                    runs.back().second = f.frame;
+                } else {
+                    runs.emplace_back(f.frame, f.frame);
+                }
                 ms.push_back(f.total_ms);
             }
         }
-        std::sort(ms.begin(), ms.end());
-        const double median = ms.empty() ? 0.0 : ms[ms.size() / 2];
         out << "rank " << r << ": ";
         if (tiles) {
-            out << "median trace of its tiles " << median << " ms\n";
-        } else {
-            out << count << " frames in " << runs << " runs, median " << median << " ms/frame\n";
+            out << "median trace of its tiles " << median(ms) << " ms\n";
+            continue;
         }
+        out << ms.size() << " frames in " << runs.size() << (runs.size() == 1 ? " run (" : " runs (");
+        for (std::size_t i = 0; i < runs.size(); ++i) {
+            out << (i ? ", " : "") << runs[i].first;
+            if (runs[i].second != runs[i].first) out << "-" << runs[i].second;
+        }
+        out << "), median " << median(ms) << " ms/frame\n";
     }
-    const auto median_of = [&](double FrameStats::*field) {
-        std::vector<double> v;
-        for (const FrameStats& f : frames) v.push_back(f.*field);
-        std::sort(v.begin(), v.end());
-        return v.empty() ? 0.0 : v[v.size() / 2];
-    };
+    std::vector<double> handout, gather, wait;
+    for (const FrameStats& f : frames) {
+        handout.push_back(f.handout_ms);
+        gather.push_back(f.gather_ms);
+        wait.push_back(f.wait_ms);
+    }
     if (tiles) {
-        out << "gather: median " << median_of(&FrameStats::gather_ms) << " ms/frame, after "
-            << median_of(&FrameStats::wait_ms) << " ms waiting for the slowest share\n";
+        out << "gather: median " << median(gather) << " ms/frame, after " << median(wait)
+            << " ms waiting for the slowest share\n";
     } else {
-        out << "hand-out: median " << median_of(&FrameStats::handout_ms) << " ms/frame\n";
+        out << "hand-out: median " << median(handout) << " ms/frame\n";
     }
 }
 

@@ -19,7 +19,8 @@ void commit_partial(const std::filesystem::path& partial, const std::filesystem:
     std::error_code error;
     std::filesystem::rename(partial, path, error);
     if (error) {
-        std::filesystem::remove(partial, error);
+        std::error_code ignored;  // the rename's error is the one to report
+        std::filesystem::remove(partial, ignored);
         throw std::runtime_error(path.string() + ": cannot write: " +
                                  (std::filesystem::is_directory(path) ? std::string("is a folder")
                                                                       : error.message()));

@@ -315,10 +315,9 @@ int run_distributed_render(const RenderArgs& args, Cluster& cluster) {
         }
         if (rank != 0) return 0;
 
+        // The records hold the range's frames only, in frame order.
         std::vector<FrameStats> frames;
-        for (const auto& [f, stats] : records) {
-            if (f >= range.first && f <= range.last) frames.push_back(stats);
-        }
+        for (const auto& [f, stats] : records) frames.push_back(stats);
         print_ignored(std::cout, scene);
         print_frame_header(std::cout);
         if (frames.size() <= 8) {

@@ -28,13 +28,13 @@ public:
     MpiCluster() {
         int provided = 0;
         MPI_Init_thread(nullptr, nullptr, MPI_THREAD_SERIALIZED, &provided);
-        if (provided < MPI_THREAD_SERIALIZED) {
-            std::cerr << "dynrt: warning: the MPI library offers no MPI_THREAD_SERIALIZED; frames "
-                         "are handed out from rank 0's render thread between its frames\n";
-            serialized_ = false;
-        }
         MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
         MPI_Comm_size(MPI_COMM_WORLD, &size_);
+        // Open MPI offers it; an MPI library that does not cannot run the hand-out thread.
+        if (provided < MPI_THREAD_SERIALIZED) {
+            fail("rank " + std::to_string(rank_) + ": the MPI library does not offer "
+                 "MPI_THREAD_SERIALIZED, which rank 0's hand-out thread needs");
+        }
     }
     ~MpiCluster() override {
         if (dispatcher_.joinable()) dispatcher_.join();
@@ -57,12 +57,11 @@ public:
         if (rank_ != 0) return;
         handout_.emplace(todo, size_);
         on_record_ = std::move(on_record);
-        if (size_ > 1 && serialized_) dispatcher_ = std::thread([this] { dispatch(); });
+        if (size_ > 1) dispatcher_ = std::thread([this] { dispatch(); });
     }
 
     std::vector<int> next_run() override {
         if (rank_ == 0) {
-            if (!serialized_) serve_waiting();
             const std::lock_guard lock(mutex_);
             return handout_->take();
         }
@@ -86,12 +85,7 @@ public:
     }
 
     void finish_handout() override {
-        if (rank_ != 0) return;
-        if (dispatcher_.joinable()) {
-            dispatcher_.join();
-        } else if (size_ > 1) {
-            while (finished_ranks_ < size_ - 1) serve_one(true);
-        }
+        if (rank_ == 0 && dispatcher_.joinable()) dispatcher_.join();
     }
 
     std::vector<float> gather(const std::vector<float>& mine) override {
@@ -131,29 +125,19 @@ private:
     void dispatch() {
         try {
             while (finished_ranks_ < size_ - 1) {
-                if (!serve_one(false)) std::this_thread::sleep_for(std::chrono::microseconds(100));
+                if (!serve_one()) std::this_thread::sleep_for(std::chrono::microseconds(100));
             }
         } catch (const std::exception& e) {
             fail(std::string("rank 0 (hand-out): ") + e.what());
         }
     }
 
-    /// Without a hand-out thread: rank 0 answers the asks that came while it rendered.
-    void serve_waiting() {
-        while (serve_one(false)) {
-        }
-    }
-
-    /// Handles one ask or record; returns false when none was there (unless `wait`).
-    bool serve_one(bool wait) {
+    /// Handles one ask or record; returns false when none was there.
+    bool serve_one() {
         MPI_Status status;
         int arrived = 0;
-        if (wait) {
-            MPI_Probe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &status);
-        } else {
-            MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &arrived, &status);
-            if (!arrived) return false;
-        }
+        MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &arrived, &status);
+        if (!arrived) return false;
         if (status.MPI_TAG == kAsk) {
             MPI_Recv(nullptr, 0, MPI_INT, status.MPI_SOURCE, kAsk, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
             std::vector<int> run;
@@ -179,7 +163,6 @@ private:
 
     int rank_ = 0;
     int size_ = 1;
-    bool serialized_ = true;
     std::optional<FrameHandout> handout_;
     std::function<void(const std::string&)> on_record_;
     std::mutex mutex_;

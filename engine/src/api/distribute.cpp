@@ -27,12 +27,7 @@ std::vector<std::size_t> tile_share_pixels(int width, int height, int share, int
     const packet::Tiling tiling(width, height, packet::TileShare{share, shares});
     std::vector<std::size_t> pixels;
     pixels.reserve(tiling.pixel_count());
-    for (int i = 0; i < tiling.count(); ++i) {
-        const packet::Tile tile = tiling.tile(i);
-        for (int y = tile.y0; y < tile.y1; ++y) {
-            for (int x = tile.x0; x < tile.x1; ++x) pixels.push_back(std::size_t(y) * std::size_t(width) + std::size_t(x));
-        }
-    }
+    tiling.for_each_pixel([&](std::size_t p) { pixels.push_back(p); });
     return pixels;
 }
 

@@ -1,4 +1,3 @@
-#include "dynrt/api/distribute.h"
 #include "dynrt/api/engine.h"
 
 #include "dynrt/engine/camera.h"
@@ -681,10 +680,7 @@ FrameStats Engine::render(const View& view, const ImageView& image,
     options.secondary.max_depth = settings.max_depth;
     options.secondary.cutoff = settings.cutoff;
     options.smooth_normals = settings.smooth_normals;
-    if (settings.tile_shares < 1 || settings.tile_share < 0 || settings.tile_share >= settings.tile_shares) {
-        throw invalid("render: tile share " + std::to_string(settings.tile_share) + " of " +
-                      std::to_string(settings.tile_shares) + " (needs 0 <= tile_share < tile_shares)");
-    }
+    // A bad share is refused by the trace (FramePipeline::trace), before it changes anything.
     options.tiles = packet::TileShare{settings.tile_share, settings.tile_shares};
     std::vector<PointLight> lights;
     for (const Light& light : settings.lights) {
@@ -713,12 +709,11 @@ FrameStats Engine::render(const View& view, const ImageView& image,
         return frame.stats;
     }
     // A share: its pixels only, the caller's others untouched.
-    for (const std::size_t p : tile_share_pixels(image.width, image.height, settings.tile_share,
-                                                 settings.tile_shares)) {
+    packet::Tiling(image.width, image.height, options.tiles).for_each_pixel([&](std::size_t p) {
         std::copy_n(&frame.color[p].x, 3, image.rgb.begin() + std::ptrdiff_t(3 * p));
         if (!image.depth.empty()) image.depth[p] = frame.depth[p];
         if (!image.mesh.empty()) image.mesh[p] = frame.object[p];
-    }
+    });
     return frame.stats;
 }
 

@@ -73,6 +73,18 @@ const FrameStats& FramePipeline::update(const Scene& scene, std::span<const Obje
 void FramePipeline::trace(const Scene& scene, const Camera& camera, const TraceSettings& options,
                           std::span<const PointLight> lights, RenderedFrame& out) {
     if (!updated_) throw std::logic_error("FramePipeline::trace before any update");
+    // Refused before anything changes (the API's render passes these on as its own errors).
+    if (!options.tiles.valid()) {
+        throw std::invalid_argument("tile share " + std::to_string(options.tiles.index) + " of " +
+                                    std::to_string(options.tiles.count) +
+                                    ": needs 0 <= index < count");
+    }
+    // The render cache and frameless rendering reproject and rank pixels over the whole image.
+    if (options.reuse.approximate() && !options.tiles.whole()) {
+        throw std::invalid_argument(std::string("pixel reuse '") + pixel_reuse_name(options.reuse.mode) +
+                                    "' needs the whole image: a frame split into tile shares "
+                                    "can use exact reuse or none");
+    }
     const Stopwatch trace_clock;
     // The shading kernel's view of the materials (bookkeeping, outside the stage clocks).
     materials_.clear();
@@ -107,17 +119,6 @@ void FramePipeline::trace(const Scene& scene, const Camera& camera, const TraceS
     // approximate modes' ranking and adaptive sampling's interpolation cannot account for it,
     // so a frame with secondary rays traces every pixel instead of them.
     const bool secondary = detail::any_secondary(scene.materials, options.secondary);
-    if (!options.tiles.valid()) {
-        throw std::invalid_argument("tile share " + std::to_string(options.tiles.index) + " of " +
-                                    std::to_string(options.tiles.count) +
-                                    ": needs 0 <= index < count");
-    }
-    // The render cache and frameless rendering reproject and rank pixels over the whole image.
-    if (options.reuse.approximate() && !options.tiles.whole()) {
-        throw std::invalid_argument(std::string("pixel reuse '") + pixel_reuse_name(options.reuse.mode) +
-                                    "' needs the whole image: a frame split into tile shares "
-                                    "can use exact reuse or none");
-    }
     const bool approximate = options.reuse.approximate() && options.adaptive_tolerance == 0.0f &&
                              !secondary;
     const bool exact = options.reuse.mode == PixelReuse::exact && options.adaptive_tolerance == 0.0f;

@@ -18,26 +18,10 @@ std::size_t packed_share_size(int width, int height, packet::TileShare share, bo
     return packet::Tiling(width, height, share).pixel_count() * packed_floats_per_pixel(hit_buffers);
 }
 
-namespace {
-
-/// Calls visit(pixel index) for each pixel of the share in packing order.
-template <typename Visit>
-void for_each_share_pixel(int width, int height, packet::TileShare share, Visit&& visit) {
-    const packet::Tiling tiling(width, height, share);
-    for (int i = 0; i < tiling.count(); ++i) {
-        const packet::Tile tile = tiling.tile(i);
-        for (int y = tile.y0; y < tile.y1; ++y) {
-            for (int x = tile.x0; x < tile.x1; ++x) visit(std::size_t(y) * std::size_t(width) + std::size_t(x));
-        }
-    }
-}
-
-}  // namespace
-
 void pack_tiles(const RenderedFrame& frame, packet::TileShare share, std::vector<float>& out) {
     const bool hits = !frame.depth.empty();
     out.reserve(out.size() + packed_share_size(frame.width, frame.height, share, hits));
-    for_each_share_pixel(frame.width, frame.height, share, [&](std::size_t p) {
+    packet::Tiling(frame.width, frame.height, share).for_each_pixel([&](std::size_t p) {
         const glm::vec3& c = frame.color[p];
         out.insert(out.end(), {c.x, c.y, c.z});
         if (!hits) return;
@@ -57,7 +41,7 @@ void unpack_tiles(std::span<const float> packed, packet::TileShare share, bool h
                                     std::to_string(expected) + " expected");
     }
     const float* f = packed.data();
-    for_each_share_pixel(frame.width, frame.height, share, [&](std::size_t p) {
+    packet::Tiling(frame.width, frame.height, share).for_each_pixel([&](std::size_t p) {
         frame.color[p] = glm::vec3(f[0], f[1], f[2]);
         f += kPackedColorFloats;
         if (!hit_buffers) return;

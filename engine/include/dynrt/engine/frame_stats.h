@@ -176,8 +176,8 @@ struct DistributionStats {
     int rank = -1;
     /// `--distribute tiles`: each process's trace time of its share of the tiles, by rank.
     std::vector<double> rank_trace_ms;
-    /// `--distribute frames`: the wall time its process spent asking for work (its share of
-    /// the hand-out of the run of frames it belongs to) and sending this frame's record.
+    /// `--distribute frames`: the wall time its process spent asking for the run of frames
+    /// this one belongs to, shared over the run's frames.
     double handout_ms = 0;
     /// `--distribute tiles`: the wall time rank 0 waited, its own share done, for the slowest
     /// rank's (load imbalance), then spent receiving and unpacking the shares (the gather).

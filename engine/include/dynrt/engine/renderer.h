@@ -157,9 +157,9 @@ struct TraceSettings {
     /// render --distribute tiles`, the library API's RenderSettings::tile_share). The pixels
     /// of other tiles are left as they were, and the caller may write them (a gather does)
     /// without disturbing exact reuse, which reads the share's alone; the stats count the
-    /// share's rays and pixels. Exact
-    /// reuse works per share (the same share frame after frame); the approximate reuse modes
-    /// (render cache, frameless) need the whole image and refuse a share.
+    /// share's rays and pixels. Exact reuse works per share (the same share frame after
+    /// frame); the approximate reuse modes (render cache, frameless) need the whole image and
+    /// refuse a share.
     packet::TileShare tiles;
 };
 

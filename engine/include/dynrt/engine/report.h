@@ -36,7 +36,8 @@ std::string frame_report_json(const FrameStats& stats);
 FrameStats parse_frame_report_json(const std::string& record);
 
 /// Writes report_json to `path`, atomically (a temporary file beside it, then renamed over it:
-/// a run killed while writing leaves the old report or the new one). Throws std::runtime_error naming the file on failure.
+/// a run killed while writing leaves the old report or the new one). Throws
+/// std::runtime_error naming the file on failure.
 void write_report(const std::filesystem::path& path, const RunInfo& run,
                   const std::vector<FrameStats>& frames);
 

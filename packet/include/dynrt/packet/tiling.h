@@ -49,6 +49,19 @@ public:
                     std::min((ty + 1) * kTileSize, height_)};
     }
 
+    /// Calls visit(pixel index y * width + x) for every pixel of the share: tile by tile in
+    /// share order, each tile's pixels row by row. The order a split frame's pixels are packed
+    /// and unpacked in (dynrt/engine/tile_share.h, the library API's tile_share_pixels).
+    template <typename Visit>
+    void for_each_pixel(Visit&& visit) const {
+        for (int i = 0; i < count(); ++i) {
+            const Tile t = tile(i);
+            for (int y = t.y0; y < t.y1; ++y) {
+                for (int x = t.x0; x < t.x1; ++x) visit(std::size_t(y) * std::size_t(width_) + std::size_t(x));
+            }
+        }
+    }
+
     /// Pixels in the share's tiles.
     std::size_t pixel_count() const {
         std::size_t pixels = 0;

@@ -3,7 +3,10 @@
 // bits of a render in one process, in both modes; that the hand-out gives a slow rank's frames
 // to the others; that a job killed part way resumes with no frame lost or rendered twice; and
 // that a rank failing on a frame stops the job naming the rank and the frame. Skipped, with
-// the reason, when dynrt was built without MPI or mpirun is missing.
+// the reason, when dynrt was built without MPI or mpirun is missing. The three tests driven by
+// sleeps (slow frames, a job stopped part way, a rank killed) are Heavy: like the other Heavy*
+// cases they run in the optimised build only, since the sanitizer run's processes start several
+// times slower and those paths are also run by the resume test without mpirun.
 
 #include "shell_command.h"
 
@@ -200,7 +203,7 @@ TEST(MpiRender, SharedTilesMatchOneProcessOnTwoAndThreeRanks) {
     }
 }
 
-TEST(MpiRender, ASlowRanksFramesGoToTheOthers) {
+TEST(MpiRender, HeavyASlowRanksFramesGoToTheOthers) {
     SKIP_WITHOUT_MPI();
     // Frames 0 and 1 take 0.8 s longer each: whoever gets the first run (frames 0-2) is busy
     // for 1.6 s, while the other renders the 9 frames left.
@@ -232,7 +235,7 @@ ShellRun run_until_records(const std::string& command, const fs::path& journal, 
         " > /dev/null || break; sleep 0.1; done; exit $status");
 }
 
-TEST(MpiRender, AJobKilledPartWayResumesWithNoFrameLostOrRenderedTwice) {
+TEST(MpiRender, HeavyAJobKilledPartWayResumesWithNoFrameLostOrRenderedTwice) {
     SKIP_WITHOUT_MPI();
     const fs::path expected = reference_frames(9);
     const fs::path dir = fresh_dir("resume");
@@ -271,7 +274,7 @@ TEST(MpiRender, AJobKilledPartWayResumesWithNoFrameLostOrRenderedTwice) {
     EXPECT_EQ(nlohmann::json::parse(report)["frames"].size(), 10u);
 }
 
-TEST(MpiRender, ARankKilledFromOutsideEndsTheJobAndResumeFinishesIt) {
+TEST(MpiRender, HeavyARankKilledFromOutsideEndsTheJobAndResumeFinishesIt) {
     SKIP_WITHOUT_MPI();
     const fs::path dir = fresh_dir("dead");
     std::string slow;

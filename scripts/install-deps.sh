@@ -3,7 +3,7 @@
 # non-interactive: does nothing when everything is already there.
 set -euo pipefail
 
-required=(build-essential cmake ninja-build pkg-config
+required=(build-essential cmake ninja-build pkg-config ccache
           libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libtbb-dev
           libopenimageio-dev libbenchmark-dev libgtest-dev libcli11-dev
           gnuplot-nox   # gnuplot draws the charts of `dynrt bench --plot`

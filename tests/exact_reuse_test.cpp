@@ -6,6 +6,7 @@
 // the decisions (what forces a full trace) and the changed-space tests on their own. The
 // library API's steps are in tests/api/api_reuse_test.cpp.
 
+#include "same_bits.h"
 #include "dynrt/anim/procedural_motion.h"
 #include "dynrt/engine/camera.h"
 #include "dynrt/engine/renderer.h"
@@ -38,10 +39,7 @@ Scene moving_scene() {
     return scene;
 }
 
-template <typename T>
-bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
-    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
-}
+using dynrt::test::same_bits;
 
 /// Every buffer of the two frames, bit for bit.
 void expect_same_frame(const RenderedFrame& a, const RenderedFrame& b) {

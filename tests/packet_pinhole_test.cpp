@@ -2,6 +2,7 @@
 // extreme cameras (1 and 170 degree fields of view, axis-aligned views, far from the origin),
 // in images whose sizes are not multiples of 16, through both the scalar and the SIMD path.
 
+#include "same_bits.h"
 #include "dynrt/engine/camera.h"
 #include "dynrt/packet/pinhole.h"
 #include "dynrt/packet/ray_packet.h"
@@ -18,7 +19,7 @@
 namespace dynrt::packet {
 namespace {
 
-bool same_bits(float a, float b) { return std::bit_cast<std::uint32_t>(a) == std::bit_cast<std::uint32_t>(b); }
+using dynrt::test::same_bits;
 
 bool same_ray(const bvh::Ray& a, const bvh::Ray& b) {
     for (int k = 0; k < 3; ++k) {

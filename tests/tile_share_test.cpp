@@ -4,6 +4,7 @@
 // in every buffer and every frame of a sequence (exact reuse per share included), with both
 // tracers, adaptive sampling, and reflections. The MPI runs themselves are tests/mpi.
 
+#include "same_bits.h"
 #include "dynrt/anim/procedural_motion.h"
 #include "dynrt/engine/camera.h"
 #include "dynrt/engine/renderer.h"
@@ -33,11 +34,7 @@ Scene moving_scene(bool mirror) {
     return scene;
 }
 
-template <typename T>
-bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
-    return a.size() == b.size() &&
-           (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
-}
+using dynrt::test::same_bits;
 
 /// Renders `frames` whole and split into `ranks` shares (one Renderer per share, as one per
 /// process); the gathered frames must equal the whole ones bit for bit. Returns the shares'

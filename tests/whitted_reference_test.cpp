@@ -18,6 +18,7 @@
 // and bounds on the ambiguous pixels and on the mirror or glass pixels compared, so that no
 // case passes by skipping everything. WhittedRendererDepth checks the renderer's max_depth.
 
+#include "same_bits.h"
 #include "bvh_test_geometry.h"
 #include "dynrt/reference/image_comparison.h"
 #include "dynrt/reference/reference_renderer.h"
@@ -380,11 +381,7 @@ int count_different(const RenderedFrame& a, const RenderedFrame& b, float tol) {
     return n;
 }
 
-template <class T>
-bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
-    return a.size() == b.size() &&
-           (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
-}
+using dynrt::test::same_bits;
 
 /// Every buffer of the two frames, bit for bit; on failure names the first differing pixel.
 ::testing::AssertionResult frames_identical(const RenderedFrame& a, const RenderedFrame& b) {

@@ -2,6 +2,8 @@
 
 #include "frame_args.h"
 
+#include "command_warnings.h"
+
 #include "dynrt/anim/clip_selection.h"
 #include "dynrt/anim/motion_class.h"
 #include "dynrt/anim/posed_scene.h"
@@ -13,6 +15,7 @@
 #include <cmath>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -124,6 +127,8 @@ dynrt::Scene load_animated_scene(const FrameArgs& args, const std::string& sourc
     }
     options.pose.clips = clips;
     options.pose.loop = args.loop;
+    // The loader's warnings now, grouped, before any frame is rendered.
+    flush_warnings();
     return scene;
 }
 
@@ -139,17 +144,22 @@ void warn_past_the_end(const dynrt::Scene& scene, const dynrt::anim::PoseSetting
                        const dynrt::FrameRange& range) {
     // A BART file names its own sequence (`a`): frames beyond it repeat its last state too.
     if (scene.setup && range.last >= scene.setup->frame_count && !pose.loop) {
-        std::cerr << "warning: frames " << std::max(range.first, scene.setup->frame_count) << "-"
-                  << range.last << " are past the file's own sequence (frames 0-"
-                  << scene.setup->frame_count - 1 << ")\n";
+        dynrt::warn({.kind = "frames " + std::to_string(std::max(range.first, scene.setup->frame_count)) +
+                                 "-" + std::to_string(range.last) +
+                                 " are past the file's own sequence (frames 0-" +
+                                 std::to_string(scene.setup->frame_count - 1) + ")",
+                     .effect = "they repeat its last state"});
+        flush_warnings();
         return;
     }
     if (pose.loop || !pose.clips || pose.clips->empty()) return;
     const int end = animation_end_frame(scene, pose);
     if (range.last <= end) return;
-    std::cerr << "warning: frames " << std::max(range.first, end + 1) << "-" << range.last
-              << " are past the end of the animation (frame " << end << " at " << pose.fps
-              << " fps) and repeat its last pose; --loop plays it again\n";
+    std::ostringstream kind;
+    kind << "frames " << std::max(range.first, end + 1) << "-" << range.last
+         << " are past the end of the animation (frame " << end << " at " << pose.fps << " fps)";
+    dynrt::warn({.kind = kind.str(), .effect = "they repeat its last pose; --loop plays it again"});
+    flush_warnings();
 }
 
 std::string scene_source(const FrameArgs& args) {
@@ -195,6 +205,8 @@ dynrt::Camera camera_for(const dynrt::Scene& scene, const FrameArgs& args,
 }
 
 void print_ignored(std::ostream& out, const dynrt::Scene& scene) {
+    // Warnings found since loading (unreadable textures, at the first frame) before the table.
+    flush_warnings();
     for (const std::string& what : scene.ignored) out << "ignored: " << what << "\n";
 }
 

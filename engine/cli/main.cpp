@@ -1,6 +1,7 @@
 // The `dynrt` command line: its flags and subcommands. Each command is a file of its own
 // (render_command.cpp, bench_command.cpp, info_command.cpp); what they share is frame_args.h.
 
+#include "command_warnings.h"
 #include "distributed/distributed_render.h"
 #include "frame_args.h"
 
@@ -48,6 +49,18 @@ int main(int argc, char** argv) {
     int threads = 0;
     app.add_option("--threads", threads, "Worker threads (default: all cores)")
         ->check(CLI::Range(1, 1024));
+
+    bool quiet = false, verbose = false;
+    const auto add_verbosity = [&](CLI::App* cmd, const std::string& quiet_help) {
+        CLI::Option* q = cmd->add_flag("--quiet,-q", quiet, quiet_help);
+        cmd->add_flag("--verbose,-v", verbose,
+                      "Every warning on a line of its own (by default each kind of problem is "
+                      "one line, with a count and the first few names)")
+            ->excludes(q);
+    };
+    const std::string quiet_frames =
+        "Errors only: no warnings, progress bar or table (the files written and the exit "
+        "status say the rest)";
 
     const auto add_frame_options = [](CLI::App* cmd, FrameArgs& args) {
         cmd->add_option("scene", args.scene,
@@ -160,6 +173,7 @@ int main(int argc, char** argv) {
     RenderArgs render;
     CLI::App* render_cmd = app.add_subcommand("render", "Render a scene to an image and report timings");
     add_frame_options(render_cmd, render);
+    add_verbosity(render_cmd, quiet_frames);
     render_cmd->add_option("--out", render.out,
                            "Output image, format by extension; for several frames a numbered "
                            "name ('frames/%04d.png'), one animated .gif or a video (.mp4, .mov, "
@@ -188,6 +202,7 @@ int main(int argc, char** argv) {
     CLI::App* bench_cmd = app.add_subcommand(
         "bench", "Time a scene's frame under one or more build configurations");
     add_frame_options(bench_cmd, bench);
+    add_verbosity(bench_cmd, quiet_frames);
     bench_cmd->add_option("--repeat", bench.repeat,
                           "Timed runs per configuration (default 5; with --frames, runs of the "
                           "whole sequence, default 1)")
@@ -241,6 +256,7 @@ int main(int argc, char** argv) {
     std::string info_scene;
     CLI::App* info_cmd = app.add_subcommand("info", "Describe a scene: objects, triangles, bounds");
     info_cmd->add_option("scene", info_scene, "glTF file, BART file (.aff) or procedural spec")->required();
+    add_verbosity(info_cmd, "No warnings, only the description");
 
     try {
         app.parse(argc, argv);
@@ -255,6 +271,13 @@ int main(int argc, char** argv) {
     }
 
     try {
+        // Warnings are grouped and printed between the command's steps (command_warnings.h);
+        // what is left when it ends or fails comes before the error line.
+        const dynrt::cli::Verbosity verbosity = quiet     ? dynrt::cli::Verbosity::quiet
+                                                : verbose ? dynrt::cli::Verbosity::verbose
+                                                          : dynrt::cli::Verbosity::normal;
+        const dynrt::cli::CommandWarnings warnings(verbosity);
+        if (quiet && !*info_cmd) std::cout.setstate(std::ios::failbit);
         FrameArgs& frame_args = *bench_cmd ? static_cast<FrameArgs&>(bench) : render;
         const int thread_count = frame_args.threads > 0 ? frame_args.threads : threads;
         std::optional<tbb::global_control> limit;
@@ -271,8 +294,9 @@ int main(int argc, char** argv) {
                 if (dynrt::cli::started_by_mpirun()) cluster = dynrt::cli::mpi_cluster();
                 if (!cluster) {
                     if (dynrt::cli::started_by_mpirun()) {
-                        std::cerr << "dynrt: warning: this dynrt was built without MPI: each "
-                                     "process started by mpirun renders every frame alone\n";
+                        dynrt::warn({.kind = "this dynrt was built without MPI",
+                                     .effect = "each process started by mpirun renders every "
+                                               "frame alone"});
                     }
                     cluster = dynrt::cli::local_cluster();
                 }

@@ -1,6 +1,7 @@
 // `dynrt render`: a frame or a sequence to images (numbered, an animated GIF or a video), a
 // contact sheet, AOVs and the frame report.
 
+#include "command_warnings.h"
 #include "frame_args.h"
 
 #include "dynrt/engine/image_output.h"
@@ -102,7 +103,7 @@ int run_render(const RenderArgs& args) {
     dynrt::Renderer renderer(options);
     dynrt::RenderedFrame frame;
     std::vector<dynrt::FrameStats> frames;
-    const bool progress = range.count() > 1 && isatty(fileno(stderr));
+    const bool progress = range.count() > 1 && isatty(fileno(stderr)) && verbosity() != Verbosity::quiet;
     std::cout << "dynrt: " << source << ": " << scene.objects.size() << " objects, "
               << scene.triangle_count() << " triangles, " << options.width << "x"
               << options.height << ", frames " << range.first << "-" << range.last << " -> "

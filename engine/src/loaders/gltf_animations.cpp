@@ -36,7 +36,7 @@ std::optional<Interpolation> parse_interpolation(const std::string& name) {
 class ClipReader {
 public:
     ClipReader(const tinygltf::Model& model, std::span<const int> scene_node_of, std::size_t index,
-               std::vector<std::string>& warnings)
+               std::vector<Warning>& warnings)
         : model_(model),
           scene_node_of_(scene_node_of),
           source_(model.animations[index]),
@@ -62,8 +62,10 @@ private:
         }
         const std::optional<AnimatedProperty> property = parse_path(channel.target_path);
         if (!property) {
-            warnings_.push_back(cat("animation '", clip_.name, "' channel ", c, ": skipping path '",
-                                    channel.target_path, "' (only translation, rotation, scale and weights)"));
+            warnings_.push_back({.kind = cat("animation channel on path '", channel.target_path, "' skipped"),
+                                 .kinds = cat("animation channels on path '", channel.target_path, "' skipped"),
+                                 .item = cat("animation '", clip_.name, "' channel ", c),
+                                 .effect = "only translation, rotation, scale and weights are played"});
             return;
         }
         if (channel.sampler < 0 || static_cast<std::size_t>(channel.sampler) >= source_.samplers.size()) {
@@ -165,7 +167,7 @@ private:
     const tinygltf::Model& model_;
     std::span<const int> scene_node_of_;
     const tinygltf::Animation& source_;
-    std::vector<std::string>& warnings_;
+    std::vector<Warning>& warnings_;
     /// Clip sampler index of each glTF sampler, -1 until used.
     std::vector<int> converted_;
     AnimationClip clip_;
@@ -174,7 +176,7 @@ private:
 }  // namespace
 
 std::vector<AnimationClip> read_animations(const tinygltf::Model& model, std::span<const int> scene_node_of,
-                                           std::vector<std::string>& warnings) {
+                                           std::vector<Warning>& warnings) {
     std::vector<AnimationClip> clips;
     for (std::size_t a = 0; a < model.animations.size(); ++a) {
         clips.push_back(ClipReader(model, scene_node_of, a, warnings).read());

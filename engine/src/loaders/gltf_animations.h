@@ -2,6 +2,7 @@
 // glTF animations (glTF 2.0 section 3.11) into the scene model's clips.
 
 #include "dynrt/scene/animation_clip.h"
+#include "dynrt/scene/warnings.h"
 
 #include <tiny_gltf.h>
 
@@ -24,6 +25,6 @@ namespace dynrt {
 /// one sampler is not shared by properties of different sizes. Throws GltfDataError
 /// "animation 'Walk' channel 3: ..." or "animation 'Walk' sampler 1: ...".
 std::vector<AnimationClip> read_animations(const tinygltf::Model& model, std::span<const int> scene_node_of,
-                                           std::vector<std::string>& warnings);
+                                           std::vector<Warning>& warnings);
 
 }  // namespace dynrt

@@ -9,7 +9,7 @@
 namespace dynrt {
 
 std::vector<SceneCamera> read_cameras(const tinygltf::Model& model, std::span<const GltfNodeInstance> instances,
-                                      std::vector<std::string>& warnings) {
+                                      std::vector<Warning>& warnings) {
     std::vector<SceneCamera> cameras;
     for (std::size_t i = 0; i < instances.size(); ++i) {
         const int node = instances[i].node;
@@ -25,8 +25,10 @@ std::vector<SceneCamera> read_cameras(const tinygltf::Model& model, std::span<co
         camera.name = source.name.empty() ? node_name : source.name;
         camera.node = static_cast<std::uint32_t>(i);
         if (source.type != "perspective") {
-            warnings.push_back(cat("camera '", camera.name, "': skipping ", source.type.empty() ? "untyped" : source.type,
-                                   " camera (only perspective cameras are used)"));
+            warnings.push_back({.kind = cat(source.type.empty() ? "untyped" : source.type, " camera skipped"),
+                                .kinds = cat(source.type.empty() ? "untyped" : source.type, " cameras skipped"),
+                                .item = cat("camera '", camera.name, "'"),
+                                .effect = "only perspective cameras are used"});
             continue;
         }
         const double yfov = source.perspective.yfov, aspect = source.perspective.aspectRatio;

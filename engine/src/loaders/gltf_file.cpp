@@ -6,6 +6,7 @@
 #include "gltf_file.h"
 
 #include "dynrt/scene/scene_error.h"
+#include "dynrt/scene/warnings.h"
 
 #include "message_text.h"
 
@@ -13,7 +14,6 @@
 #include <cctype>
 #include <cstdint>
 #include <fstream>
-#include <iostream>
 #include <iterator>
 #include <span>
 #include <string>
@@ -69,7 +69,9 @@ bool keep_image(tinygltf::Image* image, const int, std::string*, std::string*, i
     return true;
 }
 
-void print_warnings(const std::string& name, const std::string& warnings) {
+/// Passes tinygltf's warnings (one per line of `warnings`) to dynrt::warn, less those the
+/// renderer words better or that are no problem.
+void report_warnings(const std::string& name, const std::string& warnings) {
     std::size_t start = 0;
     while (start < warnings.size()) {
         std::size_t end = warnings.find('\n', start);
@@ -83,7 +85,7 @@ void print_warnings(const std::string& name, const std::string& warnings) {
         // optional (identity), and the loader supplies that.
         const bool about_optional = line.find("'inverseBindMatrices' property is missing") != std::string::npos;
         if (!line.empty() && !about_image && !about_optional) {
-            std::cerr << "dynrt: warning: " << name << ": " << line << '\n';
+            warn({.source = name, .kind = "glTF reader's warning", .kinds = "glTF reader's warnings", .item = line});
         }
         start = end + 1;
     }
@@ -154,7 +156,7 @@ tinygltf::Model run_tinygltf(tinygltf::TinyGLTF& loader, const std::string& name
         fail(name, cat("invalid glTF: ", reason.empty() ? std::string("tinygltf gave no reason") : reason));
     }
     // tinygltf also appends non-fatal problems to `error` while succeeding.
-    print_warnings(name, warnings + "\n" + error);
+    report_warnings(name, warnings + "\n" + error);
     return model;
 }
 

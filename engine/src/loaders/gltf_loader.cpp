@@ -8,6 +8,7 @@
 #include "dynrt/engine/scene_loading.h"
 #include "dynrt/scene/scene_error.h"
 #include "dynrt/scene/vertex_normals.h"
+#include "dynrt/scene/warnings.h"
 
 #include "dynrt/anim/morphing.h"
 
@@ -26,7 +27,6 @@
 #include <filesystem>
 #include <map>
 #include <cmath>
-#include <iostream>
 #include <numeric>
 #include <optional>
 
@@ -180,14 +180,14 @@ public:
         GltfSkins skins(model_, scene_node_of);
         for (std::size_t i = 0; i < instances.size(); ++i) add_node(i, instances[i], skins, scene);
 
-        std::vector<std::string> warnings;
+        std::vector<Warning> warnings;
         try {
             scene.cameras = read_cameras(model_, instances, warnings);
             scene.clips = read_animations(model_, scene_node_of, warnings);
         } catch (const GltfDataError& e) {
             fail(e.what());
         }
-        for (const std::string& warning : warnings) warn(warning);
+        for (Warning& warning : warnings) warn(std::move(warning));
 
         if (scene.objects.empty()) {
             fail(cat("no triangles: the default scene has no triangle primitive (", skipped_,
@@ -210,13 +210,17 @@ private:
         fail(cat("object '", object, "': ", what));
     }
 
-    void warn(const std::string& what) const {
-        std::cerr << "dynrt: warning: " << name_ << ": " << what << '\n';
+    /// Reports a problem the loader works around (dynrt/scene/warnings.h), naming this file.
+    void warn(Warning warning) const {
+        warning.source = name_;
+        dynrt::warn(std::move(warning));
     }
 
-    void warn_object(const std::string& object, const std::string& what) {
+    /// A primitive left out: `kind` says why, in the same words for every such primitive.
+    void skip_primitive(const std::string& object, const std::string& kind, const std::string& kinds,
+                        const std::string& detail = {}) {
         ++skipped_;
-        warn(cat("object '", object, "': ", what));
+        warn({.kind = kind, .kinds = kinds, .item = cat("object '", object, "'"), .detail = detail});
     }
 
     /// Adds the primitives of scene node `scene_node`, the instance `instance`.
@@ -262,13 +266,15 @@ private:
         const glm::mat4& transform = owner.transform;
         const std::optional<TriangleTopology> topology = topology_of(primitive.mode);
         if (!topology) {
-            warn_object(name, cat("skipping ", mode_name(primitive.mode), " primitive (mode ", primitive.mode,
-                                  "): only triangles are traced"));
+            skip_primitive(name, cat(mode_name(primitive.mode), " primitive skipped (mode ", primitive.mode,
+                                     "): only triangles are traced"),
+                           cat(mode_name(primitive.mode), " primitives skipped (mode ", primitive.mode,
+                               "): only triangles are traced"));
             return;
         }
         const auto position = primitive.attributes.find("POSITION");
         if (position == primitive.attributes.end()) {
-            warn_object(name, "skipping primitive without POSITION attribute");
+            skip_primitive(name, "primitive without POSITION skipped", "primitives without POSITION skipped");
             return;
         }
 
@@ -298,14 +304,17 @@ private:
             if (owner.skin) {
                 object.skin = skins.read_weights(primitive, *owner.skin, scene.skins, object.mesh.positions.size());
                 if (primitive.attributes.count("JOINTS_2") != 0) {
-                    warn(cat("object '", name, "': only JOINTS_0/WEIGHTS_0 and JOINTS_1/WEIGHTS_1 are used (8 influences)"));
+                    warn({.kind = "skin with more than 8 influences per vertex",
+                          .kinds = "skins with more than 8 influences per vertex",
+                          .item = cat("object '", name, "'"),
+                          .effect = "only JOINTS_0/WEIGHTS_0 and JOINTS_1/WEIGHTS_1 are used"});
                 }
             }
         } catch (const GltfDataError& e) {
             fail_object(name, e.what());
         }
         if (object.mesh.triangles.empty()) {
-            warn_object(name, "skipping primitive with no triangles");
+            skip_primitive(name, "primitive with no triangles skipped", "primitives with no triangles skipped");
             return;
         }
 
@@ -361,7 +370,10 @@ private:
             }
         } catch (const GltfDataError& e) {
             object.mesh.texcoords.clear();
-            warn(cat("object '", name, "': TEXCOORD_0 ", e.what(), ": drawn without texture coordinates"));
+            warn({.kind = "TEXCOORD_0 unreadable",
+                  .item = cat("object '", name, "'"),
+                  .detail = e.what(),
+                  .effect = "drawn without texture coordinates"});
         }
     }
 
@@ -382,7 +394,9 @@ private:
                 try {
                     texture.encoded = read_buffer_view(model_, source.bufferView);
                 } catch (const GltfDataError& e) {
-                    warn(cat("image ", image, ": ", e.what()));  // the texture then reads as broken
+                    // The texture then reads as broken, and the renderer says so per material.
+                    warn({.kind = "image unreadable", .kinds = "images unreadable",
+                          .item = cat("image ", image), .detail = e.what()});
                 }
             } else {
                 texture.encoded = source.image;
@@ -404,13 +418,18 @@ private:
         }
         const tinygltf::Texture& texture = model_.textures[static_cast<std::size_t>(info.index)];
         if (texture.source < 0 || static_cast<std::size_t>(texture.source) >= model_.images.size()) {
-            warn(cat("material '", material.name, "': texture ", info.index,
-                     " has no image dynrt can read (no 'source'): its base colour factor alone is used"));
+            warn({.kind = "texture without an image dynrt can read (no 'source')",
+                  .kinds = "textures without an image dynrt can read (no 'source')",
+                  .item = cat("texture ", info.index),
+                  .user = cat("material '", material.name, "'"),
+                  .users = "materials",
+                  .effect = "the base colour factor alone is used"});
             return;
         }
         if (info.texCoord != 0) {
-            warn(cat("material '", material.name, "': baseColorTexture uses TEXCOORD_", info.texCoord,
-                     ", and only TEXCOORD_0 is read: its base colour factor alone is used"));
+            warn({.kind = cat("baseColorTexture on TEXCOORD_", info.texCoord, " (only TEXCOORD_0 is read)"),
+                  .item = cat("material '", material.name, "'"),
+                  .effect = "the base colour factor alone is used"});
             return;
         }
         TextureMap map;

@@ -5,6 +5,8 @@
 
 #include "dynrt/engine/texture_set.h"
 
+#include "dynrt/scene/warnings.h"
+
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imagecache.h>
 #include <OpenImageIO/texture.h>
@@ -12,9 +14,10 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <iostream>
+#include <filesystem>
 #include <mutex>
 #include <string>
+#include <system_error>
 #include <vector>
 
 namespace dynrt {
@@ -179,19 +182,29 @@ TextureSet::TextureSet(const Scene& scene, bool print_warnings) : impl_(std::mak
         const Material& material = scene.materials[m];
         if (!material.diffuse_map) continue;
         const TextureMap& map = *material.diffuse_map;
-        std::string problem;
-        std::string texture_name = "index " + std::to_string(map.texture);
-        if (map.texture >= scene.textures.size()) {
-            problem = "no such texture";
-        } else {
+        Warning warning{.source = scene.source,
+                        .kind = "texture cannot be read",
+                        .kinds = "textures cannot be read",
+                        .item = "index " + std::to_string(map.texture),
+                        .user = "material '" + material.name + "'",
+                        .users = "materials",
+                        .detail = "no such texture",
+                        .effect = "the diffuse colour is used alone"};
+        if (map.texture < scene.textures.size()) {
             s.open(scene, map.texture);
-            texture_name = scene.textures[map.texture].name;
-            problem = s.textures[map.texture].problem;
+            const Texture& texture = scene.textures[map.texture];
+            warning.item = texture.path.empty() ? "'" + texture.name + "'" : texture.path;
+            // A missing file is said so, in the same words for every one, so that a scene
+            // whose texture folder is absent gets one line (WarningLog groups by reason).
+            std::error_code ignored;
+            warning.detail = !texture.path.empty() && !std::filesystem::exists(texture.path, ignored)
+                                 ? "no such file"
+                                 : s.textures[map.texture].problem;
+            if (s.textures[map.texture].usable) warning.detail.clear();
         }
-        if (!problem.empty()) {
-            s.warnings.push_back(scene.source + ": material '" + material.name + "': texture '" + texture_name +
-                                 "' cannot be read (" + problem + "); its diffuse colour is used alone");
-            if (print_warnings) std::cerr << "dynrt: warning: " << s.warnings.back() << '\n';
+        if (!warning.detail.empty()) {
+            s.warnings.push_back(warning_line(warning));
+            if (print_warnings) warn(std::move(warning));
             continue;
         }
         Impl::Map& out = s.materials[m];

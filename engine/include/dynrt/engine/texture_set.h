@@ -25,8 +25,9 @@ namespace dynrt {
 class TextureSet {
 public:
     /// Opens the textures `scene`'s materials map (Material::diffuse_map), copying embedded
-    /// images' bytes (nothing of `scene` is borrowed). Each unreadable texture is reported in
-    /// warnings(), and on stderr when `print_warnings`.
+    /// images' bytes (nothing of `scene` is borrowed). Each material whose texture cannot be
+    /// read is reported in warnings(), and through dynrt::warn (dynrt/scene/warnings.h: on
+    /// stderr, or grouped by the front end's WarningLog) when `print_warnings`.
     explicit TextureSet(const Scene& scene, bool print_warnings = true);
     ~TextureSet();
     TextureSet(const TextureSet&) = delete;

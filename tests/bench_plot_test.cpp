@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
+#include <set>
 #include <stdexcept>
 #include <string>
 
@@ -100,6 +102,24 @@ TEST(ErrorPlot, ZeroErrorSitsADecadeBelowOnALogAxisAndNarrowRangesStayLinear) {
     const std::vector<ErrorPoint> narrow = {{"a", {1, 1, 1}, 1e-3}, {"b", {2, 2, 2}, 2e-3}};
     EXPECT_FALSE(contains(error_plot_script(narrow, "t", "e.png"), "logscale"));
     EXPECT_THROW(error_plot_script({}, "t", "e.png"), std::invalid_argument);
+}
+
+// Errors over a narrow range (adaptive tolerances that change a few pixels): gnuplot puts
+// about ten ticks over it, and each must read differently in the script's format.
+TEST(ErrorPlot, TicksOverANarrowRangeReadApart) {
+    const std::vector<ErrorPoint> close = {{"a", {3, 3, 3}, 9.42e-8}, {"b", {2, 2, 2}, 9.44e-8},
+                                           {"c", {1, 1, 1}, 9.46e-8}};
+    const std::string s = error_plot_script(close, "t", "e.png");
+    const std::size_t at = s.find("set format x '");
+    ASSERT_NE(at, std::string::npos) << s;
+    const std::string format = s.substr(at + 14, s.find('\'', at + 14) - at - 14);
+    std::set<std::string> labels;
+    for (int k = 0; k <= 10; ++k) {
+        char label[64];
+        std::snprintf(label, sizeof label, format.c_str(), 9.42e-8 + k * 0.04e-8 / 10);
+        labels.insert(label);
+    }
+    EXPECT_EQ(labels.size(), 11u) << "format " << format;
 }
 
 TEST(ErrorPlot, AxesSayWhatTheyMeasure) {

@@ -150,6 +150,27 @@ TEST(BenchSequence, TimelineStacksEveryStagePerFrame) {
         EXPECT_NE(s.find(stage), std::string::npos) << stage;
     }
     EXPECT_THROW(timeline_plot_script({}, "t", "x.png"), std::invalid_argument);
+    // Frames of about one size share the axis, the first included.
+    EXPECT_NE(s.find("set yrange [0:*]"), std::string::npos) << s;
+    EXPECT_EQ(s.find("off the scale"), std::string::npos) << s;
+}
+
+// The cold first frame (every tree built) would squash the steady frames into the bottom of
+// the chart: the axis is theirs, and the first frame's time is written over its bar.
+TEST(BenchSequence, TimelineKeepsTheAxisForTheSteadyFrames) {
+    std::vector<FrameStats> frames(4);
+    for (int f = 0; f < 4; ++f) {
+        frames[f].frame = f;
+        frames[f].primary_ms = 4.0;
+        frames[f].shade_ms = f == 2 ? 4.0 : 2.0;  // the slowest steady frame: 8 ms
+    }
+    frames[0].rebuild_ms = 104.0;  // 110 ms
+    const std::string s = timeline_plot_script(frames, "t", "out/tl.png");
+    EXPECT_NE(s.find("set yrange [0:10]"), std::string::npos) << s;  // 1.25 x 8 ms
+    EXPECT_NE(s.find("set label 1 'first frame 110 ms (cold: every tree built), off the scale'"),
+              std::string::npos)
+        << s;
+    EXPECT_EQ(s.find("set yrange [0:*]"), std::string::npos) << s;
 }
 
 }  // namespace

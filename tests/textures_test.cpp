@@ -249,6 +249,26 @@ TEST(TexturedRender, AMissingTextureFallsBackToTheMaterialColour) {
     EXPECT_EQ(0, std::memcmp(a.color.data(), b.color.data(), a.color.size() * sizeof(glm::vec3)));
 }
 
+// Benchmarks time a full build per run without reading the textures again
+// (Renderer::forget_trees): a texture file removed after the first frame still shows, and
+// the trees are built afresh; reset() forgets the textures too, and the file's absence shows.
+TEST(TexturedRender, ForgettingTheTreesKeepsTheTexturesRead) {
+    const fs::path png = temp_path("kept.png");
+    write_image(png, 2, 2, kTexels);
+    const QuadShot shot(quad_scene(png, glm::vec3(1.0f)));
+    Renderer renderer(shot.options);
+    RenderedFrame first, again;
+    renderer.render(shot.scene, shot.camera, 0, first);
+    fs::remove(png);
+    renderer.forget_trees();
+    renderer.render(shot.scene, shot.camera, 0, again);
+    EXPECT_GT(again.stats.objects_rebuilt, 0u);
+    EXPECT_EQ(0, std::memcmp(first.color.data(), again.color.data(), first.color.size() * sizeof(glm::vec3)));
+    renderer.reset();
+    renderer.render(shot.scene, shot.camera, 0, again);
+    EXPECT_NE(0, std::memcmp(first.color.data(), again.color.data(), first.color.size() * sizeof(glm::vec3)));
+}
+
 /// A glTF quad (two non-indexed triangles) with TEXCOORD_0 and a material whose base colour
 /// factor multiplies `image` (a uri, or a data: URI when `embed`), clamped.
 fs::path gltf_quad(const fs::path& png, bool embed, const std::string& name) {

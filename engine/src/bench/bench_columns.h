@@ -35,6 +35,7 @@ struct ForEachBenchColumn {
         visit("secondary_ms", row.secondary_ms);
         visit("total_ms", row.total_ms);
         visit("mrays_per_s", row.mrays_per_s);
+        visit("first_ms", row.first_ms);
         visit("sah_cost", row.sah_cost);
         visit("leaf_tris_mean", row.leaf_tris_mean);
         visit("depth", row.depth);

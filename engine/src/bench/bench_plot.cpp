@@ -4,6 +4,7 @@
 #include <sys/wait.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cerrno>
 #include <charconv>
 #include <cstring>
@@ -215,7 +216,14 @@ std::string error_plot_script(const std::vector<ErrorPoint>& points, const std::
     if (log_x) {
         out << "set logscale x 10\nset format x '%.0e'\n";
     } else {
-        out << "set format x '%.2g'\n";
+        // Enough significant digits that ticks over a narrow range of errors read apart
+        // (errors 9.42e-8 to 9.46e-8 with '%.2g' would label every tick "9.4e-08").
+        double lowest = largest;
+        for (const ErrorPoint& p : points) lowest = std::min(lowest, p.error);
+        const double span = largest - lowest;
+        const int digits =
+            span > 0.0 ? std::clamp(int(std::ceil(std::log10(largest / span))) + 2, 2, 6) : 2;
+        out << "set format x '%." << digits << "g'\n";
         const bool all_equal = std::all_of(points.begin(), points.end(), [&](const ErrorPoint& p) {
             return p.error == points.front().error;
         });
@@ -250,6 +258,20 @@ void plot_error(const std::filesystem::path& png, const std::vector<ErrorPoint>&
     run_gnuplot(png, error_plot_script(points, title, png, axes));
 }
 
+namespace {
+
+/// A first frame this many times the slowest steady frame is drawn off the scale.
+constexpr double kColdFrameOffScale = 1.6;
+
+std::string off_scale_label(double first_ms) {
+    std::ostringstream label;
+    label.precision(0);
+    label << std::fixed << "first frame " << first_ms << " ms (cold: every tree built), off the scale";
+    return label.str();
+}
+
+}  // namespace
+
 std::string timeline_plot_script(const std::vector<FrameStats>& frames, const std::string& title,
                                  const std::filesystem::path& png) {
     if (frames.empty()) throw std::invalid_argument("timeline plot: no frames");
@@ -260,8 +282,23 @@ std::string timeline_plot_script(const std::vector<FrameStats>& frames, const st
         << "set xlabel 'frame'\nset ylabel 'ms'\n"
         << "set style data histograms\nset style histogram rowstacked\n"
         << "set style fill solid 0.8 border -1\nset boxwidth 0.8\n"
-        << "set key outside right top\nset yrange [0:*]\n"
+        << "set key outside right top\n"
         << "set xtics rotate by -45\n";
+    // The first frame builds every tree from nothing: often many times a steady frame. The y
+    // axis is the steady frames' when it would squash them, and the first frame's bar runs
+    // off the top, its time written over it.
+    const auto stacked_ms = [](const FrameStats& f) {
+        return f.update_ms + f.refit_ms + f.rebuild_ms + f.top_level_ms + f.primary_ms + f.shadow_ms + f.shade_ms;
+    };
+    double steady_max = 0.0;
+    for (std::size_t i = 1; i < frames.size(); ++i) steady_max = std::max(steady_max, stacked_ms(frames[i]));
+    const double first = stacked_ms(frames.front());
+    if (frames.size() > 1 && steady_max > 0.0 && first > kColdFrameOffScale * steady_max) {
+        out << "set yrange [0:" << 1.25 * steady_max << "]\n"
+            << "set label 1 " << single_quoted(off_scale_label(first)) << " at first 0, graph 0.97 left front\n";
+    } else {
+        out << "set yrange [0:*]\n";
+    }
     // Inline data: frame, update, refit, rebuild, top level, primary, shadow, shade.
     out << "$frames << EOD\n";
     for (const FrameStats& f : frames) {

@@ -13,6 +13,12 @@
 namespace dynrt {
 
 void FramePipeline::clear() {
+    clear_trees();
+    textures_.reset();
+    textures_scene_ = nullptr;
+}
+
+void FramePipeline::clear_trees() {
     accel_.clear();
     updated_ = false;
     reuse_.valid = false;
@@ -20,8 +26,6 @@ void FramePipeline::clear() {
     camera_moving_ = false;
     versions_.clear();
     invalidated_.clear();
-    textures_.reset();
-    textures_scene_ = nullptr;
 }
 
 void FramePipeline::refresh_parts() {

@@ -160,6 +160,8 @@ void Renderer::reset() {
     s.scene = nullptr;
 }
 
+void Renderer::forget_trees() { state_->pipeline.clear_trees(); }
+
 double Renderer::trace_logged_rays(const SecondaryRayLog& log,
                                    std::vector<bvh::InstanceHit>* hits) const {
     const State& s = *state_;

@@ -32,6 +32,9 @@ struct BenchRow {
     Spread secondary_ms;
     Spread total_ms;
     Spread mrays_per_s;  ///< primary + shadow rays per trace time
+    /// The configuration's first frame, untimed by the runs: its textures read and first
+    /// touched, its trees built from nothing. A start-up cost, which a render pays once.
+    double first_ms = 0.0;
     double sah_cost = 0;
     double leaf_tris_mean = 0;
     std::uint32_t depth = 0;
@@ -100,11 +103,13 @@ const char* to_string(BenchUpdate update);
 /// and refit, or update swept twice.
 std::vector<BenchUpdate> take_update_sweep(std::vector<std::string>& sweeps);
 
-/// Renders frame `frame` (>= 0) of `scene` `warmup` times untimed, then `repeat` times (>= 1)
+/// Renders frame `frame` (>= 0) of `scene` once untimed (its start-up: textures read, trees
+/// built; BenchRow::first_ms), `warmup` more times untimed, then `repeat` times (>= 1)
 /// timed, with `options` (whose build config, packet culling and adaptive tolerance are the
 /// configuration measured), then, with the packet tracer, once more untimed with
-/// count_packet_work on, for the row's ray/triangle counters. Each render starts from a reset
-/// renderer; with BenchUpdate::refit, frames 0 to frame - 1 are then updated (not traced, not
+/// count_packet_work on, for the row's ray/triangle counters. Each render starts from empty
+/// trees (Renderer::forget_trees: the textures stay read, as in a render after its first
+/// frame); with BenchUpdate::refit, frames 0 to frame - 1 are then updated (not traced, not
 /// timed) before the frame is rendered, so only the frame's own update and trace are timed. If
 /// `last_frame` is not null, it receives a frame of the same configuration with its hit
 /// buffers filled (the last timed render, or one more untimed when `options.hit_buffers` is

@@ -65,10 +65,14 @@ struct SequenceBench {
     std::vector<SequenceRow> rows;
     /// dynrt's per-frame report of the last run (for the timeline plot and --json).
     std::vector<FrameStats> frames;
+    /// The untimed start-up frame before the warm-up (the first frame, its textures read and
+    /// its trees built): what a render pays once, outside every run.
+    double first_ms = 0.0;
 };
 
 /// Renders frames `range` of `scene` with `options`, `runs` times (each run starts from empty
-/// trees, as a new sequence would), after `warmup` untimed renders of the first frame. Each
+/// trees, as a new sequence would, but with the textures read: SequenceBench::first_ms), after
+/// one untimed start-up render of the first frame and `warmup` more. Each
 /// frame of each run is one sample. `others` step through the same frames in the same loop,
 /// each right after dynrt, with the same camera, the one `view` gives at each frame.
 /// Throws std::invalid_argument when `view` asks for the scene's own camera and it has none.

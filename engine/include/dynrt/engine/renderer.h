@@ -259,9 +259,16 @@ public:
     /// update.
     double trace_logged_rays(const SecondaryRayLog& log, std::vector<bvh::InstanceHit>* hits = nullptr) const;
 
-    /// Forgets the trees: the next update builds every object afresh. Needed after editing a
-    /// scene in place; benchmarks use it to time a full build per frame.
+    /// Forgets the trees and the scene's opened textures: the next update builds every object
+    /// afresh and the next trace reads the textures again. Needed after editing a scene in
+    /// place.
     void reset();
+
+    /// Forgets the trees and the previous frame's pixels (as reset()), but keeps the same
+    /// scene's pose state and opened textures, with what has been read of them: benchmarks use
+    /// it to time a full build and trace per run without timing the textures' first reading,
+    /// a start-up cost a render pays once.
+    void forget_trees();
 
 private:
     struct State;

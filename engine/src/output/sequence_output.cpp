@@ -2,7 +2,7 @@
 
 #include "dynrt/engine/image_output.h"
 
-#include "srgb.h"
+#include "srgb8.h"
 
 #include <OpenImageIO/imageio.h>
 
@@ -33,12 +33,7 @@ std::string lower_extension(const std::filesystem::path& path) {
 /// The frame's colour as 8-bit sRGB, RGB interleaved.
 std::vector<std::uint8_t> to_srgb8(const RenderedFrame& frame) {
     std::vector<std::uint8_t> out(frame.color.size() * 3);
-    for (std::size_t i = 0; i < frame.color.size(); ++i) {
-        for (int c = 0; c < 3; ++c) {
-            out[3 * i + std::size_t(c)] =
-                std::uint8_t(std::lround(srgb_encode(frame.color[i][c]) * 255.0f));
-        }
-    }
+    encode_srgb8(frame.color, out.data());
     return out;
 }
 

@@ -78,6 +78,7 @@ bool decodes(const fs::path& path) {
 std::set<int> check_files_whole(const fs::path& dir) {
     std::set<int> frames;
     for (const auto& entry : fs::directory_iterator(dir)) {
+        if (!entry.is_regular_file()) continue;
         const fs::path& path = entry.path();
         const std::string name = path.filename().string();
         EXPECT_EQ(name.find(".partial"), std::string::npos) << "left behind: " << path;
@@ -249,6 +250,40 @@ TEST(CliInterrupt, AVideoStoppedPartWayIsWholeOrAbsent) {
                                          (dir / "anim.mp4").string() + "'");
         EXPECT_EQ(probe.exit_code, 0) << probe.output;
     }
+}
+
+}  // namespace cli_interrupt_test
+}  // namespace dynrt
+
+namespace dynrt {
+namespace cli_interrupt_test {
+
+/// A frame that cannot be written ends the render in one process with an error naming the
+/// frame and the user's path; the frames before it stay whole and recorded, so --resume, once
+/// the way is clear, renders only the rest.
+TEST(CliWriter, AnUnwritableFrameEndsTheRenderNamingItAndResumeFinishesIt) {
+    const fs::path dir = fresh_dir("unwritable");
+    fs::create_directories(dir / "0005.png");  // frame 5's name is taken by a folder
+    // The last frame fails: its error comes when the writer finishes, with frame 4 likely still
+    // being written, whose record must not be lost.
+    std::string render = kRender;
+    render.replace(render.find("--frames 0-7"), 12, "--frames 0-5");
+    const std::string args = "--out " + (dir / "%04d.png").string();
+    const ShellRun run = run_shell(std::string("timeout 300 ") + DYNRT_CLI_PATH + render + " " + args);
+    EXPECT_EQ(run.exit_code, 1) << run.output;
+    EXPECT_NE(run.output.find("dynrt: error: frame 5: " + (dir / "0005.png").string() +
+                              ": cannot write: is a folder"),
+              std::string::npos)
+        << run.output;
+    const std::set<int> present = check_files_whole(dir);
+    EXPECT_EQ(present, (std::set<int>{0, 1, 2, 3, 4})) << run.output;
+    fs::remove(dir / "0005.png");
+    const ShellRun resumed = run_shell(std::string("timeout 300 ") + DYNRT_CLI_PATH + render + " " +
+                                       args + " --resume");
+    EXPECT_EQ(resumed.exit_code, 0) << resumed.output;
+    EXPECT_NE(resumed.output.find("resume: 5 frames done, 1 to render"), std::string::npos)
+        << resumed.output;
+    EXPECT_EQ(check_files_whole(dir), (std::set<int>{0, 1, 2, 3, 4, 5}));
 }
 
 }  // namespace cli_interrupt_test

@@ -223,6 +223,40 @@ void print_ranks(std::ostream& out, const std::vector<FrameStats>& frames, int r
     }
 }
 
+/// `--distribute tiles`: every rank's share of the frame in `image` gathered on rank 0, with
+/// the figures of each share; returns true on rank 0, whose `image` then holds the whole frame.
+bool gather_shares(Cluster& cluster, const RenderOptions& options, RenderedFrame& image) {
+    const int rank = cluster.rank(), ranks = cluster.size();
+    // The small figures first: once rank 0 has them every share is done, so their wait is the
+    // load imbalance and the gather after it the transfer alone.
+    Stopwatch clock;
+    const std::vector<double> figures = cluster.gather_figures(share_figures(image.stats));
+    const double wait_ms = clock.lap_ms();
+    // Rank 0's own share is in place already: it sends none.
+    std::vector<float> packed;
+    if (rank != 0) pack_tiles(image, options.tiles, packed);
+    const std::vector<float> all = cluster.gather(packed);
+    if (rank != 0) return false;
+    std::size_t offset = 0;
+    for (int r = 1; r < ranks; ++r) {
+        const packet::TileShare share{r, ranks};
+        const std::size_t size =
+            packed_share_size(options.width, options.height, share, options.hit_buffers);
+        if (all.size() < offset + size) {
+            throw std::runtime_error("rank " + std::to_string(r) + "'s tiles came short");
+        }
+        unpack_tiles({all.data() + offset, size}, share, options.hit_buffers, image);
+        offset += size;
+    }
+    FrameStats& stats = image.stats;
+    stats.wait_ms = wait_ms;
+    stats.gather_ms = clock.elapsed_ms();
+    stats.total_ms += stats.wait_ms + stats.gather_ms;
+    stats.rank = 0;
+    add_share_figures(figures, ranks, stats);
+    return true;
+}
+
 /// What a render prints once its frames are done: the table (every frame's row for up to 8),
 /// its summaries, each rank's share under mpirun (`ranks` > 0), the output stage's time.
 void print_results(const RenderArgs& args, const Scene& scene, const std::vector<FrameStats>& frames,
@@ -400,33 +434,7 @@ int run_distributed_render(const RenderArgs& args, Cluster& cluster) {
                     frame = f;
                     renderer.render(scene, f, view, image);
                     slow_down(f);
-                    // The small figures first: once rank 0 has them every share is done, so their
-                    // wait is the load imbalance and the gather after it the transfer alone.
-                    Stopwatch clock;
-                    const std::vector<double> figures = cluster.gather_figures(share_figures(image.stats));
-                    const double wait_ms = clock.lap_ms();
-                    // Rank 0's own share is in place already: it sends none.
-                    std::vector<float> packed;
-                    if (rank != 0) pack_tiles(image, options.tiles, packed);
-                    const std::vector<float> all = cluster.gather(packed);
-                    if (rank != 0) continue;
-                    std::size_t offset = 0;
-                    for (int r = 1; r < ranks; ++r) {
-                        const packet::TileShare share{r, ranks};
-                        const std::size_t size = packed_share_size(options.width, options.height,
-                                                                   share, options.hit_buffers);
-                        if (all.size() < offset + size) {
-                            throw std::runtime_error("rank " + std::to_string(r) + "'s tiles came short");
-                        }
-                        unpack_tiles({all.data() + offset, size}, share, options.hit_buffers, image);
-                        offset += size;
-                    }
-                    FrameStats& stats = image.stats;
-                    stats.wait_ms = wait_ms;
-                    stats.gather_ms = clock.elapsed_ms();
-                    stats.total_ms += stats.wait_ms + stats.gather_ms;
-                    stats.rank = 0;
-                    add_share_figures(figures, ranks, stats);
+                    if (!gather_shares(cluster, options, image)) continue;
                     hand_over(image);
                 }
                 frame = -1;

@@ -477,8 +477,12 @@ int run_distributed_render(const RenderArgs& args, Cluster& cluster) {
             std::cout << std::flush;
             std::cerr << "dynrt: stopped by " << InterruptGuard::signal_name() << " after "
                       << rendered << " of " << todo.size() << " frames, all written"
-                      << (numbered ? "; run the same command with --resume to render the rest"
-                                   : "")
+                      << (!numbered ? ""
+                          : args.contact_sheet.empty()
+                              ? "; run the same command with --resume to render the rest"
+                              // A sheet needs every frame rendered in one run.
+                              : "; run the same command with --resume, without --contact-sheet, "
+                                "to render the rest")
                       << "\n";
             return InterruptGuard::exit_code();
         }

@@ -283,7 +283,9 @@ TEST(Cli, FarFramesAreRefusedAtOnceWithNothingWritten) {
                 (dir / "ok" / "%d.png").string() + "'");
     EXPECT_EQ(last.exit_code, 0) << last.output;
     EXPECT_TRUE(fs::exists(dir / "ok" / "9999999.png"));
-    EXPECT_EQ(std::distance(fs::directory_iterator(dir / "ok"), fs::directory_iterator{}), 2);
+    // The two frames, and the render's journal (hidden), which makes it resumable.
+    EXPECT_EQ(std::distance(fs::directory_iterator(dir / "ok"), fs::directory_iterator{}), 3);
+    EXPECT_TRUE(fs::exists(dir / "ok" / ".dynrt-frames.jsonl"));
 }
 
 /// A sequence seen as one file: an animated GIF with one image per frame, a contact sheet of

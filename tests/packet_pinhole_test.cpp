@@ -8,6 +8,7 @@
 #include "dynrt/packet/ray_packet.h"
 #include "dynrt/packet/tiling.h"
 
+
 #include <gtest/gtest.h>
 
 #include <bit>

@@ -19,6 +19,7 @@
 #include "dynrt/packet/tiling.h"
 #include "dynrt/scene/scene.h"
 
+
 #include <gtest/gtest.h>
 
 #include <glm/geometric.hpp>

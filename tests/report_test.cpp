@@ -20,7 +20,7 @@ TEST(Report, JsonHasTheDocumentedSchema) {
                             "interpolated_pixels", "pixels_traced", "pixels_shadows_retraced",
                             "pixels_reused", "pixels_filled",
                             "primary_mrays_per_s", "shadow_mrays_per_s", "sah_cost", "nodes",
-                            "leaves", "leaf_tris_mean", "leaf_tris_max", "depth"}) {
+                            "leaves", "leaf_tris_mean", "leaf_tris_max", "depth", "write_ms"}) {
         EXPECT_TRUE(doc["frames"][0].contains(key)) << key;
         for (const char* which : {"median", "min", "max"}) {
             EXPECT_TRUE(doc["summary"][which].contains(key)) << which << "." << key;
@@ -119,6 +119,24 @@ TEST(ReportRecord, ReadingARecordBackGivesItsTextAgain) {
     EXPECT_EQ(gathered.gather_ms, 1.5);
     EXPECT_EQ(gathered.wait_ms, 2.25);
     EXPECT_EQ(frame_report_json(gathered), frame_report_json(s));
+}
+
+TEST(ReportRecord, TheWritersTimeAndTheRunsStartUpAreKept) {
+    FrameStats s = full_record();
+    s.write_ms = 12.625;
+    const FrameStats back = parse_frame_report_json(frame_report_json(s));
+    EXPECT_EQ(back.write_ms, 12.625);
+    RunInfo run{"sphere:10", 8, 4, 1.0f, 8, 2, {}};
+    run.startup_ms = 250.5;
+    run.writer_wait_ms = 3.25;
+    const nlohmann::json doc = nlohmann::json::parse(report_json(run, {s}));
+    EXPECT_EQ(doc["run"]["startup_ms"], 250.5);
+    EXPECT_EQ(doc["run"]["writer_wait_ms"], 3.25);
+    EXPECT_EQ(doc["frames"][0]["write_ms"], 12.625);
+    std::ostringstream line;
+    print_writer_summary(line, {s}, 3.25);
+    EXPECT_EQ(line.str(), "writing: 12.6 ms/frame (max 12.6) on the writer thread, beside the "
+                          "render; the render waited 3.2 ms for it in all\n");
 }
 
 TEST(ReportRecord, WhatIsNotARecordIsRefused) {

@@ -177,7 +177,11 @@ int main(int argc, char** argv) {
     render_cmd->add_option("--out", render.out,
                            "Output image, format by extension; for several frames a numbered "
                            "name ('frames/%04d.png'), one animated .gif or a video (.mp4, .mov, "
-                           ".mkv, .webm, .avi; needs ffmpeg)")
+                           ".mkv, .webm, .avi; needs ffmpeg). Files are written on a writer "
+                           "thread beside the render, each whole or not at all. A numbered "
+                           "render keeps a journal of its frames, so an interrupted one "
+                           "(Ctrl-C, SIGTERM: it stops after the frame at hand, exit 130/143) "
+                           "can be finished with --resume")
         ->capture_default_str();
     render_cmd->add_option("--contact-sheet", render.contact_sheet,
                            "Also write the frames as thumbnails in a grid (up to 64, spread "
@@ -193,7 +197,8 @@ int main(int argc, char** argv) {
     render_cmd->add_flag("--resume", render.resume,
                          "Skip the frames whose image and record an earlier run of the same "
                          "render left (its journal: REPORT.frames.jsonl, or .dynrt-frames.jsonl "
-                         "beside the frames), e.g. after a job was killed");
+                         "beside the frames, which every numbered render keeps), e.g. after a "
+                         "render was interrupted (Ctrl-C, SIGTERM) or a job killed");
 
     BenchArgs bench;
     // A benchmark times tracing: a still frame timed again would reuse every pixel, and a

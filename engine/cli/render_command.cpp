@@ -1,23 +1,15 @@
 // `dynrt render`: a frame or a sequence to images (numbered, an animated GIF or a video), a
-// contact sheet, AOVs and the frame report.
+// contact sheet, AOVs and the frame report. This file checks the flags before anything is
+// loaded; the frames go through the render driver (distributed/distributed_render.cpp), the
+// one frame loop of every render, with this process alone.
 
-#include "command_warnings.h"
+#include "distributed/distributed_render.h"
 #include "frame_args.h"
 
 #include "dynrt/engine/image_output.h"
-#include "dynrt/engine/report.h"
 #include "dynrt/engine/sequence_output.h"
 
-#include <tbb/info.h>
-
-#include <unistd.h>
-
-#include <cstdio>
 #include <filesystem>
-#include <iomanip>
-#include <iostream>
-#include <memory>
-#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -25,19 +17,6 @@
 namespace dynrt::cli {
 
 namespace {
-
-/// A one-line progress bar on stderr, redrawn in place, with the time left at the mean pace so
-/// far; used only when stderr is a terminal.
-void draw_progress(int done, int total, double ms_per_frame) {
-    constexpr int kWidth = 30;
-    const int filled = total > 0 ? done * kWidth / total : kWidth;
-    const double left_s = double(total - done) * ms_per_frame / 1000.0;
-    std::cerr << "\r[" << std::string(std::size_t(filled), '#')
-              << std::string(std::size_t(kWidth - filled), ' ') << "] " << done << "/" << total
-              << " frames, " << std::fixed << std::setprecision(1) << ms_per_frame
-              << " ms/frame, " << std::setprecision(0) << left_s << " s left  " << std::flush;
-    if (done == total) std::cerr << "\n";
-}
 
 /// Fails before any rendering when a file could not be written afterwards because its folder
 /// is missing; `label` names it in the message ("--report r.json").
@@ -59,9 +38,7 @@ void check_report_path(const std::filesystem::path& path) {
 }  // namespace
 
 int run_render(const RenderArgs& args) {
-    dynrt::RenderOptions options = render_options(args);
     const std::vector<dynrt::Aov> aovs = dynrt::parse_aov_list(args.aov);
-    options.hit_buffers = !aovs.empty();
     const dynrt::FrameRange range =
         args.frames.empty() ? dynrt::FrameRange{} : dynrt::parse_frame_range(args.frames);
     // One file for the whole sequence: an animated GIF or a video, named without a frame number.
@@ -91,72 +68,11 @@ int run_render(const RenderArgs& args) {
     }
     if (!args.report.empty()) check_report_path(args.report);
 
-    const std::string source = scene_source(args);
-    const dynrt::Scene scene = load_animated_scene(args, source, options);
-    warn_past_the_end(scene, options.pose, range);
-    if (makes_folder) {
-        std::filesystem::create_directories(first_path.parent_path());
-        dynrt::check_image_path(first_path);
-    }
-    const dynrt::CameraSource view = camera_source(scene, args, options.pose, range);
-
-    dynrt::Renderer renderer(options);
-    dynrt::RenderedFrame frame;
-    std::vector<dynrt::FrameStats> frames;
-    const bool progress = range.count() > 1 && isatty(fileno(stderr)) && verbosity() != Verbosity::quiet;
-    std::cout << "dynrt: " << source << ": " << scene.objects.size() << " objects, "
-              << scene.triangle_count() << " triangles, " << options.width << "x"
-              << options.height << ", frames " << range.first << "-" << range.last << " -> "
-              << args.out << std::endl;
-    double total_ms = 0.0;
-    std::unique_ptr<dynrt::SequenceFile> sequence_file;
-    if (animated) sequence_file = dynrt::open_sequence_file(args.out, options.pose.fps);
-    std::optional<dynrt::ContactSheet> sheet;
-    if (!args.contact_sheet.empty()) sheet.emplace(range.count());
-    for (int f = range.first; f <= range.last; ++f) {
-        renderer.render(scene, f, view, frame);
-        const std::string path = dynrt::frame_path(args.out, f);
-        if (sequence_file) {
-            sequence_file->add(frame);
-        } else {
-            dynrt::write_image(path, frame);
-        }
-        if (sheet) sheet->add(f - range.first, frame);
-        for (dynrt::Aov aov : aovs) dynrt::write_aov(path, aov, frame);
-        frames.push_back(frame.stats);
-        total_ms += frame.stats.total_ms;
-        if (progress) draw_progress(f - range.first + 1, range.count(), total_ms / double(frames.size()));
-    }
-
-    if (sequence_file) sequence_file->close();
-    if (sheet) {
-        sheet->write(args.contact_sheet);
-        std::cout << "contact sheet: " << args.contact_sheet << " (" << sheet->size()
-                  << " frames)\n";
-    }
-    if (frames.front().degenerate_skipped > 0) {
-        std::cout << "degenerate triangles skipped: " << frames.front().degenerate_skipped << "\n";
-    }
-    print_ignored(std::cout, scene);
-    dynrt::print_frame_header(std::cout);
-    // A sequence prints its summary; every frame's figures are in the --report file.
-    if (frames.size() <= 8) {
-        for (const dynrt::FrameStats& f : frames) dynrt::print_frame_row(std::cout, f);
-    }
-    dynrt::print_summary(std::cout, frames);
-    dynrt::print_secondary_summary(std::cout, frames);
-    print_rebuild_summary(std::cout, frames);
-    print_update_choices(std::cout, frames);
-    if (!args.report.empty()) {
-        const dynrt::RunInfo run{source, options.width, options.height, options.build.cost_ratio,
-                                 options.build.leaf_size_max,
-                                 args.threads > 0 ? args.threads
-                                                  : tbb::info::default_concurrency(),
-                                 scene.ignored};
-        dynrt::write_report(args.report, run, frames);
-        std::cout << "report: " << args.report << "\n";
-    }
-    return 0;
+    // The frames are rendered and written by the one frame loop of every render
+    // (distributed_render.cpp), here with this process alone.
+    RenderArgs one_process = args;
+    if (one_process.distribute.empty()) one_process.distribute = "frames";
+    return run_distributed_render(one_process, *local_cluster());
 }
 
 }  // namespace dynrt::cli

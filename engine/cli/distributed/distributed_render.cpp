@@ -13,8 +13,12 @@
 
 #include "distributed/distributed_render.h"
 
+#include "command_warnings.h"
+
 #include "distributed/cluster.h"
 #include "distributed/render_journal.h"
+#include "interrupt.h"
+#include "dynrt/engine/frame_writer.h"
 #include "dynrt/engine/image_output.h"
 #include "dynrt/engine/report.h"
 #include "dynrt/engine/sequence_output.h"
@@ -25,10 +29,16 @@
 #include <nlohmann/json.hpp>
 #include <tbb/info.h>
 
+#include <unistd.h>
+
+#include <cstdio>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
+#include <iomanip>
 #include <iostream>
 #include <map>
 #include <optional>
@@ -79,11 +89,26 @@ bool frame_done(const RenderJournal& journal, int frame, const std::string& out,
     });
 }
 
-void write_frame_files(const std::string& out, int frame, const std::vector<Aov>& aovs,
-                       const RenderedFrame& image) {
-    const std::string path = frame_path(out, frame);
-    write_image(path, image);
-    for (const Aov aov : aovs) write_aov(path, aov, image);
+/// A one-line progress bar on stderr, redrawn in place, with the time left at the mean pace so
+/// far; used only when stderr is a terminal.
+void draw_progress(int done, int total, double ms_per_frame) {
+    constexpr int kWidth = 30;
+    const int filled = total > 0 ? done * kWidth / total : kWidth;
+    const double left_s = double(total - done) * ms_per_frame / 1000.0;
+    std::cerr << "\r[" << std::string(std::size_t(filled), '#')
+              << std::string(std::size_t(kWidth - filled), ' ') << "] " << done << "/" << total
+              << " frames, " << std::fixed << std::setprecision(1) << ms_per_frame
+              << " ms/frame, " << std::setprecision(0) << left_s << " s left  " << std::flush;
+    if (done == total) std::cerr << "\n";
+}
+
+/// The journal's first line: the job it records (RenderJournal refuses another job's).
+std::string journal_header(const RenderArgs& args, const std::string& source,
+                           const RenderOptions& options) {
+    const nlohmann::ordered_json header = {
+        {"dynrt_journal", 1}, {"scene", source}, {"width", options.width},
+        {"height", options.height}, {"out", args.out}, {"aov", args.aov}};
+    return header.dump();
 }
 
 /// The figures each rank sends rank 0 per frame in tiles mode: its trace time, then the counts
@@ -116,10 +141,21 @@ void add_share_figures(const std::vector<double>& all, int ranks, FrameStats& s)
     }
 }
 
-/// Fails before anything is rendered when the flags cannot make a distributed render.
-void check_distributed_args(const RenderArgs& args, const FrameRange& range) {
+/// Fails before anything is rendered when the flags cannot make a distributed render. One
+/// process that does not resume writes what `dynrt render` writes; across processes or with
+/// --resume, only numbered images (a GIF, a video or a contact sheet needs every frame in one
+/// process, in order).
+void check_distributed_args(const RenderArgs& args, const FrameRange& range, int ranks) {
     if (args.distribute != "frames" && args.distribute != "tiles") {
         throw std::invalid_argument("--distribute " + args.distribute + ": frames or tiles");
+    }
+    if (ranks == 1 && !args.resume) {
+        if (args.distribute == "tiles" && parse_reuse(args.reuse).approximate()) {
+            throw std::invalid_argument("--reuse " + args.reuse + " with --distribute tiles: the "
+                                        "render cache and frameless rendering need the whole "
+                                        "image; use --reuse exact or off");
+        }
+        return;
     }
     if (is_sequence_file(args.out) && !has_frame_number(args.out)) {
         throw std::invalid_argument("--out '" + args.out + "': a render across processes (or "
@@ -189,11 +225,78 @@ void print_ranks(std::ostream& out, const std::vector<FrameStats>& frames, int r
     }
 }
 
+/// `--distribute tiles`: every rank's share of the frame in `image` gathered on rank 0, with
+/// the figures of each share; returns true on rank 0, whose `image` then holds the whole frame.
+bool gather_shares(Cluster& cluster, const RenderOptions& options, RenderedFrame& image) {
+    const int rank = cluster.rank(), ranks = cluster.size();
+    // The small figures first: once rank 0 has them every share is done, so their wait is the
+    // load imbalance and the gather after it the transfer alone.
+    Stopwatch clock;
+    const std::vector<double> figures = cluster.gather_figures(share_figures(image.stats));
+    const double wait_ms = clock.lap_ms();
+    // Rank 0's own share is in place already: it sends none.
+    std::vector<float> packed;
+    if (rank != 0) pack_tiles(image, options.tiles, packed);
+    const std::vector<float> all = cluster.gather(packed);
+    if (rank != 0) return false;
+    std::size_t offset = 0;
+    for (int r = 1; r < ranks; ++r) {
+        const packet::TileShare share{r, ranks};
+        const std::size_t size =
+            packed_share_size(options.width, options.height, share, options.hit_buffers);
+        if (all.size() < offset + size) {
+            throw std::runtime_error("rank " + std::to_string(r) + "'s tiles came short");
+        }
+        unpack_tiles({all.data() + offset, size}, share, options.hit_buffers, image);
+        offset += size;
+    }
+    FrameStats& stats = image.stats;
+    stats.wait_ms = wait_ms;
+    stats.gather_ms = clock.elapsed_ms();
+    stats.total_ms += stats.wait_ms + stats.gather_ms;
+    stats.rank = 0;
+    add_share_figures(figures, ranks, stats);
+    return true;
+}
+
+/// What a render prints once its frames are done: the table (every frame's row for up to 8),
+/// its summaries, each rank's share under mpirun (`ranks` > 0), the output stage's time.
+void print_results(const RenderArgs& args, const Scene& scene, const std::vector<FrameStats>& frames,
+                   int ranks, bool tiles, const FrameWriter& writer) {
+    if (!args.contact_sheet.empty() && writer.contact_sheet_frames() > 0) {
+        std::cout << "contact sheet: " << args.contact_sheet << " ("
+                  << writer.contact_sheet_frames() << " frames)\n";
+    }
+    if (!frames.empty() && frames.front().degenerate_skipped > 0) {
+        std::cout << "degenerate triangles skipped: " << frames.front().degenerate_skipped << "\n";
+    }
+    print_ignored(std::cout, scene);
+    print_frame_header(std::cout);
+    if (frames.size() <= 8) {
+        for (const FrameStats& f : frames) print_frame_row(std::cout, f);
+    }
+    print_summary(std::cout, frames);
+    print_secondary_summary(std::cout, frames);
+    print_rebuild_summary(std::cout, frames);
+    print_update_choices(std::cout, frames);
+    if (ranks > 0) print_ranks(std::cout, frames, ranks, tiles);
+    print_writer_summary(std::cout, frames, writer.wait_ms());
+}
+
 }  // namespace
 
 int run_distributed_render(const RenderArgs& args, Cluster& cluster) {
     const int rank = cluster.rank(), ranks = cluster.size();
     const bool tiles = args.distribute == "tiles";
+    // Under mpirun (any number of ranks) each frame names its rank and the report has each
+    // rank's line; a render in one process is a plain render.
+    const bool mpi_job = started_by_mpirun();
+    // One process stops between frames on SIGINT or SIGTERM (interrupt.h). Under mpirun the
+    // job is ended by mpirun instead; its journal and atomic files make it resumable.
+    std::optional<InterruptGuard> interrupt;
+    if (!mpi_job) interrupt.emplace();
+    const auto stopping = [&] { return interrupt && InterruptGuard::received() != 0; };
+    Stopwatch startup;
     // Only rank 0 speaks, but for errors.
     if (rank != 0) std::cout.setstate(std::ios::failbit);
     int frame = -1;  // the frame at hand, for the failure message
@@ -203,9 +306,11 @@ int run_distributed_render(const RenderArgs& args, Cluster& cluster) {
         options.hit_buffers = !aovs.empty();
         if (tiles) options.tiles = packet::TileShare{rank, ranks};
         const FrameRange range = args.frames.empty() ? FrameRange{} : parse_frame_range(args.frames);
-        check_distributed_args(args, range);
+        check_distributed_args(args, range, ranks);
+        const bool numbered = has_frame_number(args.out);
+        const bool sequence_file = is_sequence_file(args.out) && !numbered;
         const std::filesystem::path first_path = frame_path(args.out, range.first);
-        check_image_path(first_path.filename());
+        if (!sequence_file) check_image_path(first_path.filename());
         if (!args.report.empty() && std::filesystem::is_directory(args.report)) {
             throw std::invalid_argument("--report " + args.report + ": is a folder");
         }
@@ -216,15 +321,16 @@ int run_distributed_render(const RenderArgs& args, Cluster& cluster) {
         if (first_path.has_parent_path()) std::filesystem::create_directories(first_path.parent_path());
         const CameraSource view = camera_source(scene, args, options.pose, range);
 
-        // Rank 0 decides which frames are left and keeps the journal.
+        // Rank 0 decides which frames are left and keeps the journal: of every render of
+        // numbered images, so that any of them can be resumed.
         std::optional<RenderJournal> journal;
         std::vector<int> todo;
         std::map<int, FrameStats> records;
         if (rank == 0) {
-            const nlohmann::ordered_json header = {
-                {"dynrt_journal", 1}, {"scene", source}, {"width", options.width},
-                {"height", options.height}, {"out", args.out}, {"aov", args.aov}};
-            journal.emplace(journal_path(args, first_path), header.dump(), args.resume);
+            if (numbered || args.resume) {
+                journal.emplace(journal_path(args, first_path), journal_header(args, source, options),
+                                args.resume);
+            }
             for (int f = range.first; f <= range.last; ++f) {
                 if (args.resume && frame_done(*journal, f, args.out, aovs)) {
                     records[f] = journal->earlier().at(f);
@@ -235,8 +341,12 @@ int run_distributed_render(const RenderArgs& args, Cluster& cluster) {
             std::cout << "dynrt: " << source << ": " << scene.objects.size() << " objects, "
                       << scene.triangle_count() << " triangles, " << options.width << "x"
                       << options.height << ", frames " << range.first << "-" << range.last
-                      << " -> " << args.out << ", " << ranks << (ranks == 1 ? " process" : " processes")
-                      << " sharing " << (tiles ? "each frame's tiles" : "the frames") << std::endl;
+                      << " -> " << args.out;
+            if (mpi_job) {
+                std::cout << ", " << ranks << (ranks == 1 ? " process" : " processes") << " sharing "
+                          << (tiles ? "each frame's tiles" : "the frames");
+            }
+            std::cout << std::endl;
             if (args.resume) {
                 std::cout << "resume: " << records.size() << " frames done, " << todo.size()
                           << " to render" << std::endl;
@@ -244,7 +354,7 @@ int run_distributed_render(const RenderArgs& args, Cluster& cluster) {
         }
         todo = cluster.broadcast(todo);
         const auto keep = [&](const std::string& record) {
-            journal->append(record);
+            if (journal) journal->append(record);
             const FrameStats stats = parse_frame_report_json(record);
             records[stats.frame] = stats;
         };
@@ -255,90 +365,136 @@ int run_distributed_render(const RenderArgs& args, Cluster& cluster) {
             }
         };
 
-        Renderer renderer(options);
-        RenderedFrame image;
-        if (!tiles) {
-            cluster.start_handout(todo, keep);
-            for (;;) {
-                Stopwatch ask;
-                const std::vector<int> run = cluster.next_run();
-                if (run.empty()) break;
-                const double ask_ms = ask.elapsed_ms() / double(run.size());
-                for (const int f : run) {
+        // The output stage: every rank that writes images writes them through it, and a frame
+        // is recorded once its files are in place.
+        std::optional<FrameWriter> writer;
+        std::function<void()> record_written = [] {};
+        if (!tiles || rank == 0) {
+            writer.emplace(FrameOutputs{args.out, aovs, options.pose.fps, args.contact_sheet,
+                                        range.first, range.count()});
+            record_written = [&] {
+                for (const FrameStats& stats : writer->take_written()) {
+                    if (tiles) {
+                        keep(frame_report_json(stats));
+                    } else {
+                        cluster.send_record(frame_report_json(stats));
+                    }
+                }
+            };
+        }
+        const double startup_ms = startup.elapsed_ms();
+        if (rank == 0) {
+            std::cout << "start-up: " << std::fixed << std::setprecision(0) << startup_ms
+                      << " ms (scene loaded, trees not yet built)" << std::endl;
+            std::cout.unsetf(std::ios::floatfield);
+        }
+
+        const bool progress = ranks == 1 && todo.size() > 1 && isatty(fileno(stderr)) && verbosity() != Verbosity::quiet;
+        int rendered = 0;
+        double rendered_ms = 0.0;
+        const auto hand_over = [&](RenderedFrame& image) {
+            writer->submit(image);
+            record_written();
+            ++rendered;
+            rendered_ms += image.stats.total_ms;
+            if (progress) draw_progress(rendered, int(todo.size()), rendered_ms / rendered);
+        };
+
+        try {
+            Renderer renderer(options);
+            RenderedFrame image;
+            if (!tiles) {
+                cluster.start_handout(todo, keep);
+                while (!stopping()) {
+                    // Another rank's records reach rank 0 only while rank 0 hands out work:
+                    // every frame of its last run is reported before it asks again.
+                    if (rank != 0) {
+                        writer->flush();
+                        record_written();
+                    }
+                    Stopwatch ask;
+                    const std::vector<int> run = cluster.next_run();
+                    if (run.empty()) break;
+                    const double ask_ms = ask.elapsed_ms() / double(run.size());
+                    for (const int f : run) {
+                        if (stopping()) break;
+                        frame = f;
+                        renderer.render(scene, f, view, image);
+                        slow_down(f);
+                        image.stats.rank = mpi_job ? rank : -1;
+                        image.stats.handout_ms = ask_ms;
+                        hand_over(image);
+                    }
+                }
+                frame = -1;
+                writer->finish();
+                record_written();
+                cluster.finish_handout();
+            } else {
+                for (const int f : todo) {
+                    if (stopping()) break;
                     frame = f;
                     renderer.render(scene, f, view, image);
                     slow_down(f);
-                    write_frame_files(args.out, f, aovs, image);
-                    image.stats.rank = rank;
-                    image.stats.handout_ms = ask_ms;
-                    cluster.send_record(frame_report_json(image.stats));
+                    if (!gather_shares(cluster, options, image)) continue;
+                    hand_over(image);
+                }
+                frame = -1;
+                if (writer) {
+                    writer->finish();
+                    record_written();
                 }
             }
-            frame = -1;
-            cluster.finish_handout();
-        } else {
-            for (const int f : todo) {
-                frame = f;
-                renderer.render(scene, f, view, image);
-                slow_down(f);
-                // The small figures first: once rank 0 has them every share is done, so their
-                // wait is the load imbalance and the gather after it the transfer alone.
-                Stopwatch clock;
-                const std::vector<double> figures = cluster.gather_figures(share_figures(image.stats));
-                const double wait_ms = clock.lap_ms();
-                // Rank 0's own share is in place already: it sends none.
-                std::vector<float> packed;
-                if (rank != 0) pack_tiles(image, options.tiles, packed);
-                const std::vector<float> all = cluster.gather(packed);
-                if (rank != 0) continue;
-                std::size_t offset = 0;
-                for (int r = 1; r < ranks; ++r) {
-                    const packet::TileShare share{r, ranks};
-                    const std::size_t size = packed_share_size(options.width, options.height,
-                                                               share, options.hit_buffers);
-                    if (all.size() < offset + size) {
-                        throw std::runtime_error("rank " + std::to_string(r) + "'s tiles came short");
-                    }
-                    unpack_tiles({all.data() + offset, size}, share, options.hit_buffers, image);
-                    offset += size;
+        } catch (const std::exception&) {
+            // The frames the writer finished before the failure keep their record, so that
+            // --resume skips them; the writer writes nothing more after an error.
+            if (writer) {
+                try {
+                    writer->finish();
+                } catch (const std::exception&) {
+                    // The error being thrown is the one to report.
                 }
-                FrameStats& stats = image.stats;
-                stats.wait_ms = wait_ms;
-                stats.gather_ms = clock.elapsed_ms();
-                stats.total_ms += stats.wait_ms + stats.gather_ms;
-                stats.rank = 0;
-                add_share_figures(figures, ranks, stats);
-                write_frame_files(args.out, f, aovs, image);
-                keep(frame_report_json(stats));
+                record_written();
             }
-            frame = -1;
+            throw;
         }
         if (rank != 0) return 0;
 
         // The records hold the range's frames only, in frame order.
         std::vector<FrameStats> frames;
         for (const auto& [f, stats] : records) frames.push_back(stats);
-        print_ignored(std::cout, scene);
-        print_frame_header(std::cout);
-        if (frames.size() <= 8) {
-            for (const FrameStats& f : frames) print_frame_row(std::cout, f);
-        }
-        print_summary(std::cout, frames);
-        print_secondary_summary(std::cout, frames);
-        print_rebuild_summary(std::cout, frames);
-        print_ranks(std::cout, frames, ranks, tiles);
-        std::cout << "journal: " << journal->path().string() << "\n";
+        print_results(args, scene, frames, mpi_job ? ranks : 0, tiles, *writer);
+        if (journal) std::cout << "journal: " << journal->path().string() << "\n";
         if (!args.report.empty()) {
-            const RunInfo run{source, options.width, options.height, options.build.cost_ratio,
-                              options.build.leaf_size_max,
-                              args.threads > 0 ? args.threads : tbb::info::default_concurrency(),
-                              scene.ignored};
+            RunInfo run{source, options.width, options.height, options.build.cost_ratio,
+                        options.build.leaf_size_max,
+                        args.threads > 0 ? args.threads : tbb::info::default_concurrency(),
+                        scene.ignored};
+            run.startup_ms = startup_ms;
+            run.writer_wait_ms = writer->wait_ms();
             write_report(args.report, run, frames);
             std::cout << "report: " << args.report << "\n";
+        }
+        if (stopping()) {
+            std::cout << std::flush;
+            std::cerr << "dynrt: stopped by " << InterruptGuard::signal_name() << " after "
+                      << rendered << " of " << todo.size() << " frames, all written"
+                      << (!numbered ? ""
+                          : args.contact_sheet.empty()
+                              ? "; run the same command with --resume to render the rest"
+                              // A sheet needs every frame rendered in one run.
+                              : "; run the same command with --resume, without --contact-sheet, "
+                                "to render the rest")
+                      << "\n";
+            return InterruptGuard::exit_code();
         }
         return 0;
     } catch (const std::exception& e) {
         if (ranks == 1) throw;
+        // A frame the output stage failed to write names itself ("frame F: FILE: why").
+        if (dynamic_cast<const FrameWriteError*>(&e)) {
+            cluster.fail("rank " + std::to_string(rank) + ", " + e.what());
+        }
         std::string where = "rank " + std::to_string(rank);
         if (frame >= 0) where += ", frame " + std::to_string(frame);
         cluster.fail(where + ": " + e.what());

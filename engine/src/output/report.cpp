@@ -68,6 +68,7 @@ void for_each_field(Stats& s, Visit&& visit) {
     visit("objects_rebuilt", s.objects_rebuilt);
     visit("triangles_refitted", s.triangles_refitted);
     visit("triangles_rebuilt", s.triangles_rebuilt);
+    visit("write_ms", s.write_ms);
 }
 
 nlohmann::ordered_json frame_json(const FrameStats& s) {
@@ -209,7 +210,8 @@ std::string report_json(const RunInfo& run, const std::vector<FrameStats>& frame
     doc["run"] = {{"scene", run.scene},       {"width", run.width},
                   {"height", run.height},     {"cost_ratio", run.cost_ratio},
                   {"leaf_size_max", run.leaf_size_max}, {"threads", run.threads},
-                  {"ignored", run.ignored}};
+                  {"ignored", run.ignored}, {"startup_ms", run.startup_ms},
+                  {"writer_wait_ms", run.writer_wait_ms}};
     doc["frames"] = nlohmann::ordered_json::array();
     for (const FrameStats& f : frames) doc["frames"].push_back(frame_json(f));
     doc["summary"] = summary_json(frames);
@@ -219,6 +221,16 @@ std::string report_json(const RunInfo& run, const std::vector<FrameStats>& frame
 void write_report(const std::filesystem::path& path, const RunInfo& run,
                   const std::vector<FrameStats>& frames) {
     write_file_atomically(path, report_json(run, frames), "the report");
+}
+
+void print_writer_summary(std::ostream& out, const std::vector<FrameStats>& frames, double wait_ms) {
+    if (frames.empty()) return;
+    std::vector<double> ms;
+    for (const FrameStats& f : frames) ms.push_back(f.write_ms);
+    const Spread s = spread_of(std::move(ms));
+    out << std::fixed << std::setprecision(1) << "writing: " << s.median << " ms/frame (max "
+        << s.max << ") on the writer thread, beside the render; the render waited "
+        << wait_ms << " ms for it in all\n";
 }
 
 void print_frame_header(std::ostream& out) {

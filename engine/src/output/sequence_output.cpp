@@ -1,8 +1,9 @@
 #include "dynrt/engine/sequence_output.h"
 
+#include "dynrt/engine/atomic_file.h"
 #include "dynrt/engine/image_output.h"
 
-#include "srgb.h"
+#include "srgb8.h"
 
 #include <OpenImageIO/imageio.h>
 
@@ -33,12 +34,7 @@ std::string lower_extension(const std::filesystem::path& path) {
 /// The frame's colour as 8-bit sRGB, RGB interleaved.
 std::vector<std::uint8_t> to_srgb8(const RenderedFrame& frame) {
     std::vector<std::uint8_t> out(frame.color.size() * 3);
-    for (std::size_t i = 0; i < frame.color.size(); ++i) {
-        for (int c = 0; c < 3; ++c) {
-            out[3 * i + std::size_t(c)] =
-                std::uint8_t(std::lround(srgb_encode(frame.color[i][c]) * 255.0f));
-        }
-    }
+    encode_srgb8(frame.color, out.data());
     return out;
 }
 
@@ -81,7 +77,10 @@ std::string shell_quote(const std::string& text) {
 
 class GifFile final : public SequenceFile {
 public:
-    GifFile(const std::filesystem::path& path, double fps) : path_(path), fps_(fps) {
+    // Written to partial_path(path) and renamed over `path` once closed: a render killed part
+    // way leaves no GIF without its trailer under the user's name.
+    GifFile(const std::filesystem::path& path, double fps)
+        : path_(path), partial_(partial_path(path)), fps_(fps) {
         out_ = OIIO::ImageOutput::create(path.string());
         if (!out_ || !out_->supports("multiimage") || !out_->supports("appendsubimage")) {
             throw std::invalid_argument(path.string() + ": this OpenImageIO cannot write several "
@@ -89,7 +88,13 @@ public:
         }
     }
     ~GifFile() override {
-        if (open_) out_->close();  // keeps the frames written so far
+        if (!open_) return;
+        // Keeps the frames written so far, as a whole GIF.
+        try {
+            if (out_->close()) commit_partial(partial_, path_);
+        } catch (const std::exception&) {
+            // A destructor does not throw; commit_partial removed the partial file.
+        }
     }
 
     void add(const RenderedFrame& frame) override {
@@ -103,7 +108,7 @@ public:
         spec.attribute("gif:LoopCount", 0);  // loop for ever
         const auto mode = open_ ? OIIO::ImageOutput::AppendSubimage : OIIO::ImageOutput::Create;
         const std::vector<std::uint8_t> pixels = to_srgb8(frame);
-        if (!out_->open(path_.string(), spec, mode) ||
+        if (!out_->open(partial_.string(), spec, mode) ||
             !out_->write_image(OIIO::TypeDesc::UINT8, pixels.data())) {
             throw std::runtime_error(path_.string() + ": " + out_->geterror());
         }
@@ -116,10 +121,12 @@ public:
         if (!open_) throw std::runtime_error(path_.string() + ": no frame was written");
         open_ = false;
         if (!out_->close()) throw std::runtime_error(path_.string() + ": " + out_->geterror());
+        commit_partial(partial_, path_);
     }
 
 private:
     std::filesystem::path path_;
+    std::filesystem::path partial_;
     double fps_;
     std::unique_ptr<OIIO::ImageOutput> out_;
     int width_ = 0, height_ = 0;
@@ -129,9 +136,18 @@ private:
 /// Raw RGB frames piped into ffmpeg, started at the first frame (whose size it needs).
 class VideoFile final : public SequenceFile {
 public:
-    VideoFile(const std::filesystem::path& path, double fps) : path_(path), fps_(fps) {}
+    // ffmpeg writes partial_path(path), renamed over `path` once it has finished the file.
+    VideoFile(const std::filesystem::path& path, double fps)
+        : path_(path), partial_(partial_path(path)), fps_(fps) {}
     ~VideoFile() override {
-        if (pipe_) pclose(pipe_);  // ffmpeg finishes what it got
+        // ffmpeg finishes what it got: kept, as a whole file.
+        if (pipe_ && pclose(pipe_) == 0) {
+            try {
+                commit_partial(partial_, path_);
+            } catch (const std::exception&) {
+                // A destructor does not throw; commit_partial removed the partial file.
+            }
+        }
         if (previous_sigpipe_ != SIG_ERR) std::signal(SIGPIPE, previous_sigpipe_);
     }
 
@@ -151,9 +167,12 @@ public:
         const int status = pclose(pipe_);
         pipe_ = nullptr;
         if (status != 0) {
+            std::error_code ignored;
+            std::filesystem::remove(partial_, ignored);
             throw std::runtime_error(path_.string() + ": ffmpeg failed (exit status " +
                                      std::to_string(status) + "); its messages are above");
         }
+        commit_partial(partial_, path_);
     }
 
 private:
@@ -161,11 +180,15 @@ private:
         width_ = width;
         height_ = height;
         // yuv420p (what players expect) needs even sizes: pad by one pixel when odd.
+        // In a session of its own (setsid, when installed): a Ctrl-C at the terminal, or
+        // `timeout`'s signal to its process group, is dynrt's to handle; ffmpeg then gets the
+        // frames rendered so far and the end of its input, and finishes the file.
         const std::string command =
+            std::string(std::filesystem::exists("/usr/bin/setsid") ? "exec /usr/bin/setsid " : "exec ") +
             shell_quote(find_ffmpeg().string()) + " -nostdin -y -loglevel error -f rawvideo -pix_fmt rgb24 -s " +
             std::to_string(width) + "x" + std::to_string(height) + " -r " + std::to_string(fps_) +
             " -i - -vf " + shell_quote("pad=ceil(iw/2)*2:ceil(ih/2)*2") + " -pix_fmt yuv420p " +
-            shell_quote(path_.string());
+            shell_quote(partial_.string());
         // An ffmpeg that exits early must make fwrite fail (EPIPE), not kill dynrt (SIGPIPE).
         previous_sigpipe_ = std::signal(SIGPIPE, SIG_IGN);
         pipe_ = popen(command.c_str(), "w");
@@ -173,6 +196,7 @@ private:
     }
 
     std::filesystem::path path_;
+    std::filesystem::path partial_;
     double fps_;
     FILE* pipe_ = nullptr;
     int width_ = 0, height_ = 0;

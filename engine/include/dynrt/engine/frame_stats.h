@@ -191,6 +191,9 @@ struct DistributionStats {
 struct FrameStats : UpdateStats, TreeShape, TraceStats, DistributionStats {
     int frame = 0;
     double total_ms = 0;  ///< the whole frame, wall clock
+    /// `dynrt render`: the output stage's time encoding and writing this frame's files (on its
+    /// writer thread, beside the next frame's render; FrameWriter), not part of total_ms.
+    double write_ms = 0;
 };
 
 }  // namespace dynrt

@@ -21,6 +21,12 @@ struct RunInfo {
     int threads = 0;
     /// Scene::ignored: what the scene file says that dynrt left out.
     std::vector<std::string> ignored;
+    /// `dynrt render`: from the start of the command to the first frame (the scene loaded and
+    /// checked; the first frame's tree builds and texture decoding are in its own figures).
+    double startup_ms = 0;
+    /// `dynrt render`: the time the render thread waited for the output stage (FrameWriter)
+    /// to take a frame or to finish.
+    double writer_wait_ms = 0;
 };
 
 /// {"dynrt_report_version": 1, "run": {...}, "frames": [FrameStats...],
@@ -40,6 +46,10 @@ FrameStats parse_frame_report_json(const std::string& record);
 /// std::runtime_error naming the file on failure.
 void write_report(const std::filesystem::path& path, const RunInfo& run,
                   const std::vector<FrameStats>& frames);
+
+/// The output stage's line under the table: its median and largest ms per frame (write_ms,
+/// beside the render) and how long the render waited for it. Nothing without frames.
+void print_writer_summary(std::ostream& out, const std::vector<FrameStats>& frames, double wait_ms);
 
 /// Column header of the frame table, then one row per call of print_frame_row.
 void print_frame_header(std::ostream& out);

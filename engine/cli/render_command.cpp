@@ -93,6 +93,7 @@ int run_render(const RenderArgs& args) {
     const std::string source = scene_source(args);
     const dynrt::Scene scene = load_animated_scene(args, source, options);
     warn_past_the_end(scene, options.pose, range);
+    note_single_frame(std::cout, args.frames);
     if (makes_folder) {
         std::filesystem::create_directories(first_path.parent_path());
         dynrt::check_image_path(first_path);

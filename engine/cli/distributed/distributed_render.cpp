@@ -212,7 +212,10 @@ int run_distributed_render(const RenderArgs& args, Cluster& cluster) {
 
         const std::string source = scene_source(args);
         const Scene scene = load_animated_scene(args, source, options);
-        if (rank == 0) warn_past_the_end(scene, options.pose, range);
+        if (rank == 0) {
+            warn_past_the_end(scene, options.pose, range);
+            note_single_frame(std::cout, args.frames);
+        }
         if (first_path.has_parent_path()) std::filesystem::create_directories(first_path.parent_path());
         const CameraSource view = camera_source(scene, args, options.pose, range);
 

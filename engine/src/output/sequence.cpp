@@ -59,8 +59,8 @@ std::string unescape(std::string_view text) {
 
 FrameRange parse_frame_range(std::string_view text) {
     const std::string message = "--frames '" + std::string(text) +
-                                "': expected A-B (frames A to B, 0 <= A <= B) or N (frames 0 "
-                                "to N-1, N >= 1)";
+                                "': expected N (frame N alone) or A-B (frames A to B, "
+                                "0 <= A <= B)";
     // A whole number, however long: values beyond long long read as its maximum, so that a
     // far frame gets the message about the bound rather than a syntax error.
     const auto number = [](std::string_view t, long long& v) {
@@ -79,9 +79,10 @@ FrameRange parse_frame_range(std::string_view text) {
     const std::size_t dash = text.find('-');
     long long first = 0, last = 0;
     if (dash == std::string_view::npos) {
-        if (!number(text, last) || last < 1) throw std::invalid_argument(message);
-        check_bound(last - 1);
-        return FrameRange{0, int(last - 1)};
+        // One number is that frame, as Blender's -f and most renderers read it.
+        if (!number(text, first) || first < 0) throw std::invalid_argument(message);
+        check_bound(first);
+        return FrameRange{int(first), int(first)};
     }
     if (!number(text.substr(0, dash), first) || !number(text.substr(dash + 1), last) ||
         last < first) {

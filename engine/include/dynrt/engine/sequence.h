@@ -19,8 +19,9 @@ struct FrameRange {
     int count() const { return last - first + 1; }
 };
 
-/// "A-B" (frames A to B, both included, 0 <= A <= B <= kFrameMax) or "N" (N frames: 0 to N-1,
-/// 1 <= N <= kFrameMax + 1). Throws std::invalid_argument naming the text and the bound.
+/// "N" (frame N alone, 0 <= N <= kFrameMax, as Blender's -f reads it) or "A-B" (frames A to
+/// B, both included, 0 <= A <= B <= kFrameMax). Throws std::invalid_argument naming the text
+/// and the bound.
 FrameRange parse_frame_range(std::string_view text);
 
 /// True when `pattern` holds a printf-style integer conversion for the frame number (%d, with

@@ -366,6 +366,29 @@ TEST(Cli, NumberedOutputMakesItsFolderOnlyForARunThatRenders) {
     EXPECT_FALSE(fs::exists(dir / "bad")) << bad.output;
 }
 
+/// An output that cannot be written is found before the first frame, with nothing written:
+/// two outputs naming one file (the image would be replaced by the report's JSON), a contact
+/// sheet or report in a folder that takes no file (/proc). Usage errors: exit 2.
+TEST(Cli, OutputsAreCheckedBeforeTheFirstFrame) {
+    const fs::path dir = fresh_dir("outputs");
+    const std::string a = (dir / "a.png").string();
+    const CliRun same = run_dynrt("render sphere:10 --res 8x8 --out '" + a + "' --report '" + a + "'");
+    EXPECT_EQ(same.exit_code, 2) << same.output;
+    EXPECT_NE(same.output.find("dynrt: error: --out '" + a + "' and --report '" + a + "' are the same file"),
+              std::string::npos) << same.output;
+    EXPECT_FALSE(fs::exists(a)) << same.output;
+    for (const std::string& flag : {std::string("--contact-sheet /proc/sheet.png"),
+                                    std::string("--report /proc/r.json")}) {
+        const CliRun run = run_dynrt("render sphere:10 --res 8x8 --anim rigid --frames 0-2 --out '" +
+                                     (dir / "f" / "%d.png").string() + "' " + flag);
+        SCOPED_TRACE(flag);
+        EXPECT_EQ(run.exit_code, 2) << run.output;
+        EXPECT_NE(run.output.find("cannot write in folder /proc"), std::string::npos) << run.output;
+        EXPECT_EQ(run.output.find("partial"), std::string::npos) << run.output;
+        EXPECT_FALSE(fs::exists(dir / "f")) << "frames were rendered first: " << run.output;
+    }
+}
+
 /// `--frames N` is frame N alone (Blender's -f N), and the render says so once, with the
 /// range form; A-B is a range.
 TEST(Cli, FramesNIsFrameNAlone) {

@@ -77,6 +77,19 @@ TEST(FrameRange, RandomTextParsesWithinTheBoundOrIsRefused) {
     EXPECT_GT(parsed, 100);
 }
 
+/// frame_of_path inverts frame_path: the frame whose file has a name, for the output checks.
+TEST(FramePath, FindsTheFrameOfAFileName) {
+    EXPECT_EQ(frame_of_path("frames/%04d.png", "frames/0007.png"), 7);
+    EXPECT_EQ(frame_of_path("f%d.exr", "f123.exr"), 123);
+    EXPECT_EQ(frame_of_path("f%3d.png", "f  5.png"), 5);
+    EXPECT_EQ(frame_of_path("a%%b%d.png", "a%b3.png"), 3);
+    EXPECT_EQ(frame_of_path("frames/%04d.png", "frames/7.png"), std::nullopt);  // not its name
+    EXPECT_EQ(frame_of_path("frames/%04d.png", "frames/0007.jpg"), std::nullopt);
+    EXPECT_EQ(frame_of_path("frames/%04d.png", "frames/abcd.png"), std::nullopt);
+    EXPECT_EQ(frame_of_path("still.png", "still.png"), std::nullopt);
+    for (int f : {0, 9, 10, 12345, kFrameMax}) EXPECT_EQ(frame_of_path("x/%05d_y.tif", frame_path("x/%05d_y.tif", f)), f);
+}
+
 TEST(FramePath, FormatsTheFrameNumber) {
     EXPECT_EQ(frame_path("frames/%04d.png", 7), "frames/0007.png");
     EXPECT_EQ(frame_path("f%d.exr", 123), "f123.exr");

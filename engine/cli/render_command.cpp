@@ -2,6 +2,7 @@
 // contact sheet, AOVs and the frame report.
 
 #include "frame_args.h"
+#include "render_outputs.h"
 
 #include "dynrt/engine/image_output.h"
 #include "dynrt/engine/report.h"
@@ -38,23 +39,6 @@ void draw_progress(int done, int total, double ms_per_frame) {
     if (done == total) std::cerr << "\n";
 }
 
-/// Fails before any rendering when a file could not be written afterwards because its folder
-/// is missing; `label` names it in the message ("--report r.json").
-void require_folder(const std::filesystem::path& path, const std::string& label) {
-    const std::filesystem::path parent = path.parent_path();
-    if (!parent.empty() && !std::filesystem::is_directory(parent)) {
-        throw std::invalid_argument(label + ": folder " + parent.string() + " does not exist");
-    }
-}
-
-/// Fails before any rendering when the report could not be written afterwards: its folder
-/// missing, or the path a folder.
-void check_report_path(const std::filesystem::path& path) {
-    if (std::filesystem::is_directory(path)) {
-        throw std::invalid_argument("--report " + path.string() + ": is a folder");
-    }
-    require_folder(path, "--report " + path.string());
-}
 }  // namespace
 
 int run_render(const RenderArgs& args) {
@@ -82,13 +66,9 @@ int run_render(const RenderArgs& args) {
     // which is made as renderers do, but only once the scene has loaded: a run that fails
     // before rendering leaves nothing behind. Until then only the format is checked.
     const bool makes_folder = dynrt::has_frame_number(args.out) && first_path.has_parent_path();
-    if (animated) {
-        // A sequence file's format was checked above (a video is not an image format).
-        require_folder(first_path, args.out);
-    } else {
-        dynrt::check_image_path(makes_folder ? first_path.filename() : first_path);
-    }
-    if (!args.report.empty()) check_report_path(args.report);
+    // A sequence file's format was checked above (a video is not an image format).
+    if (!animated) dynrt::check_image_path(makes_folder ? first_path.filename() : first_path);
+    check_render_outputs(render_outputs(args, range, /*with_journal=*/false), range);
 
     const std::string source = scene_source(args);
     const dynrt::Scene scene = load_animated_scene(args, source, options);

@@ -15,6 +15,7 @@
 
 #include "distributed/cluster.h"
 #include "distributed/render_journal.h"
+#include "render_outputs.h"
 #include "dynrt/engine/image_output.h"
 #include "dynrt/engine/report.h"
 #include "dynrt/engine/sequence_output.h"
@@ -58,14 +59,6 @@ std::map<int, int> test_slow_frames() {
         slow[std::stoi(item.substr(0, colon))] = std::stoi(item.substr(colon + 1));
     }
     return slow;
-}
-
-/// The journal beside the report (REPORT.frames.jsonl), else hidden beside the first frame.
-std::filesystem::path journal_path(const RenderArgs& args, const std::filesystem::path& first_image) {
-    if (!args.report.empty()) return args.report + ".frames.jsonl";
-    std::filesystem::path path = first_image;
-    path.replace_filename(".dynrt-frames.jsonl");
-    return path;
 }
 
 /// A frame is done when its record and its files (image and AOVs) are all there.
@@ -206,9 +199,7 @@ int run_distributed_render(const RenderArgs& args, Cluster& cluster) {
         check_distributed_args(args, range);
         const std::filesystem::path first_path = frame_path(args.out, range.first);
         check_image_path(first_path.filename());
-        if (!args.report.empty() && std::filesystem::is_directory(args.report)) {
-            throw std::invalid_argument("--report " + args.report + ": is a folder");
-        }
+        check_render_outputs(render_outputs(args, range, /*with_journal=*/true), range);
 
         const std::string source = scene_source(args);
         const Scene scene = load_animated_scene(args, source, options);
@@ -227,7 +218,7 @@ int run_distributed_render(const RenderArgs& args, Cluster& cluster) {
             const nlohmann::ordered_json header = {
                 {"dynrt_journal", 1}, {"scene", source}, {"width", options.width},
                 {"height", options.height}, {"out", args.out}, {"aov", args.aov}};
-            journal.emplace(journal_path(args, first_path), header.dump(), args.resume);
+            journal.emplace(journal_path(args, range), header.dump(), args.resume);
             for (int f = range.first; f <= range.last; ++f) {
                 if (args.resume && frame_done(*journal, f, args.out, aovs)) {
                     records[f] = journal->earlier().at(f);

@@ -107,5 +107,25 @@ std::string frame_path(std::string_view pattern, int frame) {
     return unescape(pattern.substr(0, c.begin)) + number + unescape(pattern.substr(c.end));
 }
 
+std::optional<int> frame_of_path(std::string_view pattern, std::string_view path) {
+    const Conversion c = find_conversion(pattern);
+    if (c.begin == std::string_view::npos) return std::nullopt;
+    const std::string prefix = unescape(pattern.substr(0, c.begin));
+    const std::string suffix = unescape(pattern.substr(c.end));
+    if (path.size() < prefix.size() + suffix.size() || !path.starts_with(prefix) ||
+        !path.ends_with(suffix)) {
+        return std::nullopt;
+    }
+    std::string_view number = path.substr(prefix.size(), path.size() - prefix.size() - suffix.size());
+    // What %d's flags may put before the digits: padding spaces and a plus sign.
+    while (!number.empty() && (number.front() == ' ' || number.front() == '+')) number.remove_prefix(1);
+    long long frame = -1;
+    const auto [ptr, ec] = std::from_chars(number.data(), number.data() + number.size(), frame);
+    if (ec != std::errc() || ptr != number.data() + number.size() || frame < 0 || frame > kFrameMax) {
+        return std::nullopt;
+    }
+    if (frame_path(pattern, int(frame)) != path) return std::nullopt;
+    return int(frame);
+}
 
 }  // namespace dynrt

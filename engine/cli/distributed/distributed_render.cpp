@@ -15,6 +15,7 @@
 
 #include "distributed/cluster.h"
 #include "distributed/render_journal.h"
+#include "job_settings.h"
 #include "render_outputs.h"
 #include "dynrt/engine/image_output.h"
 #include "dynrt/engine/report.h"
@@ -215,10 +216,7 @@ int run_distributed_render(const RenderArgs& args, Cluster& cluster) {
         std::vector<int> todo;
         std::map<int, FrameStats> records;
         if (rank == 0) {
-            const nlohmann::ordered_json header = {
-                {"dynrt_journal", 1}, {"scene", source}, {"width", options.width},
-                {"height", options.height}, {"out", args.out}, {"aov", args.aov}};
-            journal.emplace(journal_path(args, range), header.dump(), args.resume);
+            journal.emplace(journal_path(args, range), journal_header(args, options, scene), args.resume);
             for (int f = range.first; f <= range.last; ++f) {
                 if (args.resume && frame_done(*journal, f, args.out, aovs)) {
                     records[f] = journal->earlier().at(f);

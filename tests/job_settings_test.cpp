@@ -131,6 +131,23 @@ TEST(JobSettings, AnotherCameraIsRefusedNamingBothValues) {
     EXPECT_EQ(job_difference(header_of(a), header_of(b)), "");
 }
 
+/// The clips played are part of the job, by name: another clip is refused naming both, and a
+/// clip given by index or by name is the same job (Fox: Survey, Walk, Run; skipped without
+/// ../shared/scenes).
+TEST(JobSettings, AnotherClipIsRefusedAndAClipByIndexIsTheSameJob) {
+    const fs::path fox = fs::path(DYNRT_SHARED_SCENES_DIR) / "fox" / "Fox.glb";
+    if (!fs::exists(fox)) GTEST_SKIP() << fox << " not found";
+    RenderArgs walk = base_args(), by_index = base_args(), survey = base_args();
+    walk.scene = by_index.scene = survey.scene = fox.string();
+    walk.clips = {"Walk"};
+    by_index.clips = {"1"};
+    survey.clips = {};  // the default: Survey, the first of the alternatives
+    EXPECT_EQ(job_difference(header_of(walk), header_of(by_index)), "");
+    EXPECT_EQ(job_difference(header_of(walk), header_of(survey)),
+              "--resume: this job was rendered with --clip 'Walk', not 'Survey'; render without "
+              "--resume to start afresh, or resume with the same flags");
+}
+
 /// A scene file changed since the job began, or one it pulls in (a BART include), is named.
 TEST(JobSettings, AChangedSceneFileIsNamedAsSuch) {
     const fs::path dir = fs::path(testing::TempDir()) / "dynrt_job_settings_files";

@@ -24,7 +24,6 @@
 #include "dynrt/engine/stopwatch.h"
 #include "dynrt/engine/tile_share.h"
 
-#include <nlohmann/json.hpp>
 #include <tbb/info.h>
 
 #include <algorithm>

@@ -20,7 +20,7 @@ dynrt=./build/release/engine/dynrt
 motions=(--anim wave:ground --anim rigid:blue_torus --anim rigid:box_top
          --anim explode:green_icosphere)
 echo "== animated sequence: 48 frames of the bundled scene"
-"$dynrt" render --frames 48 "${motions[@]}" --res 512x512 \
+"$dynrt" render --frames 0-47 "${motions[@]}" --res 512x512 \
   --out out/animation.gif --contact-sheet out/contact_sheet.png --report out/sequence.json "$@"
 echo
 echo "== still frame"

@@ -243,14 +243,14 @@ TEST(Cli, BenchFramesErrorRefusesWhatItCannotMeasure) {
     };
     for (const auto& [flags, message] : cases) {
         const CliRun run = run_dynrt(std::string("bench sphere:10 --res 16x16 ") + flags);
-        EXPECT_EQ(run.exit_code, 1) << flags << "\n" << run.output;
+        EXPECT_EQ(run.exit_code, 2) << flags << "\n" << run.output;  // usage errors
         EXPECT_NE(run.output.find(message), std::string::npos) << flags << "\n" << run.output;
     }
 }
 
 TEST(Cli, BenchVsAnUnknownTracerIsAnError) {
     const CliRun run = run_dynrt("bench sphere:10 --res 16x16 --repeat 1 --vs optix");
-    EXPECT_EQ(run.exit_code, 1) << run.output;
+    EXPECT_EQ(run.exit_code, 2) << run.output;
     EXPECT_NE(run.output.find("--vs"), std::string::npos) << run.output;
 }
 
@@ -368,6 +368,95 @@ TEST(Cli, NumberedOutputMakesItsFolderOnlyForARunThatRenders) {
     EXPECT_FALSE(fs::exists(dir / "bad")) << bad.output;
 }
 
+/// An output that cannot be written is found before the first frame, with nothing written:
+/// two outputs naming one file (the image would be replaced by the report's JSON), a contact
+/// sheet or report in a folder that takes no file (/proc). Usage errors: exit 2.
+TEST(Cli, OutputsAreCheckedBeforeTheFirstFrame) {
+    const fs::path dir = fresh_dir("outputs");
+    const std::string a = (dir / "a.png").string();
+    const CliRun same = run_dynrt("render sphere:10 --res 8x8 --out '" + a + "' --report '" + a + "'");
+    EXPECT_EQ(same.exit_code, 2) << same.output;
+    EXPECT_NE(same.output.find("dynrt: error: --out '" + a + "' and --report '" + a + "' are the same file"),
+              std::string::npos) << same.output;
+    EXPECT_FALSE(fs::exists(a)) << same.output;
+    for (const std::string& flag : {std::string("--contact-sheet /proc/sheet.png"),
+                                    std::string("--report /proc/r.json")}) {
+        const CliRun run = run_dynrt("render sphere:10 --res 8x8 --anim rigid --frames 0-2 --out '" +
+                                     (dir / "f" / "%d.png").string() + "' " + flag);
+        SCOPED_TRACE(flag);
+        EXPECT_EQ(run.exit_code, 2) << run.output;
+        EXPECT_NE(run.output.find("cannot write in folder /proc"), std::string::npos) << run.output;
+        EXPECT_EQ(run.output.find("partial"), std::string::npos) << run.output;
+        EXPECT_FALSE(fs::exists(dir / "f")) << "frames were rendered first: " << run.output;
+    }
+}
+
+/// `--frames N` is frame N alone (Blender's -f N), and the render says so once, with the
+/// range form; A-B is a range.
+TEST(Cli, FramesNIsFrameNAlone) {
+    const fs::path dir = fresh_dir("frames_n");
+    const CliRun run = run_dynrt("render sphere:10 --res 8x8 --anim rigid --frames 3 --out '" +
+                                 (dir / "%d.png").string() + "'");
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+    EXPECT_TRUE(fs::exists(dir / "3.png"));
+    // That one image, beside the render's journal (every numbered render keeps one).
+    EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator{}), 2);
+    EXPECT_TRUE(fs::exists(dir / ".dynrt-frames.jsonl"));
+    EXPECT_NE(run.output.find("frames: frame 3 alone (--frames N is one frame; a range is A-B, "
+                              "e.g. --frames 0-2 for 3 frames)"),
+              std::string::npos) << run.output;
+    const CliRun range = run_dynrt("render sphere:10 --res 8x8 --anim rigid --frames 0-1 --out '" +
+                                   (dir / "r%d.png").string() + "'");
+    ASSERT_EQ(range.exit_code, 0) << range.output;
+    EXPECT_EQ(range.output.find("alone"), std::string::npos) << range.output;
+    EXPECT_NE(run_dynrt("render --help").output.find("frame N alone"), std::string::npos);
+}
+
+/// Every error of the command line is one "dynrt: error:" line and exit 2, CLI11's included;
+/// a failure while running (a scene that cannot be read) exits 1.
+TEST(Cli, UsageErrorsExit2WithThePrefixAndFailuresExit1) {
+    for (const std::string& args : {std::string("render sphere:10 --fps 0"),
+                                    std::string("render sphere:10 --threads 0"),
+                                    std::string("--threads 0 info sphere:10"),
+                                    std::string("render sphere:10 --bogus"),
+                                    std::string("render sphere:10 soup:10"),
+                                    std::string("render sphere:10 --res 8x8 --res 9x9"),
+                                    std::string("render sphere:10 --frames 3-1"),
+                                    std::string("render sphere:10 --normals wobbly"), std::string("")}) {
+        const CliRun run = run_dynrt(args);
+        SCOPED_TRACE(args);
+        EXPECT_EQ(run.exit_code, 2) << run.output;
+        EXPECT_EQ(run.output.rfind("dynrt: error: ", 0), 0u) << run.output;
+    }
+    const CliRun twice = run_dynrt("render sphere:10 --res 8x8 --res 9x9");
+    EXPECT_NE(twice.output.find("dynrt: error: --res: given more than once; give it once"),
+              std::string::npos) << twice.output;
+    EXPECT_EQ(twice.output.find("At Most"), std::string::npos) << twice.output;
+    const CliRun missing = run_dynrt("render /no/such/file.gltf");
+    EXPECT_EQ(missing.exit_code, 1) << missing.output;
+    EXPECT_NE(missing.output.find("dynrt: error: "), std::string::npos) << missing.output;
+    EXPECT_NE(run_dynrt("--help").output.find("Exit codes: 0 done; 1 a failure"), std::string::npos);
+}
+
+/// Two clips that drive the same node are alternatives: asked for together they are refused,
+/// naming both and a node (Fox's Survey and Walk drive one skeleton; skipped without
+/// ../shared/scenes).
+TEST(Cli, TwoClipsDrivingOneNodeAreRefused) {
+    const fs::path fox = fs::path(DYNRT_SHARED_SCENES_DIR) / "fox" / "Fox.glb";
+    if (!fs::exists(fox)) GTEST_SKIP() << fox << " not found";
+    const fs::path dir = fresh_dir("clip_overlap");
+    const std::string render = "render '" + fox.string() + "' --res 8x8 --frames 0-1 --out '" +
+                               (dir / "%d.png").string() + "'";
+    const CliRun both = run_dynrt(render + " --clip Survey --clip Walk");
+    EXPECT_EQ(both.exit_code, 2) << both.output;
+    EXPECT_NE(both.output.find("dynrt: error: --clip 'Survey' and --clip 'Walk' both animate node '"),
+              std::string::npos) << both.output;
+    EXPECT_FALSE(fs::exists(dir / "0.png"));
+    const CliRun twice = run_dynrt(render + " --clip Walk --clip 1");
+    EXPECT_NE(twice.output.find("--clip 'Walk' is given twice"), std::string::npos) << twice.output;
+    EXPECT_EQ(run_dynrt(render + " --clip Walk").exit_code, 0);
+}
+
 TEST(Cli, InfoListsObjects) {
     const CliRun run = run_dynrt("info 'sphere:100+soup:10'");
     ASSERT_EQ(run.exit_code, 0) << run.output;
@@ -426,6 +515,7 @@ TEST_P(CliErrors, FailCleanlyWithAMessage) {
     EXPECT_NE(run.exit_code, 124) << "did not finish: " << run.output;
     EXPECT_LT(run.exit_code, 128) << "crashed: " << run.output;
     EXPECT_NE(run.output.find(GetParam().expected), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find("dynrt: error: "), std::string::npos) << run.output;
 }
 
 INSTANTIATE_TEST_SUITE_P(

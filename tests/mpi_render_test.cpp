@@ -25,6 +25,7 @@
 #include <string>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <utility>
 #include <vector>
 
 namespace dynrt {
@@ -328,8 +329,60 @@ TEST(MpiRender, ResumeWorksInOneProcessWithoutMpirun) {
     EXPECT_TRUE(fs::exists(dir / "0002.png"));
     // The same frames with AOVs are another job: its journal is not this one's.
     const ShellRun other = run_shell(render_command(0, args + " --aov depth --resume"));
-    EXPECT_NE(other.exit_code, 0) << other.output;
-    EXPECT_NE(other.output.find("records another job"), std::string::npos) << other.output;
+    EXPECT_EQ(other.exit_code, 2) << other.output;
+    EXPECT_NE(other.output.find("rendered with --aov 'none', not 'depth'"), std::string::npos) << other.output;
+}
+
+/// A resume with any setting that changes a pixel refused, naming the setting, both values and
+/// what to do, with no frame of the job touched (the issue's --camera, --clip, --light,
+/// --normals and --depth; --clip is in job_settings_test.cpp, as kScene has no clips).
+TEST(MpiRender, ResumeWithOtherSettingsIsRefusedNamingTheSetting) {
+    const fs::path dir = fresh_dir("resume_mix");
+    const std::string args = "--frames 0-1 --out " + (dir / "%04d.png").string();
+    const ShellRun first = run_shell(render_command(0, args + " --resume"));
+    ASSERT_EQ(first.exit_code, 0) << first.output;
+    fs::remove(dir / "0001.png");  // left to render
+    const auto time_of = [&] { return fs::last_write_time(dir / "0000.png"); };
+    const fs::file_time_type before = time_of();
+    const std::vector<std::pair<std::string, std::string>> changes = {
+        {"--camera eye=0,1,6", "--camera 'default', not 'eye=0,1,6'"},
+        {"--light 1,2,3", "--light 'default', not '1,2,3,1'"},
+        {"--normals flat", "--normals 'smooth', not 'flat'"},
+        {"--depth 2", "--depth '5', not '2'"}};
+    for (const auto& [flag, expected] : changes) {
+        const ShellRun run = run_shell(render_command(0, args + " --resume " + flag));
+        SCOPED_TRACE(flag);
+        EXPECT_EQ(run.exit_code, 2) << run.output;
+        EXPECT_NE(run.output.find("dynrt: error: --resume: this job was rendered with " + expected +
+                                  "; render without --resume to start afresh, or resume with the same flags"),
+                  std::string::npos) << run.output;
+        EXPECT_FALSE(fs::exists(dir / "0001.png")) << "a frame of other settings joined the job";
+    }
+    EXPECT_EQ(time_of(), before);
+    // The same flags finish it, however the work is shared (not part of the job).
+    const ShellRun same = run_shell(render_command(0, args + " --resume --distribute tiles"));
+    ASSERT_EQ(same.exit_code, 0) << same.output;
+    EXPECT_NE(same.output.find("resume: 1 frames done, 1 to render"), std::string::npos) << same.output;
+}
+
+/// A scene file edited since the job began is named as such (a BART file and its include).
+TEST(MpiRender, ResumeAfterTheSceneFileChangedIsRefusedNamingTheFile) {
+    const fs::path dir = fresh_dir("resume_scene_file");
+    std::ofstream(dir / "main.aff") << "v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 40\nhither 0.01\n"
+                                       "resolution 16 16\nl 0 5 5\n"
+                                       "fm 0.1 0.1 0.1 0.8 0.2 0.2 0 0 0 1 0 1\ni part.aff\n";
+    std::ofstream(dir / "part.aff") << "p 3\n-1 -1 0\n1 -1 0\n0 1 0\n";
+    const std::string command = std::string("timeout 120 ") + DYNRT_CLI_PATH + " render '" +
+                                (dir / "main.aff").string() + "' --frames 0-1 --out '" +
+                                (dir / "%d.png").string() + "' --resume";
+    const ShellRun first = run_shell(command);
+    ASSERT_EQ(first.exit_code, 0) << first.output;
+    std::ofstream(dir / "part.aff") << "p 3\n-1 -1 0\n1 -1 0\n0 2 0\n";
+    const ShellRun changed = run_shell(command);
+    EXPECT_EQ(changed.exit_code, 2) << changed.output;
+    EXPECT_NE(changed.output.find("--resume: the scene's file " + (dir / "part.aff").string() +
+                                  " has changed since this job was rendered"),
+              std::string::npos) << changed.output;
 }
 
 }  // namespace mpi_render_test

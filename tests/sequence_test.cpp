@@ -18,15 +18,17 @@ TEST(FrameRange, ParsesRangesAndCounts) {
     EXPECT_EQ(a.first, 3);
     EXPECT_EQ(a.last, 7);
     EXPECT_EQ(a.count(), 5);
+    // One number is that frame alone (Blender's -f 32), not the first 32 frames.
     const FrameRange b = parse_frame_range("32");
-    EXPECT_EQ(b.first, 0);
-    EXPECT_EQ(b.last, 31);
+    EXPECT_EQ(b.first, 32);
+    EXPECT_EQ(b.last, 32);
+    EXPECT_EQ(parse_frame_range("0").count(), 1);
     const FrameRange c = parse_frame_range("0-0");
     EXPECT_EQ(c.count(), 1);
 }
 
 TEST(FrameRange, RefusesMalformedText) {
-    for (const char* bad : {"", "0", "-1", "5-3", "a-b", "1-", "-", "1-2-3", "1.5", "2-x"}) {
+    for (const char* bad : {"", "-1", "5-3", "a-b", "1-", "-", "1-2-3", "1.5", "2-x"}) {
         EXPECT_THROW(parse_frame_range(bad), std::invalid_argument) << bad;
     }
 }
@@ -35,7 +37,7 @@ TEST(FrameRange, RefusesMalformedText) {
 /// its numbers, and a refusal says why.
 TEST(FrameRange, RefusesFramesBeyondTheBoundNamingIt) {
     const std::string bound = "frame numbers above " + std::to_string(kFrameMax);
-    for (const char* far : {"2147483646-2147483647", "10000000-10000001", "0-10000000",
+    for (const char* far : {"2147483646-2147483647", "10000000-10000001", "0-10000000", "10000000",
                             "10000001", "99999999999999999999", "5-99999999999999999999999",
                             "99999999999999999999-99999999999999999999"}) {
         try {
@@ -47,7 +49,7 @@ TEST(FrameRange, RefusesFramesBeyondTheBoundNamingIt) {
     }
     const FrameRange last = parse_frame_range("9999998-9999999");
     EXPECT_EQ(last.count(), 2);
-    EXPECT_EQ(parse_frame_range("10000000").last, kFrameMax);
+    EXPECT_EQ(parse_frame_range("9999999").first, kFrameMax);
 }
 
 /// Property: any text made of digits, dashes and a few other characters either parses into a
@@ -73,6 +75,19 @@ TEST(FrameRange, RandomTextParsesWithinTheBoundOrIsRefused) {
         }
     }
     EXPECT_GT(parsed, 100);
+}
+
+/// frame_of_path inverts frame_path: the frame whose file has a name, for the output checks.
+TEST(FramePath, FindsTheFrameOfAFileName) {
+    EXPECT_EQ(frame_of_path("frames/%04d.png", "frames/0007.png"), 7);
+    EXPECT_EQ(frame_of_path("f%d.exr", "f123.exr"), 123);
+    EXPECT_EQ(frame_of_path("f%3d.png", "f  5.png"), 5);
+    EXPECT_EQ(frame_of_path("a%%b%d.png", "a%b3.png"), 3);
+    EXPECT_EQ(frame_of_path("frames/%04d.png", "frames/7.png"), std::nullopt);  // not its name
+    EXPECT_EQ(frame_of_path("frames/%04d.png", "frames/0007.jpg"), std::nullopt);
+    EXPECT_EQ(frame_of_path("frames/%04d.png", "frames/abcd.png"), std::nullopt);
+    EXPECT_EQ(frame_of_path("still.png", "still.png"), std::nullopt);
+    for (int f : {0, 9, 10, 12345, kFrameMax}) EXPECT_EQ(frame_of_path("x/%05d_y.tif", frame_path("x/%05d_y.tif", f)), f);
 }
 
 TEST(FramePath, FormatsTheFrameNumber) {

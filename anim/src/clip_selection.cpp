@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cstdint>
+#include <map>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -27,20 +28,37 @@ std::size_t find_clip(const Scene& scene, std::string_view name_or_index) {
     throw std::invalid_argument(what + ")");
 }
 
-std::vector<std::size_t> default_clips(const Scene& scene) {
-    std::vector<std::size_t> all;
-    std::set<std::pair<std::uint32_t, int>> driven;  // (node, property) of the clips so far
-    for (std::size_t c = 0; c < scene.clips.size(); ++c) {
+std::optional<ClipOverlap> find_clip_overlap(const Scene& scene, std::span<const std::size_t> clips) {
+    std::map<std::pair<std::uint32_t, int>, std::size_t> driven;  // (node, property) -> clip
+    for (const std::size_t c : clips) {
         std::set<std::pair<std::uint32_t, int>> mine;
         for (const AnimationChannel& channel : scene.clips[c].channels) {
             mine.emplace(channel.node, static_cast<int>(channel.property));
         }
         for (const auto& key : mine) {
-            if (driven.count(key) != 0) return {0};
+            if (const auto it = driven.find(key); it != driven.end()) {
+                return ClipOverlap{it->second, c, key.first, AnimatedProperty(key.second)};
+            }
         }
-        driven.insert(mine.begin(), mine.end());
-        all.push_back(c);
+        for (const auto& key : mine) driven.emplace(key, c);
     }
+    return std::nullopt;
+}
+
+const char* animated_property_name(AnimatedProperty property) {
+    switch (property) {
+    case AnimatedProperty::translation: return "translation";
+    case AnimatedProperty::rotation: return "rotation";
+    case AnimatedProperty::scale: return "scale";
+    case AnimatedProperty::weights: return "weights";
+    }
+    return "?";
+}
+
+std::vector<std::size_t> default_clips(const Scene& scene) {
+    std::vector<std::size_t> all(scene.clips.size());
+    for (std::size_t c = 0; c < all.size(); ++c) all[c] = c;
+    if (find_clip_overlap(scene, all)) return {0};
     return all;
 }
 

@@ -15,6 +15,7 @@
 #include <cmath>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -105,6 +106,28 @@ void apply_scene_setup(const dynrt::Scene& scene, dynrt::RenderOptions& options)
     if (setup) options.background = setup->background;
 }
 
+namespace {
+
+/// Refuses --clip choices that animate the same node: played together the first would mask
+/// the other there (default_clips keeps only the first of such alternatives for the same
+/// reason, and says so).
+void refuse_overlapping_clips(const dynrt::Scene& scene, const std::vector<std::size_t>& clips) {
+    const std::optional<dynrt::anim::ClipOverlap> overlap = dynrt::anim::find_clip_overlap(scene, clips);
+    if (!overlap) return;
+    const std::string first = scene.clips[overlap->first].name;
+    if (overlap->first == overlap->second) {
+        throw std::invalid_argument("--clip '" + first + "' is given twice");
+    }
+    throw std::invalid_argument(
+        "--clip '" + first + "' and --clip '" + scene.clips[overlap->second].name +
+        "' both animate node '" + scene.nodes[overlap->node].name + "' (its " +
+        dynrt::anim::animated_property_name(overlap->property) + "): they are alternatives, "
+        "and played together the first would hide the other; play one at a time (dynrt info "
+        "lists the clips)");
+}
+
+}  // namespace
+
 dynrt::Scene load_animated_scene(const FrameArgs& args, const std::string& source,
                                  dynrt::RenderOptions& options) {
     dynrt::Scene scene = dynrt::load_scene(source);
@@ -114,6 +137,7 @@ dynrt::Scene load_animated_scene(const FrameArgs& args, const std::string& sourc
     std::vector<std::size_t> clips;
     if (!args.clips.empty()) {
         for (const std::string& clip : args.clips) clips.push_back(dynrt::anim::find_clip(scene, clip));
+        refuse_overlapping_clips(scene, clips);
     } else {
         clips = dynrt::anim::default_clips(scene);
         if (clips.size() == 1 && scene.clips.size() > 1) {
@@ -160,6 +184,14 @@ void warn_past_the_end(const dynrt::Scene& scene, const dynrt::anim::PoseSetting
          << " are past the end of the animation (frame " << end << " at " << pose.fps << " fps)";
     dynrt::warn({.kind = kind.str(), .effect = "they repeat its last pose; --loop plays it again"});
     flush_warnings();
+}
+
+void note_single_frame(std::ostream& out, const std::string& frames) {
+    if (frames.empty() || frames.find('-') != std::string::npos) return;
+    const dynrt::FrameRange range = dynrt::parse_frame_range(frames);
+    if (range.first == 0) return;  // "0" meant nothing before: no script can mean frames 0..-1
+    out << "frames: frame " << range.first << " alone (--frames N is one frame; a range is A-B, "
+        << "e.g. --frames 0-" << range.first - 1 << " for " << range.first << " frames)\n";
 }
 
 std::string scene_source(const FrameArgs& args) {

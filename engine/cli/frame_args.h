@@ -116,6 +116,11 @@ int animation_end_frame(const dynrt::Scene& scene, const dynrt::anim::PoseSettin
 void warn_past_the_end(const dynrt::Scene& scene, const dynrt::anim::PoseSettings& pose,
                        const dynrt::FrameRange& range);
 
+/// `--frames N` is frame N alone, where dynrt before issue 34 (and some tools) read frames 0
+/// to N-1: a render of one number N > 0 prints a line saying which frame it renders and how to
+/// write a range, so that a script written for the old meaning is noticed at its first run.
+void note_single_frame(std::ostream& out, const std::string& frames);
+
 /// The scene argument, or the bundled scene when it is empty.
 std::string scene_source(const FrameArgs& args);
 

@@ -28,6 +28,29 @@ std::string join_args(const std::string& message) {
     return colon == std::string::npos ? message : message.substr(colon + 2);
 }
 
+/// The exit codes (README "Exit codes"): 0 done, 1 a failure while running (a scene file that
+/// cannot be read, an output that cannot be written, a failing MPI rank), 2 a usage error (a
+/// bad flag or value, found by CLI11 or by our own checks before anything is rendered).
+constexpr int kExitFailure = 1;
+constexpr int kExitUsage = 2;
+
+/// CLI11's message for a bad command line, in plain words where its own are not: an option
+/// given twice ("--res: At Most 1 required but received 2") or an unexpected argument.
+std::string usage_error_text(const CLI::ParseError& e) {
+    const std::string message = e.what();
+    if (dynamic_cast<const CLI::ExtrasError*>(&e) != nullptr) {
+        // CLI11 says "The following argument was not expected: X"; name the rule instead.
+        return "unexpected argument(s) '" + join_args(message) + "': render, bench and info "
+               "take one SCENE, and every other value follows its option (see --help)";
+    }
+    const std::size_t at_most = message.find(": At Most 1 required");
+    if (dynamic_cast<const CLI::ArgumentMismatch*>(&e) != nullptr && at_most != std::string::npos) {
+        return message.substr(0, at_most) + ": given more than once; give it once (only "
+               "--light, --anim, --treat, --clip and --sweep repeat)";
+    }
+    return message;
+}
+
 /// CLI11's PositiveNumber prints its range bounds in full (300 digits); this says it plainly.
 const CLI::Validator kPositive(
     [](std::string& value) -> std::string {
@@ -46,6 +69,9 @@ int main(int argc, char** argv) {
     CLI::App app{"dynrt: real-time ray tracing of animated triangle scenes on CPUs"};
     app.set_version_flag("--version", std::string("dynrt ") + DYNRT_VERSION);
     app.require_subcommand(1);
+    app.footer("Exit codes: 0 done; 1 a failure while running (a scene that cannot be read, an "
+               "output that cannot be written); 2 a usage error (a bad flag or value, or "
+               "--resume with other settings), found before anything is rendered.");
     int threads = 0;
     app.add_option("--threads", threads, "Worker threads (default: all cores)")
         ->check(CLI::Range(1, 1024));
@@ -148,7 +174,8 @@ int main(int argc, char** argv) {
                         "own, as BART's 'a' gives it, else 24)")
             ->check(kPositive);
         cmd->add_option("--frames", args.frames,
-                        "A-B (frames A to B) or N (frames 0 to N-1); default frame 0");
+                        "N (frame N alone, as Blender's -f N) or A-B (frames A to B, both "
+                        "included: 0-47 is 48 frames); default frame 0");
         cmd->add_option("--builder", args.builder,
                         "Builder of the trees that --update does not choose for (static, rigid "
                         "and first builds): sah (binned SAH) or morton (the fast builder)")
@@ -265,14 +292,11 @@ int main(int argc, char** argv) {
 
     try {
         app.parse(argc, argv);
-    } catch (const CLI::ExtrasError& e) {
-        // CLI11 says "The following argument was not expected: X"; name the rule instead.
-        std::cerr << "dynrt: error: unexpected argument(s) '" << join_args(e.what()) << "': "
-                  << "render, bench and info take one SCENE, and every other value follows its "
-                     "option (see --help)\n";
-        return 1;
+    } catch (const CLI::Success& e) {
+        return app.exit(e);  // --help, --version: printed, exit 0
     } catch (const CLI::ParseError& e) {
-        return app.exit(e);
+        std::cerr << "dynrt: error: " << usage_error_text(e) << "\n";
+        return kExitUsage;
     }
 
     try {
@@ -314,9 +338,15 @@ int main(int argc, char** argv) {
     } catch (const std::filesystem::filesystem_error& e) {
         // Not the library's "filesystem error: ..." but what failed, on which path, and why.
         std::cerr << "dynrt: error: " << e.path1().string() << ": " << e.code().message() << "\n";
-        return 1;
+        return kExitFailure;
+    } catch (const std::invalid_argument& e) {
+        // Our own checks of the flags' values (and of --resume against its journal) throw
+        // invalid_argument: a usage error, as CLI11's are. A scene file that cannot be read is
+        // a SceneError (runtime_error): a failure.
+        std::cerr << "dynrt: error: " << e.what() << "\n";
+        return kExitUsage;
     } catch (const std::exception& e) {
         std::cerr << "dynrt: error: " << e.what() << "\n";
-        return 1;
+        return kExitFailure;
     }
 }

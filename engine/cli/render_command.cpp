@@ -16,27 +16,6 @@
 
 namespace dynrt::cli {
 
-namespace {
-
-/// Fails before any rendering when a file could not be written afterwards because its folder
-/// is missing; `label` names it in the message ("--report r.json").
-void require_folder(const std::filesystem::path& path, const std::string& label) {
-    const std::filesystem::path parent = path.parent_path();
-    if (!parent.empty() && !std::filesystem::is_directory(parent)) {
-        throw std::invalid_argument(label + ": folder " + parent.string() + " does not exist");
-    }
-}
-
-/// Fails before any rendering when the report could not be written afterwards: its folder
-/// missing, or the path a folder.
-void check_report_path(const std::filesystem::path& path) {
-    if (std::filesystem::is_directory(path)) {
-        throw std::invalid_argument("--report " + path.string() + ": is a folder");
-    }
-    require_folder(path, "--report " + path.string());
-}
-}  // namespace
-
 int run_render(const RenderArgs& args) {
     const std::vector<dynrt::Aov> aovs = dynrt::parse_aov_list(args.aov);
     const dynrt::FrameRange range =
@@ -60,13 +39,9 @@ int run_render(const RenderArgs& args) {
     // which is made as renderers do, but only once the scene has loaded: a run that fails
     // before rendering leaves nothing behind. Until then only the format is checked.
     const bool makes_folder = dynrt::has_frame_number(args.out) && first_path.has_parent_path();
-    if (animated) {
-        // A sequence file's format was checked above (a video is not an image format).
-        require_folder(first_path, args.out);
-    } else {
-        dynrt::check_image_path(makes_folder ? first_path.filename() : first_path);
-    }
-    if (!args.report.empty()) check_report_path(args.report);
+    // A sequence file's format was checked above (a video is not an image format).
+    if (!animated) dynrt::check_image_path(makes_folder ? first_path.filename() : first_path);
+    // The outputs' folders and clashes are checked by the frame loop, before the scene loads.
 
     // The frames are rendered and written by the one frame loop of every render
     // (distributed_render.cpp), here with this process alone.

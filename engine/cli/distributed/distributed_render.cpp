@@ -18,6 +18,8 @@
 #include "distributed/cluster.h"
 #include "distributed/render_journal.h"
 #include "interrupt.h"
+#include "job_settings.h"
+#include "render_outputs.h"
 #include "dynrt/engine/frame_writer.h"
 #include "dynrt/engine/image_output.h"
 #include "dynrt/engine/report.h"
@@ -26,7 +28,6 @@
 #include "dynrt/engine/stopwatch.h"
 #include "dynrt/engine/tile_share.h"
 
-#include <nlohmann/json.hpp>
 #include <tbb/info.h>
 
 #include <unistd.h>
@@ -70,14 +71,6 @@ std::map<int, int> test_slow_frames() {
     return slow;
 }
 
-/// The journal beside the report (REPORT.frames.jsonl), else hidden beside the first frame.
-std::filesystem::path journal_path(const RenderArgs& args, const std::filesystem::path& first_image) {
-    if (!args.report.empty()) return args.report + ".frames.jsonl";
-    std::filesystem::path path = first_image;
-    path.replace_filename(".dynrt-frames.jsonl");
-    return path;
-}
-
 /// A frame is done when its record and its files (image and AOVs) are all there.
 bool frame_done(const RenderJournal& journal, int frame, const std::string& out,
                 const std::vector<Aov>& aovs) {
@@ -100,15 +93,6 @@ void draw_progress(int done, int total, double ms_per_frame) {
               << " frames, " << std::fixed << std::setprecision(1) << ms_per_frame
               << " ms/frame, " << std::setprecision(0) << left_s << " s left  " << std::flush;
     if (done == total) std::cerr << "\n";
-}
-
-/// The journal's first line: the job it records (RenderJournal refuses another job's).
-std::string journal_header(const RenderArgs& args, const std::string& source,
-                           const RenderOptions& options) {
-    const nlohmann::ordered_json header = {
-        {"dynrt_journal", 1}, {"scene", source}, {"width", options.width},
-        {"height", options.height}, {"out", args.out}, {"aov", args.aov}};
-    return header.dump();
 }
 
 /// The figures each rank sends rank 0 per frame in tiles mode: its trace time, then the counts
@@ -311,13 +295,15 @@ int run_distributed_render(const RenderArgs& args, Cluster& cluster) {
         const bool sequence_file = is_sequence_file(args.out) && !numbered;
         const std::filesystem::path first_path = frame_path(args.out, range.first);
         if (!sequence_file) check_image_path(first_path.filename());
-        if (!args.report.empty() && std::filesystem::is_directory(args.report)) {
-            throw std::invalid_argument("--report " + args.report + ": is a folder");
-        }
+        // Every output (and the journal of numbered frames) before the scene loads.
+        check_render_outputs(render_outputs(args, range, /*with_journal=*/numbered || args.resume), range);
 
         const std::string source = scene_source(args);
         const Scene scene = load_animated_scene(args, source, options);
-        if (rank == 0) warn_past_the_end(scene, options.pose, range);
+        if (rank == 0) {
+            warn_past_the_end(scene, options.pose, range);
+            note_single_frame(std::cout, args.frames);
+        }
         if (first_path.has_parent_path()) std::filesystem::create_directories(first_path.parent_path());
         const CameraSource view = camera_source(scene, args, options.pose, range);
 
@@ -328,8 +314,7 @@ int run_distributed_render(const RenderArgs& args, Cluster& cluster) {
         std::map<int, FrameStats> records;
         if (rank == 0) {
             if (numbered || args.resume) {
-                journal.emplace(journal_path(args, first_path), journal_header(args, source, options),
-                                args.resume);
+                journal.emplace(journal_path(args, range), journal_header(args, options, scene), args.resume);
             }
             for (int f = range.first; f <= range.last; ++f) {
                 if (args.resume && frame_done(*journal, f, args.out, aovs)) {

@@ -1,6 +1,7 @@
 #include "distributed/render_journal.h"
 
 #include "dynrt/engine/report.h"
+#include "job_settings.h"
 
 #include <iostream>
 #include <stdexcept>
@@ -13,10 +14,8 @@ RenderJournal::RenderJournal(std::filesystem::path path, const std::string& head
         std::ifstream in(path_);
         std::string line;
         std::getline(in, line);
-        if (line != header) {
-            throw std::invalid_argument("--resume: " + path_.string() +
-                                        " records another job: " + line + "; this one is " + header +
-                                        " (render without --resume to start afresh)");
+        if (const std::string difference = job_difference(line, header); !difference.empty()) {
+            throw std::invalid_argument(difference + " (journal " + path_.string() + ")");
         }
         int number = 1;
         while (std::getline(in, line)) {

@@ -1,6 +1,7 @@
 #pragma once
 // The record of a sequence render as its frames finish, for `--resume`: a JSON-lines file, a
-// header line naming the job (scene, image size, output pattern, AOVs), then one frame record
+// header line naming the job (every setting that changes a pixel or a report figure and a
+// digest of the scene's files: journal_header in job_settings.h), then one frame record
 // per line (frame_report_json, with the rank that made it) written and flushed by rank 0 as
 // each frame's image is in place. A job killed part way leaves every finished frame's record;
 // a torn last line is ignored.
@@ -16,9 +17,10 @@ namespace dynrt::cli {
 
 class RenderJournal {
 public:
-    /// Opens the journal at `path` for the job `header` describes (one line of JSON). With
+    /// Opens the journal at `path` for the job `header` describes (journal_header). With
     /// `resume`, first reads what an earlier run of the same job recorded; a journal of another
-    /// job is refused (std::invalid_argument naming both). Without, starts it afresh.
+    /// job is refused (std::invalid_argument: job_difference's line, naming the first setting
+    /// or scene file that differs). Without, starts it afresh.
     RenderJournal(std::filesystem::path path, const std::string& header, bool resume);
 
     /// The records read at opening, by frame (a frame recorded twice: the later record).

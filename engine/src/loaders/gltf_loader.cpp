@@ -21,6 +21,7 @@
 #include "gltf_node_tree.h"
 #include "gltf_skins.h"
 #include "message_text.h"
+#include "read_files.h"
 #include "triangle_assembly.h"
 
 #include <algorithm>
@@ -497,7 +498,16 @@ private:
 
 Scene load_gltf(const std::filesystem::path& path) {
     const tinygltf::Model model = read_gltf_model(path);
-    return GltfSceneBuilder(path.string(), model).build();
+    Scene scene = GltfSceneBuilder(path.string(), model).build();
+    // Buffers in files of their own, resolved as tinygltf did (beside the document).
+    std::vector<std::string> read{path.string()};
+    for (const tinygltf::Buffer& buffer : model.buffers) {
+        if (!buffer.uri.empty() && buffer.uri.rfind("data:", 0) != 0) {
+            read.push_back((path.parent_path() / buffer.uri).string());
+        }
+    }
+    set_read_files(scene, read);
+    return scene;
 }
 
 Scene load_gltf_from_memory(std::span<const unsigned char> bytes, GltfFormat format, const std::string& name) {

@@ -5,6 +5,7 @@
 #include "aff_parser.h"
 #include "aff_scene.h"
 #include "gltf_file.h"
+#include "read_files.h"
 
 #include <algorithm>
 #include <cctype>
@@ -30,7 +31,9 @@ Scene load_scene(const std::string& source) {
 }
 
 Scene load_aff(const std::filesystem::path& path) {
-    Scene scene = aff::scene_from_aff(aff::parse_aff_file(path), path.string());
+    const aff::AffModel model = aff::parse_aff_file(path);
+    Scene scene = aff::scene_from_aff(model, path.string());
+    set_read_files(scene, model.files);
     check_scene(scene);
     return scene;
 }

@@ -3,6 +3,7 @@
 #include <fstream>
 #include <stdexcept>
 #include <system_error>
+#include <utility>
 
 namespace dynrt {
 
@@ -13,6 +14,20 @@ std::filesystem::path partial_path(const std::filesystem::path& path) {
     std::filesystem::path partial = path;
     partial.replace_filename(name);
     return partial;
+}
+
+std::string name_user_file(std::string message, const std::filesystem::path& partial,
+                           const std::filesystem::path& path) {
+    // The whole path first, then the bare name, which some messages give alone.
+    for (const auto& [temporary, user] :
+         {std::pair{partial.string(), path.string()},
+          std::pair{partial.filename().string(), path.filename().string()}}) {
+        for (std::size_t at = message.find(temporary); at != std::string::npos;
+             at = message.find(temporary, at + user.size())) {
+            message.replace(at, temporary.size(), user);
+        }
+    }
+    return message;
 }
 
 void commit_partial(const std::filesystem::path& partial, const std::filesystem::path& path) {

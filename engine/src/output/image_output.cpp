@@ -45,7 +45,7 @@ void write_pixels(const std::filesystem::path& path, int width, int height, int 
         std::string message = out->geterror();
         std::error_code ignored;
         std::filesystem::remove(partial, ignored);
-        throw std::runtime_error(path.string() + ": " + message);
+        throw std::runtime_error(path.string() + ": " + name_user_file(message, partial, path));
     }
     commit_partial(partial, path);
 }

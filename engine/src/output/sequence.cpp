@@ -59,8 +59,8 @@ std::string unescape(std::string_view text) {
 
 FrameRange parse_frame_range(std::string_view text) {
     const std::string message = "--frames '" + std::string(text) +
-                                "': expected A-B (frames A to B, 0 <= A <= B) or N (frames 0 "
-                                "to N-1, N >= 1)";
+                                "': expected N (frame N alone) or A-B (frames A to B, "
+                                "0 <= A <= B)";
     // A whole number, however long: values beyond long long read as its maximum, so that a
     // far frame gets the message about the bound rather than a syntax error.
     const auto number = [](std::string_view t, long long& v) {
@@ -79,9 +79,10 @@ FrameRange parse_frame_range(std::string_view text) {
     const std::size_t dash = text.find('-');
     long long first = 0, last = 0;
     if (dash == std::string_view::npos) {
-        if (!number(text, last) || last < 1) throw std::invalid_argument(message);
-        check_bound(last - 1);
-        return FrameRange{0, int(last - 1)};
+        // One number is that frame, as Blender's -f and most renderers read it.
+        if (!number(text, first) || first < 0) throw std::invalid_argument(message);
+        check_bound(first);
+        return FrameRange{int(first), int(first)};
     }
     if (!number(text.substr(0, dash), first) || !number(text.substr(dash + 1), last) ||
         last < first) {
@@ -106,5 +107,25 @@ std::string frame_path(std::string_view pattern, int frame) {
     return unescape(pattern.substr(0, c.begin)) + number + unescape(pattern.substr(c.end));
 }
 
+std::optional<int> frame_of_path(std::string_view pattern, std::string_view path) {
+    const Conversion c = find_conversion(pattern);
+    if (c.begin == std::string_view::npos) return std::nullopt;
+    const std::string prefix = unescape(pattern.substr(0, c.begin));
+    const std::string suffix = unescape(pattern.substr(c.end));
+    if (path.size() < prefix.size() + suffix.size() || !path.starts_with(prefix) ||
+        !path.ends_with(suffix)) {
+        return std::nullopt;
+    }
+    std::string_view number = path.substr(prefix.size(), path.size() - prefix.size() - suffix.size());
+    // What %d's flags may put before the digits: padding spaces and a plus sign.
+    while (!number.empty() && (number.front() == ' ' || number.front() == '+')) number.remove_prefix(1);
+    long long frame = -1;
+    const auto [ptr, ec] = std::from_chars(number.data(), number.data() + number.size(), frame);
+    if (ec != std::errc() || ptr != number.data() + number.size() || frame < 0 || frame > kFrameMax) {
+        return std::nullopt;
+    }
+    if (frame_path(pattern, int(frame)) != path) return std::nullopt;
+    return int(frame);
+}
 
 }  // namespace dynrt

@@ -12,6 +12,11 @@ namespace dynrt {
 /// with the same extension, which image writers choose the format by).
 std::filesystem::path partial_path(const std::filesystem::path& path);
 
+/// `message` (an image library's error about writing `partial`) with every mention of the
+/// temporary file replaced by `path`, the file the user named: errors never name ".a.partial.png".
+std::string name_user_file(std::string message, const std::filesystem::path& partial,
+                           const std::filesystem::path& path);
+
 /// Renames the finished `partial` over `path`. Throws std::runtime_error naming `path` (and
 /// removes `partial`) when it cannot, e.g. when `path` is a folder.
 void commit_partial(const std::filesystem::path& partial, const std::filesystem::path& path);

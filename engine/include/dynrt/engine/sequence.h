@@ -2,6 +2,7 @@
 // Rendering a sequence of frames: which frames (--frames), where each one's image goes (--out
 // 'frames/%04d.png').
 
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -19,8 +20,9 @@ struct FrameRange {
     int count() const { return last - first + 1; }
 };
 
-/// "A-B" (frames A to B, both included, 0 <= A <= B <= kFrameMax) or "N" (N frames: 0 to N-1,
-/// 1 <= N <= kFrameMax + 1). Throws std::invalid_argument naming the text and the bound.
+/// "N" (frame N alone, 0 <= N <= kFrameMax, as Blender's -f reads it) or "A-B" (frames A to
+/// B, both included, 0 <= A <= B <= kFrameMax). Throws std::invalid_argument naming the text
+/// and the bound.
 FrameRange parse_frame_range(std::string_view text);
 
 /// True when `pattern` holds a printf-style integer conversion for the frame number (%d, with
@@ -31,5 +33,9 @@ bool has_frame_number(std::string_view pattern);
 /// `pattern` with its frame conversion replaced by `frame` ("frames/%04d.png", 7 ->
 /// "frames/0007.png"); a pattern without one is returned as it is (with "%%" unescaped).
 std::string frame_path(std::string_view pattern, int frame);
+
+/// The frame whose file under `pattern` is `path` (frame_path(pattern, n) == path), or nothing
+/// when no frame in 0..kFrameMax has that name (a pattern without a frame number: nothing).
+std::optional<int> frame_of_path(std::string_view pattern, std::string_view path);
 
 }  // namespace dynrt

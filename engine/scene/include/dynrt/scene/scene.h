@@ -145,6 +145,11 @@ struct Scene {
     std::optional<SceneSetup> setup;
     /// Images that materials map (Material::diffuse_map).
     std::vector<Texture> textures;
+    /// The files the scene was read from: the scene file first, then each file it pulled in
+    /// (a glTF's buffers in files of their own, BART's includes, texture images), each once, as
+    /// paths the program can open; empty for a procedural spec or a document read from memory.
+    /// What `render --resume` digests to tell a changed scene from the one a job began with.
+    std::vector<std::string> files;
     /// What the file says that the scene model leaves out (glTF's textures other than base
     /// colour, BART's light colours...), one short line each, for the report; empty when
     /// nothing was left out.

@@ -7,6 +7,8 @@
 #include "dynrt/packet/ray_packet.h"
 #include "dynrt/packet/tiling.h"
 
+#include "same_bits.h"
+
 #include <gtest/gtest.h>
 
 #include <bit>
@@ -18,7 +20,7 @@
 namespace dynrt::packet {
 namespace {
 
-bool same_bits(float a, float b) { return std::bit_cast<std::uint32_t>(a) == std::bit_cast<std::uint32_t>(b); }
+using test::same_bits;
 
 bool same_ray(const bvh::Ray& a, const bvh::Ray& b) {
     for (int k = 0; k < 3; ++k) {

@@ -18,6 +18,8 @@
 #include "dynrt/packet/tiling.h"
 #include "dynrt/scene/scene.h"
 
+#include "same_bits.h"
+
 #include <gtest/gtest.h>
 
 #include <glm/geometric.hpp>
@@ -94,7 +96,7 @@ std::string describe(const PacketConfig& config) {
            std::to_string(config.single_ray_max);
 }
 
-bool same_bits(float a, float b) { return std::bit_cast<std::uint32_t>(a) == std::bit_cast<std::uint32_t>(b); }
+using test::same_bits;
 
 /// The single-ray tracer's answers on the binary tree for every lane of a packet (misses for
 /// inactive lanes).

@@ -11,6 +11,7 @@
 #include "dynrt/scene/scene_error.h"
 
 #include "gltf_test_file.h"
+#include "shell_command.h"
 
 #include <gtest/gtest.h>
 
@@ -485,7 +486,7 @@ TEST(AssimpLoader, SkinnedAnimationThroughAssimpPosesAsTheGltfLoader) {
     EXPECT_GT(triangle_set_distance(world_triangles(gltf, 0), world_triangles(gltf, 24)), 0.5);
 }
 
-// ---- Materials ---------------------------------------------------------------------------
+// ---- Materials and `dynrt info` -------------------------------------------------------------
 
 /// The cube (material "red", a texture that exists) and the wedge (material "glass", 40%
 /// opaque, ior 1.3, a texture that does not), with their MTL file and one of the textures.
@@ -522,6 +523,33 @@ TEST(AssimpLoader, ObjMaterialsAndTextures) {
     ASSERT_EQ(scene.textures.size(), 2u);
     EXPECT_EQ(std::filesystem::path(scene.textures[red.diffuse_map->texture].path),
               obj.parent_path() / ("dynrt_" + std::to_string(::getpid()) + "_present.png"));
+}
+
+TEST(AssimpLoader, InfoListsCamerasLightsMaterialsAndMissingTextures) {
+    const test::ShellRun obj = test::run_shell(std::string(DYNRT_CLI_PATH) + " info " + obj_with_materials().string());
+    ASSERT_EQ(obj.exit_code, 0) << obj.output;
+    EXPECT_NE(obj.output.find(" red "), std::string::npos) << obj.output;
+    EXPECT_NE(obj.output.find(" glass "), std::string::npos) << obj.output;
+    EXPECT_NE(obj.output.find("diffuse [1, 0, 0] x texture"), std::string::npos) << obj.output;
+    EXPECT_NE(obj.output.find("textures: 2"), std::string::npos) << obj.output;
+    EXPECT_NE(obj.output.find("missing.png  MISSING"), std::string::npos) << obj.output;
+    EXPECT_EQ(obj.output.find("present.png  MISSING"), std::string::npos) << obj.output;
+    EXPECT_NE(obj.output.find("cameras: 0"), std::string::npos) << obj.output;
+
+    const std::string dae_path = write_file("info.dae", collada_text()).string();
+    const test::ShellRun dae = test::run_shell(std::string(DYNRT_CLI_PATH) + " info " + dae_path);
+    ASSERT_EQ(dae.exit_code, 0) << dae.output;
+    EXPECT_NE(dae.output.find("cameras: 1"), std::string::npos) << dae.output;
+    EXPECT_NE(dae.output.find("at [2, 3, 10] looking [0, 0, -1], yfov 45.0 deg, aspect 1.5"), std::string::npos)
+        << dae.output;
+    EXPECT_NE(dae.output.find("lights: 1"), std::string::npos) << dae.output;
+    EXPECT_NE(dae.output.find("point at [-4, 6, 2]"), std::string::npos) << dae.output;
+
+    const test::ShellRun unknown = test::run_shell(std::string(DYNRT_CLI_PATH) + " info " +
+                                                   write_file("info_notes.txt", "no scene here\n").string());
+    EXPECT_NE(unknown.exit_code, 0);
+    EXPECT_NE(unknown.output.find("dynrt: error: "), std::string::npos) << unknown.output;
+    EXPECT_NE(unknown.output.find("info_notes.txt: not a scene file dynrt reads"), std::string::npos) << unknown.output;
 }
 
 // ---- Bad input -------------------------------------------------------------------------------

@@ -67,6 +67,10 @@ public:
         const std::vector<std::string> animated = assimp_animated_nodes(ai_);
         animated_.insert(animated.begin(), animated.end());
         add_node(*ai_.mRootNode, -1, glm::dmat4(1.0), scene);
+        if (shared_names_ > 0) {
+            warn(cat(shared_names_, " node(s) share their name with an earlier node: bones, animation channels, cameras "
+                                    "and lights naming them are bound to the one without meshes, else the first"));
+        }
         // Meshes after every node: bones name nodes anywhere in the tree.
         for (std::size_t i = 0; i < ai_nodes_.size(); ++i) add_meshes(*ai_nodes_[i], std::int32_t(i), scene);
         add_cameras(scene);
@@ -125,7 +129,7 @@ private:
         } else {
             node.matrix = local;
         }
-        node_of_name_.try_emplace(node.name, index);
+        name_node(node.name, index, source.mNumMeshes > 0);
         scene.nodes.push_back(std::move(node));
         const glm::dmat4 world = parent_world * scene.nodes[std::size_t(index)].rest_local();
         world_.push_back(world);
@@ -141,6 +145,22 @@ private:
             if (source.mNumMeshes > 1) name += cat("#", k);
             add_mesh(source.mMeshes[k], name, index, world_[std::size_t(index)], scene);
         }
+    }
+
+    /// Records `index` as the node `name` names. assimp links bones, animation channels,
+    /// cameras and lights to nodes by name alone, and some files (glTF exporters' armatures,
+    /// read back by assimp) give a mesh node and a joint the same name: then the node without
+    /// meshes is the one named, as a skin's joints and animated bones are, else the first in
+    /// depth-first order (as aiNode::FindNode finds it).
+    void name_node(const std::string& name, std::int32_t index, bool has_meshes) {
+        const auto [found, added] = node_of_name_.try_emplace(name, index);
+        if (added) {
+            named_with_meshes_.push_back(has_meshes);
+            return;
+        }
+        ++shared_names_;
+        named_with_meshes_.push_back(has_meshes);
+        if (named_with_meshes_[std::size_t(found->second)] && !has_meshes) found->second = index;
     }
 
     std::string mesh_name(unsigned mesh) const {
@@ -305,6 +325,9 @@ private:
     const aiScene& ai_;
     std::set<std::string> animated_;
     AssimpNodeNames node_of_name_;
+    /// By Scene::nodes index: whether the node has meshes (see name_node).
+    std::vector<bool> named_with_meshes_;
+    std::size_t shared_names_ = 0;
     /// Rest-pose world matrix and assimp node of each node added by add_node, by Scene::nodes
     /// index.
     std::vector<glm::dmat4> world_;

@@ -543,6 +543,101 @@ TEST(AssimpLoader, SharedAnimatedGltfModelsThroughAssimpPoseAsTheGltfLoader) {
     }
 }
 
+/// skinned_gltf()'s chain, strip and animation in Collada 1.4.1: joint nodes j0 -> j1 -> j2, a
+/// skin controller (inverse bind matrices, weights per vertex) instanced on node "body"
+/// (translated by 100, which skinning ignores), j1's and j2's turns as linear matrix channels.
+std::string collada_skin_text() {
+    const auto key = [](double y, double angle, const glm::dvec3& axis) {
+        const glm::dquat q = glm::angleAxis(angle, axis);
+        return collada_matrix(trs_matrix({0.0, y, 0.0}, glm::dvec4(q.x, q.y, q.z, q.w), glm::dvec3(1.0)));
+    };
+    const auto animation = [](const std::string& joint, const std::string& times, const std::string& matrices) {
+        const std::string id = joint + "-turn";
+        return R"(    <animation id=")" + id + R"(">
+      <source id=")" + id + R"(-input"><float_array id=")" + id + R"(-input-array" count="2">)" + times + R"(</float_array>
+        <technique_common><accessor source="#)" + id + R"(-input-array" count="2" stride="1"><param name="TIME" type="float"/></accessor></technique_common></source>
+      <source id=")" + id + R"(-output"><float_array id=")" + id + R"(-output-array" count="32">)" + matrices + R"(</float_array>
+        <technique_common><accessor source="#)" + id + R"(-output-array" count="2" stride="16"><param name="TRANSFORM" type="float4x4"/></accessor></technique_common></source>
+      <source id=")" + id + R"(-interpolation"><Name_array id=")" + id + R"(-interpolation-array" count="2">LINEAR LINEAR</Name_array>
+        <technique_common><accessor source="#)" + id + R"(-interpolation-array" count="2" stride="1"><param name="INTERPOLATION" type="name"/></accessor></technique_common></source>
+      <sampler id=")" + id + R"(-sampler"><input semantic="INPUT" source="#)" + id + R"(-input"/><input semantic="OUTPUT" source="#)" + id +
+               R"(-output"/><input semantic="INTERPOLATION" source="#)" + id + R"(-interpolation"/></sampler>
+      <channel source="#)" + id + R"(-sampler" target=")" + joint + R"(/transform"/>
+    </animation>
+)";
+    };
+    const glm::dvec3 z(0.0, 0.0, 1.0), x(1.0, 0.0, 0.0);
+    std::string inverse_binds;
+    for (const double y : {0.0, -1.0, -2.0}) inverse_binds += key(y, 0.0, z);
+    return R"(<?xml version="1.0" encoding="utf-8"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+  <asset><unit name="meter" meter="1"/><up_axis>Y_UP</up_axis></asset>
+  <library_geometries>
+    <geometry id="strip-mesh" name="strip">
+      <mesh>
+        <source id="strip-positions">
+          <float_array id="strip-positions-array" count="18">0 0 0 1 0 0 0 1 0 1 1 0 0 2 0 1 2 0</float_array>
+          <technique_common><accessor source="#strip-positions-array" count="6" stride="3">
+            <param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/>
+          </accessor></technique_common>
+        </source>
+        <vertices id="strip-vertices"><input semantic="POSITION" source="#strip-positions"/></vertices>
+        <triangles count="4"><input semantic="VERTEX" source="#strip-vertices" offset="0"/><p>0 1 2 2 1 3 2 3 4 4 3 5</p></triangles>
+      </mesh>
+    </geometry>
+  </library_geometries>
+  <library_controllers>
+    <controller id="skin" name="skin">
+      <skin source="#strip-mesh">
+        <bind_shape_matrix>1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1</bind_shape_matrix>
+        <source id="skin-joints"><Name_array id="skin-joints-array" count="3">j0 j1 j2</Name_array>
+          <technique_common><accessor source="#skin-joints-array" count="3" stride="1"><param name="JOINT" type="name"/></accessor></technique_common></source>
+        <source id="skin-binds"><float_array id="skin-binds-array" count="48">)" + inverse_binds + R"(</float_array>
+          <technique_common><accessor source="#skin-binds-array" count="3" stride="16"><param name="TRANSFORM" type="float4x4"/></accessor></technique_common></source>
+        <source id="skin-weights"><float_array id="skin-weights-array" count="11">1 0.7 0.3 0.2 0.5 0.3 0.5 0.5 0.75 0.25 1</float_array>
+          <technique_common><accessor source="#skin-weights-array" count="11" stride="1"><param name="WEIGHT" type="float"/></accessor></technique_common></source>
+        <joints><input semantic="JOINT" source="#skin-joints"/><input semantic="INV_BIND_MATRIX" source="#skin-binds"/></joints>
+        <vertex_weights count="6">
+          <input semantic="JOINT" source="#skin-joints" offset="0"/><input semantic="WEIGHT" source="#skin-weights" offset="1"/>
+          <vcount>1 2 3 2 2 1</vcount>
+          <v>0 0  0 1 1 2  0 3 1 4 2 5  1 6 2 7  2 8 1 9  2 10</v>
+        </vertex_weights>
+      </skin>
+    </controller>
+  </library_controllers>
+  <library_animations>
+)" + animation("j1", "0 1", key(1.0, 0.0, z) + key(1.0, M_PI / 2.0, z)) +
+           animation("j2", "0 2", key(1.0, 0.0, x) + key(1.0, M_PI / 6.0, x)) + R"(  </library_animations>
+  <library_visual_scenes>
+    <visual_scene id="scene" name="scene">
+      <node id="j0" name="j0" sid="j0" type="JOINT"><matrix sid="transform">)" + key(0.0, 0.0, z) + R"(</matrix>
+        <node id="j1" name="j1" sid="j1" type="JOINT"><matrix sid="transform">)" + key(1.0, 0.0, z) + R"(</matrix>
+          <node id="j2" name="j2" sid="j2" type="JOINT"><matrix sid="transform">)" + key(1.0, 0.0, x) + R"(</matrix></node>
+        </node>
+      </node>
+      <node id="body" name="body" type="NODE"><matrix sid="transform">1 0 0 100 0 1 0 0 0 0 1 0 0 0 0 1</matrix>
+        <instance_controller url="#skin"><skeleton>#j0</skeleton></instance_controller>
+      </node>
+    </visual_scene>
+  </library_visual_scenes>
+  <scene><instance_visual_scene url="#scene"/></scene>
+</COLLADA>
+)";
+}
+
+TEST(AssimpLoader, ColladaSkinnedAnimationPosesAsTheSameGltf) {
+    const Scene dae = load_scene(write_file("skinned_chain.dae", collada_skin_text()).string());
+    const Scene gltf = load_gltf(skinned_gltf());
+    ASSERT_EQ(dae.objects.size(), 1u);
+    ASSERT_TRUE(dae.objects[0].skin.has_value());
+    EXPECT_FALSE(dae.clips.empty());
+    EXPECT_GT(triangle_set_distance(world_triangles(dae, 0), world_triangles(dae, 48)), 0.5);
+    for (const int frame : {0, 6, 12, 24, 36, 48, 60}) {
+        SCOPED_TRACE("frame " + std::to_string(frame));
+        EXPECT_LT(triangle_set_distance(world_triangles(dae, frame), world_triangles(gltf, frame)), 1e-5);
+    }
+}
+
 // ---- Materials and `dynrt info` -------------------------------------------------------------
 
 /// The cube (material "red", a texture that exists) and the wedge (material "glass", 40%

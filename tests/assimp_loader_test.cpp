@@ -530,6 +530,12 @@ TEST(AssimpLoader, SharedAnimatedGltfModelsThroughAssimpPoseAsTheGltfLoader) {
         const Scene via_assimp = load_assimp(file);
         EXPECT_EQ(via_assimp.triangle_count(), gltf.triangle_count());
         EXPECT_EQ(via_assimp.clips.size(), gltf.clips.size());
+        // The base colour images, embedded ones (CesiumMilkTruck's JPEG) read from memory.
+        ASSERT_EQ(via_assimp.textures.size(), gltf.textures.size());
+        for (std::size_t t = 0; t < gltf.textures.size(); ++t) {
+            EXPECT_EQ(via_assimp.textures[t].encoded, gltf.textures[t].encoded);
+            EXPECT_EQ(via_assimp.textures[t].path, gltf.textures[t].path);
+        }
         for (const int frame : {0, 10, 30}) {
             SCOPED_TRACE("frame " + std::to_string(frame));
             const std::vector<WorldTriangle> a = world_triangles(via_assimp, frame), b = world_triangles(gltf, frame);

@@ -66,7 +66,7 @@ public:
         add_materials(scene);
         const std::vector<std::string> animated = assimp_animated_nodes(ai_);
         animated_.insert(animated.begin(), animated.end());
-        add_node(*ai_.mRootNode, -1, glm::dmat4(1.0), scene);
+        add_nodes(*ai_.mRootNode, scene);
         if (shared_names_ > 0) {
             warn(cat(shared_names_, " node(s) share their name with an earlier node: bones, animation channels, cameras "
                                     "and lights naming them are bound to the one without meshes, else the first"));
@@ -106,9 +106,24 @@ private:
         for (std::string& line : materials.ignored()) scene.ignored.push_back(std::move(line));
     }
 
-    /// Adds `source` and its subtree to Scene::nodes (parents first). `parent_world` is the
-    /// parent's world matrix in the rest pose.
-    void add_node(const aiNode& source, std::int32_t parent, const glm::dmat4& parent_world, Scene& scene) {
+    /// Adds `root` and its subtree to Scene::nodes in depth-first pre-order (parents first),
+    /// with an explicit stack: a file may nest nodes deeper than the call stack would go.
+    void add_nodes(const aiNode& root, Scene& scene) {
+        struct Pending {
+            const aiNode* node;
+            std::int32_t parent;
+        };
+        std::vector<Pending> stack{{&root, -1}};
+        while (!stack.empty()) {
+            const Pending next = stack.back();
+            stack.pop_back();
+            const std::int32_t index = add_node(*next.node, next.parent, scene);
+            for (unsigned c = next.node->mNumChildren; c > 0; --c) stack.push_back({next.node->mChildren[c - 1], index});
+        }
+    }
+
+    /// Adds `source` under Scene::nodes[parent] (-1: a root) and returns its index.
+    std::int32_t add_node(const aiNode& source, std::int32_t parent, Scene& scene) {
         const auto index = static_cast<std::int32_t>(scene.nodes.size());
         Node node;
         node.name = source.mName.length > 0 ? to_string(source.mName) : cat("node", index);
@@ -123,18 +138,19 @@ private:
             node.translation = to_dvec3(translation);
             node.rotation = glm::dvec4(rotation.x, rotation.y, rotation.z, rotation.w);
             node.scale = to_dvec3(scale);
-            if (glm::dot(node.rotation, node.rotation) == 0.0 || !std::isfinite(glm::dot(node.rotation, node.rotation))) {
+            const double length2 = glm::dot(node.rotation, node.rotation);
+            if (!(length2 > 0.0 && std::isfinite(length2))) {
                 fail(cat("node '", node.name, "': its transform is no translation, rotation and scale"));
             }
         } else {
             node.matrix = local;
         }
         name_node(node.name, index, source.mNumMeshes > 0);
+        const glm::dmat4 parent_world = parent < 0 ? glm::dmat4(1.0) : world_[std::size_t(parent)];
+        world_.push_back(parent_world * node.rest_local());
         scene.nodes.push_back(std::move(node));
-        const glm::dmat4 world = parent_world * scene.nodes[std::size_t(index)].rest_local();
-        world_.push_back(world);
         ai_nodes_.push_back(&source);
-        for (unsigned c = 0; c < source.mNumChildren; ++c) add_node(*source.mChildren[c], index, world, scene);
+        return index;
     }
 
     /// The meshes of scene node `index` (assimp node `source`) as objects named "node/mesh"

@@ -32,7 +32,6 @@
 #include <assimp/scene.h>
 
 #include <glm/geometric.hpp>
-#include <glm/gtc/quaternion.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -53,6 +52,27 @@ bool is_finite(const glm::dmat4& m) {
         }
     }
     return true;
+}
+
+/// Positions, normals (renormalised, as glTF's are read) and UV channel 0 of `source`.
+void read_vertex_attributes(const aiMesh& source, Mesh& mesh) {
+    const std::size_t vertices = source.mNumVertices;
+    mesh.positions.reserve(vertices);
+    for (std::size_t v = 0; v < vertices; ++v) {
+        mesh.positions.emplace_back(source.mVertices[v].x, source.mVertices[v].y, source.mVertices[v].z);
+    }
+    if (source.mNormals != nullptr) {
+        mesh.normals.reserve(vertices);
+        for (std::size_t v = 0; v < vertices; ++v) {
+            mesh.normals.push_back(normalize_or_zero(glm::vec3(source.mNormals[v].x, source.mNormals[v].y, source.mNormals[v].z)));
+        }
+    }
+    if (source.mTextureCoords[0] != nullptr && source.mNumUVComponents[0] >= 2) {
+        mesh.texcoords.reserve(vertices);
+        for (std::size_t v = 0; v < vertices; ++v) {
+            mesh.texcoords.emplace_back(source.mTextureCoords[0][v].x, source.mTextureCoords[0][v].y);
+        }
+    }
 }
 
 /// Turns one imported aiScene into a Scene, naming problems by file and object.
@@ -97,6 +117,7 @@ private:
 
     void warn(const std::string& what) const { std::cerr << "dynrt: warning: " << name_ << ": " << what << '\n'; }
 
+    /// dynrt's default material 0, then every assimp material (assimp_materials.h).
     void add_materials(Scene& scene) {
         scene.materials.push_back(Material{.name = "default", .diffuse = glm::vec3(0.8f)});
         AssimpMaterials materials(ai_, path_);
@@ -179,12 +200,16 @@ private:
         if (named_with_meshes_[std::size_t(found->second)] && !has_meshes) found->second = index;
     }
 
+    /// The mesh's name, or "mesh<i>" when it has none.
     std::string mesh_name(unsigned mesh) const {
         if (mesh >= ai_.mNumMeshes) return cat("mesh", mesh);
         const aiString& name = ai_.mMeshes[mesh]->mName;
         return name.length > 0 ? to_string(name) : cat("mesh", mesh);
     }
 
+    /// Mesh `index` of the assimp scene, hung on scene node `node` (rest world matrix `world`),
+    /// as the object `name`: its triangles (points and lines skipped with a warning), vertex
+    /// attributes, material and skin. A mesh without triangles is skipped with a warning.
     void add_mesh(unsigned index, const std::string& name, std::int32_t node, const glm::dmat4& world, Scene& scene) {
         const auto fail_object = [&](const std::string& what) { fail(cat("object '", name, "': ", what)); };
         if (index >= ai_.mNumMeshes) fail_object(cat("mesh ", index, " does not exist (", ai_.mNumMeshes, " meshes)"));
@@ -199,25 +224,8 @@ private:
                 fail_object("node world transform is not finite in single precision");
             }
         }
-        const std::size_t vertices = mesh.mNumVertices;
-        if (mesh.mVertices == nullptr && vertices > 0) fail_object("has vertices but no positions");
-        object.mesh.positions.reserve(vertices);
-        for (std::size_t v = 0; v < vertices; ++v) {
-            object.mesh.positions.emplace_back(mesh.mVertices[v].x, mesh.mVertices[v].y, mesh.mVertices[v].z);
-        }
-        if (mesh.mNormals != nullptr) {
-            object.mesh.normals.reserve(vertices);
-            for (std::size_t v = 0; v < vertices; ++v) {
-                object.mesh.normals.push_back(
-                    normalize_or_zero(glm::vec3(mesh.mNormals[v].x, mesh.mNormals[v].y, mesh.mNormals[v].z)));
-            }
-        }
-        if (mesh.mTextureCoords[0] != nullptr && mesh.mNumUVComponents[0] >= 2) {
-            object.mesh.texcoords.reserve(vertices);
-            for (std::size_t v = 0; v < vertices; ++v) {
-                object.mesh.texcoords.emplace_back(mesh.mTextureCoords[0][v].x, mesh.mTextureCoords[0][v].y);
-            }
-        }
+        if (mesh.mVertices == nullptr && mesh.mNumVertices > 0) fail_object("has vertices but no positions");
+        read_vertex_attributes(mesh, object.mesh);
         std::size_t points_and_lines = 0;
         for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
             const aiFace& face = mesh.mFaces[f];
@@ -226,8 +234,8 @@ private:
                 continue;
             }
             for (unsigned k = 0; k < 3; ++k) {
-                if (face.mIndices[k] >= vertices) {
-                    fail_object(cat("face ", f, ": vertex index ", face.mIndices[k], " out of range (", vertices,
+                if (face.mIndices[k] >= mesh.mNumVertices) {
+                    fail_object(cat("face ", f, ": vertex index ", face.mIndices[k], " out of range (", mesh.mNumVertices,
                                     " vertices)"));
                 }
             }

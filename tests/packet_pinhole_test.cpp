@@ -2,12 +2,11 @@
 // extreme cameras (1 and 170 degree fields of view, axis-aligned views, far from the origin),
 // in images whose sizes are not multiples of 16, through both the scalar and the SIMD path.
 
+#include "same_bits.h"
 #include "dynrt/engine/camera.h"
 #include "dynrt/packet/pinhole.h"
 #include "dynrt/packet/ray_packet.h"
 #include "dynrt/packet/tiling.h"
-
-#include "same_bits.h"
 
 #include <gtest/gtest.h>
 
@@ -20,7 +19,7 @@
 namespace dynrt::packet {
 namespace {
 
-using test::same_bits;
+using dynrt::test::same_bits;
 
 bool same_ray(const bvh::Ray& a, const bvh::Ray& b) {
     for (int k = 0; k < 3; ++k) {

@@ -7,6 +7,7 @@
 // (distinct origins, one light) and incoherent packets (random rays) cover the paths without a
 // common origin.
 
+#include "same_bits.h"
 #include "dynrt/anim/posed_scene.h"
 #include "dynrt/bvh/triangle_bvh.h"
 #include "dynrt/engine/camera.h"
@@ -17,8 +18,6 @@
 #include "dynrt/packet/ray_packet.h"
 #include "dynrt/packet/tiling.h"
 #include "dynrt/scene/scene.h"
-
-#include "same_bits.h"
 
 #include <gtest/gtest.h>
 
@@ -96,7 +95,7 @@ std::string describe(const PacketConfig& config) {
            std::to_string(config.single_ray_max);
 }
 
-using test::same_bits;
+using dynrt::test::same_bits;
 
 /// The single-ray tracer's answers on the binary tree for every lane of a packet (misses for
 /// inactive lanes).

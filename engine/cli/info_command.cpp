@@ -1,4 +1,5 @@
-// `dynrt info`: a scene's objects, triangles and bounds, its frame rate and clips.
+// `dynrt info`: a scene's objects, triangles and bounds, its cameras, lights, materials and
+// textures (files that are not there marked MISSING), its frame rate and clips.
 
 #include "frame_args.h"
 
@@ -7,13 +8,90 @@
 #include "dynrt/bvh/triangle.h"
 #include "dynrt/engine/scene_loading.h"
 
+#include <glm/geometric.hpp>
+
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
 #include <iomanip>
 #include <iostream>
 #include <string>
 #include <vector>
 
 namespace dynrt::cli {
+
+namespace {
+
+std::ostream& operator<<(std::ostream& out, const glm::vec3& v) {
+    // + 0.0f: a -0 prints as 0.
+    return out << "[" << v.x + 0.0f << ", " << v.y + 0.0f << ", " << v.z + 0.0f << "]";
+}
+
+/// `radians` in degrees with one decimal.
+std::string degrees_text(double radians) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.1f", radians * 180.0 / M_PI);
+    return text;
+}
+
+/// Cameras with where they are at frame 0 (`posed`'s node matrices) and their field of view.
+void print_cameras(const dynrt::Scene& scene, const dynrt::anim::PosedScene& posed) {
+    std::cout << "cameras: " << scene.cameras.size() << (scene.cameras.empty() ? "" : " (the first is the scene's)")
+              << "\n";
+    for (std::size_t i = 0; i < scene.cameras.size(); ++i) {
+        const dynrt::SceneCamera& camera = scene.cameras[i];
+        const glm::dmat4& world = posed.node_world[camera.node];
+        const glm::vec3 eye(world[3]);
+        const glm::vec3 forward(-glm::normalize(glm::dvec3(world[2])));
+        std::cout << "  " << std::left << std::setw(5) << i << "  " << std::setw(32) << camera.name << std::right
+                  << "  at " << eye << " looking " << forward << ", yfov " << degrees_text(camera.yfov_rad)
+                  << " deg";
+        if (camera.aspect_ratio > 0.0) std::cout << ", aspect " << camera.aspect_ratio;
+        std::cout << "\n";
+    }
+}
+
+void print_lights(const dynrt::Scene& scene) {
+    std::cout << "lights: " << scene.lights.size()
+              << (scene.lights.empty() ? " (the renderer's default light is used)" : "") << "\n";
+    for (std::size_t i = 0; i < scene.lights.size(); ++i) {
+        std::cout << "  " << std::left << std::setw(5) << i << std::right << "  point at " << scene.lights[i].position
+                  << ", intensity " << scene.lights[i].intensity << "\n";
+    }
+}
+
+void print_materials(const dynrt::Scene& scene) {
+    std::cout << "materials: " << scene.materials.size() << " (0 is dynrt's default)\n";
+    for (std::size_t i = 0; i < scene.materials.size(); ++i) {
+        const dynrt::Material& m = scene.materials[i];
+        std::cout << "  " << std::left << std::setw(5) << i << "  " << std::setw(32) << m.name << std::right
+                  << "  diffuse " << m.diffuse;
+        if (m.diffuse_map) std::cout << " x texture " << m.diffuse_map->texture;
+        if (m.traces_secondary()) {
+            std::cout << ", reflectance " << m.reflectance << ", transmittance " << m.transmittance << ", ior " << m.ior;
+        }
+        std::cout << "\n";
+    }
+}
+
+/// Textures, a file that does not exist marked MISSING (the renderer then uses the diffuse
+/// colour alone).
+void print_textures(const dynrt::Scene& scene) {
+    std::cout << "textures: " << scene.textures.size() << "\n";
+    for (std::size_t i = 0; i < scene.textures.size(); ++i) {
+        const dynrt::Texture& texture = scene.textures[i];
+        std::cout << "  " << std::left << std::setw(5) << i << std::right << "  " << texture.name;
+        if (texture.path.empty()) {
+            std::cout << " (embedded, " << texture.encoded.size() << " bytes)";
+        } else {
+            std::error_code ec;
+            if (!std::filesystem::is_regular_file(texture.path, ec)) std::cout << "  MISSING";
+        }
+        std::cout << "\n";
+    }
+}
+
+}  // namespace
 
 int run_info(const std::string& source) {
     const dynrt::Scene scene = dynrt::load_scene(source);
@@ -47,6 +125,10 @@ int run_info(const std::string& source) {
               << all.hi.y << ", " << all.hi.z << "]\n"
               << scene.objects.size() << " objects, " << scene.materials.size()
               << " materials, " << scene.lights.size() << " lights\n";
+    print_cameras(scene, posed);
+    print_lights(scene);
+    print_materials(scene);
+    print_textures(scene);
     // The timeline: frame rate and clips, as render and bench would play them.
     const double fps = scene.setup ? scene.setup->fps : dynrt::anim::kDefaultFps;
     std::cout << "frame rate: " << fps << " fps ("

@@ -5,11 +5,18 @@
 #include "aff_parser.h"
 #include "aff_scene.h"
 #include "gltf_file.h"
+#include "message_text.h"
 #include "read_files.h"
+#include "scene_file_kind.h"
+
+#include "dynrt/scene/scene_error.h"
 
 #include <algorithm>
 #include <cctype>
+#include <fstream>
+#include <iterator>
 #include <system_error>
+#include <vector>
 
 namespace dynrt {
 
@@ -21,13 +28,36 @@ bool is_aff_path(const std::filesystem::path& path) {
     return ext == ".aff";
 }
 
+/// A file with GLB's magic but another extension: read as self-contained GLB.
+Scene load_glb_by_content(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    const std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (!in.eof() && in.fail()) throw SceneError(cat(path, ": cannot read the file"));
+    return load_gltf_from_memory(bytes, GltfFormat::binary, path);
+}
+
 }  // namespace
 
 Scene load_scene(const std::string& source) {
     // Every loader ends with check_scene, so the result already meets the contract.
-    if (is_gltf_path(source)) return load_gltf(source);
-    if (is_aff_path(source)) return load_aff(source);
-    return make_procedural_scene(source);
+    std::error_code ec;
+    if (!std::filesystem::exists(source, ec)) {
+        if (is_gltf_path(source) || is_aff_path(source) || looks_like_file_path(source)) {
+            throw SceneError(cat(source, ": no such file"));
+        }
+        return make_procedural_scene(source);
+    }
+    if (std::filesystem::is_directory(source, ec)) throw SceneError(cat(source, ": is a folder, not a scene file"));
+    switch (scene_file_kind(source)) {
+        case SceneFileKind::gltf:
+            if (is_gltf_path(source)) return load_gltf(source);
+            return load_glb_by_content(source);
+        case SceneFileKind::aff:
+            return load_aff(source);
+        case SceneFileKind::assimp:
+            break;
+    }
+    return load_assimp(source);
 }
 
 Scene load_aff(const std::filesystem::path& path) {

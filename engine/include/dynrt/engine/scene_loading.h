@@ -1,6 +1,6 @@
 #pragma once
-// Scene front ends: glTF 2.0 files, BART's AFF files and procedural spec strings, all producing
-// the scene model.
+// Scene front ends: glTF 2.0 files, BART's AFF files, OBJ, PLY, FBX, Collada and the other
+// formats assimp reads, and procedural spec strings, all producing the scene model.
 
 #include "dynrt/scene/scene.h"
 
@@ -12,12 +12,30 @@
 
 namespace dynrt {
 
-/// Loads `source`: a path ending in .gltf or .glb (case-insensitive) is read as glTF, one ending
-/// in .aff as BART's AFF (load_aff), anything else is parsed as a procedural spec (see
-/// make_procedural_scene). Throws SceneError with a
-/// one-line message naming the file or spec, the object and the problem. The result has at
-/// least one triangle and only finite positions and in-range indices.
+/// Loads `source`. A file that exists is read by its kind, told by extension and content: .gltf
+/// or .glb (case-insensitive), or GLB's magic "glTF" in its first bytes, as glTF; .aff as BART's
+/// AFF (load_aff); anything else through assimp (load_assimp), which tells OBJ, PLY, FBX,
+/// Collada... by extension and content, and refuses a file of no kind it reads with
+/// "X: not a scene file dynrt reads (glTF .gltf/.glb, BART .aff, OBJ, PLY, ...)". A `source`
+/// that names no file but looks like a path (a '/', or an extension such as ".obj") is
+/// "X: no such file"; anything else is parsed as a procedural spec (make_procedural_scene).
+/// Throws SceneError with a one-line message naming the file or spec, the object and the
+/// problem. The result has at least one triangle and only finite positions and in-range
+/// indices.
 Scene load_scene(const std::string& source);
+
+/// Reads a scene file through assimp 5 (OBJ with its MTL, PLY, FBX, Collada .dae, STL, 3DS,
+/// Blender...; assimp tells the format by extension and content). Polygons are triangulated;
+/// every mesh of every node becomes one Object named "node/mesh" ("node/mesh#k" for the k-th of
+/// a node's meshes), with the node's world matrix as transform. What animates the scene comes
+/// along, as from glTF: the node tree (Scene::nodes, parents first), node animations as clips
+/// (Scene::clips), bones as skins with up to 8 influences per vertex (Object::skin),
+/// perspective cameras (Scene::cameras), point and spot lights (Scene::lights), Phong
+/// materials with their diffuse textures (README "Input formats"). Morph targets, mesh
+/// animations, other lights and other textures are left out with a warning on stderr or a
+/// line in Scene::ignored. Throws SceneError naming the file and the object, with assimp's own
+/// message when its reader fails.
+Scene load_assimp(const std::filesystem::path& path);
 
 /// Reads a glTF 2.0 file (.gltf with external or embedded buffers, or .glb). Every triangle
 /// primitive of the default scene (or scene 0) becomes one Object in node-tree order, named

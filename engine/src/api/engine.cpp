@@ -85,9 +85,18 @@ bool finite_non_negative(const glm::vec3& v) {
 
 /// What is wrong with a Surface, or "" when add_mesh and set_surface may take it.
 std::string surface_problem(const Surface& surface) {
-    if (!finite(to_glm(surface.diffuse)) || !finite(to_glm(surface.specular)) ||
-        !std::isfinite(surface.shininess) || !(surface.shininess >= 0.0f)) {
-        return "colours and shininess must be finite, shininess >= 0";
+    // A negative colour would shade with negative light: darker than black, and subtracted
+    // from what its reflections add.
+    if (!finite_non_negative(to_glm(surface.diffuse))) {
+        return "diffuse " + format_vec(to_glm(surface.diffuse)) + " must be finite and >= 0";
+    }
+    if (!finite_non_negative(to_glm(surface.specular))) {
+        return "specular " + format_vec(to_glm(surface.specular)) + " must be finite and >= 0";
+    }
+    if (!std::isfinite(surface.shininess) || !(surface.shininess >= 0.0f)) {
+        std::ostringstream out;
+        out << "shininess " << surface.shininess << " must be finite and >= 0";
+        return out.str();
     }
     if (!finite_non_negative(to_glm(surface.reflectance))) {
         return "reflectance " + format_vec(to_glm(surface.reflectance)) + " must be finite and >= 0";

@@ -202,8 +202,8 @@ public:
 
     /// Adds a mesh; it is traced from the next update() on. Checks the description (sizes,
     /// indices in range, finite positions and transform, a valid Surface: finite values,
-    /// shininess, reflectance and transmittance >= 0, ior > 0) and throws Error naming the mesh
-    /// and the bad value. Returns a new id: ids count up from 0 and are never reused,
+    /// colours, shininess, reflectance and transmittance >= 0, ior > 0) and throws Error naming
+    /// the mesh and the bad value. Returns a new id: ids count up from 0 and are never reused,
     /// so an id kept after remove_mesh is refused rather than taken for another mesh. (The
     /// storage of removed meshes is reused; after 2^31 - 1 ids the call throws invalid_state.)
     MeshId add_mesh(const MeshDesc& mesh);

@@ -277,15 +277,6 @@ struct Engine::Impl final : FixedPositions {
         for (TreeChoice& choice : stats.choices) choice.object = ids.id_at(choice.object);
     }
 
-    /// Hits' slots turned into MeshId values (nothing to do while no slot was reused). The
-    /// timed part of a query is the trace; this pass is after it.
-    void name_meshes(std::span<RayHit> hits) const {
-        if (ids.ids_are_slots()) return;
-        for (RayHit& hit : hits) {
-            if (hit.hit()) hit.mesh.value = ids.id_at(hit.mesh.value);
-        }
-    }
-
     std::size_t memory_bytes() const;
 
     // ---- FixedPositions: static and rigid meshes' vertices, for their builds ----
@@ -850,10 +841,9 @@ QueryStats Engine::intersect(std::span<const Ray> rays, std::span<RayHit> hits) 
     const Impl& s = *impl_;
     const AccessGuard::Read read(s.guard);
     s.check_traced("intersect");
-    const QueryStats stats =
-        s.run([&] { return api_detail::intersect_batch(s.pipeline.accel(), rays, hits); });
-    s.name_meshes(hits);
-    return stats;
+    return s.run([&] {
+        return api_detail::intersect_batch(s.pipeline.accel(), rays, hits, s.ids.ids_of_slots());
+    });
 }
 
 QueryStats Engine::occluded(std::span<const Ray> rays, std::span<std::uint8_t> occluded) const {
@@ -867,10 +857,9 @@ QueryStats Engine::intersect(const RayArrays& rays, std::span<RayHit> hits) cons
     const Impl& s = *impl_;
     const AccessGuard::Read read(s.guard);
     s.check_traced("intersect");
-    const QueryStats stats =
-        s.run([&] { return api_detail::intersect_batch(s.pipeline.accel(), rays, hits); });
-    s.name_meshes(hits);
-    return stats;
+    return s.run([&] {
+        return api_detail::intersect_batch(s.pipeline.accel(), rays, hits, s.ids.ids_of_slots());
+    });
 }
 
 QueryStats Engine::occluded(const RayArrays& rays, std::span<std::uint8_t> occluded) const {

@@ -75,6 +75,11 @@ public:
     /// Whether every slot's id is the slot itself (no slot was ever reused), so hits need no
     /// translation.
     bool ids_are_slots() const { return ids_are_slots_; }
+    /// The id of each slot, for translating hits as they are written; empty while
+    /// ids_are_slots().
+    std::span<const std::uint32_t> ids_of_slots() const {
+        return ids_are_slots_ ? std::span<const std::uint32_t>{} : std::span<const std::uint32_t>(id_of_slot_);
+    }
 
     /// remove_mesh: the id is refused from now on; its slot still reports it.
     void retire(std::uint32_t id) { slot_of_id_.erase(id); }

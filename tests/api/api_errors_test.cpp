@@ -98,6 +98,10 @@ TEST(ApiErrors, BadMeshesAreRefusedNamingTheMesh) {
     refused_surface([](Surface& s) { s.transmittance = {-1.0f, -1.0f, -1.0f}; },
                     "transmittance (-1, -1, -1) must be finite and >= 0");
     refused_surface([](Surface& s) { s.ior = 0.0f; }, "ior 0 must be finite and > 0");
+    // Colours: a negative one would shade darker than black (issue 34).
+    refused_surface([](Surface& s) { s.diffuse.x = -0.2f; }, "diffuse (-0.2, 0.8, 0.8) must be finite and >= 0");
+    refused_surface([](Surface& s) { s.specular.z = -1.0f; }, "must be finite and >= 0");
+    refused_surface([](Surface& s) { s.shininess = -1.0f; }, "shininess -1 must be finite and >= 0");
     refused_surface([](Surface& s) { s.ior = -1.5f; }, "ior -1.5 must be finite and > 0");
     refused_surface([](Surface& s) { s.ior = kNaN; }, "ior nan must be finite and > 0");
     refused_surface([](Surface& s) { s.ior = kInf; }, "ior inf must be finite and > 0");

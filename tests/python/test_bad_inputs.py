@@ -247,8 +247,11 @@ ENGINE_CASES = [
     ("set_transform_unknown", lambda c: c.engine.set_transform(7, np.eye(4)), IA,
      exact("dynrt::Engine: set_transform: no mesh with id 7")),
     ("set_surface_bad", lambda c: c.engine.set_surface(c.cloth, dynrt.Surface(shininess=-1)), IA,
-     exact("dynrt::Engine: set_surface: mesh 'cloth' (id 0): colours and shininess must be finite, "
-           "shininess >= 0")),
+     exact("dynrt::Engine: set_surface: mesh 'cloth' (id 0): shininess -1 must be finite and >= 0")),
+    ("set_surface_negative_diffuse",
+     lambda c: c.engine.set_surface(c.cloth, dynrt.Surface(diffuse=(-0.5, 0.5, 0.5))), IA,
+     exact("dynrt::Engine: set_surface: mesh 'cloth' (id 0): diffuse (-0.5, 0.5, 0.5) must be finite "
+           "and >= 0")),
     ("remove_unknown", lambda c: c.engine.remove_mesh(42), IA,
      exact("dynrt::Engine: remove_mesh: no mesh with id 42")),
     ("motion_unknown_id", lambda c: c.engine.motion(42), IA, exact("dynrt::Engine: motion: no mesh with id 42")),

@@ -21,6 +21,7 @@ occluded release the GIL. README "Python" has the details.
 """
 
 import math as _math
+import operator as _operator
 
 from ._core import (  # noqa: F401  (re-exported)
     Engine,
@@ -53,9 +54,17 @@ class Scene:
     not used (the library API takes none).
     """
 
-    def __init__(self, source, fps=None, threads=0, cost_ratio=1.0):
+    def __init__(self, source, fps=None, threads=0, cost_ratio=1.0, clips=None):
         engine = Engine(threads=threads, cost_ratio=cost_ratio)
-        self._animation = _SceneAnimation(str(source), 0.0 if fps is None else float(fps), engine)
+        if fps is not None:
+            try:
+                fps = float(fps)
+            except (TypeError, ValueError):
+                raise InvalidArgument(f"dynrt.load_scene: fps '{fps}' is not a positive number") from None
+        if clips is not None:
+            # Names or indices, as the CLI's repeatable --clip takes them; one alone is a list of one.
+            clips = [str(c) for c in ([clips] if isinstance(clips, (str, int)) else clips)]
+        self._animation = _SceneAnimation(str(source), fps, clips, engine)
         self.engine = engine
 
     # ---- what the file holds -------------------------------------------------------------
@@ -77,6 +86,11 @@ class Scene:
     @property
     def fps(self):
         return self._animation.fps
+
+    @property
+    def clips(self):
+        """The names of the clips that play (load_scene's clips, else the CLI's default)."""
+        return self._animation.clips
 
     @property
     def frame_count(self):
@@ -114,30 +128,50 @@ class Scene:
         return round(exact)
 
     def pose(self, time=None, *, frame=None):
-        """Poses the scene at `time` seconds (or at `frame`), hands what moved to the engine and
-        updates it; returns the step's report (a dict)."""
+        """Poses the scene at `time` seconds (or at `frame`, a whole number from 0 to 9,999,999
+        as the CLI's --frames takes), hands what moved to the engine and updates it; returns the
+        step's report (a dict, whose "frame" is the frame posed)."""
         if (time is None) == (frame is None):
             raise InvalidArgument("dynrt.Scene.pose: give either a time or a frame")
         if frame is None:
             frame = self.frame_at(time)
-        return self._animation.pose(int(frame))
+        try:
+            number = _operator.index(frame)
+        except TypeError:
+            if not (isinstance(frame, float) and frame.is_integer()):
+                raise InvalidArgument(f"dynrt.Scene.pose: frame {frame!r} is not a whole number") from None
+            number = int(frame)
+        return self._animation.pose(number)
+
+    def _check_posed(self, call):
+        if not self._animation.posed:
+            raise InvalidState(f"dynrt.Scene.{call}: call Scene.pose() first (no frame is posed yet)")
 
     def render(self, width, height, *, view=None, **settings):
         """Renders the posed frame with the scene's lights and background (see
         Engine.render for the keywords), from `view` or the scene's own view."""
+        self._check_posed("render")
         settings.setdefault("lights", self.lights)
         settings.setdefault("background", self.background)
-        return self.engine.render(self.view if view is None else view, width, height, **settings)
+        result = self.engine.render(self.view if view is None else view, width, height, **settings)
+        if settings.get("report"):
+            result[-1]["frame"] = self.frame  # the frame posed, as pose()'s report says
+        return result
 
     def intersect(self, origins, directions, tmin=0.0, tmax=_math.inf, **kwargs):
+        self._check_posed("intersect")
         return self.engine.intersect(origins, directions, tmin, tmax, **kwargs)
 
     def occluded(self, origins, directions, tmin=0.0, tmax=_math.inf, **kwargs):
+        self._check_posed("occluded")
         return self.engine.occluded(origins, directions, tmin, tmax, **kwargs)
 
 
-def load_scene(source, *, fps=None, threads=0, cost_ratio=1.0):
+def load_scene(source, *, fps=None, threads=0, cost_ratio=1.0, clips=None):
     """Loads a glTF (.gltf, .glb) or BART (.aff) file, or builds a procedural spec
-    ("sphere:2000+plane:10"), into a Scene with its own Engine. fps: frames per second
-    (default: the file's, else 24). Raises dynrt.SceneError naming the file and the problem."""
-    return Scene(source, fps=fps, threads=threads, cost_ratio=cost_ratio)
+    ("sphere:2000+plane:10"), into a Scene with its own Engine. fps: frames per second, finite
+    and positive (default: the file's, else 24). clips: the glTF animations to play, by name or
+    index, as the CLI's --clip (default: all together, or only the first when they animate the
+    same nodes). Raises dynrt.SceneError naming the file and the problem, InvalidArgument for a
+    bad fps or clip."""
+    return Scene(source, fps=fps, threads=threads, cost_ratio=cost_ratio, clips=clips)

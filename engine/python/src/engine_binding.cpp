@@ -281,6 +281,9 @@ reference to it: write new positions into it and call set_positions(mesh, positi
     engine.def("borrows", &PyEngine::borrows, py::arg("mesh"),
                "Whether the engine holds the mesh's positions array (added with borrow=True).");
     engine.def_property_readonly("mesh_count", [](const PyEngine& self) { return self.engine().mesh_count(); });
+    engine.def("memory_bytes", [](const PyEngine& self) { return self.engine().memory_bytes(); },
+               "Heap bytes the engine holds for its meshes (Engine::memory_bytes in C++): back to the live "
+               "meshes' share after remove_mesh and update().");
     engine.def("__len__", [](const PyEngine& self) { return self.engine().mesh_count(); });
 
     engine.def("update", [](PyEngine& self) {

@@ -3,10 +3,12 @@
 #include "engine_binding.h"
 #include "numpy_args.h"
 
+#include "dynrt/anim/clip_selection.h"
 #include "dynrt/anim/posed_scene.h"
 #include "dynrt/engine/camera.h"
 #include "dynrt/engine/renderer.h"
 #include "dynrt/engine/scene_loading.h"
+#include "dynrt/engine/sequence.h"
 #include "dynrt/scene/scene.h"
 
 #include <pybind11/stl.h>
@@ -14,6 +16,9 @@
 #include <atomic>
 #include <cmath>
 #include <memory>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
 #include <span>
 #include <string>
 #include <vector>
@@ -50,17 +55,48 @@ Motion motion_of(anim::MotionClass c) {
 
 View view_of(const Camera& c) { return View{vec(c.eye), vec(c.target), vec(c.up), c.fov_y_deg}; }
 
+const std::string kLoadScene = "dynrt.load_scene";
+
+/// The frame rate asked for (None: the file's, else 24), refused as the CLI's --fps refuses it.
+double checked_fps(std::optional<double> fps, const Scene& scene) {
+    if (!fps) return scene.setup ? scene.setup->fps : anim::kDefaultFps;
+    if (!std::isfinite(*fps) || !(*fps > 0.0)) {
+        std::ostringstream value;
+        value << *fps;
+        throw Error(Error::Code::invalid_argument, kLoadScene + ": fps '" + value.str() + "' is not a positive number");
+    }
+    return *fps;
+}
+
+/// The clips that play, by name or index as the CLI's --clip picks them (None: the CLI's
+/// default, anim::default_clips).
+std::vector<std::size_t> chosen_clips(const std::optional<std::vector<std::string>>& clips, const Scene& scene) {
+    if (!clips) return anim::default_clips(scene);
+    std::vector<std::size_t> chosen;
+    for (const std::string& clip : *clips) {
+        try {
+            chosen.push_back(anim::find_clip(scene, clip));
+        } catch (const std::invalid_argument& e) {
+            throw Error(Error::Code::invalid_argument, kLoadScene + ": " + e.what());
+        }
+    }
+    return chosen;
+}
+
 /// A loaded scene, its poser and the engine it plays into.
 class SceneAnimation {
 public:
-    SceneAnimation(const std::string& source, double fps, std::shared_ptr<PyEngine> engine)
+    /// `fps` and `clips` as load_scene takes them (README "Python"): None for the defaults.
+    SceneAnimation(const std::string& source, std::optional<double> fps,
+                   const std::optional<std::vector<std::string>>& clips, std::shared_ptr<PyEngine> engine)
         : engine_(std::move(engine)) {
         {
             const py::gil_scoped_release nogil;
             scene_ = std::make_unique<Scene>(load_scene(source));
         }
         anim::PoseSettings settings;
-        settings.fps = fps > 0.0 ? fps : (scene_->setup ? scene_->setup->fps : anim::kDefaultFps);
+        settings.fps = checked_fps(fps, *scene_);
+        settings.clips = chosen_clips(clips, *scene_);
         // Static and rigid objects are added once, from the poser's fixed vertices.
         settings.skip_fixed_positions = true;
         const py::gil_scoped_release nogil;
@@ -105,7 +141,19 @@ public:
     /// part way (an engine change refused because another thread renders, a non-finite pose),
     /// the engine may hold some of the frame's changes and not others, so the next call hands it
     /// every moving object, not only those the poser saw change.
-    py::object pose(int frame) {
+    /// `frame_number` is any Python int (checked here, so that 2**31 or -1 get the CLI's
+    /// wording rather than a conversion error).
+    py::object pose(const py::int_& frame_number) {
+        int overflow = 0;
+        const long long frame = PyLong_AsLongLongAndOverflow(frame_number.ptr(), &overflow);
+        if (overflow != 0 || frame < 0 || frame > kFrameMax) {
+            const std::string text = py::str(py::handle(frame_number));
+            throw Error(Error::Code::invalid_argument,
+                        "dynrt.Scene.pose: frame " + text +
+                            (overflow < 0 || (overflow == 0 && frame < 0)
+                                 ? ": frames are numbered from 0"
+                                 : ": frame numbers above " + std::to_string(kFrameMax) + " are not supported"));
+        }
         bool idle = false;
         if (!posing_.compare_exchange_strong(idle, true)) {
             throw Error(Error::Code::invalid_state, "dynrt.Scene.pose: another thread is posing this scene");
@@ -119,7 +167,7 @@ public:
             const py::gil_scoped_release nogil;
             Engine& engine = engine_->engine();
             try {
-                poser_->pose(frame, posed_);
+                poser_->pose(int(frame), posed_);
                 for (std::size_t i = 0; i < ids_.size(); ++i) {
                     const anim::PosedObject& posed = posed_.objects[i];
                     if (!posed.changed && !resend_all_) continue;
@@ -131,13 +179,16 @@ public:
                     }
                 }
                 resend_all_ = false;
-                frame_ = frame;
                 stats = engine.update();
+                frame_ = int(frame);
+                posed_once_ = true;
             } catch (...) {
                 resend_all_ = true;
                 throw;
             }
         }
+        // The report names the frame posed (FrameStats::frame counts the engine's updates).
+        stats.frame = int(frame);
         return report_dict(stats);
     }
 
@@ -180,6 +231,8 @@ public:
     anim::PosedScene posed_;
     std::vector<std::uint32_t> ids_;
     int frame_ = 0;
+    /// Whether a pose() has succeeded: the engine's meshes are then up to date.
+    bool posed_once_ = false;
     std::atomic<bool> posing_{false};
     bool resend_all_ = false;
 };
@@ -189,14 +242,24 @@ public:
 void bind_scene(py::module_& m) {
     py::class_<SceneAnimation>(m, "SceneAnimation",
                                "A scene file played into an Engine; dynrt.load_scene wraps it as dynrt.Scene.")
-        .def(py::init<const std::string&, double, std::shared_ptr<PyEngine>>(), py::arg("source"), py::arg("fps"),
-             py::arg("engine"))
+        .def(py::init<const std::string&, std::optional<double>, const std::optional<std::vector<std::string>>&,
+                      std::shared_ptr<PyEngine>>(),
+             py::arg("source"), py::arg("fps"), py::arg("clips"), py::arg("engine"))
+        .def_readonly_static("frame_max", &kFrameMax)
         .def("pose", &SceneAnimation::pose, py::arg("frame"))
         .def_property_readonly("engine", [](const SceneAnimation& s) { return s.engine_; })
         .def_property_readonly("mesh_ids", [](const SceneAnimation& s) { return s.ids_; })
         .def_property_readonly("names", &SceneAnimation::names)
         .def_property_readonly("motions", &SceneAnimation::motions)
         .def_property_readonly("frame", [](const SceneAnimation& s) { return s.frame_; })
+        .def_property_readonly("posed", [](const SceneAnimation& s) { return s.posed_once_; })
+        .def_property_readonly("clips", [](const SceneAnimation& s) {
+            std::vector<std::string> out;
+            for (const std::size_t c : s.poser_->settings().clips.value_or(std::vector<std::size_t>{})) {
+                out.push_back(s.scene_->clips[c].name);
+            }
+            return out;
+        })
         .def_property_readonly("fps", [](const SceneAnimation& s) { return s.poser_->settings().fps; })
         .def_property_readonly("frame_count", &SceneAnimation::frame_count)
         .def_property_readonly("camera", &SceneAnimation::camera)

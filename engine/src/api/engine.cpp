@@ -8,8 +8,10 @@
 #include "dynrt/scene/scene_error.h"
 #include "dynrt/scene/vertex_normals.h"
 #include "access_guard.h"
+#include "mesh_slots.h"
 #include "ray_batch.h"
 #include "rendering/frame_pipeline.h"
+#include "update/held_bytes.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -38,6 +40,7 @@ static_assert(std::is_standard_layout_v<glm::vec3>);
 namespace {
 
 using api_detail::AccessGuard;
+using api_detail::MeshSlots;
 
 anim::MotionClass to_class(Motion motion) {
     switch (motion) {
@@ -82,9 +85,18 @@ bool finite_non_negative(const glm::vec3& v) {
 
 /// What is wrong with a Surface, or "" when add_mesh and set_surface may take it.
 std::string surface_problem(const Surface& surface) {
-    if (!finite(to_glm(surface.diffuse)) || !finite(to_glm(surface.specular)) ||
-        !std::isfinite(surface.shininess) || !(surface.shininess >= 0.0f)) {
-        return "colours and shininess must be finite, shininess >= 0";
+    // A negative colour would shade with negative light: darker than black, and subtracted
+    // from what its reflections add.
+    if (!finite_non_negative(to_glm(surface.diffuse))) {
+        return "diffuse " + format_vec(to_glm(surface.diffuse)) + " must be finite and >= 0";
+    }
+    if (!finite_non_negative(to_glm(surface.specular))) {
+        return "specular " + format_vec(to_glm(surface.specular)) + " must be finite and >= 0";
+    }
+    if (!std::isfinite(surface.shininess) || !(surface.shininess >= 0.0f)) {
+        std::ostringstream out;
+        out << "shininess " << surface.shininess << " must be finite and >= 0";
+        return out.str();
     }
     if (!finite_non_negative(to_glm(surface.reflectance))) {
         return "reflectance " + format_vec(to_glm(surface.reflectance)) + " must be finite and >= 0";
@@ -149,7 +161,8 @@ glm::dmat4 checked_transform(const Transform& transform, const std::string& what
 
 }  // namespace
 
-/// One mesh of the engine, at the index of its scene object and its MeshId.
+/// One mesh of the engine, at its slot: the index of its scene object, material, state and
+/// tree (MeshSlots maps its MeshId to it).
 struct MeshSlot {
     Motion declared = Motion::automatic;
     /// The class it is treated as now (raised from static for automatic meshes).
@@ -167,6 +180,11 @@ struct MeshSlot {
     bool transform_changed = false;
     /// Borrowed positions not yet checked for finite values.
     bool unchecked = false;
+    /// In a slot freed by another mesh: the next update starts its tree afresh
+    /// (FramePipeline::renew). `freed_class` is the class the slot had while free, kept should
+    /// the mesh be removed before that update (the trees still know the slot by it).
+    bool renew_at_update = false;
+    anim::MotionClass freed_class = anim::MotionClass::static_;
     /// Updates in a row whose refit degraded past the threshold (Motion::automatic).
     int degraded_steps = 0;
     /// World positions of a deformable or exploding mesh with a transform (scratch).
@@ -192,10 +210,14 @@ struct Engine::Impl final : FixedPositions {
     tbb::task_arena* arena = nullptr;
     UpdatePolicy policy;
 
-    /// Object i of the scene is mesh i (MeshId i); its material is material i.
+    /// Per slot (mesh_slots.h): scene object i is meshes[i], its material is material i.
     Scene scene;
     std::vector<MeshSlot> meshes;
+    MeshSlots ids;
     std::size_t live = 0;
+    /// Slots of meshes removed since the last update: the trees still hold them, so they are
+    /// freed (free_slot) once an update has dropped them.
+    std::vector<std::size_t> dropping;
 
     /// The engine's frame path (rendering/frame_pipeline.h): the trees, their update and the
     /// trace. Renders run one at a time (render_mutex), on its buffers and `frame`.
@@ -222,20 +244,40 @@ struct Engine::Impl final : FixedPositions {
         return work();
     }
 
+    /// The mesh in slot i, for messages.
     std::string describe(std::size_t i) const {
-        return "mesh '" + scene.objects[i].name + "' (id " + std::to_string(i) + ")";
+        return "mesh '" + scene.objects[i].name + "' (id " + std::to_string(ids.id_at(i)) + ")";
     }
 
-    MeshSlot& slot(MeshId id, const char* call) {
-        if (id.value >= meshes.size() || meshes[id.value].removed) {
-            throw invalid(std::string(call) + ": no mesh with id " + std::to_string(id.value) +
-                          (id.value < meshes.size() ? " (it was removed)" : ""));
-        }
-        return meshes[id.value];
+    /// The slot of a live mesh, or Error naming the id for `call`.
+    std::size_t slot_index(MeshId id, const char* call) const {
+        if (const std::optional<std::size_t> i = ids.slot_of(id.value)) return *i;
+        throw invalid(std::string(call) + ": no mesh with id " + std::to_string(id.value) +
+                      (ids.issued(id.value) ? " (it was removed)" : ""));
     }
-    const MeshSlot& slot(MeshId id, const char* call) const {
-        return const_cast<Impl*>(this)->slot(id, call);
+
+    /// Slot i holds no mesh any more and no tree shows it: everything it held is freed (its
+    /// class stays, so that the planner sees no change in it) and add_mesh may take it.
+    void free_slot(std::size_t i) {
+        scene.objects[i] = Object{};
+        scene.materials[i] = Material{};
+        MeshSlot freed;
+        freed.removed = true;
+        freed.settled = true;
+        freed.motion_class = meshes[i].renew_at_update ? meshes[i].freed_class : meshes[i].motion_class;
+        freed.declared = to_motion(freed.motion_class);
+        meshes[i] = std::move(freed);
+        ids.free(i);
     }
+
+    /// Slots in `stats` turned into the MeshId values the caller knows.
+    void name_meshes(FrameStats& stats) const {
+        if (ids.ids_are_slots()) return;
+        for (TreeRebuild& rebuild : stats.rebuilds) rebuild.object = ids.id_at(rebuild.object);
+        for (TreeChoice& choice : stats.choices) choice.object = ids.id_at(choice.object);
+    }
+
+    std::size_t memory_bytes() const;
 
     // ---- FixedPositions: static and rigid meshes' vertices, for their builds ----
     // A build reads a borrowed buffer again (the static group is rebuilt whenever a static mesh
@@ -398,7 +440,12 @@ Engine& Engine::operator=(Engine&&) noexcept = default;
 MeshId Engine::add_mesh(const MeshDesc& desc) {
     Impl& s = *impl_;
     const AccessGuard::Write write(s.guard);
-    const std::size_t id = s.meshes.size();
+    if (!s.ids.can_claim()) {
+        throw Error(Error::Code::invalid_state, "dynrt::Engine: add_mesh: every MeshId (" +
+                                                    std::to_string(MeshSlots::kMaxIds) +
+                                                    ") has been issued; ids are never reused");
+    }
+    const std::uint32_t id = s.ids.next_id();
     const std::string name = desc.name.empty() ? "mesh " + std::to_string(id) : desc.name;
     const std::string what = "add_mesh '" + name + "'";
     if (desc.positions.size() % 3 != 0) {
@@ -451,22 +498,36 @@ MeshId Engine::add_mesh(const MeshDesc& desc) {
         object.mesh.triangles[t] = {desc.indices[3 * t], desc.indices[3 * t + 1],
                                     desc.indices[3 * t + 2]};
     }
-    object.material = std::uint32_t(id);
     mesh.computed_normals = desc.normals.empty();
     mesh.normals = mesh.computed_normals ? area_weighted_normals(positions, object.mesh.triangles)
                                          : Impl::checked_normals(desc.normals, vertices, what);
-    s.scene.objects.push_back(std::move(object));
-    s.scene.materials.push_back(material_of(desc.surface, name));
-    s.meshes.push_back(std::move(mesh));
+    Material material = material_of(desc.surface, name);
+    // Every check passed: the mesh takes its id and a slot (a freed one when there is).
+    const MeshSlots::Claim claim = s.ids.claim();
+    object.material = std::uint32_t(claim.slot);
+    if (claim.reused) {
+        // The trees keep the slot as it was until the next update (queries until then see
+        // nothing there); that update starts its tree afresh.
+        mesh.renew_at_update = true;
+        mesh.freed_class = s.meshes[claim.slot].motion_class;
+        s.scene.objects[claim.slot] = std::move(object);
+        s.scene.materials[claim.slot] = std::move(material);
+        s.meshes[claim.slot] = std::move(mesh);
+    } else {
+        s.scene.objects.push_back(std::move(object));
+        s.scene.materials.push_back(std::move(material));
+        s.meshes.push_back(std::move(mesh));
+    }
     ++s.live;
-    return MeshId{std::uint32_t(id)};
+    return MeshId{claim.id};
 }
 
 void Engine::set_positions(MeshId id, std::span<const float> positions, std::span<const float> normals) {
     Impl& s = *impl_;
     const AccessGuard::Write write(s.guard);
-    MeshSlot& mesh = s.slot(id, "set_positions");
-    const std::string what = "set_positions: " + s.describe(id.value);
+    const std::size_t i = s.slot_index(id, "set_positions");
+    MeshSlot& mesh = s.meshes[i];
+    const std::string what = "set_positions: " + s.describe(i);
     if (mesh.declared == Motion::static_ || mesh.declared == Motion::rigid) {
         throw invalid(what + " was added as " + motion_name(mesh.declared) +
                       ", so its vertices cannot move");
@@ -482,7 +543,7 @@ void Engine::set_positions(MeshId id, std::span<const float> positions, std::spa
     std::vector<glm::vec3> new_normals;
     if (!normals.empty()) new_normals = Impl::checked_normals(normals, count, what);
     if (mesh.ownership == Ownership::copy) {
-        s.run([&] { s.check_positions(id.value, given, "new", false); });
+        s.run([&] { s.check_positions(i, given, "new", false); });
         std::copy(given.begin(), given.end(), mesh.owned.begin());
     } else {
         mesh.borrowed = given;
@@ -500,8 +561,9 @@ void Engine::set_positions(MeshId id, std::span<const float> positions, std::spa
 void Engine::set_transform(MeshId id, const Transform& transform) {
     Impl& s = *impl_;
     const AccessGuard::Write write(s.guard);
-    MeshSlot& mesh = s.slot(id, "set_transform");
-    const std::string what = "set_transform: " + s.describe(id.value);
+    const std::size_t i = s.slot_index(id, "set_transform");
+    MeshSlot& mesh = s.meshes[i];
+    const std::string what = "set_transform: " + s.describe(i);
     if (mesh.declared == Motion::static_) throw invalid(what + " was added as static");
     mesh.transform = checked_transform(transform, what);
     mesh.identity = mesh.transform == glm::dmat4(1.0);
@@ -511,11 +573,11 @@ void Engine::set_transform(MeshId id, const Transform& transform) {
 void Engine::set_surface(MeshId id, const Surface& surface) {
     Impl& s = *impl_;
     const AccessGuard::Write write(s.guard);
-    s.slot(id, "set_surface");
+    const std::size_t i = s.slot_index(id, "set_surface");
     if (const std::string problem = surface_problem(surface); !problem.empty()) {
-        throw invalid("set_surface: " + s.describe(id.value) + ": " + problem);
+        throw invalid("set_surface: " + s.describe(i) + ": " + problem);
     }
-    Material& material = s.scene.materials[id.value];
+    Material& material = s.scene.materials[i];
     material = material_of(surface, material.name);
     // Every render reads the materials as they are, so the next one uses it without waiting
     // for an update (no render runs during this call).
@@ -524,25 +586,61 @@ void Engine::set_surface(MeshId id, const Surface& surface) {
 void Engine::remove_mesh(MeshId id) {
     Impl& s = *impl_;
     const AccessGuard::Write write(s.guard);
-    MeshSlot& mesh = s.slot(id, "remove_mesh");
-    // The slot stays (ids index the scene) with no triangles; its tree is rebuilt empty.
+    const std::size_t i = s.slot_index(id, "remove_mesh");
+    MeshSlot& mesh = s.meshes[i];
+    s.ids.retire(id.value);
+    --s.live;
+    if (!mesh.settled && !s.broken) {
+        // Added since the last update: no tree or trace has seen it, so its slot is free now.
+        s.free_slot(i);
+        return;
+    }
+    // The trees of the last update still show it (queries until the next update hit it), so
+    // the slot stays, with no triangles, until an update has rebuilt its tree empty; then
+    // update() frees it. The trees' shading borrows its triangles and normals until then.
     mesh.removed = true;
     mesh.borrowed = {};
-    mesh.owned.clear();
-    mesh.owned.shrink_to_fit();
-    mesh.world.clear();
+    mesh.owned = {};
+    mesh.world = {};
     s.retired_normals.push_back(std::move(mesh.normals));
     s.retired_normals.push_back(std::move(mesh.world_normals));
-    s.retired_triangles.push_back(std::move(s.scene.objects[id.value].mesh.triangles));
+    s.retired_triangles.push_back(std::move(s.scene.objects[i].mesh.triangles));
     mesh.normals = {};
     mesh.world_normals = {};
-    s.scene.objects[id.value].mesh.triangles = {};
-    s.pipeline.invalidate(id.value);
-    --s.live;
+    s.scene.objects[i].mesh.triangles = {};
+    s.pipeline.invalidate(i);
+    s.dropping.push_back(i);
+}
+
+std::size_t Engine::Impl::memory_bytes() const {
+    std::size_t bytes = held_bytes(meshes) + held_bytes(scene.objects) + held_bytes(scene.materials);
+    for (const MeshSlot& mesh : meshes) {
+        bytes += held_bytes(mesh.owned) + held_bytes(mesh.world) + held_bytes(mesh.normals) +
+                 held_bytes(mesh.world_normals);
+    }
+    for (const Object& object : scene.objects) {
+        bytes += held_bytes(object.name) + held_bytes(object.mesh.positions) +
+                 held_bytes(object.mesh.triangles) + held_bytes(object.mesh.normals) +
+                 held_bytes(object.mesh.texcoords);
+    }
+    for (const Material& material : scene.materials) bytes += held_bytes(material.name);
+    bytes += held_bytes(retired_normals) + held_bytes(retired_triangles);
+    for (const std::vector<glm::vec3>& normals : retired_normals) bytes += held_bytes(normals);
+    for (const std::vector<glm::uvec3>& triangles : retired_triangles) bytes += held_bytes(triangles);
+    bytes += held_bytes(states) + held_bytes(dropping) + ids.memory_bytes();
+    return bytes + pipeline.memory_bytes();
+}
+
+std::size_t Engine::memory_bytes() const {
+    const Impl& s = *impl_;
+    const AccessGuard::Read read(s.guard);
+    // Renders refresh the pipeline's per-object records.
+    const std::lock_guard<std::mutex> lock(s.render_mutex);
+    return s.memory_bytes();
 }
 
 Motion Engine::motion(MeshId id) const {
-    return to_motion(impl_->slot(id, "motion").motion_class);
+    return to_motion(impl_->meshes[impl_->slot_index(id, "motion")].motion_class);
 }
 
 std::size_t Engine::mesh_count() const { return impl_->live; }
@@ -610,6 +708,9 @@ FrameStats Engine::Impl::update() {
     // way: then the trees are a mix of two steps, so queries are refused until an update
     // succeeds, and that update starts afresh.
     if (broken) pipeline.clear();
+    for (std::size_t i = 0; i < meshes.size(); ++i) {
+        if (meshes[i].renew_at_update) pipeline.renew(i);
+    }
     broken = true;
     updated = false;
     const FrameStats& stats = pipeline.update(scene, states, *this, policy, step, wall);
@@ -620,6 +721,7 @@ FrameStats Engine::Impl::update() {
         MeshSlot& mesh = meshes[i];
         mesh.motion_class = classes[i];
         mesh.settled = true;
+        mesh.renew_at_update = false;
         mesh.positions_changed = mesh.transform_changed = mesh.unchecked = false;
     }
     // Automatic deformable meshes whose refits keep degrading are rebuilt anyway: the planner
@@ -634,9 +736,17 @@ FrameStats Engine::Impl::update() {
         mesh.motion_class = class_after_update(mesh.motion_class, states[i].changed, degraded[i],
                                                mesh.degraded_steps);
     }
+    // The removed meshes' trees are empty now: their slots and what they held are freed.
+    for (const std::size_t i : dropping) {
+        pipeline.release(i);
+        free_slot(i);
+    }
+    dropping.clear();
     updated = true;
     ++step;
-    return stats;
+    FrameStats named = stats;
+    name_meshes(named);
+    return named;
 }
 
 FrameStats Engine::render(const View& view, const ImageView& image,
@@ -702,26 +812,38 @@ FrameStats Engine::render(const View& view, const ImageView& image,
     } catch (const std::invalid_argument& e) {
         throw invalid(std::string("render: ") + e.what());
     }
+    FrameStats stats = frame.stats;
+    s.name_meshes(stats);
+    // The frame's hits name slots; the caller's image names MeshId values.
+    const bool ids_are_slots = s.ids.ids_are_slots();
+    const auto mesh_at = [&](std::size_t p) {
+        const std::int32_t slot = frame.object[p];
+        return slot < 0 || ids_are_slots ? slot : std::int32_t(s.ids.id_at(std::size_t(slot)));
+    };
     if (options.tiles.whole()) {
         std::copy_n(&frame.color[0].x, 3 * pixels, image.rgb.begin());
         if (!image.depth.empty()) std::copy(frame.depth.begin(), frame.depth.end(), image.depth.begin());
-        if (!image.mesh.empty()) std::copy(frame.object.begin(), frame.object.end(), image.mesh.begin());
-        return frame.stats;
+        if (!image.mesh.empty()) {
+            for (std::size_t p = 0; p < pixels; ++p) image.mesh[p] = mesh_at(p);
+        }
+        return stats;
     }
     // A share: its pixels only, the caller's others untouched.
     packet::Tiling(image.width, image.height, options.tiles).for_each_pixel([&](std::size_t p) {
         std::copy_n(&frame.color[p].x, 3, image.rgb.begin() + std::ptrdiff_t(3 * p));
         if (!image.depth.empty()) image.depth[p] = frame.depth[p];
-        if (!image.mesh.empty()) image.mesh[p] = frame.object[p];
+        if (!image.mesh.empty()) image.mesh[p] = mesh_at(p);
     });
-    return frame.stats;
+    return stats;
 }
 
 QueryStats Engine::intersect(std::span<const Ray> rays, std::span<RayHit> hits) const {
     const Impl& s = *impl_;
     const AccessGuard::Read read(s.guard);
     s.check_traced("intersect");
-    return s.run([&] { return api_detail::intersect_batch(s.pipeline.accel(), rays, hits); });
+    return s.run([&] {
+        return api_detail::intersect_batch(s.pipeline.accel(), rays, hits, s.ids.ids_of_slots());
+    });
 }
 
 QueryStats Engine::occluded(std::span<const Ray> rays, std::span<std::uint8_t> occluded) const {
@@ -735,7 +857,9 @@ QueryStats Engine::intersect(const RayArrays& rays, std::span<RayHit> hits) cons
     const Impl& s = *impl_;
     const AccessGuard::Read read(s.guard);
     s.check_traced("intersect");
-    return s.run([&] { return api_detail::intersect_batch(s.pipeline.accel(), rays, hits); });
+    return s.run([&] {
+        return api_detail::intersect_batch(s.pipeline.accel(), rays, hits, s.ids.ids_of_slots());
+    });
 }
 
 QueryStats Engine::occluded(const RayArrays& rays, std::span<std::uint8_t> occluded) const {

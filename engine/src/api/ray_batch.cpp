@@ -228,11 +228,11 @@ QueryStats for_each_group(const Source& rays, std::size_t outputs, PerGroup&& pe
     return stats;
 }
 
-RayHit to_api(const bvh::InstanceHit& hit) {
+RayHit to_api(const bvh::InstanceHit& hit, std::span<const std::uint32_t> mesh_ids) {
     RayHit out;
     if (!hit.is_hit()) return out;
     out.t = hit.hit.t;
-    out.mesh = MeshId{hit.object};
+    out.mesh = MeshId{mesh_ids.empty() ? hit.object : mesh_ids[hit.object]};
     out.primitive = hit.hit.prim;
     out.u = hit.hit.u;
     out.v = hit.hit.v;
@@ -250,14 +250,15 @@ void for_each_lane(const packet::LaneMask& lanes, PerLane&& per_lane) {
 }
 
 template <typename Source>
-QueryStats intersect_rays(const SceneAccel& accel, const Source& rays, std::span<RayHit> hits) {
+QueryStats intersect_rays(const SceneAccel& accel, const Source& rays, std::span<RayHit> hits,
+                          std::span<const std::uint32_t> mesh_ids) {
     const bvh::TwoLevelBvh& tlas = accel.top_level();
     return for_each_group(rays, hits.size(), [&](std::size_t first,
                                                   const packet::RayPacket& packet,
                                                   bool as_packet, RunWork& work) {
         const auto store = [&](int lane, bvh::InstanceHit hit) {
             accel.resolve(hit);
-            hits[first + std::size_t(lane)] = to_api(hit);
+            hits[first + std::size_t(lane)] = to_api(hit, mesh_ids);
             work.hits += hit.is_hit();
         };
         const std::size_t n = std::size_t(packet.active.count());
@@ -305,14 +306,14 @@ QueryStats occluded_rays(const SceneAccel& accel, const Source& rays,
 }  // namespace
 
 QueryStats intersect_batch(const SceneAccel& accel, std::span<const Ray> rays,
-                           std::span<RayHit> hits) {
-    return intersect_rays(accel, RayStructs{rays}, hits);
+                           std::span<RayHit> hits, std::span<const std::uint32_t> mesh_ids) {
+    return intersect_rays(accel, RayStructs{rays}, hits, mesh_ids);
 }
 
 QueryStats intersect_batch(const SceneAccel& accel, const RayArrays& rays,
-                           std::span<RayHit> hits) {
+                           std::span<RayHit> hits, std::span<const std::uint32_t> mesh_ids) {
     check_sizes(rays);
-    return intersect_rays(accel, RayColumns{rays}, hits);
+    return intersect_rays(accel, RayColumns{rays}, hits, mesh_ids);
 }
 
 QueryStats occluded_batch(const SceneAccel& accel, std::span<const Ray> rays,

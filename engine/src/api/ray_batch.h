@@ -22,10 +22,12 @@ inline constexpr float kCoherentCosine = 0.9f;
 /// Smaller groups go ray by ray: the packet machinery costs more than it saves for a few rays.
 inline constexpr int kPacketRaysMin = 16;
 
-/// Closest hits (`hits` sized as `rays`). Throws Error naming the first invalid ray found
-/// (rays are checked in parallel, so "first" is in the order found). Thread-safe.
+/// Closest hits (`hits` sized as `rays`). A hit's mesh is mesh_ids[object] for the object
+/// (slot) it hit, or the object index itself when `mesh_ids` is empty (MeshSlots::ids_of_slots).
+/// Throws Error naming the first invalid ray found (rays are checked in parallel, so "first"
+/// is in the order found). Thread-safe.
 QueryStats intersect_batch(const SceneAccel& accel, std::span<const Ray> rays,
-                           std::span<RayHit> hits);
+                           std::span<RayHit> hits, std::span<const std::uint32_t> mesh_ids);
 
 /// Any hit: occluded[i] = 1 when rays[i] hits anything within [tmin, tmax], else 0.
 QueryStats occluded_batch(const SceneAccel& accel, std::span<const Ray> rays,
@@ -34,7 +36,7 @@ QueryStats occluded_batch(const SceneAccel& accel, std::span<const Ray> rays,
 /// The same on rays held as arrays (RayArrays, read in place); also throws Error when the
 /// arrays' sizes disagree. Same results bit for bit as on the equal Ray batch.
 QueryStats intersect_batch(const SceneAccel& accel, const RayArrays& rays,
-                           std::span<RayHit> hits);
+                           std::span<RayHit> hits, std::span<const std::uint32_t> mesh_ids);
 QueryStats occluded_batch(const SceneAccel& accel, const RayArrays& rays,
                           std::span<std::uint8_t> occluded);
 

@@ -1,6 +1,7 @@
 #include "rendering/frame_pipeline.h"
 
 #include "rendering/same_view.h"
+#include "update/held_bytes.h"
 
 #include <glm/trigonometric.hpp>
 
@@ -44,7 +45,32 @@ void FramePipeline::invalidate(std::size_t object) {
     accel_.invalidate(object);
     // The trees change at the next update, not now (a trace before it still shows the object
     // as it was): that update moves the object's version.
-    invalidated_.push_back(object);
+    mark_invalidated(object);
+}
+
+void FramePipeline::mark_invalidated(std::size_t object) {
+    // A flag per object rather than a list: objects added and removed many times between two
+    // updates must not grow it.
+    if (invalidated_.size() <= object) invalidated_.resize(object + 1, 0);
+    invalidated_[object] = 1;
+}
+
+void FramePipeline::release(std::size_t object) {
+    accel_.release(object);
+    if (object < parts_.size()) parts_[object] = {};
+}
+
+void FramePipeline::renew(std::size_t object) {
+    accel_.renew(object);
+    mark_invalidated(object);
+}
+
+std::size_t FramePipeline::memory_bytes() const {
+    std::size_t bytes = accel_.memory_bytes() + held_bytes(materials_) + held_bytes(object_material_) +
+                        held_bytes(object_texcoords_) + held_bytes(versions_) + held_bytes(invalidated_) +
+                        held_bytes(parts_) + held_bytes(parts_versions_);
+    for (const std::vector<bvh::Aabb>& parts : parts_) bytes += held_bytes(parts);
+    return bytes;
 }
 
 const FrameStats& FramePipeline::update(const Scene& scene, std::span<const ObjectState> states,
@@ -60,8 +86,8 @@ const FrameStats& FramePipeline::update(const Scene& scene, std::span<const Obje
     for (std::size_t i = 0; i < states.size(); ++i) {
         if (states[i].changed) versions_[i] = ++last_version_;
     }
-    for (const std::size_t i : invalidated_) {
-        if (i < versions_.size()) versions_[i] = ++last_version_;
+    for (std::size_t i = 0; i < invalidated_.size() && i < versions_.size(); ++i) {
+        if (invalidated_[i]) versions_[i] = ++last_version_;
     }
     invalidated_.clear();
     accel_.update(scene, states, fixed, policy, stats, stats);

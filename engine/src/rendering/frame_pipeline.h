@@ -65,6 +65,17 @@ public:
     void clear_trees();
     /// Forgets one object's tree (its triangles were replaced, or it was removed).
     void invalidate(std::size_t object);
+    /// Frees what is kept for an object the last update saw without triangles (a removed
+    /// mesh's slot): SceneAccel::release, and its boxes for exact reuse.
+    void release(std::size_t object);
+    /// Object `object` is a new one in a freed slot: SceneAccel::renew, and its version moves
+    /// at the next update (as invalidate), so that pixels showing the slot are traced again.
+    void renew(std::size_t object);
+
+    /// Heap bytes held for the objects: the trees (SceneAccel::memory_bytes) and the per-object
+    /// records of shading and exact reuse. The image-sized buffers of traces are left out:
+    /// they depend on the image size, not on the objects.
+    std::size_t memory_bytes() const;
 
 private:
     SceneAccel accel_;
@@ -85,8 +96,10 @@ private:
     /// said it changed, an invalidation): exact pixel reuse compares them between traces.
     std::vector<std::uint64_t> versions_;
     std::uint64_t last_version_ = 0;
-    /// Objects invalidated since the last update: their versions move when it runs.
-    std::vector<std::size_t> invalidated_;
+    /// Per object, whether it was invalidated since the last update: its version moves when
+    /// it runs.
+    std::vector<std::uint8_t> invalidated_;
+    void mark_invalidated(std::size_t object);
     /// Per object, the world boxes of a cut through its tree (SceneAccel::object_world_parts)
     /// and the version they were taken at: refreshed for exact reuse when the version moves.
     std::vector<std::vector<bvh::Aabb>> parts_;

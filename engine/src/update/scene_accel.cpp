@@ -3,6 +3,7 @@
 #include "dynrt/bvh/refit.h"
 #include "dynrt/engine/stopwatch.h"
 #include "dynrt/scene/vertex_normals.h"
+#include "update/held_bytes.h"
 
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
@@ -147,6 +148,50 @@ void SceneAccel::invalidate(std::size_t object) {
     ObjectTree& tree = objects_[object];
     tree.built = false;
     if (tree.known && tree.motion_class == anim::MotionClass::static_) static_group_.built = false;
+}
+
+void SceneAccel::release(std::size_t object) {
+    if (object >= objects_.size()) return;
+    const ObjectTree& old = objects_[object];
+    ObjectTree emptied;
+    emptied.known = old.known;
+    emptied.motion_class = old.motion_class;
+    emptied.built = old.built;
+    emptied.measured = old.measured;
+    // Its corners and normals were borrowed from the removed mesh, which goes away now.
+    objects_[object] = std::move(emptied);
+}
+
+void SceneAccel::renew(std::size_t object) {
+    if (object >= objects_.size()) return;  // new to the planner anyway
+    // A static one leaves the group's list at the group's next build; until then it holds no
+    // triangles there (it was released), so no hit resolves to it.
+    objects_[object] = ObjectTree{};
+}
+
+namespace {
+
+std::size_t tree_bytes(const bvh::TriangleBvh& tree) {
+    // The Morton builder's scratch (TriangleBvh::morton_scratch) is private to bvh/ and left
+    // out: the library API's updates build with binned SAH only.
+    return held_bytes(tree.bvh.nodes) + held_bytes(tree.bvh.prim_ids) + held_bytes(tree.wide.nodes) +
+           held_bytes(tree.wide.blocks) + held_bytes(tree.tris) + held_bytes(tree.skipped_ids);
+}
+
+}  // namespace
+
+std::size_t SceneAccel::memory_bytes() const {
+    const auto object_bytes = [](const ObjectTree& o) {
+        return held_bytes(o.triangles) + tree_bytes(o.tree) + held_bytes(o.own_normals);
+    };
+    std::size_t bytes = held_bytes(objects_) + object_bytes(static_group_);
+    for (const ObjectTree& o : objects_) bytes += object_bytes(o);
+    bytes += held_bytes(static_first_) + held_bytes(static_objects_) + held_bytes(static_slot_of_);
+    bytes += held_bytes(instance_trees_) + held_bytes(top_.instances) + held_bytes(top_.world_boxes) +
+             held_bytes(top_.top.nodes) + held_bytes(top_.top.prim_ids);
+    bytes += held_bytes(object_boxes_) + held_bytes(positions_) + held_bytes(history_) +
+             held_bytes(plan_.objects);
+    return bytes;
 }
 
 void SceneAccel::update(const Scene& scene, std::span<const ObjectState> states,

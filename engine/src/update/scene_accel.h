@@ -74,6 +74,21 @@ public:
     /// it afresh, or the static group when the object is static.
     void invalidate(std::size_t object);
 
+    /// Frees object `object`'s storage (its triangles, tree, normals and costs), keeping what
+    /// the planner knows of it (its class, that its empty tree is built), so that an object
+    /// left without triangles costs no memory and no work in later updates. Precondition: the
+    /// last update saw the object with no triangles (a removed mesh's slot, emptied).
+    void release(std::size_t object);
+
+    /// Object `object` is a new one (a freed slot taken by another mesh): its history is
+    /// forgotten, so the next update plans it as an object never seen (first build, or the
+    /// static group rebuilt when it is static), with fresh costs.
+    void renew(std::size_t object);
+
+    /// Heap bytes held: every object's triangles, trees (binary and wide) and normals, the
+    /// static group, the top level and the per-object records. Not thread-safe with update().
+    std::size_t memory_bytes() const;
+
     const bvh::TwoLevelBvh& top_level() const { return top_; }
 
     /// The trace time (primary + shadow rays) of the frame just traced on these trees: the

@@ -202,8 +202,10 @@ public:
 
     /// Adds a mesh; it is traced from the next update() on. Checks the description (sizes,
     /// indices in range, finite positions and transform, a valid Surface: finite values,
-    /// shininess, reflectance and transmittance >= 0, ior > 0) and throws Error naming the mesh
-    /// and the bad value.
+    /// colours, shininess, reflectance and transmittance >= 0, ior > 0) and throws Error naming
+    /// the mesh and the bad value. Returns a new id: ids count up from 0 and are never reused,
+    /// so an id kept after remove_mesh is refused rather than taken for another mesh. (The
+    /// storage of removed meshes is reused; after 2^31 - 1 ids the call throws invalid_state.)
     MeshId add_mesh(const MeshDesc& mesh);
 
     /// New object-space positions for a deformable, exploding or automatic mesh: the same
@@ -223,7 +225,13 @@ public:
     void set_surface(MeshId mesh, const Surface& surface);
 
     /// Takes the mesh out from the next update() on; its id is never reused. For a borrowed
-    /// mesh the engine stops reading the buffer now.
+    /// mesh the engine stops reading the buffer now. Its memory comes back: its vertices now,
+    /// its triangles, normals, tree and per-mesh records at the next update() (queries until
+    /// then still see it), or now when no update() has taken the mesh in yet; a later add_mesh
+    /// reuses its place. So an engine whose meshes come and go holds, after each update(), the
+    /// memory of its live meshes plus a few hundred bytes per free place, and has never more
+    /// places than it had meshes at once (counting those removed since the last update), not
+    /// one per mesh it ever added (memory_bytes()).
     void remove_mesh(MeshId mesh);
 
     /// The class the mesh is treated as now (for automatic meshes, the inferred one).
@@ -231,6 +239,15 @@ public:
 
     /// Meshes added and not removed.
     std::size_t mesh_count() const;
+
+    /// Heap bytes the engine holds for its meshes: their vertices (copied ones; borrowed
+    /// buffers are the caller's), indices, normals, per-mesh records, trees (binary and wide,
+    /// with their triangle copies), the top level, and what renders keep per mesh. The
+    /// capacities of its vectors are summed, so it is what stays allocated, not what is in use.
+    /// Left out: image-sized render buffers (they depend on the image size alone), the thread
+    /// pool, and the allocator's own overhead. After remove_mesh and an update() it returns to
+    /// what the remaining meshes need. May run concurrently with queries (it waits for a render).
+    std::size_t memory_bytes() const;
 
     /// Brings every mesh's tree up to date with the changes since the last update (the first
     /// call builds everything) and returns the step's figures: update_ms (checking and

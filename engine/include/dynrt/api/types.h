@@ -73,7 +73,8 @@ struct Light {
 
 /// A mesh's material: Phong terms plus Whitted's mirror and refraction weights (README
 /// "Shading", "Materials"). Colours and weights are linear RGB, meant to lie in [0, 1]; every
-/// value must be finite, shininess, reflectance and transmittance >= 0, ior > 0.
+/// value must be finite, colours (a negative one would shade darker than black), shininess,
+/// reflectance and transmittance >= 0, ior > 0.
 struct Surface {
     Vec3 diffuse{0.8f, 0.8f, 0.8f};
     Vec3 specular{0.2f, 0.2f, 0.2f};

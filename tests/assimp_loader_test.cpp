@@ -158,15 +158,22 @@ std::string obj_text() {
     return text;
 }
 
-/// The cube and the wedge as a glTF file: two root nodes, indexed triangles.
-std::filesystem::path equivalent_gltf(const std::string& name) {
-    GltfTestFile f;
+/// The cube as a glTF mesh of indexed triangles (each of kCubeQuads split in two, as the OBJ's
+/// faces are): its mesh index in `f`.
+int add_indexed_cube(GltfTestFile& f) {
     std::vector<std::uint32_t> indices;
     for (const auto& q : kCubeQuads) {
         for (const int i : {q[0], q[1], q[2], q[0], q[2], q[3]}) indices.push_back(std::uint32_t(i));
     }
     const int cube = f.add_mesh(kCube, json::object(), nullptr, "cube");
     f.doc()["meshes"][cube]["primitives"][0]["indices"] = f.add_accessor(indices, "SCALAR", test::kGltfUnsignedInt);
+    return cube;
+}
+
+/// The cube and the wedge as a glTF file: two root nodes, indexed triangles.
+std::filesystem::path equivalent_gltf(const std::string& name) {
+    GltfTestFile f;
+    const int cube = add_indexed_cube(f);
     f.add_node({{"name", "cube"}, {"mesh", cube}});
     f.add_node({{"name", "wedge"}, {"mesh", f.add_mesh(kWedge, json::object(), nullptr, "wedge")}});
     return f.write(name);
@@ -388,12 +395,7 @@ std::string collada_text() {
 /// The same scene and animation in glTF: translation, rotation and scale channels, linear.
 std::filesystem::path animated_gltf() {
     GltfTestFile f;
-    std::vector<std::uint32_t> indices;
-    for (const auto& q : kCubeQuads) {
-        for (const int i : {q[0], q[1], q[2], q[0], q[2], q[3]}) indices.push_back(std::uint32_t(i));
-    }
-    const int cube = f.add_mesh(kCube, json::object(), nullptr, "cube");
-    f.doc()["meshes"][cube]["primitives"][0]["indices"] = f.add_accessor(indices, "SCALAR", test::kGltfUnsignedInt);
+    const int cube = add_indexed_cube(f);
     json holder_matrix = json::array();
     for (int c = 0; c < 4; ++c) {
         for (int r = 0; r < 4; ++r) holder_matrix.push_back(kHolder[c][r]);

@@ -4,6 +4,7 @@
 // absent, no temporary file is left, the exit code is 128 + the signal, and --resume finishes
 // a numbered render with the bytes of an uninterrupted one.
 
+#include "test_files.h"
 #include "shell_command.h"
 
 #include <OpenImageIO/imageio.h>
@@ -26,29 +27,10 @@ namespace fs = std::filesystem;
 using test::run_shell;
 using test::ShellRun;
 
-fs::path fresh_dir(const std::string& name) {
-    const fs::path dir = fs::path(testing::TempDir()) / ("dynrt_interrupt_" + name);
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
+fs::path fresh_dir(const std::string& name) { return test::fresh_test_dir("interrupt_" + name); }
 
-std::string bytes_of(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-/// What a file holds for comparison: a PNG's bytes; an EXR's pixels as bits (its header has
-/// the time it was written, capDate).
-std::string content_of(const fs::path& path) {
-    if (path.extension() != ".exr") return bytes_of(path);
-    auto in = OIIO::ImageInput::open(path.string());
-    if (!in) return {};
-    const OIIO::ImageSpec& spec = in->spec();
-    std::vector<float> pixels(std::size_t(spec.width) * std::size_t(spec.height) * std::size_t(spec.nchannels));
-    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, pixels.data())) return {};
-    return std::string(reinterpret_cast<const char*>(pixels.data()), pixels.size() * sizeof(float));
-}
+using test::bytes_of;
+using test::content_of;
 
 // Eight small frames of a moving sphere over a floor; each is made 150 ms slower
 // (DYNRT_TEST_SLOW_FRAMES, a sleep after its render), so that a kill lands in the middle of a

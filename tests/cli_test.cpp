@@ -1,6 +1,7 @@
 // Runs the `dynrt` executable as a user would: good runs write what they promise, bad flags and
 // bad input end with a clear one-line error and a non-zero exit, never a crash.
 
+#include "test_files.h"
 #include "shell_command.h"
 
 #include <OpenImageIO/imageio.h>
@@ -36,12 +37,7 @@ CliRun run_dynrt_within(int seconds, const std::string& args) {
 /// bound is far above any of these runs' time, sanitizers included.
 CliRun run_dynrt(const std::string& args) { return run_dynrt_within(300, args); }
 
-fs::path fresh_dir(const std::string& name) {
-    const fs::path dir = fs::path(testing::TempDir()) / ("dynrt_cli_" + name);
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
+fs::path fresh_dir(const std::string& name) { return dynrt::test::fresh_test_dir("cli_" + name); }
 
 TEST(Cli, RenderWritesImageAovsAndReport) {
     const fs::path dir = fresh_dir("render");

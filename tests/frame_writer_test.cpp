@@ -3,6 +3,7 @@
 // error on the render thread naming the frame and the user's path, with what was written
 // before left whole.
 
+#include "test_files.h"
 #include "dynrt/engine/frame_writer.h"
 #include "dynrt/engine/sequence_output.h"
 
@@ -21,29 +22,10 @@ namespace frame_writer_test {
 
 namespace fs = std::filesystem;
 
-fs::path fresh_dir(const std::string& name) {
-    const fs::path dir = fs::path(testing::TempDir()) / ("dynrt_frame_writer_" + name);
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
+fs::path fresh_dir(const std::string& name) { return test::fresh_test_dir("frame_writer_" + name); }
 
-std::string bytes_of(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-/// What a file holds for comparison: a PNG's bytes; an EXR's pixels as bits (its header has
-/// the time it was written, capDate).
-std::string content_of(const fs::path& path) {
-    if (path.extension() != ".exr") return bytes_of(path);
-    auto in = OIIO::ImageInput::open(path.string());
-    if (!in) return {};
-    const OIIO::ImageSpec& spec = in->spec();
-    std::vector<float> pixels(std::size_t(spec.width) * std::size_t(spec.height) * std::size_t(spec.nchannels));
-    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, pixels.data())) return {};
-    return std::string(reinterpret_cast<const char*>(pixels.data()), pixels.size() * sizeof(float));
-}
+using test::bytes_of;
+using test::content_of;
 
 /// The outputs of a render to `out` with `aovs`, nothing else.
 FrameOutputs outputs_to(const fs::path& out, std::vector<Aov> aovs = {}) {

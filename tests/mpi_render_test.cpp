@@ -8,6 +8,7 @@
 // cases they run in the optimised build only, since the sanitizer run's processes start several
 // times slower and those paths are also run by the resume test without mpirun.
 
+#include "test_files.h"
 #include "shell_command.h"
 
 #include <OpenImageIO/imageio.h>
@@ -75,12 +76,7 @@ std::string render_command(int ranks, const std::string& args, const std::string
     return command + DYNRT_CLI_PATH + " render " + kScene + " " + args;
 }
 
-fs::path fresh_dir(const std::string& name) {
-    const fs::path dir = fs::path(testing::TempDir()) / ("dynrt_mpi_" + name);
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
+fs::path fresh_dir(const std::string& name) { return test::fresh_test_dir("mpi_" + name); }
 
 /// The pixels of an image file as floats, bit for bit.
 std::vector<float> pixels_of(const fs::path& path) {

@@ -118,8 +118,10 @@ def test_update_releases_the_gil(big):
 
 @pytest.mark.heavy
 def test_load_scene_releases_the_gil():
-    scene = assert_gil_released(lambda: dynrt.load_scene("sphere:1000000", threads=1))
-    assert scene.names == ["sphere:1000000"]
+    # Big enough that the call lasts well past MIN_CALL_S (a million triangles took 67 ms on a
+    # quiet machine, too short to tell).
+    scene = assert_gil_released(lambda: dynrt.load_scene("sphere:4000000", threads=1))
+    assert scene.names == ["sphere:4000000"]
 
 
 # ---- errors crossing threads ----

@@ -243,10 +243,80 @@ bool gather_shares(Cluster& cluster, const RenderOptions& options, RenderedFrame
     return true;
 }
 
+/// Rank 0's view of a job's frames: its journal (kept by every render of numbered images, so
+/// that any of them can be resumed), the frames left to render, and the records of the frames
+/// done, by frame.
+struct FramesLeft {
+    std::optional<RenderJournal> journal;
+    std::vector<int> todo;
+    std::map<int, FrameStats> records;
+};
+
+/// Opens the journal of the render `args` describe (refusing, with --resume, one of another
+/// job) and finds the frames of `range` still to render: all, or with --resume those whose
+/// record or files (image and AOVs) are missing.
+FramesLeft frames_left(const RenderArgs& args, const FrameRange& range, const RenderOptions& options,
+                       const Scene& scene, const std::vector<Aov>& aovs) {
+    FramesLeft left;
+    if (has_frame_number(args.out) || args.resume) {
+        left.journal.emplace(journal_path(args, range), journal_header(args, options, scene), args.resume);
+    }
+    for (int f = range.first; f <= range.last; ++f) {
+        if (args.resume && frame_done(*left.journal, f, args.out, aovs)) {
+            left.records[f] = left.journal->earlier().at(f);
+        } else {
+            left.todo.push_back(f);
+        }
+    }
+    return left;
+}
+
+/// The records of the frames done, in frame order (the range's frames only).
+std::vector<FrameStats> frames_of(const FramesLeft& left) {
+    std::vector<FrameStats> frames;
+    for (const auto& [f, stats] : left.records) frames.push_back(stats);
+    return frames;
+}
+
+/// The line of a render stopped by SIGINT or SIGTERM: how far it got, and how to go on.
+void print_stop(const RenderArgs& args, int rendered, std::size_t todo) {
+    std::cout << std::flush;
+    std::cerr << "dynrt: stopped by " << InterruptGuard::signal_name() << " after " << rendered
+              << " of " << todo << " frames, all written"
+              << (!has_frame_number(args.out) ? ""
+                  : args.contact_sheet.empty()
+                      ? "; run the same command with --resume to render the rest"
+                      // A sheet needs every frame rendered in one run.
+                      : "; run the same command with --resume, without --contact-sheet, to render "
+                        "the rest")
+              << "\n";
+}
+
+/// The line that says what a render will do: the scene, the image, the frames and where they
+/// go; under mpirun (`ranks` > 0) how the processes share them; with --resume what is left.
+void print_job(const RenderArgs& args, const std::string& source, const Scene& scene,
+               const RenderOptions& options, const FrameRange& range, int ranks, bool tiles,
+               const FramesLeft& left) {
+    std::cout << "dynrt: " << source << ": " << scene.objects.size() << " objects, "
+              << scene.triangle_count() << " triangles, " << options.width << "x" << options.height
+              << ", frames " << range.first << "-" << range.last << " -> " << args.out;
+    if (ranks > 0) {
+        std::cout << ", " << ranks << (ranks == 1 ? " process" : " processes") << " sharing "
+                  << (tiles ? "each frame's tiles" : "the frames");
+    }
+    std::cout << std::endl;
+    if (args.resume) {
+        std::cout << "resume: " << left.records.size() << " frames done, " << left.todo.size()
+                  << " to render" << std::endl;
+    }
+}
+
 /// What a render prints once its frames are done: the table (every frame's row for up to 8),
-/// its summaries, each rank's share under mpirun (`ranks` > 0), the output stage's time.
-void print_results(const RenderArgs& args, const Scene& scene, const std::vector<FrameStats>& frames,
-                   int ranks, bool tiles, const FrameWriter& writer) {
+/// its summaries, each rank's share under mpirun (`ranks` > 0), the output stage's time and
+/// where the journal is.
+void print_results(const RenderArgs& args, const Scene& scene, const FramesLeft& left, int ranks,
+                   bool tiles, const FrameWriter& writer) {
+    const std::vector<FrameStats> frames = frames_of(left);
     if (!args.contact_sheet.empty() && writer.contact_sheet_frames() > 0) {
         std::cout << "contact sheet: " << args.contact_sheet << " ("
                   << writer.contact_sheet_frames() << " frames)\n";
@@ -265,6 +335,7 @@ void print_results(const RenderArgs& args, const Scene& scene, const std::vector
     print_update_choices(std::cout, frames);
     if (ranks > 0) print_ranks(std::cout, frames, ranks, tiles);
     print_writer_summary(std::cout, frames, writer.wait_ms());
+    if (left.journal) std::cout << "journal: " << left.journal->path().string() << "\n";
 }
 
 }  // namespace
@@ -307,41 +378,17 @@ int run_distributed_render(const RenderArgs& args, Cluster& cluster) {
         if (first_path.has_parent_path()) std::filesystem::create_directories(first_path.parent_path());
         const CameraSource view = camera_source(scene, args, options.pose, range);
 
-        // Rank 0 decides which frames are left and keeps the journal: of every render of
-        // numbered images, so that any of them can be resumed.
-        std::optional<RenderJournal> journal;
-        std::vector<int> todo;
-        std::map<int, FrameStats> records;
+        // Rank 0 decides which frames are left and keeps the journal.
+        FramesLeft left;
         if (rank == 0) {
-            if (numbered || args.resume) {
-                journal.emplace(journal_path(args, range), journal_header(args, options, scene), args.resume);
-            }
-            for (int f = range.first; f <= range.last; ++f) {
-                if (args.resume && frame_done(*journal, f, args.out, aovs)) {
-                    records[f] = journal->earlier().at(f);
-                } else {
-                    todo.push_back(f);
-                }
-            }
-            std::cout << "dynrt: " << source << ": " << scene.objects.size() << " objects, "
-                      << scene.triangle_count() << " triangles, " << options.width << "x"
-                      << options.height << ", frames " << range.first << "-" << range.last
-                      << " -> " << args.out;
-            if (mpi_job) {
-                std::cout << ", " << ranks << (ranks == 1 ? " process" : " processes") << " sharing "
-                          << (tiles ? "each frame's tiles" : "the frames");
-            }
-            std::cout << std::endl;
-            if (args.resume) {
-                std::cout << "resume: " << records.size() << " frames done, " << todo.size()
-                          << " to render" << std::endl;
-            }
+            left = frames_left(args, range, options, scene, aovs);
+            print_job(args, source, scene, options, range, mpi_job ? ranks : 0, tiles, left);
         }
-        todo = cluster.broadcast(todo);
+        const std::vector<int> todo = cluster.broadcast(left.todo);
         const auto keep = [&](const std::string& record) {
-            if (journal) journal->append(record);
+            if (left.journal) left.journal->append(record);
             const FrameStats stats = parse_frame_report_json(record);
-            records[stats.frame] = stats;
+            left.records[stats.frame] = stats;
         };
         const std::map<int, int> slow = test_slow_frames();
         const auto slow_down = [&](int f) {
@@ -444,36 +491,18 @@ int run_distributed_render(const RenderArgs& args, Cluster& cluster) {
             throw;
         }
         if (rank != 0) return 0;
-
-        // The records hold the range's frames only, in frame order.
-        std::vector<FrameStats> frames;
-        for (const auto& [f, stats] : records) frames.push_back(stats);
-        print_results(args, scene, frames, mpi_job ? ranks : 0, tiles, *writer);
-        if (journal) std::cout << "journal: " << journal->path().string() << "\n";
+        const RunInfo run{source, options.width, options.height, options.build.cost_ratio,
+                          options.build.leaf_size_max,
+                          args.threads > 0 ? args.threads : tbb::info::default_concurrency(),
+                          scene.ignored, startup_ms, writer->wait_ms()};
+        print_results(args, scene, left, mpi_job ? ranks : 0, tiles, *writer);
         if (!args.report.empty()) {
-            RunInfo run{source, options.width, options.height, options.build.cost_ratio,
-                        options.build.leaf_size_max,
-                        args.threads > 0 ? args.threads : tbb::info::default_concurrency(),
-                        scene.ignored};
-            run.startup_ms = startup_ms;
-            run.writer_wait_ms = writer->wait_ms();
-            write_report(args.report, run, frames);
+            write_report(args.report, run, frames_of(left));
             std::cout << "report: " << args.report << "\n";
         }
-        if (stopping()) {
-            std::cout << std::flush;
-            std::cerr << "dynrt: stopped by " << InterruptGuard::signal_name() << " after "
-                      << rendered << " of " << todo.size() << " frames, all written"
-                      << (!numbered ? ""
-                          : args.contact_sheet.empty()
-                              ? "; run the same command with --resume to render the rest"
-                              // A sheet needs every frame rendered in one run.
-                              : "; run the same command with --resume, without --contact-sheet, "
-                                "to render the rest")
-                      << "\n";
-            return InterruptGuard::exit_code();
-        }
-        return 0;
+        if (!stopping()) return 0;
+        print_stop(args, rendered, todo.size());
+        return InterruptGuard::exit_code();
     } catch (const std::exception& e) {
         if (ranks == 1) throw;
         // A frame the output stage failed to write names itself ("frame F: FILE: why").

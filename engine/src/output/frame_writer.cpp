@@ -52,14 +52,7 @@ void FrameWriter::submit(const RenderedFrame& frame) {
         spare_.pop_back();
     }
     lock.unlock();
-    copy.width = frame.width;
-    copy.height = frame.height;
-    copy.color = frame.color;
-    copy.depth = frame.depth;
-    copy.object = frame.object;
-    copy.prim = frame.prim;
-    copy.normal = frame.normal;
-    copy.stats = frame.stats;
+    copy = frame;  // member by member: each buffer's copy reuses its allocation when big enough
     copy.reuse_stamp = 0;  // a copy: never the frame a trace wrote
     lock.lock();
     queue_.push_back(std::move(copy));

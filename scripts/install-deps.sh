@@ -13,8 +13,9 @@ required=(build-essential cmake ninja-build pkg-config ccache
 # which Debian ships in libclang-rt-dev; older archives have it in a dependency of clang itself.
 fuzz=(clang libclang-rt-dev)
 # Embree is only a comparison backend and test oracle; Open MPI lets `mpirun dynrt render`
-# spread frames or tiles across processes (engine/mpi). Installed when the archive has them.
-optional=(libembree-dev libopenmpi-dev openmpi-bin)
+# spread frames or tiles across processes (engine/mpi); the ffmpeg program writes `--out
+# anim.mp4` (and the video tests run with it). Installed when the archive has them.
+optional=(libembree-dev libopenmpi-dev openmpi-bin ffmpeg)
 
 missing=()
 for p in "${required[@]}" "${fuzz[@]}" "${optional[@]}"; do
@@ -37,3 +38,5 @@ $sudo apt-get install -y -qq --no-install-recommends libembree-dev >/dev/null \
   || echo "install-deps: optional libembree-dev not available; Embree comparisons are skipped"
 $sudo apt-get install -y -qq --no-install-recommends libopenmpi-dev openmpi-bin >/dev/null \
   || echo "install-deps: optional Open MPI not available; dynrt is built without MPI and its tests are skipped"
+$sudo apt-get install -y -qq --no-install-recommends ffmpeg >/dev/null \
+  || echo "install-deps: optional ffmpeg not available; video output is refused and its tests are skipped"

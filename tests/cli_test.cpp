@@ -406,6 +406,11 @@ TEST(Cli, FramesNIsFrameNAlone) {
     ASSERT_EQ(range.exit_code, 0) << range.output;
     EXPECT_EQ(range.output.find("alone"), std::string::npos) << range.output;
     EXPECT_NE(run_dynrt("render --help").output.find("frame N alone"), std::string::npos);
+    // bench --frames reads N the same way, and says so too.
+    const CliRun bench = run_dynrt("bench sphere:10 --res 8x8 --anim rigid --frames 3");
+    ASSERT_EQ(bench.exit_code, 0) << bench.output;
+    EXPECT_NE(bench.output.find("frames: frame 3 alone"), std::string::npos) << bench.output;
+    EXPECT_NE(bench.output.find("frames 3-3"), std::string::npos) << bench.output;
 }
 
 /// Every error of the command line is one "dynrt: error:" line and exit 2, CLI11's included;

@@ -58,6 +58,7 @@ int run_bench_sequence(const BenchArgs& args) {
     const dynrt::Scene scene = load_animated_scene(args, source, options);
     const double load_ms = load_clock.elapsed_ms();
     warn_past_the_end(scene, options.pose, range);
+    note_single_frame(std::cout, args.frames);
     const dynrt::CameraSource view = camera_source(scene, args, options.pose, range);
     std::vector<std::unique_ptr<dynrt::SequenceTracer>> others;
 #if DYNRT_HAVE_EMBREE
@@ -229,6 +230,7 @@ int run_bench_sequence_error(const BenchArgs& args) {
     const std::string source = scene_source(args);
     const dynrt::Scene scene = load_animated_scene(args, source, base);
     warn_past_the_end(scene, base.pose, range);
+    note_single_frame(std::cout, args.frames);
     const dynrt::CameraSource view = camera_source(scene, args, base.pose, range);
     if (reuses.empty()) reuses.push_back(base.reuse);
     if (adaptives.empty()) adaptives.push_back(base.adaptive_tolerance);

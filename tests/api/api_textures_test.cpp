@@ -139,8 +139,9 @@ RenderedFrame renderer_frame(const std::vector<Quad>& quads, const std::vector<T
     return frame;
 }
 
-std::vector<float> engine_frame(const Engine& engine) {
+std::vector<float> engine_frame(const Engine& engine, bool reuse_pixels = true) {
     RenderSettings settings;
+    settings.reuse_pixels = reuse_pixels;
     settings.lights = {Light{{2.0f, 3.0f, 5.0f}, 1.0f}};
     std::vector<float> rgb(std::size_t(kWidth * kHeight * 3));
     engine.render(kView, ImageView{kWidth, kHeight, rgb}, settings);
@@ -241,6 +242,22 @@ TEST(ApiTextures, TexturesAddedChangedAndDroppedLaterShowAtTheNextRender) {
     EXPECT_EQ(again, MeshId{2});
     quads[0] = world.quads[0];
     EXPECT_EQ(wrong_pixels(renderer_frame(quads, world.scene_textures), engine_frame(engine)), 0);
+}
+
+TEST(ApiTextures, ARenderBetweenRemoveMeshAndUpdateShowsTheRemovedMeshTextured) {
+    // Queries see the last update's meshes until the next update (remove_mesh), so a render in
+    // between shades the removed quad's hits: with its texture, as before the removal.
+    const TwoQuads world;
+    Engine engine;
+    world.add_textures(engine);
+    for (const Quad& q : world.quads) engine.add_mesh(desc_of(q));
+    engine.update();
+    const std::vector<float> before = engine_frame(engine);
+    engine.remove_mesh(MeshId{0});
+    EXPECT_EQ(engine_frame(engine), before);
+    EXPECT_EQ(engine_frame(engine, false), before);  // traced in full
+    engine.update();
+    EXPECT_EQ(wrong_pixels(renderer_frame({world.quads[1]}, world.scene_textures), engine_frame(engine)), 0);
 }
 
 TEST(ApiTextures, AnUnreadableFileWarnsAtRenderAndShowsTheDiffuseColour) {

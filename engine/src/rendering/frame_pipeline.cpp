@@ -155,8 +155,10 @@ void FramePipeline::trace(const Scene& scene, const Camera& camera, const TraceS
             }
         }
         object_texcoords_.clear();
-        for (const Object& object : scene.objects) {
-            object_texcoords_.push_back(detail::ObjectTexcoords{object.mesh.texcoords, object.mesh.triangles});
+        // The triangles the trees hold, which hits index (a scene object's may have gone since).
+        for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+            object_texcoords_.push_back(
+                detail::ObjectTexcoords{scene.objects[i].mesh.texcoords, accel_.object_triangles(i)});
         }
         const float pixel_angle =
             2.0f * std::tan(0.5f * glm::radians(camera.fov_y_deg)) / float(std::max(options.height, 1));

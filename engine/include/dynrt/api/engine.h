@@ -111,8 +111,10 @@ struct TextureDesc {
     std::string name{};
     /// An image file (PNG, JPEG, BMP, TGA, EXR... whatever OpenImageIO reads), opened at the
     /// first render that shows it. A file that cannot be read is no error: that render warns
-    /// once on stderr, as `dynrt render` does, and the surfaces mapping it show their diffuse
-    /// colour alone. Empty when `encoded` holds the image.
+    /// on stderr, as `dynrt render` does (again at the first render after a surface has
+    /// changed which texture it maps, as the engine then opens its textures afresh), and the
+    /// surfaces mapping it show their diffuse colour alone. Empty when `encoded` holds the
+    /// image.
     std::string path{};
     /// Or the bytes of an image file, copied by add_texture (the caller's buffer may go away
     /// right after). Empty when `path` names a file.

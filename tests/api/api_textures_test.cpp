@@ -260,6 +260,22 @@ TEST(ApiTextures, ARenderBetweenRemoveMeshAndUpdateShowsTheRemovedMeshTextured) 
     EXPECT_EQ(wrong_pixels(renderer_frame({world.quads[1]}, world.scene_textures), engine_frame(engine)), 0);
 }
 
+TEST(ApiTextures, ARelativePathIsTheWorkingFoldersAtAddTexture) {
+    // The file is read at the first render that shows it; the path means what it meant when
+    // it was given, whatever the working folder is by then.
+    const TwoQuads world;
+    const std::filesystem::path before = std::filesystem::current_path();
+    std::filesystem::current_path(std::filesystem::path(world.path).parent_path());
+    Engine engine;
+    const TextureId id = engine.add_texture(TextureDesc{.path = std::filesystem::path(world.path).filename().string()});
+    std::filesystem::current_path(before);
+    engine.add_texture(TextureDesc{.encoded = world.bytes});
+    for (const Quad& q : world.quads) engine.add_mesh(desc_of(q));
+    engine.update();
+    EXPECT_EQ(id, TextureId{0});
+    EXPECT_EQ(wrong_pixels(renderer_frame(world.quads, world.scene_textures), engine_frame(engine)), 0);
+}
+
 TEST(ApiTextures, AnUnreadableFileWarnsAtRenderAndShowsTheDiffuseColour) {
     // As `dynrt render` does (TextureSet): no error, one warning naming the file, and the
     // surface's diffuse colour alone.

@@ -24,6 +24,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <initializer_list>
 #include <mutex>
 #include <optional>
@@ -609,7 +610,13 @@ TextureId Engine::add_texture(const TextureDesc& desc) {
     if (!desc.path.empty() && !desc.encoded.empty()) {
         throw invalid(what + ": give a path or bytes, not both");
     }
-    texture.path = desc.path;
+    // Read at the first render that shows it: made absolute now, so that it names the file it
+    // named here whatever the working folder is then.
+    if (!desc.path.empty()) {
+        std::error_code ignored;
+        const std::filesystem::path absolute = std::filesystem::absolute(desc.path, ignored);
+        texture.path = absolute.empty() ? desc.path : absolute.string();
+    }
     texture.encoded.assign(desc.encoded.begin(), desc.encoded.end());
     texture.mime_type = desc.mime_type.empty() ? mime_type_of(desc.encoded) : desc.mime_type;
     texture.srgb = desc.srgb;

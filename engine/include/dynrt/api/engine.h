@@ -110,7 +110,8 @@ struct TextureDesc {
     /// For errors and warnings; the path, or "texture <id>", when empty.
     std::string name{};
     /// An image file (PNG, JPEG, BMP, TGA, EXR... whatever OpenImageIO reads), opened at the
-    /// first render that shows it. A file that cannot be read is no error: that render warns
+    /// first render that shows it; a relative path is taken from the working folder at
+    /// add_texture. A file that cannot be read is no error: that render warns
     /// on stderr, as `dynrt render` does (again at the first render after a surface has
     /// changed which texture it maps, as the engine then opens its textures afresh), and the
     /// surfaces mapping it show their diffuse colour alone. Empty when `encoded` holds the

@@ -58,7 +58,8 @@ if [ -n "${ctest_total:-}" ]; then tally $((ctest_total - ctest_failed)) "$ctest
 python=$(sed -n 's/^DYNRT_PYTHON_EXECUTABLE:INTERNAL=//p' "$dir/CMakeCache.txt" 2>/dev/null || true)
 if [ -n "$python" ] && [ -f "$dir/python/dynrt/__init__.py" ]; then
   pytest_env=(PYTHONPATH="$(cd "$dir" && pwd)/python"
-              DYNRT_API_ORACLE="$(cd "$dir" && pwd)/tests/python/dynrt_python_api_oracle")
+              DYNRT_API_ORACLE="$(cd "$dir" && pwd)/tests/python/dynrt_python_api_oracle"
+              DYNRT_CLI="$(cd "$dir" && pwd)/engine/dynrt")
   pytest_args=()
   if grep -q '^DYNRT_SANITIZE:BOOL=ON' "$dir/CMakeCache.txt"; then
     # The interpreter is not built with the sanitizers: their runtimes are preloaded for the

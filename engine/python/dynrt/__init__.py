@@ -50,8 +50,9 @@ class Scene:
     Its objects are the engine's meshes (``mesh_ids``, in the order of ``names``); ``pose``
     moves them to a frame and updates the engine. The engine is an ordinary dynrt.Engine:
     add meshes of your own to it, or query it directly. Frame f is at time f / fps.
-    Materials come from the file (Phong terms, reflectance, transmittance, ior); textures are
-    not used (the library API takes none).
+    Materials come from the file (Phong terms, reflectance, transmittance, ior, the diffuse
+    texture with its objects' texture coordinates), so a render shows what ``dynrt render``
+    shows of the same frame from the same camera.
     """
 
     def __init__(self, source, fps=None, threads=0, cost_ratio=1.0, clips=None):

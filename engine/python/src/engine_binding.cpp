@@ -54,7 +54,7 @@ py::array positions_array(py::handle value, const std::string& where, const char
 
 std::uint32_t PyEngine::add_mesh(py::handle positions, py::handle indices, const std::string& motion_text,
                                  py::handle transform_value, const Surface* surface, py::handle normals,
-                                 const std::string& name, bool borrow) {
+                                 const std::string& name, bool borrow, py::handle texcoords) {
     const py::array p = positions_array(positions, kAddMesh, "positions", borrow);
     const std::vector<std::uint32_t> index_values = index_list(indices, kAddMesh);
     py::array n;
@@ -64,9 +64,17 @@ std::uint32_t PyEngine::add_mesh(py::handle positions, py::handle indices, const
             invalid(kAddMesh, std::to_string(rows(p)) + " positions but " + std::to_string(rows(n)) + " normals");
         }
     }
+    py::array st;
+    if (!texcoords.is_none()) {
+        st = converted_rows(texcoords, kAddMesh, "texcoords", 2);
+        if (rows(st) != rows(p)) {
+            invalid(kAddMesh, std::to_string(rows(p)) + " positions but " + std::to_string(rows(st)) + " texcoords");
+        }
+    }
     MeshDesc desc;
     desc.name = name;
     desc.positions = floats(p);
+    if (st) desc.texcoords = floats(st);
     desc.indices = index_values;
     if (n) desc.normals = floats(n);
     desc.motion = motion(motion_text, kAddMesh);
@@ -76,6 +84,36 @@ std::uint32_t PyEngine::add_mesh(py::handle positions, py::handle indices, const
     const MeshId id = engine_.add_mesh(desc);
     if (borrow) borrowed_[id.value] = p;
     return id.value;
+}
+
+std::uint32_t PyEngine::add_texture(py::handle source, bool srgb, const std::string& name,
+                                    const std::string& mime_type) {
+    const std::string where = "dynrt.Engine.add_texture";
+    TextureDesc desc;
+    desc.name = name;
+    desc.mime_type = mime_type;
+    desc.srgb = srgb;
+    if (py::isinstance<py::str>(source) || py::hasattr(source, "__fspath__")) {
+        desc.path = py::str(py::module_::import("os").attr("fspath")(source)).cast<std::string>();
+        if (desc.path.empty()) invalid(where, "the path is empty");
+        return engine_.add_texture(desc).value;
+    }
+    if (!PyObject_CheckBuffer(source.ptr())) {
+        invalid(where, "source must be a path (str or os.PathLike) or an image file's bytes, got " +
+                           py::str(py::type::handle_of(source).attr("__name__")).cast<std::string>());
+    }
+    Py_buffer view;
+    if (PyObject_GetBuffer(source.ptr(), &view, PyBUF_C_CONTIGUOUS) != 0) {
+        PyErr_Clear();
+        invalid(where, "source's bytes must be contiguous");
+    }
+    struct Release {
+        Py_buffer& view;
+        ~Release() { PyBuffer_Release(&view); }
+    } release{view};
+    // Copied by add_texture.
+    desc.encoded = {static_cast<const unsigned char*>(view.buf), std::size_t(view.len)};
+    return engine_.add_texture(desc).value;
 }
 
 void PyEngine::set_positions(py::handle mesh_value, py::handle positions, py::handle normals) {
@@ -261,10 +299,18 @@ intersect and occluded may run from several threads at once (they release the GI
     engine.def("add_mesh", &PyEngine::add_mesh, py::arg("positions"), py::arg("indices"), py::kw_only(),
                py::arg("motion") = "automatic", py::arg("transform") = py::none(),
                py::arg("surface") = py::none(), py::arg("normals") = py::none(),
-               py::arg("name") = "", py::arg("borrow") = false,
+               py::arg("name") = "", py::arg("borrow") = false, py::arg("texcoords") = py::none(),
                R"(Adds a mesh and returns its id (an int). positions: float32 (V, 3); indices: integers
 (T, 3). With borrow=True the engine reads `positions` in place from then on and keeps a
-reference to it: write new positions into it and call set_positions(mesh, positions).)");
+reference to it: write new positions into it and call set_positions(mesh, positions).
+texcoords: (V, 2) texture coordinates (s right, t down the image), copied; needed by a
+surface with a texture.)");
+    engine.def("add_texture", &PyEngine::add_texture, py::arg("source"), py::kw_only(), py::arg("srgb") = true,
+               py::arg("name") = "", py::arg("mime_type") = "",
+               R"(Adds an image for surfaces to map (Surface(texture=id)) and returns its id (an int).
+source: a path (str or os.PathLike; read at the first render that shows it, a warning then if it
+cannot be read) or an image file's bytes (bytes, bytearray, memoryview; copied; their format
+told from them unless mime_type says). srgb: the texels are sRGB-encoded.)");
     engine.def("set_positions", &PyEngine::set_positions, py::arg("mesh"), py::arg("positions"),
                py::arg("normals") = py::none());
     engine.def("set_transform", [](PyEngine& self, py::handle mesh, py::handle t) {

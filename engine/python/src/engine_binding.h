@@ -11,6 +11,7 @@
 #include <pybind11/pybind11.h>
 
 #include <cstdint>
+#include <string>
 #include <unordered_map>
 
 namespace dynrt::python {
@@ -23,7 +24,11 @@ public:
 
     std::uint32_t add_mesh(py::handle positions, py::handle indices, const std::string& motion,
                            py::handle transform, const Surface* surface, py::handle normals,
-                           const std::string& name, bool borrow);
+                           const std::string& name, bool borrow, py::handle texcoords);
+    /// `source`: a path (str or os.PathLike) or an image file's bytes (any contiguous buffer
+    /// of bytes: bytes, bytearray, memoryview), copied.
+    std::uint32_t add_texture(py::handle source, bool srgb, const std::string& name,
+                              const std::string& mime_type);
     void set_positions(py::handle mesh, py::handle positions, py::handle normals);
     void remove_mesh(py::handle mesh);
     /// Whether the engine holds a reference to the mesh's positions array: false for a mesh

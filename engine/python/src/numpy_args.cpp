@@ -199,6 +199,36 @@ MeshId mesh_id(py::handle value, const std::string& where) {
     return MeshId{std::uint32_t(id)};
 }
 
+TextureId texture_id(py::handle value, const std::string& where) {
+    if (value.is_none()) return TextureId{};
+    if (PyBool_Check(value.ptr()) || !PyIndex_Check(value.ptr())) {
+        invalid(where, "texture must be an integer id (what add_texture returned) or None, got " + type_name(value));
+    }
+    const py::int_ index = py::reinterpret_steal<py::int_>(PyNumber_Index(value.ptr()));
+    const long long id = PyLong_AsLongLong(index.ptr());
+    if (PyErr_Occurred() || id < 0 || id >= (long long)(std::numeric_limits<std::uint32_t>::max())) {
+        PyErr_Clear();
+        invalid(where, "texture " + py::str(value).cast<std::string>() + " is not a texture id");
+    }
+    return TextureId{std::uint32_t(id)};
+}
+
+const char* wrap_name(Wrap wrap) {
+    switch (wrap) {
+        case Wrap::repeat: return "repeat";
+        case Wrap::clamp: return "clamp";
+        case Wrap::mirror: return "mirror";
+    }
+    return "repeat";
+}
+
+Wrap wrap(const std::string& name, const std::string& where, const char* argument) {
+    for (const Wrap w : {Wrap::repeat, Wrap::clamp, Wrap::mirror}) {
+        if (name == wrap_name(w)) return w;
+    }
+    invalid(where, std::string(argument) + " must be \"repeat\", \"clamp\" or \"mirror\", got \"" + name + "\"");
+}
+
 Motion motion(const std::string& name, const std::string& where) {
     for (const Motion m : {Motion::automatic, Motion::static_, Motion::rigid, Motion::deformable,
                            Motion::exploding}) {

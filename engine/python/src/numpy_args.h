@@ -75,6 +75,14 @@ py::array_t<double> transform_array(const Transform& t);
 /// whether the engine knows it is the engine's to say.
 MeshId mesh_id(py::handle value, const std::string& where);
 
+/// A texture id (what add_texture returned): a Python or numpy integer, or None for no
+/// texture; whether the engine has it is the engine's to say.
+TextureId texture_id(py::handle value, const std::string& where);
+
+/// "repeat", "clamp" or "mirror", and back.
+Wrap wrap(const std::string& name, const std::string& where, const char* argument);
+const char* wrap_name(Wrap wrap);
+
 /// "automatic", "static", "rigid", "deformable" or "exploding".
 Motion motion(const std::string& name, const std::string& where);
 

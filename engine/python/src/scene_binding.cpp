@@ -10,6 +10,7 @@
 #include "dynrt/engine/scene_loading.h"
 #include "dynrt/engine/sequence.h"
 #include "dynrt/scene/scene.h"
+#include "dynrt/scene/warnings.h"
 
 #include <pybind11/stl.h>
 
@@ -51,6 +52,17 @@ Motion motion_of(anim::MotionClass c) {
         case anim::MotionClass::exploding: return Motion::exploding;
     }
     return Motion::exploding;
+}
+
+static_assert(sizeof(glm::vec2) == 2 * sizeof(float));
+
+Wrap api_wrap(TextureWrap wrap) {
+    switch (wrap) {
+        case TextureWrap::repeat: return Wrap::repeat;
+        case TextureWrap::clamp: return Wrap::clamp;
+        case TextureWrap::mirror: return Wrap::mirror;
+    }
+    return Wrap::repeat;
 }
 
 View view_of(const Camera& c) { return View{vec(c.eye), vec(c.target), vec(c.up), c.fov_y_deg}; }
@@ -102,6 +114,25 @@ public:
         const py::gil_scoped_release nogil;
         poser_ = std::make_unique<anim::ScenePoser>(*scene_, settings);
         poser_->pose(0, posed_);
+        // The file's textures, as the CLI's TextureSet opens them: a file path (read at the
+        // first render that shows it) or embedded bytes.
+        std::vector<TextureId> textures;
+        for (const Texture& texture : scene_->textures) {
+            if (texture.path.empty() && texture.encoded.empty()) {
+                // What TextureSet says of such a texture; the engine refuses one without bytes.
+                warn(Warning{.source = scene_->source,
+                             .kind = "texture cannot be read",
+                             .kinds = "textures cannot be read",
+                             .item = "'" + texture.name + "'",
+                             .detail = "the file holds no bytes for it",
+                             .effect = "the diffuse colour is used alone"});
+                textures.emplace_back();
+                continue;
+            }
+            textures.push_back(engine_->engine().add_texture(TextureDesc{
+                .name = texture.name, .path = texture.path, .encoded = texture.encoded,
+                .mime_type = texture.mime_type, .srgb = texture.srgb}));
+        }
         std::vector<glm::vec3> world, world_normals;
         for (std::size_t i = 0; i < scene_->objects.size(); ++i) {
             const Object& object = scene_->objects[i];
@@ -114,6 +145,15 @@ public:
             desc.motion = motion_of(poser_->motion_class(i));
             desc.surface = Surface{vec(material.diffuse), vec(material.specular), material.shininess,
                                    vec(material.reflectance), vec(material.transmittance), material.ior};
+            // An object without texture coordinates shades its colour alone, as in the CLI.
+            if (material.diffuse_map && !object.mesh.texcoords.empty() &&
+                material.diffuse_map->texture < textures.size()) {
+                desc.texcoords = {reinterpret_cast<const float*>(object.mesh.texcoords.data()),
+                                  2 * object.mesh.texcoords.size()};
+                desc.surface.diffuse_texture = textures[material.diffuse_map->texture];
+                desc.surface.wrap_s = api_wrap(material.diffuse_map->wrap_s);
+                desc.surface.wrap_t = api_wrap(material.diffuse_map->wrap_t);
+            }
             switch (poser_->motion_class(i)) {
                 case anim::MotionClass::static_:
                     poser_->fixed_world_positions(i, posed_, world);

@@ -45,28 +45,52 @@ void bind_value_types(py::module_& m) {
 
     py::class_<Surface> surface(m, "Surface",
                                 "A mesh's material: Phong terms, mirror reflectance, transmittance and "
-                                "index of refraction (linear RGB).");
+                                "index of refraction (linear RGB), and optionally a diffuse texture (an id "
+                                "from Engine.add_texture) with its wrap modes (\"repeat\", \"clamp\", "
+                                "\"mirror\").");
     const Surface d;
     surface.def(py::init([](py::handle diffuse, py::handle specular, float shininess, py::handle reflectance,
-                            py::handle transmittance, float ior) {
+                            py::handle transmittance, float ior, py::handle texture, const std::string& wrap_s,
+                            const std::string& wrap_t) {
                     const char* w = "dynrt.Surface";
                     return Surface{vec3(diffuse, w, "diffuse"), vec3(specular, w, "specular"), shininess,
                                    vec3(reflectance, w, "reflectance"), vec3(transmittance, w, "transmittance"),
-                                   ior};
+                                   ior, texture_id(texture, w), wrap(wrap_s, w, "wrap_s"), wrap(wrap_t, w, "wrap_t")};
                 }),
                 py::arg("diffuse") = to_tuple(d.diffuse), py::arg("specular") = to_tuple(d.specular),
                 py::arg("shininess") = d.shininess, py::arg("reflectance") = to_tuple(d.reflectance),
-                py::arg("transmittance") = to_tuple(d.transmittance), py::arg("ior") = d.ior);
+                py::arg("transmittance") = to_tuple(d.transmittance), py::arg("ior") = d.ior,
+                py::arg("texture") = py::none(), py::arg("wrap_s") = wrap_name(d.wrap_s),
+                py::arg("wrap_t") = wrap_name(d.wrap_t));
     vec3_property(surface, "diffuse", &Surface::diffuse);
     vec3_property(surface, "specular", &Surface::specular);
     surface.def_readwrite("shininess", &Surface::shininess);
     vec3_property(surface, "reflectance", &Surface::reflectance);
     vec3_property(surface, "transmittance", &Surface::transmittance);
     surface.def_readwrite("ior", &Surface::ior);
+    // The diffuse texture as add_texture's id, or None; wrap modes by name.
+    surface.def_property(
+        "texture",
+        [](const Surface& self) -> py::object {
+            if (!self.diffuse_texture.valid()) return py::none();
+            return py::int_(self.diffuse_texture.value);
+        },
+        [](Surface& self, py::handle value) { self.diffuse_texture = texture_id(value, "dynrt.Surface"); });
+    surface.def_property(
+        "wrap_s", [](const Surface& self) { return wrap_name(self.wrap_s); },
+        [](Surface& self, const std::string& value) { self.wrap_s = wrap(value, "dynrt.Surface", "wrap_s"); });
+    surface.def_property(
+        "wrap_t", [](const Surface& self) { return wrap_name(self.wrap_t); },
+        [](Surface& self, const std::string& value) { self.wrap_t = wrap(value, "dynrt.Surface", "wrap_t"); });
     surface.def("__repr__", [](const Surface& s) {
         return "dynrt.Surface(diffuse=" + text(s.diffuse) + ", specular=" + text(s.specular) +
                ", shininess=" + std::to_string(s.shininess) + ", reflectance=" + text(s.reflectance) +
-               ", transmittance=" + text(s.transmittance) + ", ior=" + std::to_string(s.ior) + ")";
+               ", transmittance=" + text(s.transmittance) + ", ior=" + std::to_string(s.ior) +
+               (s.diffuse_texture.valid() ? ", texture=" + std::to_string(s.diffuse_texture.value) +
+                                                ", wrap_s='" + wrap_name(s.wrap_s) + "', wrap_t='" +
+                                                wrap_name(s.wrap_t) + "'"
+                                          : std::string()) +
+               ")";
     });
 
     py::class_<Light> light(m, "Light", "A point light; no distance falloff.");

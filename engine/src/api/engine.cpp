@@ -18,11 +18,14 @@
 #include <tbb/task_arena.h>
 
 #include <glm/common.hpp>
+#include <glm/vec2.hpp>
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <initializer_list>
 #include <mutex>
 #include <optional>
 #include <sstream>
@@ -112,6 +115,48 @@ std::string surface_problem(const Surface& surface) {
     return {};
 }
 
+/// The MIME type an image file's first bytes announce, or "" when they announce none known.
+std::string mime_type_of(std::span<const unsigned char> bytes) {
+    const auto starts = [&](std::initializer_list<unsigned char> head, std::size_t at = 0) {
+        return bytes.size() >= at + head.size() && std::equal(head.begin(), head.end(), bytes.begin() + std::ptrdiff_t(at));
+    };
+    if (starts({0x89, 'P', 'N', 'G'})) return "image/png";
+    if (starts({0xFF, 0xD8, 0xFF})) return "image/jpeg";
+    if (starts({'G', 'I', 'F', '8'})) return "image/gif";
+    if (starts({'R', 'I', 'F', 'F'}) && starts({'W', 'E', 'B', 'P'}, 8)) return "image/webp";
+    if (starts({'B', 'M'})) return "image/bmp";
+    return {};
+}
+
+TextureWrap scene_wrap(Wrap wrap) {
+    switch (wrap) {
+        case Wrap::repeat: return TextureWrap::repeat;
+        case Wrap::clamp: return TextureWrap::clamp;
+        case Wrap::mirror: return TextureWrap::mirror;
+    }
+    return TextureWrap::repeat;
+}
+
+/// The caller's texture coordinates, checked (2 floats per vertex, finite); empty when none.
+std::vector<glm::vec2> checked_texcoords(std::span<const float> given, std::size_t vertices,
+                                         const std::string& what) {
+    if (given.empty()) return {};
+    if (given.size() != 2 * vertices) {
+        throw invalid(what + ": texcoords hold " + std::to_string(given.size()) + " floats, " +
+                      std::to_string(2 * vertices) + " expected (2 per vertex)");
+    }
+    std::vector<glm::vec2> out(vertices);
+    for (std::size_t v = 0; v < vertices; ++v) {
+        out[v] = {given[2 * v], given[2 * v + 1]};
+        if (!std::isfinite(out[v].x) || !std::isfinite(out[v].y)) {
+            std::ostringstream text;
+            text << what << ": texcoord " << v << " is not finite (" << out[v].x << ", " << out[v].y << ')';
+            throw invalid(text.str());
+        }
+    }
+    return out;
+}
+
 /// The Material a Surface gives, named `name`.
 Material material_of(const Surface& surface, const std::string& name) {
     Material material;
@@ -122,6 +167,10 @@ Material material_of(const Surface& surface, const std::string& name) {
     material.reflectance = to_glm(surface.reflectance);
     material.transmittance = to_glm(surface.transmittance);
     material.ior = surface.ior;
+    if (surface.diffuse_texture.valid()) {
+        material.diffuse_map = TextureMap{surface.diffuse_texture.value, scene_wrap(surface.wrap_s),
+                                          scene_wrap(surface.wrap_t)};
+    }
     return material;
 }
 
@@ -254,6 +303,22 @@ struct Engine::Impl final : FixedPositions {
         if (const std::optional<std::size_t> i = ids.slot_of(id.value)) return *i;
         throw invalid(std::string(call) + ": no mesh with id " + std::to_string(id.value) +
                       (ids.issued(id.value) ? " (it was removed)" : ""));
+    }
+
+    /// What is wrong with `surface`'s texture for a mesh with or without texture coordinates,
+    /// or "".
+    std::string texture_problem(const Surface& surface, bool has_texcoords) const {
+        if (!surface.diffuse_texture.valid()) return {};
+        const std::uint32_t id = surface.diffuse_texture.value;
+        if (id >= scene.textures.size()) {
+            return "surface maps no texture with id " + std::to_string(id) + " (" +
+                   std::to_string(scene.textures.size()) + " added)";
+        }
+        if (!has_texcoords) {
+            return "surface maps texture " + std::to_string(id) + " ('" + scene.textures[id].name +
+                   "') but the mesh has no texcoords";
+        }
+        return {};
     }
 
     /// Slot i holds no mesh any more and no tree shows it: everything it held is freed (its
@@ -418,6 +483,8 @@ Engine::Engine(const EngineOptions& options) : impl_(std::make_unique<Impl>()) {
     }
     if (!(options.rebuild_threshold >= 0.0)) throw invalid("rebuild_threshold must be >= 0");
     s.options = options;
+    // Warnings (a texture that cannot be read) name where they come from.
+    s.scene.source = "dynrt::Engine";
     if (options.arena) {
         s.arena = options.arena;
     } else if (options.threads > 0) {
@@ -478,6 +545,10 @@ MeshId Engine::add_mesh(const MeshDesc& desc) {
     if (const std::string problem = surface_problem(desc.surface); !problem.empty()) {
         throw invalid(what + ": surface " + problem);
     }
+    std::vector<glm::vec2> texcoords = checked_texcoords(desc.texcoords, vertices, what);
+    if (const std::string problem = s.texture_problem(desc.surface, !texcoords.empty()); !problem.empty()) {
+        throw invalid(what + ": " + problem);
+    }
 
     MeshSlot mesh;
     mesh.declared = desc.motion;
@@ -493,6 +564,7 @@ MeshId Engine::add_mesh(const MeshDesc& desc) {
 
     Object object;
     object.name = name;
+    object.mesh.texcoords = std::move(texcoords);
     object.mesh.triangles.resize(desc.indices.size() / 3);
     for (std::size_t t = 0; t < object.mesh.triangles.size(); ++t) {
         object.mesh.triangles[t] = {desc.indices[3 * t], desc.indices[3 * t + 1],
@@ -520,6 +592,36 @@ MeshId Engine::add_mesh(const MeshDesc& desc) {
     }
     ++s.live;
     return MeshId{claim.id};
+}
+
+TextureId Engine::add_texture(const TextureDesc& desc) {
+    Impl& s = *impl_;
+    const AccessGuard::Write write(s.guard);
+    if (s.scene.textures.size() >= std::size_t(std::numeric_limits<std::uint32_t>::max())) {
+        throw Error(Error::Code::invalid_state, "dynrt::Engine: add_texture: every TextureId has been issued");
+    }
+    const auto id = std::uint32_t(s.scene.textures.size());
+    Texture texture;
+    texture.name = !desc.name.empty() ? desc.name : !desc.path.empty() ? desc.path : "texture " + std::to_string(id);
+    const std::string what = "add_texture '" + texture.name + "'";
+    if (desc.path.empty() && desc.encoded.empty()) {
+        throw invalid(what + ": no path and no bytes (an image file's path, or its bytes, is needed)");
+    }
+    if (!desc.path.empty() && !desc.encoded.empty()) {
+        throw invalid(what + ": give a path or bytes, not both");
+    }
+    // Read at the first render that shows it: made absolute now, so that it names the file it
+    // named here whatever the working folder is then.
+    if (!desc.path.empty()) {
+        std::error_code ignored;
+        const std::filesystem::path absolute = std::filesystem::absolute(desc.path, ignored);
+        texture.path = absolute.empty() ? desc.path : absolute.string();
+    }
+    texture.encoded.assign(desc.encoded.begin(), desc.encoded.end());
+    texture.mime_type = desc.mime_type.empty() ? mime_type_of(desc.encoded) : desc.mime_type;
+    texture.srgb = desc.srgb;
+    s.scene.textures.push_back(std::move(texture));
+    return TextureId{id};
 }
 
 void Engine::set_positions(MeshId id, std::span<const float> positions, std::span<const float> normals) {
@@ -577,6 +679,10 @@ void Engine::set_surface(MeshId id, const Surface& surface) {
     if (const std::string problem = surface_problem(surface); !problem.empty()) {
         throw invalid("set_surface: " + s.describe(i) + ": " + problem);
     }
+    if (const std::string problem = s.texture_problem(surface, !s.scene.objects[i].mesh.texcoords.empty());
+        !problem.empty()) {
+        throw invalid("set_surface: " + s.describe(i) + ": " + problem);
+    }
     Material& material = s.scene.materials[i];
     material = material_of(surface, material.name);
     // Every render reads the materials as they are, so the next one uses it without waiting
@@ -624,6 +730,11 @@ std::size_t Engine::Impl::memory_bytes() const {
                  held_bytes(object.mesh.texcoords);
     }
     for (const Material& material : scene.materials) bytes += held_bytes(material.name);
+    bytes += held_bytes(scene.textures);
+    for (const Texture& texture : scene.textures) {
+        bytes += held_bytes(texture.name) + held_bytes(texture.path) + held_bytes(texture.encoded) +
+                 held_bytes(texture.mime_type);
+    }
     bytes += held_bytes(retired_normals) + held_bytes(retired_triangles);
     for (const std::vector<glm::vec3>& normals : retired_normals) bytes += held_bytes(normals);
     for (const std::vector<glm::uvec3>& triangles : retired_triangles) bytes += held_bytes(triangles);

@@ -34,8 +34,10 @@ bool same_image_settings(const TraceSettings& a, const TraceSettings& b) {
            a.smooth_normals == b.smooth_normals && a.tiles == b.tiles;
 }
 
-bool same_whitted_terms(const Material& a, const Material& b) {
-    return a.reflectance == b.reflectance && a.transmittance == b.transmittance && a.ior == b.ior;
+/// The terms of a material that the shading kernel's PhongMaterial leaves out.
+bool same_scene_terms(const Material& a, const Material& b) {
+    return a.reflectance == b.reflectance && a.transmittance == b.transmittance && a.ior == b.ior &&
+           a.diffuse_map == b.diffuse_map;
 }
 
 bool same_material(const packet::PhongMaterial& a, const packet::PhongMaterial& b) {
@@ -54,7 +56,7 @@ bool material_changed(const ReuseMemory& memory, const ReuseInputs& now, std::si
     if (index >= now.scene_materials.size() || index >= memory.scene_materials.size()) {
         return now.scene_materials.size() != memory.scene_materials.size();
     }
-    return !same_whitted_terms(memory.scene_materials[index], now.scene_materials[index]);
+    return !same_scene_terms(memory.scene_materials[index], now.scene_materials[index]);
 }
 
 /// The most boxes (objects' parts) a plan tests rays against; see plan_exact_reuse.

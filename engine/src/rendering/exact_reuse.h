@@ -45,7 +45,7 @@ struct ReuseMemory {
     TraceSettings settings;
     std::vector<PointLight> lights;
     std::vector<packet::PhongMaterial> materials;
-    /// The scene's materials, for their reflection and refraction terms.
+    /// The scene's materials, for their reflection and refraction terms and diffuse maps.
     std::vector<Material> scene_materials;
     std::vector<std::int32_t> object_material;
     /// Per object: its world box and its geometry version (FramePipeline) at that trace.

@@ -17,6 +17,22 @@ void FramePipeline::clear() {
     clear_trees();
     textures_.reset();
     textures_scene_ = nullptr;
+    textures_maps_.clear();
+}
+
+bool FramePipeline::textures_current(const Scene& scene) const {
+    if (!textures_ || textures_scene_ != &scene) return false;
+    // Materials are few; comparing their maps per trace costs nothing next to the trace.
+    std::size_t k = 0;
+    for (std::size_t m = 0; m < scene.materials.size(); ++m) {
+        const std::optional<TextureMap>& map = scene.materials[m].diffuse_map;
+        if (!map) continue;
+        if (k == textures_maps_.size() || textures_maps_[k].first != m || !(textures_maps_[k].second == *map)) {
+            return false;
+        }
+        ++k;
+    }
+    return k == textures_maps_.size();
 }
 
 void FramePipeline::clear_trees() {
@@ -67,7 +83,7 @@ void FramePipeline::renew(std::size_t object) {
 
 std::size_t FramePipeline::memory_bytes() const {
     std::size_t bytes = accel_.memory_bytes() + held_bytes(materials_) + held_bytes(object_material_) +
-                        held_bytes(object_texcoords_) + held_bytes(versions_) + held_bytes(invalidated_) +
+                        held_bytes(object_texcoords_) + held_bytes(textures_maps_) + held_bytes(versions_) + held_bytes(invalidated_) +
                         held_bytes(parts_) + held_bytes(parts_versions_);
     for (const std::vector<bvh::Aabb>& parts : parts_) bytes += held_bytes(parts);
     return bytes;
@@ -130,13 +146,19 @@ void FramePipeline::trace(const Scene& scene, const Camera& camera, const TraceS
     // Textures: opened once per scene (OpenImageIO reads the images lazily, at first lookup).
     std::optional<detail::SurfaceTextures> surface_textures;
     if (TextureSet::needed(scene)) {
-        if (!textures_ || textures_scene_ != &scene) {
+        if (!textures_current(scene)) {
             textures_ = std::make_unique<TextureSet>(scene);
             textures_scene_ = &scene;
+            textures_maps_.clear();
+            for (std::size_t m = 0; m < scene.materials.size(); ++m) {
+                if (scene.materials[m].diffuse_map) textures_maps_.emplace_back(m, *scene.materials[m].diffuse_map);
+            }
         }
         object_texcoords_.clear();
-        for (const Object& object : scene.objects) {
-            object_texcoords_.push_back(detail::ObjectTexcoords{object.mesh.texcoords, object.mesh.triangles});
+        // The triangles the trees hold, which hits index (a scene object's may have gone since).
+        for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+            object_texcoords_.push_back(
+                detail::ObjectTexcoords{scene.objects[i].mesh.texcoords, accel_.object_triangles(i)});
         }
         const float pixel_angle =
             2.0f * std::tan(0.5f * glm::radians(camera.fov_y_deg)) / float(std::max(options.height, 1));

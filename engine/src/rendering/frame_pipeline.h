@@ -22,6 +22,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <utility>
 #include <vector>
 
 namespace dynrt {
@@ -43,8 +44,10 @@ public:
     /// size, tracer, shading) and `lights`, into `out` (buffers reused). out.stats holds the
     /// update's figures and the trace's; total_ms is the update's wall time plus the trace's.
     /// Materials are read from `scene` as it is now; its textures (TextureSet) are opened at
-    /// the first trace of a scene and kept until another scene is traced or clear(), so a
-    /// caller that edits a scene's textures in place must clear(). Throws std::logic_error
+    /// the first trace of a scene and kept while the same scene's materials map the same
+    /// textures the same way (opened again when one maps another, or a new material maps
+    /// one: the library API's one scene gains textures and textured meshes over its life). A
+    /// caller that replaces a Scene::textures entry in place must clear(). Throws std::logic_error
     /// before any update and std::invalid_argument for a degenerate camera.
     void trace(const Scene& scene, const Camera& camera, const TraceSettings& options,
                std::span<const PointLight> lights, RenderedFrame& out);
@@ -86,10 +89,14 @@ private:
     /// refreshed per trace (kept to avoid reallocating), and the trace's own buffers.
     std::vector<packet::PhongMaterial> materials_;
     std::vector<std::int32_t> object_material_;
-    /// The textures of the scene traced last (opened at its first trace, kept until another
-    /// scene or clear()), and each object's texture coordinates, refreshed per trace.
+    /// The textures of the scene traced last, opened for `textures_scene_` whose materials
+    /// mapped them as `textures_maps_` says (each mapped material's index and map), kept until
+    /// either differs or clear(); and each object's texture coordinates, refreshed per trace.
     std::unique_ptr<TextureSet> textures_;
     const Scene* textures_scene_ = nullptr;
+    std::vector<std::pair<std::size_t, TextureMap>> textures_maps_;
+    /// Whether textures_ was opened for `scene` as its materials map textures now.
+    bool textures_current(const Scene& scene) const;
     std::vector<detail::ObjectTexcoords> object_texcoords_;
     TraceScratch scratch_;
     /// Per object, a version that changes whenever its geometry may have (an update that

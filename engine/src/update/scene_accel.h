@@ -106,6 +106,15 @@ public:
     /// are turned by the cofactor matrix of its transform and renormalised, in float.
     bool world_vertex_normals(std::size_t object, std::uint32_t prim, glm::vec3 (&out)[3]) const;
 
+    /// The vertex indices of `object`'s triangles at the last update (the scene's, borrowed
+    /// then, and valid until the next update as the trees are), in the order `prim` counts
+    /// them; empty for an object the last update did not see. Shading reads hits' texture
+    /// coordinates through them: a mesh removed from the library API since keeps its hits,
+    /// and these, until the next update, while its scene object's triangles are gone.
+    std::span<const glm::uvec3> object_triangles(std::size_t object) const {
+        return object < objects_.size() ? objects_[object].corners : std::span<const glm::uvec3>{};
+    }
+
     /// Whether world_vertex_normals gives the objects' normals (true after construction); a
     /// trace sets it from TraceSettings::smooth_normals. Not thread-safe with traces.
     void use_vertex_normals(bool on) { vertex_normals_ = on; }

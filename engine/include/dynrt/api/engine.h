@@ -93,12 +93,39 @@ struct MeshDesc {
     /// use; README "Shading normals"). Always copied. Empty: the engine computes area-weighted
     /// vertex normals from the positions, and again whenever they change.
     std::span<const float> normals;
+    /// Optional texture coordinates, s, t per vertex (finite; s runs right and t down the image
+    /// from its top-left corner, one unit across, glTF's TEXCOORD_0 convention). Always
+    /// copied, and fixed for the mesh's life. Needed for a textured Surface.
+    std::span<const float> texcoords;
     Motion motion = Motion::automatic;
     Ownership ownership = Ownership::copy;
     /// Object to world; finite and affine.
     Transform transform;
     /// Its material: Phong terms, reflectance, transmittance and ior (see Surface).
     Surface surface;
+};
+
+/// An image that surfaces may map (Surface::diffuse_texture): a file, or a file's bytes.
+struct TextureDesc {
+    /// For errors and warnings; the path, or "texture <id>", when empty.
+    std::string name{};
+    /// An image file (PNG, JPEG, BMP, TGA, EXR... whatever OpenImageIO reads), opened at the
+    /// first render that shows it; a relative path is taken from the working folder at
+    /// add_texture. A file that cannot be read is no error: that render warns
+    /// on stderr, as `dynrt render` does (again at the first render after a surface has
+    /// changed which texture it maps, as the engine then opens its textures afresh), and the
+    /// surfaces mapping it show their diffuse colour alone. Empty when `encoded` holds the
+    /// image.
+    std::string path{};
+    /// Or the bytes of an image file, copied by add_texture (the caller's buffer may go away
+    /// right after). Empty when `path` names a file.
+    std::span<const unsigned char> encoded{};
+    /// The bytes' format as a MIME type ("image/png", "image/jpeg"); empty: told from their
+    /// first bytes (PNG, JPEG, BMP, GIF, WebP).
+    std::string mime_type{};
+    /// Texels are sRGB-encoded (8-bit colour images, glTF's base colour): lookups convert them
+    /// to linear. False: they are linear already.
+    bool srgb = true;
 };
 
 struct EngineOptions {
@@ -201,12 +228,19 @@ public:
     Engine& operator=(const Engine&) = delete;
 
     /// Adds a mesh; it is traced from the next update() on. Checks the description (sizes,
-    /// indices in range, finite positions and transform, a valid Surface: finite values,
-    /// colours, shininess, reflectance and transmittance >= 0, ior > 0) and throws Error naming
+    /// indices in range, finite positions, texture coordinates and transform, a valid Surface:
+    /// finite values, colours, shininess, reflectance and transmittance >= 0, ior > 0, a
+    /// texture added and texture coordinates to map it with) and throws Error naming
     /// the mesh and the bad value. Returns a new id: ids count up from 0 and are never reused,
     /// so an id kept after remove_mesh is refused rather than taken for another mesh. (The
     /// storage of removed meshes is reused; after 2^31 - 1 ids the call throws invalid_state.)
     MeshId add_mesh(const MeshDesc& mesh);
+
+    /// Adds an image for surfaces to map (Surface::diffuse_texture) and returns its id (ids
+    /// count up from 0). Throws Error (invalid_argument) naming the texture when it gives both
+    /// a path and bytes, or neither (empty bytes). Only the description is checked here: the
+    /// image is read at the first render that needs it (see TextureDesc::path).
+    TextureId add_texture(const TextureDesc& texture);
 
     /// New object-space positions for a deformable, exploding or automatic mesh: the same
     /// vertex count, finite (checked at the next update(), which names the vertex). Copied or,

@@ -34,6 +34,21 @@ struct MeshId {
     bool operator==(const MeshId&) const = default;
 };
 
+/// Identifies a texture within its Engine (Engine::add_texture). Textures are kept for the
+/// engine's life. The default value is no texture.
+struct TextureId {
+    std::uint32_t value = std::numeric_limits<std::uint32_t>::max();
+    bool operator==(const TextureId&) const = default;
+    bool valid() const { return value != std::numeric_limits<std::uint32_t>::max(); }
+};
+
+/// How texture coordinates outside [0, 1] are folded back (glTF's sampler wrap modes).
+enum class Wrap : std::uint8_t {
+    repeat,  ///< the image tiles
+    clamp,   ///< the edge texels extend
+    mirror,  ///< the image tiles, every other copy mirrored
+};
+
 /// A ray for trace queries: points origin + t * direction for t in [tmin, tmax]. The direction
 /// need not be unit length (t is then in its units); it must be finite and non-zero, the
 /// origin finite, 0 <= tmin <= tmax (tmax may be +inf).
@@ -86,6 +101,14 @@ struct Surface {
     /// Index of refraction of the inside (the side the triangles' winding normal points away
     /// from) relative to the outside: 1.5 for glass; only used where transmittance > 0.
     float ior = 1.0f;
+    /// A texture (Engine::add_texture) whose linear colour multiplies `diffuse` at each hit,
+    /// looked up at the mesh's texture coordinates (MeshDesc::texcoords, which a mesh must
+    /// have to take a textured surface) and filtered as `dynrt render` filters (README
+    /// "Textures"). Default: none.
+    TextureId diffuse_texture{};
+    /// How the texture coordinates s (across) and t (down) wrap outside [0, 1].
+    Wrap wrap_s = Wrap::repeat;
+    Wrap wrap_t = Wrap::repeat;
 };
 
 }  // namespace dynrt

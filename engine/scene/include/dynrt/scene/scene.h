@@ -54,6 +54,8 @@ struct TextureMap {
     std::uint32_t texture = 0;  ///< index into Scene::textures
     TextureWrap wrap_s = TextureWrap::repeat;
     TextureWrap wrap_t = TextureWrap::repeat;
+
+    bool operator==(const TextureMap&) const = default;
 };
 
 /// Phong material with Whitted's mirror and transmission terms (the model is in

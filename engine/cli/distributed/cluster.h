@@ -1,8 +1,9 @@
 #pragma once
 // The processes a render is spread over (`dynrt render --distribute`): an MPI job's ranks
 // (mpi_cluster.cpp, built when Open MPI is installed) or this process alone (local_cluster.cpp,
-// for `--resume` without mpirun and for a dynrt built without MPI). The render driver
-// (distributed_render.cpp) sees only this interface.
+// for every render not started by mpirun, and for a dynrt built without MPI). The render
+// driver (distributed_render.cpp), the one frame loop of every render, sees only this
+// interface.
 
 #include <functional>
 #include <memory>

@@ -3,6 +3,9 @@
 #   scripts/build.sh NAME [cmake options...] [-- targets...]
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# ccache (when installed) keys on paths relative to the checkout, so that another clone of the
+# same sources (CI's) finds what this one compiled.
+export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$PWD}"
 name=$1; shift
 opts=(); targets=()
 while [ $# -gt 0 ]; do

@@ -133,14 +133,13 @@ void check_distributed_args(const RenderArgs& args, const FrameRange& range, int
     if (args.distribute != "frames" && args.distribute != "tiles") {
         throw std::invalid_argument("--distribute " + args.distribute + ": frames or tiles");
     }
-    if (ranks == 1 && !args.resume) {
-        if (args.distribute == "tiles" && parse_reuse(args.reuse).approximate()) {
-            throw std::invalid_argument("--reuse " + args.reuse + " with --distribute tiles: the "
-                                        "render cache and frameless rendering need the whole "
-                                        "image; use --reuse exact or off");
-        }
-        return;
+    if (args.distribute == "tiles" && parse_reuse(args.reuse).approximate()) {
+        throw std::invalid_argument("--reuse " + args.reuse + " with --distribute tiles: the "
+                                    "render cache and frameless rendering need the whole image; "
+                                    "use --reuse exact or off");
     }
+    // One process not resuming writes whatever run_render accepted (a GIF, a video, a sheet).
+    if (ranks == 1 && !args.resume) return;
     if (is_sequence_file(args.out) && !has_frame_number(args.out)) {
         throw std::invalid_argument("--out '" + args.out + "': a render across processes (or "
                                     "--resume) writes one image per frame: give a numbered "
@@ -153,11 +152,6 @@ void check_distributed_args(const RenderArgs& args, const FrameRange& range, int
     if (!args.contact_sheet.empty()) {
         throw std::invalid_argument("--contact-sheet: not with a render across processes or "
                                     "--resume (render the sheet from the frames afterwards)");
-    }
-    if (args.distribute == "tiles" && parse_reuse(args.reuse).approximate()) {
-        throw std::invalid_argument("--reuse " + args.reuse + " with --distribute tiles: the "
-                                    "render cache and frameless rendering need the whole image; "
-                                    "use --reuse exact or off");
     }
 }
 

@@ -194,13 +194,15 @@ TextureSet::TextureSet(const Scene& scene, bool print_warnings) : impl_(std::mak
             s.open(scene, map.texture);
             const Texture& texture = scene.textures[map.texture];
             warning.item = texture.path.empty() ? "'" + texture.name + "'" : texture.path;
-            // A missing file is said so, in the same words for every one, so that a scene
-            // whose texture folder is absent gets one line (WarningLog groups by reason).
-            std::error_code ignored;
-            warning.detail = !texture.path.empty() && !std::filesystem::exists(texture.path, ignored)
-                                 ? "no such file"
-                                 : s.textures[map.texture].problem;
-            if (s.textures[map.texture].usable) warning.detail.clear();
+            warning.detail.clear();
+            if (!s.textures[map.texture].usable) {
+                // A missing file is said so, in the same words for every one, so that a scene
+                // whose texture folder is absent gets one line (WarningLog groups by reason).
+                std::error_code ignored;
+                warning.detail = !texture.path.empty() && !std::filesystem::exists(texture.path, ignored)
+                                     ? "no such file"
+                                     : s.textures[map.texture].problem;
+            }
         }
         if (!warning.detail.empty()) {
             s.warnings.push_back(warning_line(warning));

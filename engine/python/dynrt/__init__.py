@@ -45,7 +45,8 @@ __all__ = [
 
 
 class Scene:
-    """A scene file (glTF, BART) or procedural spec played into a dynrt.Engine.
+    """A scene file (glTF, BART, or OBJ, PLY, FBX, Collada... through assimp) or procedural spec
+    played into a dynrt.Engine.
 
     Its objects are the engine's meshes (``mesh_ids``, in the order of ``names``); ``pose``
     moves them to a frame and updates the engine. The engine is an ordinary dynrt.Engine:

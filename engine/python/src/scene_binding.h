@@ -1,5 +1,6 @@
 #pragma once
-// dynrt.load_scene for Python: a glTF, BART or procedural scene played into a dynrt.Engine. The
+// dynrt.load_scene for Python: any scene dynrt reads (glTF, BART, assimp's formats such as OBJ,
+// PLY, FBX and Collada, or a procedural spec) played into a dynrt.Engine. The
 // scene's objects become the engine's meshes (static ones static, rigid ones with their
 // transform, deformable and exploding ones with their posed vertices), and posing a frame sets
 // what moved and updates the engine, so renders and ray queries go through the library API as

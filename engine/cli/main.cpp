@@ -34,6 +34,12 @@ std::string join_args(const std::string& message) {
 constexpr int kExitFailure = 1;
 constexpr int kExitUsage = 2;
 
+/// The error line, written at once: under mpirun each write is forwarded on its own and
+/// another process's output could otherwise land in the middle of the line.
+void print_error(const std::string& text) {
+    std::cerr << ("dynrt: error: " + text + "\n") << std::flush;
+}
+
 /// CLI11's message for a bad command line, in plain words where its own are not: an option
 /// given twice ("--res: At Most 1 required but received 2") or an unexpected argument.
 std::string usage_error_text(const CLI::ParseError& e) {
@@ -295,7 +301,7 @@ int main(int argc, char** argv) {
     } catch (const CLI::Success& e) {
         return app.exit(e);  // --help, --version: printed, exit 0
     } catch (const CLI::ParseError& e) {
-        std::cerr << "dynrt: error: " << usage_error_text(e) << "\n";
+        print_error(usage_error_text(e));
         return kExitUsage;
     }
 
@@ -337,16 +343,16 @@ int main(int argc, char** argv) {
         return dynrt::cli::run_info(info_scene);
     } catch (const std::filesystem::filesystem_error& e) {
         // Not the library's "filesystem error: ..." but what failed, on which path, and why.
-        std::cerr << "dynrt: error: " << e.path1().string() << ": " << e.code().message() << "\n";
+        print_error(e.path1().string() + ": " + e.code().message());
         return kExitFailure;
     } catch (const std::invalid_argument& e) {
         // Our own checks of the flags' values (and of --resume against its journal) throw
         // invalid_argument: a usage error, as CLI11's are. A scene file that cannot be read is
         // a SceneError (runtime_error): a failure.
-        std::cerr << "dynrt: error: " << e.what() << "\n";
+        print_error(e.what());
         return kExitUsage;
     } catch (const std::exception& e) {
-        std::cerr << "dynrt: error: " << e.what() << "\n";
+        print_error(e.what());
         return kExitFailure;
     }
 }

@@ -113,8 +113,9 @@ public:
     }
 
     [[noreturn]] void fail(const std::string& message) override {
-        std::cerr << "dynrt: error: " << message << std::endl;
-        std::fflush(stderr);
+        // One write: under mpirun each write is forwarded on its own, and Open MPI's abort
+        // notice would otherwise land in the middle of the line.
+        std::cerr << ("dynrt: error: " + message + "\n") << std::flush;
         MPI_Abort(MPI_COMM_WORLD, 1);
         std::abort();  // MPI_Abort does not return
     }

@@ -46,6 +46,13 @@ public:
     /// Thread-safe.
     glm::vec3 diffuse(std::uint32_t material, glm::vec2 st, float width) const;
 
+    /// Bytes the readable textures hold in memory, every MIP level included.
+    std::size_t bytes() const;
+    /// Readable textures held (each counted once, however many materials map it).
+    std::size_t texture_count() const;
+    /// Wall-clock seconds construction took to read, decode and MIP-map the textures.
+    double load_seconds() const;
+
     /// What construction reported, one line per material whose texture cannot be read.
     const std::vector<std::string>& warnings() const;
 

@@ -25,8 +25,21 @@
 
 namespace dynrt {
 
-/// An image a material's colour is read from: a file, or a file's bytes held in memory (a
-/// glTF image embedded in the document or its binary buffer).
+/// Texels given as they are, not as a file (the library API's and Python's arrays): `width` x
+/// `height` texels of `channels` values each (1 grey, 2 grey and alpha, 3 RGB, 4 RGBA; alpha
+/// is not used), row by row from the image's top-left corner, 8-bit (0-255) or 32-bit float.
+struct TexelArray {
+    int width = 0;
+    int height = 0;
+    int channels = 0;
+    bool floating = false;  ///< float texels (4 bytes each), else 8-bit
+    std::vector<unsigned char> bytes;  ///< width * height * channels values
+
+    bool empty() const { return width == 0; }
+};
+
+/// An image a material's colour is read from: a file, a file's bytes held in memory (a glTF
+/// image embedded in the document or its binary buffer), or texels given directly.
 struct Texture {
     /// For messages: the file's path, or "<scene source> image <i>" for an embedded image.
     std::string name;
@@ -37,6 +50,8 @@ struct Texture {
     /// file.
     std::vector<unsigned char> encoded;
     std::string mime_type;
+    /// Or the texels themselves (the library API's arrays); empty for a file or its bytes.
+    TexelArray texels;
     /// The texel values are sRGB-encoded (glTF base colour, 8-bit images): lookups convert
     /// them to linear. False: they are linear already.
     bool srgb = true;

@@ -327,11 +327,22 @@ struct TileShading {
 /// whose object has texture coordinates: the texture's linear colour at the hit's
 /// interpolated coordinates (s, t) = (1 - u - v) st0 + u st1 + v st2 over the footprint
 /// texture_footprint(|point - eye|, pixel_angle, twice the world area, twice the texture area).
-/// Null when no lane is textured. Fills a per-thread buffer: valid until the thread's next call.
+/// The lanes' coordinates and footprints are found one by one, then looked up a material at a
+/// time, SIMD across the lanes (TextureSet's batch diffuse). Null when no lane is textured.
+/// Fills a per-thread buffer: valid until the thread's next call.
 inline const packet::DiffuseTint* tint_lanes(const SurfaceTextures& textures, const TileShadowOrigins& origins) {
     thread_local packet::DiffuseTint tint;
+    // The textured lanes' lookups, in lane order; then each material's, gathered in front.
+    struct Lookups {
+        alignas(64) float s[packet::kPacketRays], t[packet::kPacketRays], width[packet::kPacketRays];
+        alignas(64) float rgb[3][packet::kPacketRays];
+        std::int32_t lane[packet::kPacketRays];
+        std::uint32_t material[packet::kPacketRays];
+    };
+    thread_local Lookups all, group;
     const packet::SurfacePacket& surface = origins.surface;
     tint.lanes = packet::LaneMask{};
+    int pending = 0;
     for (int w = 0; w < packet::kPacketRays / 64; ++w) {
         for (std::uint64_t bits = surface.hit.words[w]; bits != 0; bits &= bits - 1) {
             const int lane = w * 64 + std::countr_zero(bits);
@@ -345,14 +356,39 @@ inline const packet::DiffuseTint* tint_lanes(const SurfaceTextures& textures, co
             const glm::vec2 st = (1.0f - u - v) * st0 + u * st1 + v * st2;
             const glm::vec2 e1 = st1 - st0, e2 = st2 - st0;
             const glm::vec3 point(surface.point[0][lane], surface.point[1][lane], surface.point[2][lane]);
-            const float width = texture_footprint(glm::length(point - textures.eye), textures.pixel_angle,
-                                                  origins.twice_area[lane], std::abs(e1.x * e2.y - e1.y * e2.x));
-            const glm::vec3 c = textures.set.diffuse(material, st, width);
-            for (int a = 0; a < 3; ++a) tint.rgb[a][lane] = c[a];
+            all.s[pending] = st.x;
+            all.t[pending] = st.y;
+            all.width[pending] = texture_footprint(glm::length(point - textures.eye), textures.pixel_angle,
+                                                   origins.twice_area[lane], std::abs(e1.x * e2.y - e1.y * e2.x));
+            all.lane[pending] = lane;
+            all.material[pending] = material;
+            ++pending;
             tint.lanes.set(lane);
         }
     }
-    return tint.lanes.any() ? &tint : nullptr;
+    if (pending == 0) return nullptr;
+    // A material at a time (a tile mostly shows one or two): its lookups gathered in front of
+    // `group`, the rest kept in `all` for the next round.
+    while (pending > 0) {
+        const std::uint32_t material = all.material[0];
+        int count = 0, kept = 0;
+        for (int k = 0; k < pending; ++k) {
+            Lookups& to = all.material[k] == material ? group : all;
+            const int at = all.material[k] == material ? count++ : kept++;
+            to.s[at] = all.s[k];
+            to.t[at] = all.t[k];
+            to.width[at] = all.width[k];
+            to.lane[at] = all.lane[k];
+            to.material[at] = all.material[k];
+        }
+        pending = kept;
+        float* const rgb[3] = {group.rgb[0], group.rgb[1], group.rgb[2]};
+        textures.set.diffuse(material, std::size_t(count), group.s, group.t, group.width, rgb);
+        for (int k = 0; k < count; ++k) {
+            for (int a = 0; a < 3; ++a) tint.rgb[a][group.lane[k]] = group.rgb[a][k];
+        }
+    }
+    return &tint;
 }
 
 /// The hit buffers' values for a pixel whose ray misses everything.

@@ -1,13 +1,18 @@
 #pragma once
-// A scene's textures, read through OpenImageIO's TextureSystem: filtered, MIP-mapped lookups
-// (trilinear between the two MIP levels nearest the footprint, bilinear within each; Williams
-// 1983, "Pyramidal Parametrics"), MIP levels made on first use for images that have none
-// (OpenImageIO's "automip"), grey images read as grey RGB. The shading of every tracer and the
-// reference renderer in tests/ look textures up here, so they see the same colours.
+// A scene's textures, held in memory as MIP pyramids (textures/mip_pyramid.h) and looked up by
+// dynrt's own SIMD filter (textures/texture_filter.h): trilinear between the two MIP levels
+// nearest the footprint, bilinear within each (Williams 1983, "Pyramidal Parametrics"), with
+// the level choice and the levels of OpenImageIO's TextureSystem, which it replaces (the test
+// textures_test.cpp compares them: within 1/255 of the same footprints). OpenImageIO reads and
+// decodes the files; every mapped texture is read and MIP-mapped once, when the set is made,
+// in parallel. Grey images read as grey RGB; colours are as stored (alpha not multiplied in).
+// The shading of every tracer and the reference renderer in tests/ look textures up here, so
+// they see the same colours.
 //
-// A texture that cannot be read (a missing file, an undecodable image) is reported once, as
-// "dynrt: warning: SCENE: material 'M': texture 'FILE' cannot be read (REASON); its diffuse
-// colour is used alone", and the material then shades as if it had no map: never an error.
+// A texture that cannot be read (a missing, truncated or undecodable file, an image too large)
+// is reported once, as "dynrt: warning: SCENE: texture cannot be read: FILE (REASON), used by
+// material 'M'; the diffuse colour is used alone", and the material then shades as if it had
+// no map: never an error.
 
 #include "dynrt/scene/scene.h"
 
@@ -45,6 +50,12 @@ public:
     /// texels are converted to linear after filtering. Precondition: maps(material).
     /// Thread-safe.
     glm::vec3 diffuse(std::uint32_t material, glm::vec2 st, float width) const;
+
+    /// The same for `count` lookups of material `material` at once, SIMD across them (the
+    /// same colours, bit for bit, as one at a time): lookup i at (s[i], t[i]) over width[i]
+    /// writes rgb[0][i], rgb[1][i], rgb[2][i].
+    void diffuse(std::uint32_t material, std::size_t count, const float* s, const float* t, const float* width,
+                 float* const rgb[3]) const;
 
     /// Bytes the readable textures hold in memory, every MIP level included.
     std::size_t bytes() const;

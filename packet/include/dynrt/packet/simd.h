@@ -172,6 +172,45 @@ struct Lanes {
         }
     }
 
+    /// Rounded toward minus infinity, like std::floor (lanes must be within +-2^31).
+    static F floor(F v) {
+        const F toward_zero = to_float(truncate(v));
+        return select(toward_zero > v, toward_zero - splat(1.0f), toward_zero);
+    }
+
+    /// base[index[i]] in lane i (indices non-negative and in bounds): one gather instruction
+    /// where the ISA has one, else W loads.
+    static U gather(const std::uint32_t* base, I index) {
+#if defined(__AVX512F__)
+        // The masked forms with every lane set, as in sqrt: GCC 12 sees no uninitialised
+        // pass-through operand.
+        if constexpr (W == 16) {
+            return U(_mm512_mask_i32gather_epi32(_mm512_setzero_si512(), __mmask16(0xffff), __m512i(index), base, 4));
+        }
+#endif
+#if defined(__AVX2__)
+        if constexpr (W == 8) {
+            return U(_mm256_i32gather_epi32(reinterpret_cast<const int*>(base), __m256i(index), 4));
+        }
+#endif
+        U out;
+        for (int i = 0; i < W; ++i) out[i] = base[index[i]];
+        return out;
+    }
+    static F gather(const float* base, I index) {
+#if defined(__AVX512F__)
+        if constexpr (W == 16) {
+            return F(_mm512_mask_i32gather_ps(_mm512_setzero_ps(), __mmask16(0xffff), __m512i(index), base, 4));
+        }
+#endif
+#if defined(__AVX2__)
+        if constexpr (W == 8) return F(_mm256_i32gather_ps(base, __m256i(index), 4));
+#endif
+        F out;
+        for (int i = 0; i < W; ++i) out[i] = base[index[i]];
+        return out;
+    }
+
     /// Horizontal reductions, for NaN-free lanes: halves folded onto each other.
     static float reduce_min(F v) {
         if constexpr (W >= 16) v = min_into(fold<8>(v), v);

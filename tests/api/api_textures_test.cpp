@@ -167,8 +167,14 @@ int wrong_pixels(const RenderedFrame& want, const std::vector<float>& got) {
 struct TwoQuads {
     std::string path = write_texture("api_textures_test.png");
     std::vector<unsigned char> bytes = file_bytes(path);
-    std::vector<Texture> scene_textures{Texture{path, path, {}, "", true},
-                                        Texture{"bytes", "", bytes, "image/png", true}};
+    std::vector<Texture> scene_textures = [&] {
+        std::vector<Texture> textures(2);
+        textures[0].name = textures[0].path = path;
+        textures[1].name = "bytes";
+        textures[1].encoded = bytes;
+        textures[1].mime_type = "image/png";
+        return textures;
+    }();
     std::vector<Quad> quads{
         quad("file quad", 2.0f, Transform::rotation({0.0f, 1.0f, 0.0f}, 0.3f, {-1.1f, 0.0f, 0.0f}),
              Surface{{0.9f, 0.9f, 0.9f}, {0.1f, 0.1f, 0.1f}, 16.0f, {}, {}, 1.0f, TextureId{0}}),

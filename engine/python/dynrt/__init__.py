@@ -16,7 +16,9 @@ The library API of dynrt (C++ ``dynrt/dynrt.h``) for Python, with numpy in and n
 Bulk arrays (positions, normals, ray origins and directions, result arrays) are read or
 written in place: they must be C-contiguous float32 arrays of shape (N, 3) (results: the
 documented dtype); anything else raises dynrt.InvalidArgument (a ValueError) naming the
-argument, rather than being converted behind your back. update, render, intersect and
+argument, rather than being converted behind your back. Data the engine copies anyway is
+converted when needed (indices, texcoords) or copied (a texture's texels: a uint8 or float32
+array of shape (H, W) or (H, W, C), a strided view too). update, render, intersect and
 occluded release the GIL. README "Python" has the details.
 """
 

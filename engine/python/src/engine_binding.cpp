@@ -8,6 +8,7 @@
 #include <pybind11/stl.h>
 
 #include <cstddef>
+#include <cstdint>
 #include <limits>
 #include <string>
 
@@ -98,9 +99,33 @@ std::uint32_t PyEngine::add_texture(py::handle source, bool srgb, const std::str
         if (desc.path.empty()) invalid(where, "the path is empty");
         return engine_.add_texture(desc).value;
     }
+    // A numpy array of rows and columns holds texels; a one-dimensional one, like any other
+    // buffer, an image file's bytes.
+    if (py::isinstance<py::array>(source)) {
+        const auto array = py::reinterpret_borrow<py::array>(source);
+        if (array.ndim() != 1) {
+            const Texels texels = texel_array(array, where);
+            desc.width = texels.width;
+            desc.height = texels.height;
+            desc.channels = texels.channels;
+            const std::size_t count = std::size_t(texels.array.size());
+            // Copied (and float values checked) by add_texture.
+            if (texels.floating) {
+                desc.texels_float = {static_cast<const float*>(texels.array.data()), count};
+            } else {
+                desc.texels8 = {static_cast<const std::uint8_t*>(texels.array.data()), count};
+            }
+            return engine_.add_texture(desc).value;
+        }
+        if (!array.dtype().equal(dtype("uint8"))) {
+            invalid(where, "a one-dimensional array is taken as an image file's bytes and must have dtype uint8, got " +
+                               array.dtype().attr("name").cast<std::string>() +
+                               " (texels are an (H, W) or (H, W, C) array)");
+        }
+    }
     if (!PyObject_CheckBuffer(source.ptr())) {
-        invalid(where, "source must be a path (str or os.PathLike) or an image file's bytes, got " +
-                           py::str(py::type::handle_of(source).attr("__name__")).cast<std::string>());
+        invalid(where, "source must be a path (str or os.PathLike), an image file's bytes or a numpy array of "
+                       "texels, got " + py::str(py::type::handle_of(source).attr("__name__")).cast<std::string>());
     }
     Py_buffer view;
     if (PyObject_GetBuffer(source.ptr(), &view, PyBUF_C_CONTIGUOUS) != 0) {
@@ -309,8 +334,11 @@ surface with a texture.)");
                py::arg("name") = "", py::arg("mime_type") = "",
                R"(Adds an image for surfaces to map (Surface(texture=id)) and returns its id (an int).
 source: a path (str or os.PathLike; read at the first render that shows it, a warning then if it
-cannot be read) or an image file's bytes (bytes, bytearray, memoryview; copied; their format
-told from them unless mime_type says). srgb: the texels are sRGB-encoded.)");
+cannot be read), an image file's bytes (bytes, bytearray, memoryview, a 1-D uint8 array; copied;
+their format told from them unless mime_type says), or the texels themselves: a numpy array of
+shape (H, W) or (H, W, C), C from 1 to 4 (grey, grey and alpha, RGB, RGBA; alpha unused), rows
+from the image's top, dtype uint8 (0-255) or float32 (finite, >= 0; 1 is full), copied.
+srgb: the texels are sRGB-encoded; float32 texels are usually linear: pass srgb=False.)");
     engine.def("set_positions", &PyEngine::set_positions, py::arg("mesh"), py::arg("positions"),
                py::arg("normals") = py::none());
     engine.def("set_transform", [](PyEngine& self, py::handle mesh, py::handle t) {

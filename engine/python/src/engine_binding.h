@@ -25,8 +25,9 @@ public:
     std::uint32_t add_mesh(py::handle positions, py::handle indices, const std::string& motion,
                            py::handle transform, const Surface* surface, py::handle normals,
                            const std::string& name, bool borrow, py::handle texcoords);
-    /// `source`: a path (str or os.PathLike) or an image file's bytes (any contiguous buffer
-    /// of bytes: bytes, bytearray, memoryview), copied.
+    /// `source`: a path (str or os.PathLike), an image file's bytes (any contiguous buffer of
+    /// bytes: bytes, bytearray, memoryview, a 1-D uint8 array), copied, or texels: a numpy
+    /// array of shape (H, W) or (H, W, C), uint8 or float32 (texel_array), copied.
     std::uint32_t add_texture(py::handle source, bool srgb, const std::string& name,
                               const std::string& mime_type);
     void set_positions(py::handle mesh, py::handle positions, py::handle normals);

@@ -1,5 +1,7 @@
 #include "numpy_args.h"
 
+#include "api/scene_texture.h"
+
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -89,6 +91,44 @@ py::array converted_rows(py::handle value, const std::string& where, const char*
         invalid(where, std::string(name) + " must have shape " + wanted + ", got " + shape_text(any));
     }
     return py::array_t<float, kConverted>::ensure(any);
+}
+
+Texels texel_array(py::handle value, const std::string& where) {
+    const py::array any = py::reinterpret_borrow<py::array>(value);
+    const py::dtype type = any.dtype();
+    const bool floating = type.equal(dtype("float32"));
+    if (!floating && !type.equal(dtype("uint8"))) {
+        std::string got = type.attr("name").cast<std::string>();
+        if (got == "float32") got = type.attr("str").cast<std::string>() + ", not in native byte order";
+        invalid(where, "texels must have dtype uint8 (0-255) or float32, got " + got +
+                           " (use texels.astype(np.uint8) or texels.astype(np.float32))");
+    }
+    if (any.ndim() != 2 && any.ndim() != 3) {
+        invalid(where, "texels must have shape (H, W) or (H, W, C) with C from 1 to 4, got " + shape_text(any));
+    }
+    const py::ssize_t channels = any.ndim() == 3 ? any.shape(2) : 1;
+    if (channels < 1 || channels > 4) {
+        invalid(where, "texels have " + std::to_string(channels) + " channels (shape " + shape_text(any) +
+                           "), not 1 to 4 (grey, grey and alpha, RGB, RGBA)");
+    }
+    if (any.shape(0) == 0 || any.shape(1) == 0) invalid(where, "texels are empty, shape " + shape_text(any));
+    if (any.shape(0) > api_detail::kTexelSideMax || any.shape(1) > api_detail::kTexelSideMax) {
+        invalid(where, "texels' shape " + shape_text(any) + " is too large: each side must be at most " +
+                           std::to_string(api_detail::kTexelSideMax));
+    }
+    Texels texels;
+    // A strided view (a crop, a channel slice) is copied into a contiguous array of its own.
+    texels.array = floating ? py::array(py::array_t<float, kConverted>::ensure(any))
+                            : py::array(py::array_t<std::uint8_t, kConverted>::ensure(any));
+    if (!texels.array) {
+        PyErr_Clear();
+        invalid(where, "texels could not be copied into a contiguous array");
+    }
+    texels.height = int(any.shape(0));
+    texels.width = int(any.shape(1));
+    texels.channels = int(channels);
+    texels.floating = floating;
+    return texels;
 }
 
 std::optional<float> scalar(py::handle value) {

@@ -61,6 +61,22 @@ std::span<float> mutable_floats(py::array& a);
 /// (the engine copies indices anyway); negative or too large values are refused.
 std::vector<std::uint32_t> index_list(py::handle value, const std::string& where);
 
+/// A texture's texels given as a numpy array (Engine.add_texture): shape (H, W) or (H, W, C)
+/// with C from 1 to 4, dtype uint8 (0-255) or float32, neither empty. `array` is C-contiguous
+/// and aligned: the caller's, or a copy of a strided view (the engine copies the texels anyway).
+struct Texels {
+    py::array array;
+    int width = 0;
+    int height = 0;
+    int channels = 0;
+    bool floating = false;
+};
+
+/// `value` (a numpy array that is not one-dimensional) as Texels; other dtypes, shapes and
+/// empty arrays are refused naming what is accepted. Sides longer than TextureDesc's limit are
+/// refused here, before they are narrowed to int; the engine checks the rest (float values).
+Texels texel_array(py::handle value, const std::string& where);
+
 /// Three numbers (a tuple, list or array).
 Vec3 vec3(py::handle value, const std::string& where, const char* name);
 py::tuple to_tuple(const Vec3& v);

@@ -10,6 +10,7 @@
 #include "access_guard.h"
 #include "mesh_slots.h"
 #include "ray_batch.h"
+#include "scene_texture.h"
 #include "rendering/frame_pipeline.h"
 #include "update/held_bytes.h"
 
@@ -24,8 +25,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
-#include <initializer_list>
 #include <mutex>
 #include <optional>
 #include <sstream>
@@ -112,19 +111,6 @@ std::string surface_problem(const Surface& surface) {
         out << "ior " << surface.ior << " must be finite and > 0";
         return out.str();
     }
-    return {};
-}
-
-/// The MIME type an image file's first bytes announce, or "" when they announce none known.
-std::string mime_type_of(std::span<const unsigned char> bytes) {
-    const auto starts = [&](std::initializer_list<unsigned char> head, std::size_t at = 0) {
-        return bytes.size() >= at + head.size() && std::equal(head.begin(), head.end(), bytes.begin() + std::ptrdiff_t(at));
-    };
-    if (starts({0x89, 'P', 'N', 'G'})) return "image/png";
-    if (starts({0xFF, 0xD8, 0xFF})) return "image/jpeg";
-    if (starts({'G', 'I', 'F', '8'})) return "image/gif";
-    if (starts({'R', 'I', 'F', 'F'}) && starts({'W', 'E', 'B', 'P'}, 8)) return "image/webp";
-    if (starts({'B', 'M'})) return "image/bmp";
     return {};
 }
 
@@ -601,26 +587,7 @@ TextureId Engine::add_texture(const TextureDesc& desc) {
         throw Error(Error::Code::invalid_state, "dynrt::Engine: add_texture: every TextureId has been issued");
     }
     const auto id = std::uint32_t(s.scene.textures.size());
-    Texture texture;
-    texture.name = !desc.name.empty() ? desc.name : !desc.path.empty() ? desc.path : "texture " + std::to_string(id);
-    const std::string what = "add_texture '" + texture.name + "'";
-    if (desc.path.empty() && desc.encoded.empty()) {
-        throw invalid(what + ": no path and no bytes (an image file's path, or its bytes, is needed)");
-    }
-    if (!desc.path.empty() && !desc.encoded.empty()) {
-        throw invalid(what + ": give a path or bytes, not both");
-    }
-    // Read at the first render that shows it: made absolute now, so that it names the file it
-    // named here whatever the working folder is then.
-    if (!desc.path.empty()) {
-        std::error_code ignored;
-        const std::filesystem::path absolute = std::filesystem::absolute(desc.path, ignored);
-        texture.path = absolute.empty() ? desc.path : absolute.string();
-    }
-    texture.encoded.assign(desc.encoded.begin(), desc.encoded.end());
-    texture.mime_type = desc.mime_type.empty() ? mime_type_of(desc.encoded) : desc.mime_type;
-    texture.srgb = desc.srgb;
-    s.scene.textures.push_back(std::move(texture));
+    s.scene.textures.push_back(api_detail::texture_of(desc, id));
     return TextureId{id};
 }
 
@@ -733,7 +700,7 @@ std::size_t Engine::Impl::memory_bytes() const {
     bytes += held_bytes(scene.textures);
     for (const Texture& texture : scene.textures) {
         bytes += held_bytes(texture.name) + held_bytes(texture.path) + held_bytes(texture.encoded) +
-                 held_bytes(texture.mime_type);
+                 held_bytes(texture.mime_type) + held_bytes(texture.texels.bytes);
     }
     bytes += held_bytes(retired_normals) + held_bytes(retired_triangles);
     for (const std::vector<glm::vec3>& normals : retired_normals) bytes += held_bytes(normals);

@@ -105,7 +105,8 @@ struct MeshDesc {
     Surface surface;
 };
 
-/// An image that surfaces may map (Surface::diffuse_texture): a file, or a file's bytes.
+/// An image that surfaces may map (Surface::diffuse_texture): a file, a file's bytes, or the
+/// caller's array of texels. Exactly one of `path`, `encoded` and the texels is given.
 struct TextureDesc {
     /// For errors and warnings; the path, or "texture <id>", when empty.
     std::string name{};
@@ -114,8 +115,8 @@ struct TextureDesc {
     /// add_texture. A file that cannot be read is no error: that render warns
     /// on stderr, as `dynrt render` does (again at the first render after a surface has
     /// changed which texture it maps, as the engine then opens its textures afresh), and the
-    /// surfaces mapping it show their diffuse colour alone. Empty when `encoded` holds the
-    /// image.
+    /// surfaces mapping it show their diffuse colour alone. Empty when `encoded` or the texels
+    /// hold the image.
     std::string path{};
     /// Or the bytes of an image file, copied by add_texture (the caller's buffer may go away
     /// right after). Empty when `path` names a file.
@@ -123,8 +124,20 @@ struct TextureDesc {
     /// The bytes' format as a MIME type ("image/png", "image/jpeg"); empty: told from their
     /// first bytes (PNG, JPEG, BMP, GIF, WebP).
     std::string mime_type{};
+    /// Or the texels themselves, copied by add_texture: `width` x `height` texels (each side
+    /// in [1, 65536]) of `channels` values (1 grey, 2 grey and alpha, 3 RGB, 4 RGBA; alpha is
+    /// not used), row by row from the image's top-left corner (texture coordinates (0, 0)),
+    /// as 8-bit values (0-255 for 0 to 1) in `texels8` or as floats (finite, >= 0; 1 is full)
+    /// in `texels_float`: one of the two, holding width * height * channels values. Float
+    /// texels are usually linear: give them with `srgb` = false. All empty and 0 for a file
+    /// or its bytes.
+    std::span<const std::uint8_t> texels8{};
+    std::span<const float> texels_float{};
+    int width = 0;
+    int height = 0;
+    int channels = 0;
     /// Texels are sRGB-encoded (8-bit colour images, glTF's base colour): lookups convert them
-    /// to linear. False: they are linear already.
+    /// to linear. False: they are linear already. Taken as given, whatever the source.
     bool srgb = true;
 };
 
@@ -237,9 +250,11 @@ public:
     MeshId add_mesh(const MeshDesc& mesh);
 
     /// Adds an image for surfaces to map (Surface::diffuse_texture) and returns its id (ids
-    /// count up from 0). Throws Error (invalid_argument) naming the texture when it gives both
-    /// a path and bytes, or neither (empty bytes). Only the description is checked here: the
-    /// image is read at the first render that needs it (see TextureDesc::path).
+    /// count up from 0). Throws Error (invalid_argument) naming the texture when it gives
+    /// none of a path, bytes and texels (empty bytes), or more than one, or texels that break
+    /// TextureDesc's rules (size, channels, value count, float values). Only the description
+    /// is checked here: a file or its bytes are read at the first render that needs them (see
+    /// TextureDesc::path); texels are copied now.
     TextureId add_texture(const TextureDesc& texture);
 
     /// New object-space positions for a deformable, exploding or automatic mesh: the same

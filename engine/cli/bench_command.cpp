@@ -35,15 +35,6 @@ namespace dynrt::cli {
 
 namespace {
 
-/// One line above the table: what a run of the command paid once, outside the timed runs.
-void print_start_up(std::ostream& out, double load_ms, double first_ms) {
-    std::ostringstream line;
-    line << std::fixed << std::setprecision(1) << "start-up (not in the runs): scene loaded in "
-         << load_ms << " ms; first frame " << first_ms
-         << " ms (textures read, trees built from nothing)\n";
-    out << line.str();
-}
-
 /// `bench --frames`: an animated sequence, with Embree's per-frame options beside it.
 int run_bench_sequence(const BenchArgs& args) {
     if (!args.sweeps.empty() || !args.csv.empty() || !args.diff_image.empty()) {
@@ -75,7 +66,7 @@ int run_bench_sequence(const BenchArgs& args) {
     print_ignored(std::cout, scene);
     const dynrt::SequenceBench bench =
         dynrt::bench_sequence(scene, view, options, range, runs, args.warmup, others);
-    print_start_up(std::cout, load_ms, bench.first_ms);
+    dynrt::print_start_up(std::cout, load_ms, bench.first_ms, bench.textures);
     dynrt::print_sequence_table(std::cout, bench);
     print_rebuild_summary(std::cout, bench.frames);
     print_update_choices(std::cout, bench.frames);
@@ -340,7 +331,7 @@ int run_bench(const BenchArgs& args) {
         rows.push_back(dynrt::bench_configuration(scene, camera, config.options, repeat, warmup,
                                                   rows.empty() ? &first_frame : nullptr));
     }
-    print_start_up(std::cout, load_ms, rows.front().first_ms);
+    dynrt::print_start_up(std::cout, load_ms, rows.front().first_ms, rows.front().textures);
     dynrt::print_bench_table(std::cout, rows);
     // CSV stays dynrt-only: its one-row-per-configuration layout has no place for Embree rows.
     if (!args.csv.empty()) write_text(args.csv, dynrt::bench_csv(rows));

@@ -306,10 +306,10 @@ void print_job(const RenderArgs& args, const std::string& source, const Scene& s
 }
 
 /// What a render prints once its frames are done: the table (every frame's row for up to 8),
-/// its summaries, each rank's share under mpirun (`ranks` > 0), the output stage's time and
-/// where the journal is.
+/// its summaries, each rank's share under mpirun (`ranks` > 0), the textures read (rank 0's),
+/// the output stage's time and where the journal is.
 void print_results(const RenderArgs& args, const Scene& scene, const FramesLeft& left, int ranks,
-                   bool tiles, const FrameWriter& writer) {
+                   bool tiles, const TextureFigures& textures, const FrameWriter& writer) {
     const std::vector<FrameStats> frames = frames_of(left);
     if (!args.contact_sheet.empty() && writer.contact_sheet_frames() > 0) {
         std::cout << "contact sheet: " << args.contact_sheet << " ("
@@ -328,6 +328,7 @@ void print_results(const RenderArgs& args, const Scene& scene, const FramesLeft&
     print_rebuild_summary(std::cout, frames);
     print_update_choices(std::cout, frames);
     if (ranks > 0) print_ranks(std::cout, frames, ranks, tiles);
+    print_textures(std::cout, textures);
     print_writer_summary(std::cout, frames, writer.wait_ms());
     if (left.journal) std::cout << "journal: " << left.journal->path().string() << "\n";
 }
@@ -426,6 +427,8 @@ int run_distributed_render(const RenderArgs& args, Cluster& cluster) {
             if (progress) draw_progress(rendered, int(todo.size()), rendered_ms / rendered);
         };
 
+        // What the renderer read of the scene's textures, once, at its first frame.
+        TextureFigures textures;
         try {
             Renderer renderer(options);
             RenderedFrame image;
@@ -471,6 +474,7 @@ int run_distributed_render(const RenderArgs& args, Cluster& cluster) {
                     record_written();
                 }
             }
+            textures = renderer.texture_figures();
         } catch (const std::exception&) {
             // The frames the writer finished before the failure keep their record, so that
             // --resume skips them; the writer writes nothing more after an error.
@@ -488,8 +492,8 @@ int run_distributed_render(const RenderArgs& args, Cluster& cluster) {
         const RunInfo run{source, options.width, options.height, options.build.cost_ratio,
                           options.build.leaf_size_max,
                           args.threads > 0 ? args.threads : tbb::info::default_concurrency(),
-                          scene.ignored, startup_ms, writer->wait_ms()};
-        print_results(args, scene, left, mpi_job ? ranks : 0, tiles, *writer);
+                          scene.ignored, startup_ms, writer->wait_ms(), textures};
+        print_results(args, scene, left, mpi_job ? ranks : 0, tiles, textures, *writer);
         if (!args.report.empty()) {
             write_report(args.report, run, frames_of(left));
             std::cout << "report: " << args.report << "\n";

@@ -357,7 +357,19 @@ srgb: the texels are sRGB-encoded; float32 texels are usually linear: pass srgb=
     engine.def_property_readonly("mesh_count", [](const PyEngine& self) { return self.engine().mesh_count(); });
     engine.def("memory_bytes", [](const PyEngine& self) { return self.engine().memory_bytes(); },
                "Heap bytes the engine holds for its meshes (Engine::memory_bytes in C++): back to the live "
-               "meshes' share after remove_mesh and update().");
+               "meshes' share after remove_mesh and update(); the textures' decoded images once a "
+               "render has read them.");
+    engine.def("texture_figures", [](const PyEngine& self) {
+        const TextureFigures t = self.engine().texture_figures();
+        py::dict figures;
+        figures["count"] = t.count;
+        figures["bytes"] = t.bytes;
+        figures["load_ms"] = t.load_ms;
+        return figures;
+    }, "The textures the renders hold, as a dict with the report's keys (README \"Report\", "
+       "run.textures): count (readable textures), bytes (every MIP level; part of memory_bytes()) "
+       "and load_ms (reading them, at the render that read them); zeros before any render reads "
+       "one.");
     engine.def("__len__", [](const PyEngine& self) { return self.engine().mesh_count(); });
 
     engine.def("update", [](PyEngine& self) {

@@ -717,6 +717,14 @@ std::size_t Engine::memory_bytes() const {
     return s.memory_bytes();
 }
 
+TextureFigures Engine::texture_figures() const {
+    const Impl& s = *impl_;
+    const AccessGuard::Read read(s.guard);
+    // A render may be opening them.
+    const std::lock_guard<std::mutex> lock(s.render_mutex);
+    return s.pipeline.texture_figures();
+}
+
 Motion Engine::motion(MeshId id) const {
     return to_motion(impl_->meshes[impl_->slot_index(id, "motion")].motion_class);
 }

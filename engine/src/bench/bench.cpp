@@ -1,5 +1,6 @@
 #include "dynrt/bench/bench.h"
 
+#include "dynrt/engine/report.h"
 #include "dynrt/engine/stopwatch.h"
 
 #include "dynrt/bvh/wide_bvh.h"
@@ -219,6 +220,7 @@ BenchRow bench_configuration(const Scene& scene, const Camera& camera,
     const Stopwatch first_clock;
     render_frame(renderer, out);
     const double first_ms = first_clock.elapsed_ms();
+    const TextureFigures textures = renderer.texture_figures();
     for (int i = 0; i < warmup; ++i) render_frame(renderer, out);
     std::vector<double> update_stage, build, trace, primary, shadow, shade, secondary, total, mrays;
     for (int i = 0; i < repeat; ++i) {
@@ -250,6 +252,7 @@ BenchRow bench_configuration(const Scene& scene, const Camera& camera,
     row.total_ms = spread_of(total);
     row.mrays_per_s = spread_of(mrays);
     row.first_ms = first_ms;
+    row.textures = textures;
     // The tree is the same on every repeat (the builder is deterministic in shape).
     row.sah_cost = out.stats.sah_cost;
     row.leaf_tris_mean = out.stats.leaf_tris_mean;
@@ -283,6 +286,15 @@ BenchRow bench_configuration(const Scene& scene, const Camera& camera,
     row.nodes_visited = counted.stats.nodes_visited;
     row.rays = counted.stats.primary_rays + counted.stats.shadow_rays;
     return row;
+}
+
+void print_start_up(std::ostream& out, double load_ms, double first_ms, const TextureFigures& textures) {
+    std::ostringstream line;
+    line << std::fixed << std::setprecision(1) << "start-up (not in the runs): scene loaded in "
+         << load_ms << " ms; first frame " << first_ms
+         << " ms (textures read, trees built from nothing)";
+    if (textures.count > 0) line << "; textures: " << describe_textures(textures);
+    out << line.str() << '\n';
 }
 
 void print_bench_table(std::ostream& out, const std::vector<BenchRow>& rows) {

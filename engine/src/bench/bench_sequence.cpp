@@ -87,6 +87,7 @@ SequenceBench bench_sequence(const Scene& scene, const CameraSource& view,
     const Stopwatch first_clock;
     render(range.first);
     bench.first_ms = first_clock.elapsed_ms();
+    bench.textures = renderer.texture_figures();
     for (int i = 0; i < warmup; ++i) {
         renderer.forget_trees();
         render(range.first);

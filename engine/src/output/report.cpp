@@ -9,6 +9,7 @@
 #include <fstream>
 #include <iomanip>
 #include <ostream>
+#include <sstream>
 #include <stdexcept>
 #include <type_traits>
 
@@ -212,6 +213,10 @@ std::string report_json(const RunInfo& run, const std::vector<FrameStats>& frame
                   {"leaf_size_max", run.leaf_size_max}, {"threads", run.threads},
                   {"ignored", run.ignored}, {"startup_ms", run.startup_ms},
                   {"writer_wait_ms", run.writer_wait_ms}};
+    // Always written, zeros included, so that tools read one shape whatever the scene.
+    doc["run"]["textures"] = {{"count", run.textures.count},
+                              {"bytes", run.textures.bytes},
+                              {"load_ms", run.textures.load_ms}};
     doc["frames"] = nlohmann::ordered_json::array();
     for (const FrameStats& f : frames) doc["frames"].push_back(frame_json(f));
     doc["summary"] = summary_json(frames);
@@ -221,6 +226,26 @@ std::string report_json(const RunInfo& run, const std::vector<FrameStats>& frame
 void write_report(const std::filesystem::path& path, const RunInfo& run,
                   const std::vector<FrameStats>& frames) {
     write_file_atomically(path, report_json(run, frames), "the report");
+}
+
+std::string describe_textures(const TextureFigures& textures) {
+    std::ostringstream text;
+    text << textures.count << (textures.count == 1 ? " image, " : " images, ") << std::fixed;
+    const double bytes = double(textures.bytes);
+    if (bytes >= 1e6) {
+        text << std::setprecision(1) << bytes / 1e6 << " MB";
+    } else if (bytes >= 1e3) {
+        text << std::setprecision(1) << bytes / 1e3 << " kB";
+    } else {
+        text << textures.bytes << " B";
+    }
+    text << ", read in " << std::setprecision(1) << textures.load_ms << " ms";
+    return text.str();
+}
+
+void print_textures(std::ostream& out, const TextureFigures& textures) {
+    if (textures.count == 0) return;
+    out << "textures: " << describe_textures(textures) << "\n";
 }
 
 void print_writer_summary(std::ostream& out, const std::vector<FrameStats>& frames, double wait_ms) {

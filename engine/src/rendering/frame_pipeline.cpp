@@ -86,7 +86,13 @@ std::size_t FramePipeline::memory_bytes() const {
                         held_bytes(object_texcoords_) + held_bytes(textures_maps_) + held_bytes(versions_) + held_bytes(invalidated_) +
                         held_bytes(parts_) + held_bytes(parts_versions_);
     for (const std::vector<bvh::Aabb>& parts : parts_) bytes += held_bytes(parts);
+    if (textures_) bytes += textures_->bytes();
     return bytes;
+}
+
+TextureFigures FramePipeline::texture_figures() const {
+    if (!textures_) return {};
+    return TextureFigures{textures_->texture_count(), textures_->bytes(), 1e3 * textures_->load_seconds()};
 }
 
 const FrameStats& FramePipeline::update(const Scene& scene, std::span<const ObjectState> states,

@@ -10,6 +10,7 @@
 #include "dynrt/engine/frame_stats.h"
 #include "dynrt/engine/renderer.h"
 #include "dynrt/engine/stopwatch.h"
+#include "dynrt/engine/texture_figures.h"
 #include "dynrt/engine/texture_set.h"
 #include "dynrt/engine/update_plan.h"
 #include "dynrt/packet/packet_shading.h"
@@ -75,10 +76,16 @@ public:
     /// at the next update (as invalidate), so that pixels showing the slot are traced again.
     void renew(std::size_t object);
 
-    /// Heap bytes held for the objects: the trees (SceneAccel::memory_bytes) and the per-object
-    /// records of shading and exact reuse. The image-sized buffers of traces are left out:
-    /// they depend on the image size, not on the objects.
+    /// Heap bytes held for the objects: the trees (SceneAccel::memory_bytes), the per-object
+    /// records of shading and exact reuse, and the opened textures (TextureSet::bytes, every
+    /// MIP level). The image-sized buffers of traces are left out: they depend on the image
+    /// size, not on the objects.
     std::size_t memory_bytes() const;
+
+    /// The figures of the textures held (opened at the first trace that needed them, once per
+    /// TextureSet: texture_figures.h); zeros when none are (no trace yet, a scene mapping no
+    /// texture, or after clear()).
+    TextureFigures texture_figures() const;
 
 private:
     SceneAccel accel_;

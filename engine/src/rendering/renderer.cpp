@@ -162,6 +162,8 @@ void Renderer::reset() {
 
 void Renderer::forget_trees() { state_->pipeline.clear_trees(); }
 
+TextureFigures Renderer::texture_figures() const { return state_->pipeline.texture_figures(); }
+
 double Renderer::trace_logged_rays(const SecondaryRayLog& log,
                                    std::vector<bvh::InstanceHit>* hits) const {
     const State& s = *state_;

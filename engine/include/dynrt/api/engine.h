@@ -34,6 +34,7 @@
 #include "dynrt/api/export.h"
 #include "dynrt/api/types.h"
 #include "dynrt/engine/frame_stats.h"
+#include "dynrt/engine/texture_figures.h"
 
 #include <oneapi/tbb/task_arena.h>
 
@@ -296,7 +297,15 @@ public:
     /// Left out: image-sized render buffers (they depend on the image size alone), the thread
     /// pool, and the allocator's own overhead. After remove_mesh and an update() it returns to
     /// what the remaining meshes need. May run concurrently with queries (it waits for a render).
+    /// The textures' decoded images (every MIP level) are included once a render has read them.
     std::size_t memory_bytes() const;
+
+    /// The textures the renders hold (texture_figures.h): how many could be read, their bytes
+    /// (part of memory_bytes()) and the ms reading them took, figures of the render that last
+    /// read them (the first render of a textured mesh, and again at the first render after a
+    /// mesh's texture mapping changed). Zeros before, and when no mesh is textured. May run
+    /// concurrently with queries (it waits for a render).
+    TextureFigures texture_figures() const;
 
     /// Brings every mesh's tree up to date with the changes since the last update (the first
     /// call builds everything) and returns the step's figures: update_ms (checking and

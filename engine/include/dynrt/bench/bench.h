@@ -6,6 +6,7 @@
 #include "dynrt/engine/camera.h"
 #include "dynrt/engine/renderer.h"
 #include "dynrt/engine/spread.h"
+#include "dynrt/engine/texture_figures.h"
 #include "dynrt/scene/scene.h"
 
 #include <cstddef>
@@ -35,6 +36,9 @@ struct BenchRow {
     /// The configuration's first frame, untimed by the runs: its textures read and first
     /// touched, its trees built from nothing. A start-up cost, which a render pays once.
     double first_ms = 0.0;
+    /// The textures that first frame read (Renderer::texture_figures), once per configuration;
+    /// not a CSV or JSON column.
+    TextureFigures textures{};
     double sah_cost = 0;
     double leaf_tris_mean = 0;
     std::uint32_t depth = 0;
@@ -118,6 +122,12 @@ BenchRow bench_configuration(const Scene& scene, const Camera& camera,
                              const RenderOptions& options, int repeat, int warmup,
                              RenderedFrame* last_frame = nullptr, int frame = 0,
                              BenchUpdate update = BenchUpdate::rebuild);
+
+/// The line above a bench's table: what the command paid once, outside the timed runs:
+/// "start-up (not in the runs): scene loaded in L ms; first frame F ms (textures read, trees
+/// built from nothing); textures: 3 images, 12.4 MB, read in 85.0 ms" (describe_textures,
+/// report.h), without the textures part when `textures` counts none.
+void print_start_up(std::ostream& out, double load_ms, double first_ms, const TextureFigures& textures);
 
 /// The table for people: one row per configuration, "median (min-max)" per timed figure.
 void print_bench_table(std::ostream& out, const std::vector<BenchRow>& rows);

@@ -68,6 +68,8 @@ struct SequenceBench {
     /// The untimed start-up frame before the warm-up (the first frame, its textures read and
     /// its trees built): what a render pays once, outside every run.
     double first_ms = 0.0;
+    /// The textures that start-up frame read (Renderer::texture_figures), once.
+    TextureFigures textures{};
 };
 
 /// Renders frames `range` of `scene` with `options`, `runs` times (each run starts from empty

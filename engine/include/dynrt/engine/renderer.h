@@ -74,6 +74,7 @@
 #include "dynrt/engine/frame_stats.h"
 #include "dynrt/engine/pixel_reuse.h"
 #include "dynrt/engine/secondary_ray_log.h"
+#include "dynrt/engine/texture_figures.h"
 #include "dynrt/engine/update_plan.h"
 #include "dynrt/packet/tiling.h"
 #include "dynrt/packet/packet_config.h"
@@ -258,6 +259,11 @@ public:
     /// closest hit per ray in log order. For benchmarks; throws std::logic_error before any
     /// update.
     double trace_logged_rays(const SecondaryRayLog& log, std::vector<bvh::InstanceHit>* hits = nullptr) const;
+
+    /// The figures of the scene's textures as the renderer holds them (count, bytes, load ms:
+    /// texture_figures.h): read at the first trace of the scene and kept until reset(), so a
+    /// sequence reports them once. Zeros before that trace and for a scene mapping no texture.
+    TextureFigures texture_figures() const;
 
     /// Forgets the trees and the scene's opened textures: the next update builds every object
     /// afresh and the next trace reads the textures again. Needed after editing a scene in

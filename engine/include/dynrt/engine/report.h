@@ -3,6 +3,7 @@
 // schema is documented in README.md ("Report") and only ever grows.
 
 #include "dynrt/engine/frame_stats.h"
+#include "dynrt/engine/texture_figures.h"
 
 #include <filesystem>
 #include <iosfwd>
@@ -27,9 +28,13 @@ struct RunInfo {
     /// `dynrt render`: the time the render thread waited for the output stage (FrameWriter)
     /// to take a frame or to finish.
     double writer_wait_ms = 0;
+    /// The scene's textures as the render read them once, at its first frame (that frame's
+    /// total_ms includes load_ms); zeros for a scene mapping no texture.
+    TextureFigures textures{};
 };
 
-/// {"dynrt_report_version": 1, "run": {...}, "frames": [FrameStats...],
+/// {"dynrt_report_version": 1, "run": {... "textures": {"count", "bytes", "load_ms"}},
+///  "frames": [FrameStats...],
 ///  "summary": {"median": {...}, "min": {...}, "max": {...}}}, pretty-printed.
 std::string report_json(const RunInfo& run, const std::vector<FrameStats>& frames);
 
@@ -46,6 +51,15 @@ FrameStats parse_frame_report_json(const std::string& record);
 /// std::runtime_error naming the file on failure.
 void write_report(const std::filesystem::path& path, const RunInfo& run,
                   const std::vector<FrameStats>& frames);
+
+/// The textures in words, for the lines people read: "3 images, 12.4 MB, read in 85.0 ms"
+/// ("1 image", bytes in B, kB or MB of 1000 and 1000000 bytes, ms to a tenth).
+std::string describe_textures(const TextureFigures& textures);
+
+/// "textures: " and describe_textures on a line of its own (`dynrt render`, under the table).
+/// Nothing when no texture was read (textures.count == 0): a scene without textures, or whose
+/// textures all failed to read, which its warnings said.
+void print_textures(std::ostream& out, const TextureFigures& textures);
 
 /// The output stage's line under the table: its median and largest ms per frame (write_ms,
 /// beside the render) and how long the render waited for it. Nothing without frames.

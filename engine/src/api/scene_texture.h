@@ -22,9 +22,8 @@
 
 namespace dynrt::api_detail {
 
-/// The longest side of a texel array: larger ones are a caller's mistake (a size read as the
-/// wrong integer), not an image.
-inline constexpr int kTexelSideMax = 65536;
+/// The longest side of a texel array: the longest dynrt holds (scene.h).
+inline constexpr int kTexelSideMax = kMaxTextureSide;
 
 /// The MIME type an image file's first bytes announce, or "" when they announce none known.
 inline std::string mime_type_of(std::span<const unsigned char> bytes) {

@@ -20,6 +20,7 @@
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
+#include <algorithm>
 #include <bit>
 #include <cstddef>
 #include <cstdint>
@@ -323,6 +324,31 @@ struct TileShading {
     const SurfaceTextures* textures = nullptr;
 };
 
+/// texture_footprint for lookups [0, count), SIMD across them with its operations in its order
+/// (so its bits): the distance from the eye, sqrt((x*x + y*y) + z*z) as glm::length, times
+/// `pixel_angle`, times sqrt(texture_area / world_area); 0 where world_area is not positive.
+/// The arrays hold whole vectors past `count` (entries there are overwritten).
+inline void footprint_lanes(float pixel_angle, int count, float (&eye_offset)[3][packet::kPacketRays],
+                            float (&texture_area)[packet::kPacketRays], float (&world_area)[packet::kPacketRays],
+                            float (&width)[packet::kPacketRays]) {
+    using L = packet::simd::Lanes<packet::simd::kNativeLanes>;
+    using F = L::F;
+    constexpr int W = packet::simd::kNativeLanes;
+    const int padded = (count + W - 1) / W * W;
+    for (int k = count; k < padded; ++k) {
+        for (auto& axis : eye_offset) axis[k] = 0.0f;
+        texture_area[k] = 0.0f;
+        world_area[k] = 1.0f;
+    }
+    for (int k = 0; k < padded; k += W) {
+        const F x = L::load(eye_offset[0] + k), y = L::load(eye_offset[1] + k), z = L::load(eye_offset[2] + k);
+        const F distance = L::sqrt((x * x + y * y) + z * z);
+        const F world = L::load(world_area + k);
+        const F footprint = distance * L::splat(pixel_angle) * L::sqrt(L::load(texture_area + k) / world);
+        L::store(width + k, L::select(world > L::splat(0.0f), footprint, L::splat(0.0f)));
+    }
+}
+
 /// The diffuse factors of `origins`' hit lanes whose material maps a readable texture and
 /// whose object has texture coordinates: the texture's linear colour at the hit's
 /// interpolated coordinates (s, t) = (1 - u - v) st0 + u st1 + v st2 over the footprint
@@ -336,6 +362,10 @@ inline const packet::DiffuseTint* tint_lanes(const SurfaceTextures& textures, co
     struct Lookups {
         alignas(64) float s[packet::kPacketRays], t[packet::kPacketRays], width[packet::kPacketRays];
         alignas(64) float rgb[3][packet::kPacketRays];
+        // What the footprints are made of: the hit's offset from the eye and twice its
+        // triangle's areas in texture and world space.
+        alignas(64) float eye_offset[3][packet::kPacketRays];
+        alignas(64) float texture_area[packet::kPacketRays], world_area[packet::kPacketRays];
         std::int32_t lane[packet::kPacketRays];
         std::uint32_t material[packet::kPacketRays];
     };
@@ -355,11 +385,11 @@ inline const packet::DiffuseTint* tint_lanes(const SurfaceTextures& textures, co
             const float u = origins.bary[0][lane], v = origins.bary[1][lane];
             const glm::vec2 st = (1.0f - u - v) * st0 + u * st1 + v * st2;
             const glm::vec2 e1 = st1 - st0, e2 = st2 - st0;
-            const glm::vec3 point(surface.point[0][lane], surface.point[1][lane], surface.point[2][lane]);
             all.s[pending] = st.x;
             all.t[pending] = st.y;
-            all.width[pending] = texture_footprint(glm::length(point - textures.eye), textures.pixel_angle,
-                                                   origins.twice_area[lane], std::abs(e1.x * e2.y - e1.y * e2.x));
+            for (int a = 0; a < 3; ++a) all.eye_offset[a][pending] = surface.point[a][lane] - textures.eye[a];
+            all.texture_area[pending] = std::abs(e1.x * e2.y - e1.y * e2.x);
+            all.world_area[pending] = origins.twice_area[lane];
             all.lane[pending] = lane;
             all.material[pending] = material;
             ++pending;
@@ -367,8 +397,20 @@ inline const packet::DiffuseTint* tint_lanes(const SurfaceTextures& textures, co
         }
     }
     if (pending == 0) return nullptr;
+    footprint_lanes(textures.pixel_angle, pending, all.eye_offset, all.texture_area, all.world_area, all.width);
     // A material at a time (a tile mostly shows one or two): its lookups gathered in front of
     // `group`, the rest kept in `all` for the next round.
+    const std::uint32_t first_material = all.material[0];
+    if (std::all_of(all.material + 1, all.material + pending,
+                    [&](std::uint32_t m) { return m == first_material; })) {
+        // One material (the common case): looked up in place.
+        float* const rgb[3] = {all.rgb[0], all.rgb[1], all.rgb[2]};
+        textures.set.diffuse(first_material, std::size_t(pending), all.s, all.t, all.width, rgb);
+        for (int k = 0; k < pending; ++k) {
+            for (int a = 0; a < 3; ++a) tint.rgb[a][all.lane[k]] = all.rgb[a][k];
+        }
+        return &tint;
+    }
     while (pending > 0) {
         const std::uint32_t material = all.material[0];
         int count = 0, kept = 0;

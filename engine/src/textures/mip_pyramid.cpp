@@ -51,7 +51,7 @@ void MipPyramid::add_levels(int width, int height) {
         level.first = first;
         level.min_side = float(std::min(level.width, level.height));
         levels_.push_back(level);
-        first_.push_back(level.first);
+        first_[m] = level.first;
         min_side_.push_back(level.min_side);
         const std::int32_t blocks_y = (level.height + kBlock - 1) / kBlock;
         first += level.blocks_x * blocks_y * kBlock * kBlock;
@@ -136,9 +136,7 @@ MipPyramid::MipPyramid(const TexelArray& image) {
 
 std::size_t MipPyramid::bytes() const {
     return sizeof(*this) + rgba8_.capacity() * sizeof(std::uint32_t) + rgba_float_.capacity() * sizeof(float) +
-           levels_.capacity() * sizeof(Level) +
-           first_.capacity() * sizeof(std::int32_t) +
-           min_side_.capacity() * sizeof(float);
+           levels_.capacity() * sizeof(Level) + min_side_.capacity() * sizeof(float);
 }
 
 }  // namespace dynrt::textures

@@ -38,12 +38,12 @@ public:
     };
 
     /// The pyramid of `image` (decoded texels: 1-4 channels, rows from the top-left).
-    /// Precondition: the image is not empty and has at most kMaxTexels texels.
+    /// Precondition: the image is not empty and each side is at most kMaxTextureSide (so
+    /// there are at most kMaxLevels levels, and every texel index of every level, times four
+    /// floats, fits the kernel's 32-bit gather offsets).
     explicit MipPyramid(const TexelArray& image);
 
-    /// The largest image held: 2^28 texels (16384 x 16384), so that every texel index of
-    /// every level, times four floats, fits the kernel's 32-bit gather offsets.
-    static constexpr std::size_t kMaxTexels = std::size_t(1) << 28;
+    static constexpr int kMaxLevels = 15;  ///< log2(kMaxTextureSide) + 1
 
     /// 8-bit texels (`rgba8`), else float ones (`rgba_float`, four per texel).
     bool eight_bit() const { return eight_bit_; }
@@ -51,9 +51,10 @@ public:
     const float* rgba_float() const { return rgba_float_.data(); }
 
     const std::vector<Level>& levels() const { return levels_; }
-    /// Per level, where it starts and its smaller side, as the kernel reads them by level
-    /// index (its sides it computes: level m is max(1, width >> m) x max(1, height >> m)).
-    const std::int32_t* level_first() const { return first_.data(); }
+    /// Per level, where it starts (16 entries, the unused ones 0) and its smaller side, as the
+    /// kernel reads them by level index (its sides it computes: level m is max(1, width >> m)
+    /// x max(1, height >> m)).
+    const std::int32_t (&level_first() const)[16] { return first_; }
     const float* level_min_side() const { return min_side_.data(); }
 
     /// Bytes held, every level and table included.
@@ -75,7 +76,7 @@ private:
 
     bool eight_bit_ = true;
     std::vector<Level> levels_;
-    std::vector<std::int32_t> first_;
+    std::int32_t first_[16] = {};
     std::vector<float> min_side_;
     std::vector<std::uint32_t> rgba8_;
     std::vector<float> rgba_float_;

@@ -38,13 +38,12 @@ std::string one_line(std::string text) {
 }
 
 std::string too_large(long long width, long long height) {
-    return std::to_string(width) + "x" + std::to_string(height) +
-           " texels is more than dynrt holds (16384 x 16384 in all)";
+    return std::to_string(width) + "x" + std::to_string(height) + " texels: dynrt holds images of 1 to " +
+           std::to_string(kMaxTextureSide) + " texels a side";
 }
 
 bool fits(long long width, long long height) {
-    return width > 0 && height > 0 && width <= 65536 && height <= 65536 &&
-           std::size_t(width) * std::size_t(height) <= MipPyramid::kMaxTexels;
+    return width > 0 && height > 0 && width <= kMaxTextureSide && height <= kMaxTextureSide;
 }
 
 void zero_non_finite(TexelArray& image) {

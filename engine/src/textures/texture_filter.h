@@ -33,18 +33,50 @@ inline float srgb_decode_exact(float encoded) {
     return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
 }
 
-/// The decoding sampled at kSrgbSteps + 1 points over [0, 1], for srgb_decode's
-/// interpolation: within 4e-7 of the exact curve (its second derivative is below 3.5).
-inline constexpr int kSrgbSteps = 1024;
-inline const float* srgb_decode_table() {
-    static const auto table = [] {
-        static float values[kSrgbSteps + 2];
-        for (int i = 0; i <= kSrgbSteps; ++i) values[i] = srgb_decode_exact(float(i) / float(kSrgbSteps));
-        values[kSrgbSteps + 1] = values[kSrgbSteps];  // read with weight 0 at exactly 1
-        return values;
-    }();
-    return table;
-}
+/// The decoding's power branch, ((c + 0.055) / 1.055)^2.4 for c > 0.04045, as 16 cubics in
+/// u = c - k / 16 on [k / 16, (k + 1) / 16] (the first from 0.04045), each interpolating the
+/// curve at the four Chebyshev nodes of its piece: within 1e-7 of it in float (the test
+/// checks). Coefficients by degree: cubic[d][k].
+struct SrgbCubics {
+    float cubic[4][16];
+
+    static const SrgbCubics& get() {
+        static const SrgbCubics cubics = make();
+        return cubics;
+    }
+
+private:
+    static SrgbCubics make() {
+        SrgbCubics out{};
+        const double pi = 3.14159265358979323846;
+        for (int k = 0; k < 16; ++k) {
+            const double low = k == 0 ? 0.04045 : k / 16.0, high = (k + 1) / 16.0;
+            const double mid = 0.5 * (low + high), half = 0.5 * (high - low);
+            // The Vandermonde system in u at the nodes, solved by Gaussian elimination.
+            double a[4][5];
+            for (int j = 0; j < 4; ++j) {
+                const double c = mid + half * std::cos((2 * j + 1) * pi / 8.0);
+                const double u = c - k / 16.0;
+                for (int d = 0; d < 4; ++d) a[j][d] = std::pow(u, d);
+                a[j][4] = std::pow((c + 0.055) / 1.055, 2.4);
+            }
+            for (int col = 0; col < 4; ++col) {
+                int pivot = col;
+                for (int r = col + 1; r < 4; ++r) {
+                    if (std::abs(a[r][col]) > std::abs(a[pivot][col])) pivot = r;
+                }
+                for (int d = 0; d < 5; ++d) std::swap(a[col][d], a[pivot][d]);
+                for (int r = 0; r < 4; ++r) {
+                    if (r == col) continue;
+                    const double f = a[r][col] / a[col][col];
+                    for (int d = col; d < 5; ++d) a[r][d] -= f * a[col][d];
+                }
+            }
+            for (int d = 0; d < 4; ++d) out.cubic[d][k] = float(a[d][4] / a[d][d]);
+        }
+        return out;
+    }
+};
 
 template <int W>
 struct TrilinearFilter {
@@ -53,18 +85,21 @@ struct TrilinearFilter {
     using I = typename L::I;
     using U = typename L::U;
 
-    /// sRGB -> linear lane-wise, by linear interpolation in srgb_decode_table (values
-    /// clamped to [0, 1] first, as the exact decoding does).
+    /// sRGB -> linear lane-wise: the linear branch below 0.04045, else SrgbCubics' piece,
+    /// its coefficients picked within registers (table16): no memory access per lane. Values
+    /// are clamped to [0, 1] first (NaN to 0), as the exact decoding does.
     static F srgb_decode(F encoded) {
         const F zero = L::splat(0.0f), one = L::splat(1.0f);
         F c = L::select(encoded > zero, encoded, zero);  // NaN -> 0
         c = L::select(c < one, c, one);
-        const F x = c * L::splat(float(kSrgbSteps));
-        const I i = L::truncate(x);
-        const F f = x - L::to_float(i);
-        const float* table = srgb_decode_table();
-        const F a = L::gather(table, i), b = L::gather(table, i + 1);
-        return a + f * (b - a);
+        const I top = L::splat(std::int32_t(15));
+        I piece = L::truncate(c * L::splat(16.0f));
+        piece = L::select(piece < top, piece, top);
+        const F u = c - L::to_float(piece) * L::splat(0.0625f);
+        const SrgbCubics& cubics = SrgbCubics::get();
+        F power = L::table16(cubics.cubic[3], piece);
+        for (int d = 2; d >= 0; --d) power = power * u + L::table16(cubics.cubic[d], piece);
+        return L::select(c <= L::splat(0.04045f), c * L::splat(1.0f / 12.92f), power);
     }
 
     /// A coordinate folded into the period its wrap mode repeats with: [0, 1] for repeat,
@@ -107,68 +142,64 @@ struct TrilinearFilter {
         return L::select(i >= size, i - size, i);
     }
 
-    /// Bilinear RGB of level `level` (per lane) at folded coordinates (s, t).
-    static void bilinear(const MipPyramid& pyramid, TextureWrap wrap_s, TextureWrap wrap_t, I level, F s, F t,
-                         F rgb[3]) {
+    /// Where a bilinear lookup of level `level` (per lane) at folded coordinates (s, t)
+    /// reads: its four texels' indices (top-left, top-right, bottom-left, bottom-right) and
+    /// its weights across (sx) and down (ty).
+    static void corners(const MipPyramid& pyramid, TextureWrap wrap_s, TextureWrap wrap_t, I level, F s, F t,
+                        I index[4], F& sx, F& ty) {
         // A level's sides halve down to 1 (mip_pyramid.h): max(1, side >> level), computed;
-        // only where the level starts is read from the pyramid's table.
+        // where the level starts comes from a 16-entry table, within registers.
         const I one = L::splat(std::int32_t(1));
         const I width = max_int(L::splat(std::int32_t(pyramid.levels()[0].width)) >> level, one);
         const I height = max_int(L::splat(std::int32_t(pyramid.levels()[0].height)) >> level, one);
         const I blocks_x = (width + L::splat(std::int32_t(kBlock - 1))) >> 2;
-        const I first = I(L::gather(reinterpret_cast<const std::uint32_t*>(pyramid.level_first()), level));
+        const I first = L::table16(pyramid.level_first(), level);
         const F half = L::splat(0.5f);
         const F x = s * L::to_float(width) - half, y = t * L::to_float(height) - half;
         const F x_floor = L::floor(x), y_floor = L::floor(y);
-        const F sx = x - x_floor, ty = y - y_floor;
+        sx = x - x_floor;
+        ty = y - y_floor;
         const I x0 = L::truncate(x_floor), y0 = L::truncate(y_floor);
         const I xs[2] = {wrap_index(wrap_s, x0, width), wrap_index(wrap_s, x0 + one, width)};
         const I ys[2] = {wrap_index(wrap_t, y0, height), wrap_index(wrap_t, y0 + one, height)};
         const I three = L::splat(std::int32_t(kBlock - 1));
-        I index[2][2];
         for (int r = 0; r < 2; ++r) {
             const I row = first + (ys[r] >> 2) * blocks_x * L::splat(std::int32_t(kBlock * kBlock)) +
                           ((ys[r] & three) << 2);
-            for (int c = 0; c < 2; ++c) index[r][c] = row + ((xs[c] >> 2) << 4) + (xs[c] & three);
+            for (int c = 0; c < 2; ++c) index[2 * r + c] = row + ((xs[c] >> 2) << 4) + (xs[c] & three);
         }
-        const F s1 = L::splat(1.0f) - sx, t1 = L::splat(1.0f) - ty;
-        F texel[2][2][3];
+    }
+
+    /// The bilinear RGB from the four texels at `index` (corners' order) and the weights.
+    static void bilerp(const MipPyramid& pyramid, const I index[4], F sx, F ty, F rgb[3]) {
+        F texel[4][3];
         if (pyramid.eight_bit()) {
             const U mask = L::splat(std::uint32_t(0xff));
-            for (int r = 0; r < 2; ++r) {
-                for (int c = 0; c < 2; ++c) {
-                    const U word = L::gather(pyramid.rgba8(), index[r][c]);
-                    for (int k = 0; k < 3; ++k) texel[r][c][k] = L::to_float(I((word >> (8 * k)) & mask));
-                }
+            for (int corner = 0; corner < 4; ++corner) {
+                const U word = L::gather(pyramid.rgba8(), index[corner]);
+                for (int k = 0; k < 3; ++k) texel[corner][k] = L::to_float(I((word >> (8 * k)) & mask));
             }
         } else {
             const I four = L::splat(std::int32_t(4));
-            for (int r = 0; r < 2; ++r) {
-                for (int c = 0; c < 2; ++c) {
-                    const I base = index[r][c] * four;
-                    for (int k = 0; k < 3; ++k) {
-                        texel[r][c][k] = L::gather(pyramid.rgba_float(), base + L::splat(std::int32_t(k)));
-                    }
+            for (int corner = 0; corner < 4; ++corner) {
+                const I base = index[corner] * four;
+                for (int k = 0; k < 3; ++k) {
+                    texel[corner][k] = L::gather(pyramid.rgba_float(), base + L::splat(std::int32_t(k)));
                 }
             }
         }
         const F scale = L::splat(pyramid.eight_bit() ? 1.0f / 255.0f : 1.0f);
+        const F s1 = L::splat(1.0f) - sx, t1 = L::splat(1.0f) - ty;
         for (int k = 0; k < 3; ++k) {
-            const F value = t1 * (texel[0][0][k] * s1 + texel[0][1][k] * sx) +
-                            ty * (texel[1][0][k] * s1 + texel[1][1][k] * sx);
+            const F value = t1 * (texel[0][k] * s1 + texel[1][k] * sx) + ty * (texel[2][k] * s1 + texel[3][k] * sx);
             rgb[k] = value * scale;
         }
     }
 
-    /// The filtered RGB of W lookups at (s, t) over footprints `width` wide (texture_set.h),
-    /// linear (decoded from sRGB when `srgb`). Reads W values from each input and writes W
-    /// to each of rgb[0..2].
-    static void lookup(const MipPyramid& pyramid, TextureWrap wrap_s, TextureWrap wrap_t, bool srgb,
-                       const float* s_in, const float* t_in, const float* width_in, float* const rgb_out[3]) {
-        const F s = fold(wrap_s, L::load(s_in)), t = fold(wrap_t, L::load(t_in));
-        const F width = L::load(width_in);
-        // The level choice (compute_miplevels): the first level whose smaller side spans at
-        // most one footprint.
+    /// The level choice (compute_miplevels) for footprints `width` wide: the finer level
+    /// read, the coarser one (the same where nothing is blended) and the coarser one's weight.
+    static void choose_levels(const MipPyramid& pyramid, F width, I& fine, I& coarse, F& blend) {
+        // The first level whose smaller side spans at most one footprint.
         const int levels = int(pyramid.levels().size());
         const float* min_side = pyramid.level_min_side();
         I chosen = L::splat(std::int32_t(-1));
@@ -185,22 +216,101 @@ struct TrilinearFilter {
         // Blended: levels chosen - 1 and chosen; else one level, the finest (chosen 0) or
         // the coarsest (none chosen).
         const I blended = chosen > zero;
-        const I fine = L::select(none, L::splat(std::int32_t(levels - 1)),
-                                 L::select(blended, chosen - 1, zero));
+        fine = L::select(none, L::splat(std::int32_t(levels - 1)), L::select(blended, chosen - 1, zero));
+        coarse = L::select(blended, chosen, fine);
         const F blend_raw = L::splat(2.0f) * chosen_span - L::splat(1.0f);
-        F blend = L::select(blend_raw > L::splat(0.0f), blend_raw, L::splat(0.0f));
+        blend = L::select(blend_raw > L::splat(0.0f), blend_raw, L::splat(0.0f));
         blend = L::select(blend < L::splat(1.0f), blend, L::splat(1.0f));
         blend = L::select(blended, blend, L::splat(0.0f));
-        F rgb[3];
-        bilinear(pyramid, wrap_s, wrap_t, fine, s, t, rgb);
-        if (L::bits(blend > L::splat(0.0f)) != 0) {
-            F coarse[3];
-            bilinear(pyramid, wrap_s, wrap_t, L::select(blended, chosen, fine), s, t, coarse);
-            const F keep = L::splat(1.0f) - blend;
-            for (int k = 0; k < 3; ++k) rgb[k] = keep * rgb[k] + blend * coarse[k];
-        }
-        for (int k = 0; k < 3; ++k) L::store(rgb_out[k], srgb ? srgb_decode(rgb[k]) : rgb[k]);
     }
 };
+
+/// Up to kMax lookups of one texture filtered in three passes over their vectors of W: where
+/// (levels, texel indices, weights), what (texels gathered, blended), then the sRGB decoding.
+/// Each pass's vectors are independent of each other, so the core overlaps their gathers; one
+/// pass doing everything per vector makes a chain too long for it to see past. The passes do
+/// exactly what one lookup does, in the same order per lane: the bits do not depend on how
+/// many lookups go together.
+template <int W>
+class TrilinearBatch {
+public:
+    static constexpr int kMax = 256;
+    using Filter = TrilinearFilter<W>;
+    using L = typename Filter::L;
+    using F = typename Filter::F;
+    using I = typename Filter::I;
+
+    /// Lookups i in [0, count) at (s[i], t[i]) over footprints width[i] (texture_set.h) into
+    /// rgb[0..2][i], linear (decoded from sRGB when `srgb`). `count` is a multiple of W, at
+    /// most kMax.
+    void run(const MipPyramid& pyramid, TextureWrap wrap_s, TextureWrap wrap_t, bool srgb, int count,
+             const float* s_in, const float* t_in, const float* width_in, float* const rgb_out[3]) {
+        // Where.
+        bool any_coarse = false;
+        for (int v = 0; v < count; v += W) {
+            const F s = Filter::fold(wrap_s, L::load(s_in + v)), t = Filter::fold(wrap_t, L::load(t_in + v));
+            I fine, coarse;
+            F blend;
+            Filter::choose_levels(pyramid, L::load(width_in + v), fine, coarse, blend);
+            store_corners(pyramid, wrap_s, wrap_t, 0, v, fine, s, t);
+            L::store(blend_ + v, blend);
+            if (L::bits(blend > L::splat(0.0f)) != 0) {
+                store_corners(pyramid, wrap_s, wrap_t, 1, v, coarse, s, t);
+                any_coarse = true;
+            }
+            coarse_[v / W] = L::bits(blend > L::splat(0.0f)) != 0;
+        }
+        // What: the finer level, blended with the coarser one where it weighs anything.
+        float* const encoded[3] = {srgb ? encoded_[0] : rgb_out[0], srgb ? encoded_[1] : rgb_out[1],
+                                   srgb ? encoded_[2] : rgb_out[2]};
+        for (int v = 0; v < count; v += W) {
+            F rgb[3];
+            bilerp_stored(pyramid, 0, v, rgb);
+            if (any_coarse && coarse_[v / W]) {
+                F coarse[3];
+                bilerp_stored(pyramid, 1, v, coarse);
+                const F blend = L::load(blend_ + v);
+                const F keep = L::splat(1.0f) - blend;
+                for (int k = 0; k < 3; ++k) rgb[k] = keep * rgb[k] + blend * coarse[k];
+            }
+            for (int k = 0; k < 3; ++k) L::store(encoded[k] + v, rgb[k]);
+        }
+        if (!srgb) return;
+        for (int k = 0; k < 3; ++k) {
+            for (int v = 0; v < count; v += W) L::store(rgb_out[k] + v, Filter::srgb_decode(L::load(encoded_[k] + v)));
+        }
+    }
+
+private:
+    void store_corners(const MipPyramid& pyramid, TextureWrap wrap_s, TextureWrap wrap_t, int level, int v, I which,
+                       F s, F t) {
+        I index[4];
+        F sx, ty;
+        Filter::corners(pyramid, wrap_s, wrap_t, which, s, t, index, sx, ty);
+        for (int c = 0; c < 4; ++c) L::store(index_[level][c] + v, index[c]);
+        L::store(weight_[level][0] + v, sx);
+        L::store(weight_[level][1] + v, ty);
+    }
+
+    void bilerp_stored(const MipPyramid& pyramid, int level, int v, F rgb[3]) const {
+        I index[4];
+        for (int c = 0; c < 4; ++c) index[c] = L::load(index_[level][c] + v);
+        Filter::bilerp(pyramid, index, L::load(weight_[level][0] + v), L::load(weight_[level][1] + v), rgb);
+    }
+
+    alignas(64) std::int32_t index_[2][4][kMax];  ///< [finer, coarser][corner][lookup]
+    alignas(64) float weight_[2][2][kMax];        ///< [finer, coarser][sx, ty][lookup]
+    alignas(64) float blend_[kMax];
+    alignas(64) float encoded_[3][kMax];
+    bool coarse_[kMax / W];
+};
+
+/// W lookups (one vector) through this thread's batch: TrilinearBatch<W>::run with count W.
+template <int W>
+void trilinear_lookup(const MipPyramid& pyramid, TextureWrap wrap_s, TextureWrap wrap_t, bool srgb, const float* s,
+                      const float* t, const float* width, float* const rgb[3]) {
+    thread_local TrilinearBatch<W> batch;
+    batch.run(pyramid, wrap_s, wrap_t, srgb, W, s, t, width, rgb);
+}
 
 }  // namespace dynrt::textures

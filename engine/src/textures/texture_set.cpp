@@ -50,6 +50,7 @@ TextureSet::TextureSet(const Scene& scene, bool print_warnings) : impl_(std::mak
     const auto start = std::chrono::steady_clock::now();
     s.textures.resize(scene.textures.size());
     s.materials.resize(scene.materials.size());
+    usable_.assign(scene.materials.size(), 0);
     // The textures some material maps, each read once, in parallel.
     std::vector<std::size_t> mapped;
     for (const Material& material : scene.materials) {
@@ -94,6 +95,7 @@ TextureSet::TextureSet(const Scene& scene, bool print_warnings) : impl_(std::mak
         }
         Impl::Map& out = s.materials[m];
         out.usable = true;
+        usable_[m] = 1;
         out.texture = map.texture;
         out.wrap_s = map.wrap_s;
         out.wrap_t = map.wrap_t;
@@ -102,14 +104,15 @@ TextureSet::TextureSet(const Scene& scene, bool print_warnings) : impl_(std::mak
 
 TextureSet::~TextureSet() = default;
 
-bool TextureSet::maps(std::uint32_t material) const {
-    return material < impl_->materials.size() && impl_->materials[material].usable;
-}
 
 glm::vec3 TextureSet::diffuse(std::uint32_t material, glm::vec2 st, float width) const {
+    // One lane: the same operations as every lane of the batch's vectors, so the same bits
+    // (texture_filter_test.cpp checks it).
+    const Impl::Map& map = impl_->materials[material];
+    const Impl::Entry& entry = impl_->textures[map.texture];
     glm::vec3 rgb;
-    float* out[3] = {&rgb.x, &rgb.y, &rgb.z};
-    diffuse(material, 1, &st.x, &st.y, &width, out);
+    float* const out[3] = {&rgb.x, &rgb.y, &rgb.z};
+    textures::trilinear_lookup<1>(*entry.pyramid, map.wrap_s, map.wrap_t, entry.srgb, &st.x, &st.y, &width, out);
     return rgb;
 }
 
@@ -119,11 +122,15 @@ void TextureSet::diffuse(std::uint32_t material, std::size_t count, const float*
     const Impl::Entry& entry = impl_->textures[map.texture];
     const textures::MipPyramid& pyramid = *entry.pyramid;
     constexpr int W = packet::simd::kNativeLanes;
-    using Filter = textures::TrilinearFilter<W>;
+    using Batch = textures::TrilinearBatch<W>;
+    thread_local Batch batch;
     std::size_t i = 0;
-    for (; i + W <= count; i += W) {
+    // Whole batches, then what is left in whole vectors.
+    while (i + W <= count) {
+        const int n = int(std::min<std::size_t>(Batch::kMax, (count - i) / W * W));
         float* const out[3] = {rgb[0] + i, rgb[1] + i, rgb[2] + i};
-        Filter::lookup(pyramid, map.wrap_s, map.wrap_t, entry.srgb, s + i, t + i, width + i, out);
+        batch.run(pyramid, map.wrap_s, map.wrap_t, entry.srgb, n, s + i, t + i, width + i, out);
+        i += std::size_t(n);
     }
     if (i == count) return;
     // The last lookups, padded to a full vector with copies of the last of them.
@@ -135,7 +142,7 @@ void TextureSet::diffuse(std::uint32_t material, std::size_t count, const float*
         pad[2][lane] = width[from];
     }
     float* const out[3] = {result[0], result[1], result[2]};
-    Filter::lookup(pyramid, map.wrap_s, map.wrap_t, entry.srgb, pad[0], pad[1], pad[2], out);
+    batch.run(pyramid, map.wrap_s, map.wrap_t, entry.srgb, W, pad[0], pad[1], pad[2], out);
     for (std::size_t k = i; k < count; ++k) {
         for (int c = 0; c < 3; ++c) rgb[c][k] = result[c][k - i];
     }

@@ -126,7 +126,7 @@ struct TextureDesc {
     /// first bytes (PNG, JPEG, BMP, GIF, WebP).
     std::string mime_type{};
     /// Or the texels themselves, copied by add_texture: `width` x `height` texels (each side
-    /// in [1, 65536]) of `channels` values (1 grey, 2 grey and alpha, 3 RGB, 4 RGBA; alpha is
+    /// in [1, 16384]) of `channels` values (1 grey, 2 grey and alpha, 3 RGB, 4 RGBA; alpha is
     /// not used), row by row from the image's top-left corner (texture coordinates (0, 0)),
     /// as 8-bit values (0-255 for 0 to 1) in `texels8` or as floats (finite, >= 0; 1 is full)
     /// in `texels_float`: one of the two, holding width * height * channels values. Float

@@ -42,7 +42,9 @@ public:
     static bool needed(const Scene& scene);
 
     /// Whether material `material` has a diffuse map that could be read.
-    bool maps(std::uint32_t material) const;
+    bool maps(std::uint32_t material) const {
+        return material < usable_.size() && usable_[material] != 0;
+    }
 
     /// The linear RGB of material `material`'s diffuse map at texture coordinates `st`
     /// (Mesh::texcoords' convention), wrapped by the map's modes, filtered over a square
@@ -70,6 +72,8 @@ public:
 private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
+    /// Per material, 1 when it maps a readable texture (maps(), inline: shading asks per hit).
+    std::vector<std::uint8_t> usable_;
 };
 
 /// The footprint of a pixel's ray at a hit, in texture coordinates, as dynrt's shading and

@@ -193,9 +193,9 @@ struct Lanes {
             return U(_mm256_i32gather_epi32(reinterpret_cast<const int*>(base), __m256i(index), 4));
         }
 #endif
-        U out;
-        for (int i = 0; i < W; ++i) out[i] = base[index[i]];
-        return out;
+        std::uint32_t values[W];
+        for (int i = 0; i < W; ++i) values[i] = base[index[i]];
+        return load(values);
     }
     static F gather(const float* base, I index) {
 #if defined(__AVX512F__)
@@ -206,9 +206,35 @@ struct Lanes {
 #if defined(__AVX2__)
         if constexpr (W == 8) return F(_mm256_i32gather_ps(base, __m256i(index), 4));
 #endif
-        F out;
-        for (int i = 0; i < W; ++i) out[i] = base[index[i]];
-        return out;
+        float values[W];
+        for (int i = 0; i < W; ++i) values[i] = base[index[i]];
+        return load(values);
+    }
+
+    /// table[index[i]] in lane i from a table of 16 (indices in [0, 16)): a permutation within
+    /// registers where the ISA has one (AVX-512's vpermd, AVX2's two-source shuffle), no
+    /// memory access per lane.
+    static I table16(const std::int32_t (&table)[16], I index) {
+        if constexpr (W == 16) {
+            I all;
+            std::memcpy(&all, table, sizeof all);
+            return __builtin_shuffle(all, index);
+        } else if constexpr (W == 8) {
+            I low, high;
+            std::memcpy(&low, table, sizeof low);
+            std::memcpy(&high, table + 8, sizeof high);
+            return __builtin_shuffle(low, high, index);
+        } else {
+            std::int32_t values[W];
+            for (int i = 0; i < W; ++i) values[i] = table[index[i]];
+            return load(values);
+        }
+    }
+
+    static F table16(const float (&table)[16], I index) {
+        std::int32_t bits[16];
+        std::memcpy(bits, table, sizeof bits);
+        return float_of(table16(bits, index));
     }
 
     /// Horizontal reductions, for NaN-free lanes: halves folded onto each other.

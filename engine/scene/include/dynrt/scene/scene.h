@@ -25,6 +25,11 @@
 
 namespace dynrt {
 
+/// The longest side of a texture dynrt holds (a larger image cannot be read, with a warning):
+/// every MIP level's start then fits the filter's 16-entry table and every texel index its
+/// 32-bit gathers.
+inline constexpr int kMaxTextureSide = 16384;
+
 /// Texels given as they are, not as a file (the library API's and Python's arrays): `width` x
 /// `height` texels of `channels` values each (1 grey, 2 grey and alpha, 3 RGB, 4 RGBA; alpha
 /// is not used), row by row from the image's top-left corner, 8-bit (0-255) or 32-bit float.

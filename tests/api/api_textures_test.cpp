@@ -1,7 +1,7 @@
 // Textures through the library API (Engine::add_texture, MeshDesc::texcoords,
 // Surface::diffuse_texture) against dynrt::Renderer over the equivalent Scene (Scene::textures,
 // Material::diffuse_map, Mesh::texcoords): the same frame bit for bit. Both shade through the
-// same FramePipeline and TextureSet (OpenImageIO's filtered lookups over the same footprint),
+// same FramePipeline and TextureSet (the same filtered lookups over the same footprint),
 // so equality is exact, for a texture from a file and one from bytes, with each wrap mode, and
 // after a texture is added, changed or dropped between renders (exact pixel reuse on). Texels
 // given as an array (TextureDesc::texels8, texels_float) are checked, copied into the scene's

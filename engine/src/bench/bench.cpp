@@ -215,7 +215,7 @@ BenchRow bench_configuration(const Scene& scene, const Camera& camera,
     Renderer renderer(options);
     RenderedFrame local_frame;
     RenderedFrame& out = last_frame ? *last_frame : local_frame;
-    // The first frame reads the textures (OpenImageIO, lazily) and builds every tree: what
+    // The first frame reads the textures (decoded and MIP-mapped) and builds every tree: what
     // a render pays once, at start-up, reported apart from the runs.
     const Stopwatch first_clock;
     render_frame(renderer, out);

@@ -149,7 +149,8 @@ void FramePipeline::trace(const Scene& scene, const Camera& camera, const TraceS
     }
     out.stats = update_stats_;
     accel_.use_vertex_normals(options.smooth_normals);
-    // Textures: opened once per scene (OpenImageIO reads the images lazily, at first lookup).
+    // Textures: read, decoded and MIP-mapped once per scene (and again when its materials map
+    // other textures).
     std::optional<detail::SurfaceTextures> surface_textures;
     if (TextureSet::needed(scene)) {
         if (!textures_current(scene)) {

@@ -14,7 +14,8 @@
 // - Wrap modes fold texel indices: repeat tiles, clamp extends the edge texels, mirror tiles
 //   with every other copy mirrored about the image's edge.
 //
-// Everything is lane-wise SIMD (packet/simd.h): the texel reads are gathers. Coordinates are
+// Everything is lane-wise SIMD (packet/simd.h): the texel reads are gathers, the small tables
+// (where each level starts, the sRGB cubics) are permutations within registers. Coordinates are
 // folded into one period before scaling, so a non-finite or huge s or t (|s| >= 2^23, where
 // a float has no fraction left) reads as 0 and never indexes outside the pyramid.
 
@@ -27,13 +28,7 @@
 
 namespace dynrt::textures {
 
-/// IEC 61966-2-1's decoding: sRGB-encoded value -> linear (exact, for tables and tests).
-inline float srgb_decode_exact(float encoded) {
-    const float c = encoded < 0.0f ? 0.0f : encoded > 1.0f ? 1.0f : encoded;
-    return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
-}
-
-/// The decoding's power branch, ((c + 0.055) / 1.055)^2.4 for c > 0.04045, as 16 cubics in
+/// The sRGB decoding's (IEC 61966-2-1: c / 12.92 up to 0.04045, then the power) power branch, ((c + 0.055) / 1.055)^2.4 for c > 0.04045, as 16 cubics in
 /// u = c - k / 16 on [k / 16, (k + 1) / 16] (the first from 0.04045), each interpolating the
 /// curve at the four Chebyshev nodes of its piece: within 1e-7 of it in float (the test
 /// checks). Coefficients by degree: cubic[d][k].

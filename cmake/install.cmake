@@ -2,7 +2,8 @@
 # --prefix P` puts into P
 #   lib/libdynrt.so*                      the shared library (target dynrt_api)
 #   include/dynrt/dynrt.h, api/*.h,       the public API headers and nothing else: the engine's
-#     engine/frame_stats.h                  other headers stay private to this tree
+#     engine/frame_stats.h,                 other headers stay private to this tree
+#     engine/texture_figures.h
 #   lib/cmake/dynrt/dynrt*.cmake          find_package(dynrt), imported target dynrt::dynrt
 #   lib/pkgconfig/dynrt.pc                pkg-config --cflags --libs dynrt
 # Only the library is installed: the CLI, tests and benchmarks run from the build tree.
@@ -24,7 +25,7 @@ install(FILES ${_dynrt_headers}/dynrt.h DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/
 # Everything under api/ is public by definition; of engine/, only what the API's types use.
 install(DIRECTORY ${_dynrt_headers}/api DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/dynrt
   FILES_MATCHING PATTERN "*.h")
-install(FILES ${_dynrt_headers}/engine/frame_stats.h
+install(FILES ${_dynrt_headers}/engine/frame_stats.h ${_dynrt_headers}/engine/texture_figures.h
   DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/dynrt/engine)
 
 # ---- CMake package: find_package(dynrt) ------------------------------------------------------

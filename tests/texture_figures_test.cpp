@@ -4,11 +4,6 @@
 // end to end. The writers are checked with figures given here; the end-to-end tests check a
 // scene without textures (zeros in the JSON, no printed line) and a textured one, whose counts
 // come from TextureSet itself.
-//
-// TextureSet's figures are interim stubs (0) until issue 35's rewrite of texture_set.cpp fills
-// them: the tests that need them skip while every figure is 0 for a scene whose textures
-// are readable (a real load takes some time), and check count, bytes and load time once they
-// are filled.
 
 #include "gltf_test_file.h"
 #include "shell_command.h"
@@ -140,13 +135,6 @@ struct FiguresScene {
     }
 };
 
-/// Whether `figures`, of textures that can be read, are TextureSet's interim stubs (every one
-/// 0: a real load takes some time). The tests that need the real figures skip then.
-bool figures_are_stubs(const TextureFigures& figures) { return figures == TextureFigures{}; }
-
-constexpr const char* kStubbed = "TextureSet's bytes/texture_count/load_seconds are the interim stubs (0) "
-                                 "until issue 35's rewrite of texture_set.cpp";
-
 TEST(TextureFiguresEndToEnd, ASceneWithoutTexturesHasNone) {
     FiguresScene shot;
     for (Material& m : shot.scene.materials) m.diffuse_map.reset();
@@ -174,7 +162,7 @@ TEST(TextureFiguresEndToEnd, KeptWithTheTexturesAndGoneAtReset) {
     EXPECT_EQ(renderer.texture_figures(), TextureFigures{});
 }
 
-// Needs issue 35's rewrite: two readable textures (one mapped by two materials, counted
+// Two readable textures (one mapped by two materials, counted
 // once), their bytes and their load time; a missing file counts for nothing.
 TEST(TextureFiguresEndToEnd, RendererCountsTheReadTexturesOnce) {
     FiguresScene shot;
@@ -182,7 +170,6 @@ TEST(TextureFiguresEndToEnd, RendererCountsTheReadTexturesOnce) {
     RenderedFrame frame;
     renderer.render(shot.scene, shot.camera, 0, frame);
     const TextureFigures figures = renderer.texture_figures();
-    if (figures_are_stubs(figures)) GTEST_SKIP() << kStubbed;
     EXPECT_EQ(figures.count, 2u);
     // At least the finest level's texels, one byte per channel, of each image.
     EXPECT_GE(figures.bytes, 2u * 64u * 64u * 3u);
@@ -205,7 +192,6 @@ TEST(TextureFiguresEndToEnd, BenchesCarryTheirStartUpFramesTextures) {
     EXPECT_EQ(row.textures.bytes, want.bytes);
     EXPECT_EQ(sequence.textures.count, want.count);
     EXPECT_EQ(sequence.textures.bytes, want.bytes);
-    if (figures_are_stubs(want)) GTEST_SKIP() << kStubbed;
     EXPECT_EQ(row.textures.count, 2u);
     EXPECT_GT(row.textures.load_ms, 0.0);
     EXPECT_GT(sequence.textures.load_ms, 0.0);
@@ -255,7 +241,7 @@ TEST(TextureFiguresCli, RenderAndBenchOfASceneWithoutTexturesSayNothingOfThem) {
     EXPECT_EQ(bench.output.find("; textures:"), std::string::npos) << bench.output;
 }
 
-// Needs issue 35's rewrite: the render's report and printed line, and bench's start-up line,
+// The render's report and printed line, and bench's start-up line,
 // give the one texture read.
 TEST(TextureFiguresCli, RenderAndBenchOfATexturedSceneGiveItsReadTextures) {
     const fs::path dir = test::fresh_test_dir("texture_figures_gltf");
@@ -266,9 +252,6 @@ TEST(TextureFiguresCli, RenderAndBenchOfATexturedSceneGiveItsReadTextures) {
     const nlohmann::json textures = report_textures(dir / "r.json");
     const test::ShellRun bench = run_figures_cli("bench " + gltf.string() + " --res 16x16 --repeat 1 --threads 2");
     ASSERT_EQ(bench.exit_code, 0) << bench.output;
-    const TextureFigures read{textures["count"].get<std::size_t>(), textures["bytes"].get<std::size_t>(),
-                              textures["load_ms"].get<double>()};
-    if (figures_are_stubs(read)) GTEST_SKIP() << kStubbed;
     EXPECT_EQ(textures["count"].get<std::size_t>(), 1u);
     EXPECT_GE(textures["bytes"].get<std::size_t>(), 64u * 64u * 3u);
     EXPECT_GT(textures["load_ms"].get<double>(), 0.0);

@@ -1,9 +1,6 @@
 // The textures' figures through the library API (Engine::texture_figures): none before a render
 // reads textures or without textured meshes; once read, the count, bytes and load time of the
 // textures the engine's renders hold, their bytes counted in Engine::memory_bytes.
-//
-// TextureSet's figures are interim stubs (0) until issue 35's rewrite of texture_set.cpp fills
-// them: the test that needs them skips while every figure is 0 for a readable texture.
 
 #include "api_test_world.h"
 
@@ -68,7 +65,7 @@ TEST(ApiTextureFigures, NoneBeforeARenderReadsThemOrWithoutTextures) {
     EXPECT_EQ(plain.engine.texture_figures(), TextureFigures{});
 }
 
-// Needs issue 35's rewrite: one texture (mapped by both sheets) read by the first render, its
+// One texture (mapped by both sheets) read by the first render, its
 // bytes in memory_bytes: the textured engine holds at least them more than the same engine
 // with untextured sheets (the rest of the difference is a few small records).
 TEST(ApiTextureFigures, TheTextureReadIsCountedOnceAndItsBytesAreInMemoryBytes) {
@@ -78,10 +75,6 @@ TEST(ApiTextureFigures, TheTextureReadIsCountedOnceAndItsBytesAreInMemoryBytes) 
     textured.render();
     plain.render();
     const TextureFigures figures = textured.engine.texture_figures();
-    if (figures == TextureFigures{}) {
-        GTEST_SKIP() << "TextureSet's bytes/texture_count/load_seconds are the interim stubs (0) until "
-                        "issue 35's rewrite of texture_set.cpp";
-    }
     EXPECT_EQ(figures.count, 1u);
     EXPECT_GE(figures.bytes, std::size_t(kSize) * kSize * 3);
     EXPECT_GT(figures.load_ms, 0.0);

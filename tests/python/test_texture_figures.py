@@ -1,8 +1,5 @@
 """Engine.texture_figures() in Python: the textures the renders hold as a dict with the report's
-keys (README "Report", run.textures), zeros before a render reads one.
-
-TextureSet's figures are interim stubs (0) until issue 35's rewrite of texture_set.cpp: the test
-that needs the real figures skips while every one is 0 for a readable texture."""
+keys (README "Report", run.textures), zeros before a render reads one."""
 
 import numpy as np
 import pytest
@@ -33,13 +30,10 @@ def test_no_figures_before_a_render_reads_the_textures(tmp_path):
 
 
 def test_the_texture_read_is_counted_and_in_memory_bytes(tmp_path):
-    """Needs issue 35's rewrite."""
     engine = _textured_engine(tmp_path / "read.png")
     engine.render(dynrt.View(**VIEW), 32, 24)
     figures = engine.texture_figures()
     assert set(figures) == {"count", "bytes", "load_ms"}
-    if figures == {"count": 0, "bytes": 0, "load_ms": 0.0}:
-        pytest.skip("TextureSet's figures are the interim stubs (0) until issue 35's rewrite")
     assert figures["count"] == 1
     assert figures["bytes"] >= SIZE * SIZE * 3
     assert figures["load_ms"] > 0.0

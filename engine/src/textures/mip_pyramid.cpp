@@ -33,6 +33,20 @@ void widen(const float* in, int channels, float out[4]) {
     out[3] = channels == 4 ? in[3] : 1.0f;
 }
 
+/// Where texel i of a level `size` texels across reads the finer level, `finer` texels across:
+/// at the texel's centre, between texels `low` and `high` (the same one at the edge of a side
+/// already 1 texel wide, where its weight is 0), `high` weighing `weight`.
+struct Tap {
+    int low, high;
+    float weight;
+};
+Tap tap(int i, int size, int finer) {
+    const float centre = (float(i) + 0.5f) / float(size);
+    const float at = centre * float(finer) - 0.5f;
+    const float low = std::floor(at);
+    return {int(low), std::min(int(low) + 1, finer - 1), at - low};
+}
+
 std::uint32_t pack(const std::uint8_t c[4]) {
     return std::uint32_t(c[0]) | std::uint32_t(c[1]) << 8 | std::uint32_t(c[2]) << 16 | std::uint32_t(c[3]) << 24;
 }
@@ -101,21 +115,11 @@ MipPyramid::MipPyramid(const TexelArray& image) {
         const Level& up = levels_[m - 1];
         const Level& level = levels_[m];
         tbb::parallel_for(0, level.height, [&](int j) {
-            const float yf = (float(j) + 0.5f) / float(level.height);
-            const float yy = yf * float(up.height) - 0.5f;
-            const float yfloor = std::floor(yy);
-            const float ty = yy - yfloor;
-            const int y0 = int(yfloor);
-            // A neighbour past the edge has weight 0 (a side already 1 texel wide).
-            const int y1 = std::min(y0 + 1, up.height - 1);
+            const Tap y = tap(j, level.height, up.height);
             for (int i = 0; i < level.width; ++i) {
-                const float xf = (float(i) + 0.5f) / float(level.width);
-                const float xx = xf * float(up.width) - 0.5f;
-                const float xfloor = std::floor(xx);
-                const float sx = xx - xfloor;
-                const int x0 = int(xfloor);
-                const int x1 = std::min(x0 + 1, up.width - 1);
-                const float s1 = 1.0f - sx, t1 = 1.0f - ty;
+                const Tap x = tap(i, level.width, up.width);
+                const float s1 = 1.0f - x.weight, t1 = 1.0f - y.weight, sx = x.weight, ty = y.weight;
+                const int x0 = x.low, x1 = x.high, y0 = y.low, y1 = y.high;
                 float v[4];
                 for (int c = 0; c < 4; ++c) {
                     const float a = texel(int(m - 1), x0, y0, c), b = texel(int(m - 1), x1, y0, c);

@@ -163,6 +163,30 @@ TEST(TextureSet, UnreadableTexturesWarnNamingFileAndMaterialAndMapNothing) {
     const TextureSet broken(mapped(garbage), false);
     EXPECT_FALSE(broken.maps(0));
     EXPECT_EQ(broken.warnings().size(), 1u);
+    // A file cut short: its header reads, its texels do not. Textures are decoded whole when
+    // the set is made, so it is reported then, not read as white at the first lookup.
+    const fs::path whole = temp_path("whole.png"), cut = temp_path("cut.png");
+    std::vector<unsigned char> texels(64 * 64 * 3);
+    for (std::size_t i = 0; i < texels.size(); ++i) texels[i] = static_cast<unsigned char>(i * 7919 % 251);
+    write_image(whole, 64, 64, texels);
+    const std::vector<unsigned char> bytes = file_bytes(whole);
+    std::ofstream(cut, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size() / 2));
+    const TextureSet truncated(mapped(file_texture(cut)), false);
+    EXPECT_FALSE(truncated.maps(0));
+    ASSERT_EQ(truncated.warnings().size(), 1u);
+    EXPECT_NE(truncated.warnings()[0].find(cut.string()), std::string::npos) << truncated.warnings()[0];
+    EXPECT_TRUE(TextureSet(mapped(file_texture(whole)), false).maps(0));
+    // Texels given as an array past the largest side dynrt holds: the same warning.
+    Texture wide;
+    wide.name = "wide";
+    wide.texels = TexelArray{.width = kMaxTextureSide + 1, .height = 1, .channels = 1, .floating = false,
+                             .bytes = std::vector<unsigned char>(std::size_t(kMaxTextureSide) + 1, 9)};
+    const TextureSet too_wide(mapped(wide), false);
+    EXPECT_FALSE(too_wide.maps(0));
+    ASSERT_EQ(too_wide.warnings().size(), 1u);
+    EXPECT_NE(too_wide.warnings()[0].find("16384 texels a side"), std::string::npos) << too_wide.warnings()[0];
+    fs::remove(whole);
+    fs::remove(cut);
 }
 
 // ---- Rendering -------------------------------------------------------------------------------

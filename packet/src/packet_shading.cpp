@@ -14,16 +14,14 @@ namespace {
 int distinct_materials(const SurfacePacket& surface, std::int32_t (&out)[kPacketRays]) {
     int count = 0;
     std::int32_t last = -1;
-    for (int word = 0; word < kPacketRays / 64; ++word) {
-        for (std::uint64_t bits = surface.hit.words[word]; bits != 0; bits &= bits - 1) {
-            const std::int32_t m = surface.material[word * 64 + std::countr_zero(bits)];
-            if (m == last) continue;  // neighbours mostly share a material
-            last = m;
-            bool seen = false;
-            for (int i = 0; i < count && !seen; ++i) seen = out[i] == m;
-            if (!seen) out[count++] = m;
-        }
-    }
+    surface.hit.for_each([&](int lane) {
+        const std::int32_t m = surface.material[lane];
+        if (m == last) return;  // neighbours mostly share a material
+        last = m;
+        bool seen = false;
+        for (int i = 0; i < count && !seen; ++i) seen = out[i] == m;
+        if (!seen) out[count++] = m;
+    });
     return count;
 }
 

@@ -35,28 +35,6 @@ constexpr float kFarScale = 1.0f + 2.0f * gamma_n(3);
 
 constexpr int kStackSize = 2 * static_cast<int>(bvh::kMaxDepth);
 
-LaneMask operator&(const LaneMask& a, const LaneMask& b) {
-    LaneMask out;
-    for (int w = 0; w < kPacketRays / 64; ++w) out.words[w] = a.words[w] & b.words[w];
-    return out;
-}
-
-LaneMask without(const LaneMask& a, const LaneMask& b) {
-    LaneMask out;
-    for (int w = 0; w < kPacketRays / 64; ++w) out.words[w] = a.words[w] & ~b.words[w];
-    return out;
-}
-
-/// Calls f(lane) for every lane in `mask`, ascending.
-template <class F>
-void for_each_lane(const LaneMask& mask, F&& f) {
-    for (int w = 0; w < kPacketRays / 64; ++w) {
-        for (std::uint64_t bits = mask.words[w]; bits != 0; bits &= bits - 1) {
-            f(w * 64 + std::countr_zero(bits));
-        }
-    }
-}
-
 /// The packet's reciprocal directions, computed once and used at every top-level node.
 struct alignas(64) InverseDirs {
     alignas(64) float x[kPacketRays];
@@ -122,7 +100,7 @@ LaneMask hit_box_lanes(const bvh::Aabb& box, const RayPacket& p, const InverseDi
 float packet_pad(const bvh::TwoLevelBvh& tlas, const RayPacket& packet) {
     if (tlas.origin_pad_rel == 0.0f) return 0.0f;
     float pad = 0.0f;
-    for_each_lane(packet.active, [&](int lane) {
+    packet.active.for_each([&](int lane) {
         pad = std::fmax(pad, bvh::top_level_pad(
                                  tlas, glm::vec3(packet.org_x[lane], packet.org_y[lane], packet.org_z[lane])));
     });
@@ -134,7 +112,7 @@ float packet_pad(const bvh::TwoLevelBvh& tlas, const RayPacket& packet) {
 void make_local_packet(const bvh::Instance& instance, const RayPacket& packet, const LaneMask& lanes,
                        const float* tmax, RayPacket& local) {
     local.clear();
-    for_each_lane(lanes, [&](int lane) {
+    lanes.for_each([&](int lane) {
         bvh::Ray ray = bvh::to_object_space(instance, packet.ray(lane));
         ray.tmax = tmax[lane];
         local.set_ray(lane, ray);
@@ -218,7 +196,7 @@ void closest_lanes(const bvh::TwoLevelBvh& tlas, const RayPacket& packet, Instan
         intersect_closest(*instance.blas, as_is ? packet : scratch.local, scratch.local_hits, config,
                           stats);
         const PacketHits& h = scratch.local_hits;
-        for_each_lane(lanes, [&](int lane) {
+        lanes.for_each([&](int lane) {
             if (h.prim[lane] == bvh::kInvalidId) return;
             // The tie rule of the single-ray tracer: smallest (t, object, prim) wins; before the
             // first hit object is kInvalidId and best_t the ray's tmax.
@@ -252,9 +230,9 @@ void any_lanes(const bvh::TwoLevelBvh& tlas, const RayPacket& packet, LaneMask& 
         const bool as_is = instance.identity && lanes == packet.active;
         if (!as_is) make_local_packet(instance, packet, lanes, packet.tmax, scratch.local);
         intersect_any(*instance.blas, as_is ? packet : scratch.local, local_occluded, config, stats);
-        for (int w = 0; w < kPacketRays / 64; ++w) occluded.words[w] |= local_occluded.words[w];
+        occluded |= local_occluded;
     };
-    traverse_top<W>(tlas, packet, packet.tmax, [&] { return without(packet.active, occluded); },
+    traverse_top<W>(tlas, packet, packet.tmax, [&] { return packet.active & ~occluded; },
                     visit);
 }
 

@@ -239,15 +239,6 @@ RayHit to_api(const bvh::InstanceHit& hit, std::span<const std::uint32_t> mesh_i
     return out;
 }
 
-/// Calls per_lane(lane) for every active lane of `packet`, in order.
-template <typename PerLane>
-void for_each_lane(const packet::LaneMask& lanes, PerLane&& per_lane) {
-    for (int w = 0; w < packet::kPacketRays / 64; ++w) {
-        for (std::uint64_t bits = lanes.words[w]; bits != 0; bits &= bits - 1) {
-            per_lane(w * 64 + std::countr_zero(bits));
-        }
-    }
-}
 
 template <typename Source>
 QueryStats intersect_rays(const SceneAccel& accel, const Source& rays, std::span<RayHit> hits,
@@ -265,10 +256,10 @@ QueryStats intersect_rays(const SceneAccel& accel, const Source& rays, std::span
         if (as_packet) {
             packet::InstanceHits packet_hits;
             packet::intersect_closest(tlas, packet, packet_hits);
-            for_each_lane(packet.active, [&](int lane) { store(lane, packet_hits.hit(lane)); });
+            packet.active.for_each([&](int lane) { store(lane, packet_hits.hit(lane)); });
             work.packet_rays += n;
         } else {
-            for_each_lane(packet.active, [&](int lane) {
+            packet.active.for_each([&](int lane) {
                 store(lane, bvh::intersect_closest(tlas, packet.ray(lane)));
             });
             work.single_rays += n;
@@ -287,13 +278,13 @@ QueryStats occluded_rays(const SceneAccel& accel, const Source& rays,
         if (as_packet) {
             packet::LaneMask blocked;
             packet::intersect_any(tlas, packet, blocked);
-            for_each_lane(packet.active, [&](int lane) {
+            packet.active.for_each([&](int lane) {
                 occluded[first + std::size_t(lane)] = blocked.test(lane);
                 work.hits += blocked.test(lane);
             });
             work.packet_rays += n;
         } else {
-            for_each_lane(packet.active, [&](int lane) {
+            packet.active.for_each([&](int lane) {
                 const bool hit = bvh::intersect_any(tlas, packet.ray(lane));
                 occluded[first + std::size_t(lane)] = hit;
                 work.hits += hit;

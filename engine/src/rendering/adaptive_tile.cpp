@@ -151,9 +151,7 @@ void trace_tile_adaptive(const AdaptiveFrame& f, const packet::Tile& tile,
             } else {
                 packet::intersect_any(top, shadow, occluded, f.packet, stats);
             }
-            for (int k = 0; k < packet::kPacketRays / 64; ++k) {
-                visible[l].words[k] = shadow.active.words[k] & ~occluded.words[k];
-            }
+            visible[l] = shadow.active & ~occluded;
         }
     };
     // The exact path for the whole tile, as the renderer's packet tracer does it.

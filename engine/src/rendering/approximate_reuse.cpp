@@ -455,9 +455,7 @@ void trace_frame_approximate(const TraceInputs& in, const Camera& camera,
             const packet::LaneMask lit = shadow.active;
             if (!lit.any()) continue;
             const packet::LaneMask occluded = trace_shadow_lanes(in.accel, options, shadow, lit, lane_work);
-            for (int w = 0; w < packet::kPacketRays / 64; ++w) {
-                visible[l].words[w] = lit.words[w] & ~occluded.words[w];
-            }
+            visible[l] = lit & ~occluded;
             tw.shadow_rays += std::size_t(lit.count());
         }
         tw.shadow_ms += clock.lap_ms();

@@ -369,19 +369,13 @@ void trace_frame_reusing(const TraceInputs& in, const Camera& camera, const Trac
             const std::size_t slot = t * light_count + l;
             origins.rays_to(lights[l], shadow);
             const packet::LaneMask lit = shadow.active;
-            packet::LaneMask retrace;
-            for (int w = 0; w < packet::kPacketRays / 64; ++w) {
-                retrace.words[w] = lit.words[w] & primary.words[w];
-            }
+            packet::LaneMask retrace = lit & primary;
             if (space.select_hull(lights[l].position, memory.shadow_ends[slot], near)) {
                 // Shadow rays run from the light over t in [0, 1].
-                packet::LaneMask kept = lit;
-                for (int w = 0; w < packet::kPacketRays / 64; ++w) kept.words[w] &= ~primary.words[w];
+                const packet::LaneMask kept = lit & ~primary;
                 const packet::LaneMask meets = near.meets_rays(shadow, shadow.tmax, kept);
-                for (int w = 0; w < packet::kPacketRays / 64; ++w) {
-                    retrace.words[w] |= meets.words[w];
-                    shadows_only.words[w] |= meets.words[w];
-                }
+                retrace |= meets;
+                shadows_only |= meets;
             }
             packet::LaneMask occluded;
             if (retrace.any()) {
@@ -390,10 +384,7 @@ void trace_frame_reusing(const TraceInputs& in, const Camera& camera, const Trac
             }
             const packet::LaneMask before = memory.visible[slot];
             packet::LaneMask& now = visible[l];
-            for (int w = 0; w < packet::kPacketRays / 64; ++w) {
-                now.words[w] = (before.words[w] & ~primary.words[w] & ~retrace.words[w]) |
-                               (retrace.words[w] & ~occluded.words[w]);
-            }
+            now = (before & ~primary & ~retrace) | (retrace & ~occluded);
             memory.visible[slot] = now;
             if (primary.any()) {
                 bvh::Aabb ends;

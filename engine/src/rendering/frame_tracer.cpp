@@ -251,9 +251,7 @@ void trace_frame(const TraceInputs& in, const Camera& camera, const TraceSetting
                 packet::LaneMask occluded;
                 packet::intersect_any(accel, packet_rays, occluded, options.packet,
                                       count ? &work.local() : nullptr);
-                for (int w = 0; w < packet::kPacketRays / 64; ++w) {
-                    visible[l].words[w] = packet_rays.active.words[w] & ~occluded.words[w];
-                }
+                visible[l] = packet_rays.active & ~occluded;
             }
             shadow_rays.local() += traced;
             StageThreadMs& ms = thread_ms.local();

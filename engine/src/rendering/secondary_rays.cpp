@@ -137,54 +137,43 @@ void spawn(const SecondaryFrame& f, const TileShadowOrigins& origins,
     const packet::SurfacePacket& surface = origins.surface;
     Bounce* reflection = nullptr;
     Bounce* refraction = nullptr;
-    for (int w = 0; w < kPacketRays / 64; ++w) {
-        for (std::uint64_t bits = surface.hit.words[w]; bits != 0; bits &= bits - 1) {
-            const int lane = w * 64 + std::countr_zero(bits);
-            const Material& m = f.materials[std::size_t(surface.material[lane])];
-            if (!m.traces_secondary()) continue;
-            const glm::vec3 d(-surface.view[0][lane], -surface.view[1][lane], -surface.view[2][lane]);
-            const glm::vec3 n(surface.normal[0][lane], surface.normal[1][lane], surface.normal[2][lane]);
-            const glm::vec3 path(weight[0][lane], weight[1][lane], weight[2][lane]);
-            // The directions take the shading normal, or the geometric one where it would
-            // send a ray into its own surface (shading_split_holds).
-            const glm::vec3 shading(surface.shading_normal[0][lane], surface.shading_normal[1][lane],
-                                    surface.shading_normal[2][lane]);
-            Split split = split_at(m, d, shading, origins.back_hit.test(lane));
-            if (shading != n && !shading_split_holds(d, shading, n, split.reflected, split.refracted)) {
-                split = split_at(m, d, n, origins.back_hit.test(lane));
-            }
-            const glm::vec3 wr = path * split.wr, wt = path * split.wt;
-            if (max_channel(wr) >= f.tracing.settings.cutoff) {
-                if (reflection == nullptr) {
-                    reflection = &s.push();
-                    reflection->depth = depth;
-                    reflection->kind = Kind::reflection;
-                }
-                const glm::vec3 org(origins.origin[0][lane], origins.origin[1][lane], origins.origin[2][lane]);
-                set_lane(reflection->rays, lane, org, split.reflected);
-                for (int c = 0; c < 3; ++c) reflection->weight[c][lane] = wr[c];
-            }
-            if (max_channel(wt) >= f.tracing.settings.cutoff) {
-                if (refraction == nullptr) {
-                    refraction = &s.push();
-                    refraction->depth = depth;
-                    refraction->kind = Kind::refraction;
-                }
-                const glm::vec3 point(surface.point[0][lane], surface.point[1][lane], surface.point[2][lane]);
-                set_lane(refraction->rays, lane, offset_along_normal(point, -n, origins.magnitude[lane]),
-                         split.refracted);
-                for (int c = 0; c < 3; ++c) refraction->weight[c][lane] = wt[c];
-            }
+    surface.hit.for_each([&](int lane) {
+        const Material& m = f.materials[std::size_t(surface.material[lane])];
+        if (!m.traces_secondary()) return;
+        const glm::vec3 d(-surface.view[0][lane], -surface.view[1][lane], -surface.view[2][lane]);
+        const glm::vec3 n(surface.normal[0][lane], surface.normal[1][lane], surface.normal[2][lane]);
+        const glm::vec3 path(weight[0][lane], weight[1][lane], weight[2][lane]);
+        // The directions take the shading normal, or the geometric one where it would
+        // send a ray into its own surface (shading_split_holds).
+        const glm::vec3 shading(surface.shading_normal[0][lane], surface.shading_normal[1][lane],
+                                surface.shading_normal[2][lane]);
+        Split split = split_at(m, d, shading, origins.back_hit.test(lane));
+        if (shading != n && !shading_split_holds(d, shading, n, split.reflected, split.refracted)) {
+            split = split_at(m, d, n, origins.back_hit.test(lane));
         }
-    }
-}
-
-/// Calls f(lane) for every lane of `mask`, in order.
-template <typename F>
-void for_each_lane(const LaneMask& mask, F&& f) {
-    for (int w = 0; w < kPacketRays / 64; ++w) {
-        for (std::uint64_t bits = mask.words[w]; bits != 0; bits &= bits - 1) f(w * 64 + std::countr_zero(bits));
-    }
+        const glm::vec3 wr = path * split.wr, wt = path * split.wt;
+        if (max_channel(wr) >= f.tracing.settings.cutoff) {
+            if (reflection == nullptr) {
+                reflection = &s.push();
+                reflection->depth = depth;
+                reflection->kind = Kind::reflection;
+            }
+            const glm::vec3 org(origins.origin[0][lane], origins.origin[1][lane], origins.origin[2][lane]);
+            set_lane(reflection->rays, lane, org, split.reflected);
+            for (int c = 0; c < 3; ++c) reflection->weight[c][lane] = wr[c];
+        }
+        if (max_channel(wt) >= f.tracing.settings.cutoff) {
+            if (refraction == nullptr) {
+                refraction = &s.push();
+                refraction->depth = depth;
+                refraction->kind = Kind::refraction;
+            }
+            const glm::vec3 point(surface.point[0][lane], surface.point[1][lane], surface.point[2][lane]);
+            set_lane(refraction->rays, lane, offset_along_normal(point, -n, origins.magnitude[lane]),
+                     split.refracted);
+            for (int c = 0; c < 3; ++c) refraction->weight[c][lane] = wt[c];
+        }
+    });
 }
 
 /// Copies the rays of `lanes` into the first lanes of `dense`, in lane order, and returns how
@@ -194,7 +183,7 @@ void for_each_lane(const LaneMask& mask, F&& f) {
 int pack(const RayPacket& rays, const LaneMask& lanes, RayPacket& dense, int (&lane_of)[kPacketRays]) {
     dense.clear();
     int n = 0;
-    for_each_lane(lanes, [&](int lane) {
+    lanes.for_each([&](int lane) {
         dense.org_x[n] = rays.org_x[lane];
         dense.org_y[n] = rays.org_y[lane];
         dense.org_z[n] = rays.org_z[lane];
@@ -225,14 +214,11 @@ LaneMask trace_shadows(const SecondaryTracing& f, const RayPacket& shadow, Secon
         }
         return occluded;
     }
-    for (int w = 0; w < kPacketRays / 64; ++w) {
-        for (std::uint64_t bits = shadow.active.words[w]; bits != 0; bits &= bits - 1) {
-            const int lane = w * 64 + std::countr_zero(bits);
-            const bool blocked = f.count ? bvh::intersect_any(tlas, shadow.ray(lane), work.single_work)
-                                         : bvh::intersect_any(tlas, shadow.ray(lane));
-            if (blocked) occluded.set(lane);
-        }
-    }
+    shadow.active.for_each([&](int lane) {
+        const bool blocked = f.count ? bvh::intersect_any(tlas, shadow.ray(lane), work.single_work)
+                                     : bvh::intersect_any(tlas, shadow.ray(lane));
+        if (blocked) occluded.set(lane);
+    });
     return occluded;
 }
 
@@ -245,14 +231,11 @@ void trace_secondary_closest(const SecondaryTracing& f, const packet::RayPacket&
     int lane_of[kPacketRays];
     const bvh::TwoLevelBvh& tlas = f.accel.top_level();
     LaneMask octant[8];
-    for (int w = 0; w < kPacketRays / 64; ++w) {
-        for (std::uint64_t bits = rays.active.words[w]; bits != 0; bits &= bits - 1) {
-            const int lane = w * 64 + std::countr_zero(bits);
-            const int o = int(rays.dir_x[lane] < 0.0f) | int(rays.dir_y[lane] < 0.0f) << 1 |
-                          int(rays.dir_z[lane] < 0.0f) << 2;
-            octant[o].set(lane);
-        }
-    }
+    rays.active.for_each([&](int lane) {
+        const int o = int(rays.dir_x[lane] < 0.0f) | int(rays.dir_y[lane] < 0.0f) << 1 |
+                      int(rays.dir_z[lane] < 0.0f) << 2;
+        octant[o].set(lane);
+    });
     const LaneMask all = rays.active;
     const int min_rays = f.settings.min_packet_rays;
     for (const LaneMask& group : octant) {
@@ -265,22 +248,17 @@ void trace_secondary_closest(const SecondaryTracing& f, const packet::RayPacket&
             for (int k = 0; k < n; ++k) hits[lane_of[k]] = packet_hits.hit(k);
             work.packet_rays += std::size_t(count);
         } else {
-            for (int w = 0; w < kPacketRays / 64; ++w) {
-                for (std::uint64_t bits = group.words[w]; bits != 0; bits &= bits - 1) {
-                    const int lane = w * 64 + std::countr_zero(bits);
-                    hits[lane] = f.count ? bvh::intersect_closest(tlas, rays.ray(lane), work.single_work)
-                                           : bvh::intersect_closest(tlas, rays.ray(lane));
-                }
-            }
+            group.for_each([&](int lane) {
+                hits[lane] = f.count ? bvh::intersect_closest(tlas, rays.ray(lane), work.single_work)
+                                       : bvh::intersect_closest(tlas, rays.ray(lane));
+            });
             work.single_rays += std::size_t(count);
         }
     }
-    for (int w = 0; w < kPacketRays / 64; ++w) {
-        for (std::uint64_t bits = all.words[w]; bits != 0; bits &= bits - 1) {
-            bvh::InstanceHit& hit = hits[w * 64 + std::countr_zero(bits)];
-            if (hit.is_hit()) f.accel.resolve(hit);
-        }
-    }
+    all.for_each([&](int lane) {
+        bvh::InstanceHit& hit = hits[lane];
+        if (hit.is_hit()) f.accel.resolve(hit);
+    });
 }
 
 void add_secondary(const SecondaryFrame& f, const TileShadowOrigins& primary,
@@ -324,22 +302,17 @@ void add_secondary(const SecondaryFrame& f, const TileShadowOrigins& primary,
             if (!s.shadow.active.any()) continue;
             work.shadow_rays += std::size_t(s.shadow.active.count());
             const LaneMask occluded = trace_shadows(f.tracing, s.shadow, work);
-            for (int w = 0; w < kPacketRays / 64; ++w) {
-                s.visible[l].words[w] = s.shadow.active.words[w] & ~occluded.words[w];
-            }
+            s.visible[l] = s.shadow.active & ~occluded;
         }
         work.shadow_ms += clock.lap_ms();
         shade_lanes(f.shading, s.origins, s.visible, s.local);
-        for (int w = 0; w < kPacketRays / 64; ++w) {
-            for (std::uint64_t bits = active.words[w]; bits != 0; bits &= bits - 1) {
-                const int lane = w * 64 + std::countr_zero(bits);
-                const bool is_hit = hit.test(lane);
-                for (int c = 0; c < 3; ++c) {
-                    const float seen = is_hit ? s.local.rgb[c][lane] : background[c];
-                    colors.rgb[c][lane] += bounce.weight[c][lane] * seen;
-                }
+        active.for_each([&](int lane) {
+            const bool is_hit = hit.test(lane);
+            for (int c = 0; c < 3; ++c) {
+                const float seen = is_hit ? s.local.rgb[c][lane] : background[c];
+                colors.rgb[c][lane] += bounce.weight[c][lane] * seen;
             }
-        }
+        });
         // Its weights outlive the slot, which the spawned bounces reuse.
         for (int c = 0; c < 3; ++c) std::copy_n(bounce.weight[c], kPacketRays, s.weight[c]);
         const int depth = bounce.depth;

@@ -373,29 +373,26 @@ inline const packet::DiffuseTint* tint_lanes(const SurfaceTextures& textures, co
     const packet::SurfacePacket& surface = origins.surface;
     tint.lanes = packet::LaneMask{};
     int pending = 0;
-    for (int w = 0; w < packet::kPacketRays / 64; ++w) {
-        for (std::uint64_t bits = surface.hit.words[w]; bits != 0; bits &= bits - 1) {
-            const int lane = w * 64 + std::countr_zero(bits);
-            const auto material = std::uint32_t(surface.material[lane]);
-            if (!textures.set.maps(material)) continue;
-            const ObjectTexcoords& uv = textures.objects[std::size_t(origins.object[lane])];
-            if (uv.texcoords.empty()) continue;
-            const glm::uvec3& corner = uv.triangles[origins.prim[lane]];
-            const glm::vec2 st0 = uv.texcoords[corner.x], st1 = uv.texcoords[corner.y], st2 = uv.texcoords[corner.z];
-            const float u = origins.bary[0][lane], v = origins.bary[1][lane];
-            const glm::vec2 st = (1.0f - u - v) * st0 + u * st1 + v * st2;
-            const glm::vec2 e1 = st1 - st0, e2 = st2 - st0;
-            all.s[pending] = st.x;
-            all.t[pending] = st.y;
-            for (int a = 0; a < 3; ++a) all.eye_offset[a][pending] = surface.point[a][lane] - textures.eye[a];
-            all.texture_area[pending] = std::abs(e1.x * e2.y - e1.y * e2.x);
-            all.world_area[pending] = origins.twice_area[lane];
-            all.lane[pending] = lane;
-            all.material[pending] = material;
-            ++pending;
-            tint.lanes.set(lane);
-        }
-    }
+    surface.hit.for_each([&](int lane) {
+        const auto material = std::uint32_t(surface.material[lane]);
+        if (!textures.set.maps(material)) return;
+        const ObjectTexcoords& uv = textures.objects[std::size_t(origins.object[lane])];
+        if (uv.texcoords.empty()) return;
+        const glm::uvec3& corner = uv.triangles[origins.prim[lane]];
+        const glm::vec2 st0 = uv.texcoords[corner.x], st1 = uv.texcoords[corner.y], st2 = uv.texcoords[corner.z];
+        const float u = origins.bary[0][lane], v = origins.bary[1][lane];
+        const glm::vec2 st = (1.0f - u - v) * st0 + u * st1 + v * st2;
+        const glm::vec2 e1 = st1 - st0, e2 = st2 - st0;
+        all.s[pending] = st.x;
+        all.t[pending] = st.y;
+        for (int a = 0; a < 3; ++a) all.eye_offset[a][pending] = surface.point[a][lane] - textures.eye[a];
+        all.texture_area[pending] = std::abs(e1.x * e2.y - e1.y * e2.x);
+        all.world_area[pending] = origins.twice_area[lane];
+        all.lane[pending] = lane;
+        all.material[pending] = material;
+        ++pending;
+        tint.lanes.set(lane);
+    });
     if (pending == 0) return nullptr;
     footprint_lanes(textures.pixel_angle, pending, all.eye_offset, all.texture_area, all.world_area, all.width);
     // A material at a time (a tile mostly shows one or two): its lookups gathered in front of

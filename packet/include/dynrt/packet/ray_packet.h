@@ -32,6 +32,34 @@ struct LaneMask {
         return std::uint32_t(n == 32 ? bits & 0xffffffffu : bits & ((std::uint64_t{1} << n) - 1));
     }
     bool operator==(const LaneMask&) const = default;
+
+    /// Calls f(lane) for every lane in the set, ascending.
+    template <typename F>
+    void for_each(F&& f) const {
+        for (int w = 0; w < kWords; ++w) {
+            for (std::uint64_t bits = words[w]; bits != 0; bits &= bits - 1) f(w * 64 + std::countr_zero(bits));
+        }
+    }
+
+    LaneMask& operator&=(const LaneMask& other) {
+        for (int w = 0; w < kWords; ++w) words[w] &= other.words[w];
+        return *this;
+    }
+    LaneMask& operator|=(const LaneMask& other) {
+        for (int w = 0; w < kWords; ++w) words[w] |= other.words[w];
+        return *this;
+    }
+    /// The lanes not in the set (all 256 lanes are a packet's).
+    LaneMask operator~() const {
+        LaneMask out;
+        for (int w = 0; w < kWords; ++w) out.words[w] = ~words[w];
+        return out;
+    }
+    friend LaneMask operator&(LaneMask a, const LaneMask& b) { return a &= b; }
+    friend LaneMask operator|(LaneMask a, const LaneMask& b) { return a |= b; }
+
+private:
+    static constexpr int kWords = kPacketRays / 64;
 };
 
 /// 256 rays, one array per component, each aligned for SIMD loads. Lanes not in `active` are

@@ -85,15 +85,6 @@ Quad quad(const std::string& name, float tiles, Transform transform, Surface sur
     return q;
 }
 
-TextureWrap scene_wrap(Wrap wrap) {
-    switch (wrap) {
-        case Wrap::repeat: return TextureWrap::repeat;
-        case Wrap::clamp: return TextureWrap::clamp;
-        case Wrap::mirror: return TextureWrap::mirror;
-    }
-    return TextureWrap::repeat;
-}
-
 /// The quads as a scene the Renderer takes, with `textures` as Scene::textures (texture i of
 /// the engine is scene texture i).
 Scene scene_of(const std::vector<Quad>& quads, const std::vector<Texture>& textures) {
@@ -124,8 +115,8 @@ Scene scene_of(const std::vector<Quad>& quads, const std::vector<Texture>& textu
         material.specular = {q.surface.specular.x, q.surface.specular.y, q.surface.specular.z};
         material.shininess = q.surface.shininess;
         if (q.surface.diffuse_texture.valid()) {
-            material.diffuse_map = TextureMap{q.surface.diffuse_texture.value, scene_wrap(q.surface.wrap_s),
-                                              scene_wrap(q.surface.wrap_t)};
+            material.diffuse_map = TextureMap{q.surface.diffuse_texture.value, api_detail::scene_wrap(q.surface.wrap_s),
+                                              api_detail::scene_wrap(q.surface.wrap_t)};
         }
         scene.materials.push_back(material);
     }

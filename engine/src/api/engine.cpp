@@ -114,15 +114,6 @@ std::string surface_problem(const Surface& surface) {
     return {};
 }
 
-TextureWrap scene_wrap(Wrap wrap) {
-    switch (wrap) {
-        case Wrap::repeat: return TextureWrap::repeat;
-        case Wrap::clamp: return TextureWrap::clamp;
-        case Wrap::mirror: return TextureWrap::mirror;
-    }
-    return TextureWrap::repeat;
-}
-
 /// The caller's texture coordinates, checked (2 floats per vertex, finite); empty when none.
 std::vector<glm::vec2> checked_texcoords(std::span<const float> given, std::size_t vertices,
                                          const std::string& what) {
@@ -154,8 +145,8 @@ Material material_of(const Surface& surface, const std::string& name) {
     material.transmittance = to_glm(surface.transmittance);
     material.ior = surface.ior;
     if (surface.diffuse_texture.valid()) {
-        material.diffuse_map = TextureMap{surface.diffuse_texture.value, scene_wrap(surface.wrap_s),
-                                          scene_wrap(surface.wrap_t)};
+        material.diffuse_map = TextureMap{surface.diffuse_texture.value, api_detail::scene_wrap(surface.wrap_s),
+                                          api_detail::scene_wrap(surface.wrap_t)};
     }
     return material;
 }

@@ -1,5 +1,6 @@
 #pragma once
-// The scene's Texture for a TextureDesc (Engine::add_texture), checked: one source among a path,
+// The scene's Texture for a TextureDesc (Engine::add_texture), and its wrap mode for a Surface's,
+// checked: one source among a path,
 // an image file's bytes and an array of texels, and texels that keep TextureDesc's rules. A pure
 // function of the description, kept in a header so that tests/api checks the Texture it makes
 // (libdynrt exports only the API).
@@ -97,6 +98,16 @@ inline TexelArray checked_texels(const TextureDesc& desc, const std::string& wha
         std::memcpy(texels.bytes.data(), desc.texels8.data(), texels.bytes.size());
     }
     return texels;
+}
+
+/// The scene's wrap mode for a Surface's.
+inline TextureWrap scene_wrap(Wrap wrap) {
+    switch (wrap) {
+        case Wrap::repeat: return TextureWrap::repeat;
+        case Wrap::clamp: return TextureWrap::clamp;
+        case Wrap::mirror: return TextureWrap::mirror;
+    }
+    return TextureWrap::repeat;
 }
 
 /// The scene's Texture for `desc`, added as texture `id` (which names it when `desc` gives no

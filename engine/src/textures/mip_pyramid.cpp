@@ -20,17 +20,14 @@ std::uint8_t to_byte(float v) {
 }
 
 /// The texel's four channels from a decoded image of 1-4 channels: grey widened to RGB, alpha
-/// 1 (255) where the image has none.
-void widen(const float* in, int channels, float out[4]) {
-    if (channels <= 2) {
-        out[0] = out[1] = out[2] = in[0];
-        out[3] = channels == 2 ? in[1] : 1.0f;
-        return;
-    }
+/// `opaque` (1, or 255 for bytes) where the image has none.
+template <typename T>
+void widen(const T* in, int channels, T opaque, T out[4]) {
+    const bool grey = channels <= 2;
     out[0] = in[0];
-    out[1] = in[1];
-    out[2] = in[2];
-    out[3] = channels == 4 ? in[3] : 1.0f;
+    out[1] = grey ? in[0] : in[1];
+    out[2] = grey ? in[0] : in[2];
+    out[3] = channels == 2 ? in[1] : channels == 4 ? in[3] : opaque;
 }
 
 /// Where texel i of a level `size` texels across reads the finer level, `finer` texels across:
@@ -63,10 +60,9 @@ void MipPyramid::add_levels(int width, int height) {
         level.height = std::max(1, height >> m);
         level.blocks_x = (level.width + kBlock - 1) / kBlock;
         level.first = first;
-        level.min_side = float(std::min(level.width, level.height));
         levels_.push_back(level);
         first_[m] = level.first;
-        min_side_.push_back(level.min_side);
+        min_side_.push_back(float(std::min(level.width, level.height)));
         const std::int32_t blocks_y = (level.height + kBlock - 1) / kBlock;
         first += level.blocks_x * blocks_y * kBlock * kBlock;
         if (level.width == 1 && level.height == 1) break;
@@ -97,14 +93,10 @@ MipPyramid::MipPyramid(const TexelArray& image) {
             if (image.floating) {
                 float values[4];
                 std::memcpy(values, image.bytes.data() + in * sizeof(float), std::size_t(channels) * sizeof(float));
-                widen(values, channels, &rgba_float_[out * 4]);
+                widen(values, channels, 1.0f, &rgba_float_[out * 4]);
             } else {
                 std::uint8_t c[4];
-                const unsigned char* v = image.bytes.data() + in;
-                c[0] = v[0];
-                c[1] = channels <= 2 ? v[0] : v[1];
-                c[2] = channels <= 2 ? v[0] : v[2];
-                c[3] = channels == 2 ? v[1] : channels == 4 ? v[3] : 255;
+                widen<std::uint8_t>(image.bytes.data() + in, channels, 255, c);
                 rgba8_[out] = pack(c);
             }
         }

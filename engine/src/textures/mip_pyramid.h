@@ -34,7 +34,6 @@ public:
         std::int32_t width = 0, height = 0;
         std::int32_t blocks_x = 0;  ///< ceil(width / kBlock)
         std::int32_t first = 0;     ///< index of the level's first texel in the texel arrays
-        float min_side = 0.0f;      ///< min(width, height), for the level choice
     };
 
     /// The pyramid of `image` (decoded texels: 1-4 channels, rows from the top-left).
@@ -51,8 +50,8 @@ public:
     const float* rgba_float() const { return rgba_float_.data(); }
 
     const std::vector<Level>& levels() const { return levels_; }
-    /// Per level, where it starts (16 entries, the unused ones 0) and its smaller side, as the
-    /// kernel reads them by level index (its sides it computes: level m is max(1, width >> m)
+    /// Per level, where it starts (16 entries, the unused ones 0) and its smaller side (for the
+    /// level choice), as the kernel reads them by level index (its sides it computes: level m is max(1, width >> m)
     /// x max(1, height >> m)).
     const std::int32_t (&level_first() const)[16] { return first_; }
     const float* level_min_side() const { return min_side_.data(); }

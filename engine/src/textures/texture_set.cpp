@@ -27,9 +27,8 @@ struct TextureSet::Impl {
         bool srgb = true;
         std::string problem;  ///< why it cannot be read
     };
-    /// One material's map, when it has a usable one.
+    /// One material's map, when it has a usable one (TextureSet::usable_).
     struct Map {
-        bool usable = false;
         std::size_t texture = 0;
         TextureWrap wrap_s = TextureWrap::repeat, wrap_t = TextureWrap::repeat;
     };
@@ -94,7 +93,6 @@ TextureSet::TextureSet(const Scene& scene, bool print_warnings) : impl_(std::mak
             continue;
         }
         Impl::Map& out = s.materials[m];
-        out.usable = true;
         usable_[m] = 1;
         out.texture = map.texture;
         out.wrap_s = map.wrap_s;

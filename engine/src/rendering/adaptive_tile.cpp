@@ -1,7 +1,7 @@
 #include "adaptive_tile.h"
 
-#include "dynrt/packet/two_level_packet.h"
 #include "dynrt/engine/stopwatch.h"
+#include "rendering/tile_tracing.h"
 
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
@@ -20,8 +20,6 @@ namespace {
 /// more than a few scattered rays cost.
 constexpr int kSpacing = 8;
 constexpr int kMaxGrid = packet::kTileSize / kSpacing + 1;
-/// Up to this many rays of a tile (the 9 samples of a full tile, say) are traced one by one.
-constexpr int kSingleRaysMax = 32;
 
 /// The sample offsets along a tile side of `n` pixels: 0, 4, 8, ... and n - 1. Returns how many.
 int grid_of(int n, int out[kMaxGrid]) {
@@ -92,9 +90,9 @@ private:
 
 void trace_tile_adaptive(const AdaptiveFrame& f, const packet::Tile& tile,
                          std::vector<bvh::InstanceHit>& hits, RenderedFrame& out,
-                         AdaptiveTileWork& work, packet::PacketStats* stats) {
+                         StageWork& work, bool count) {
+    TraceWork* trace_work = count ? &work.trace : nullptr;
     Stopwatch clock;
-    const bvh::TwoLevelBvh& top = f.accel.top_level();
     const auto pixel_of = [&](int lane) {
         const packet::LanePixel px = packet::tile_pixel(tile, lane);
         return std::size_t(px.y) * std::size_t(f.width) + std::size_t(px.x);
@@ -111,48 +109,19 @@ void trace_tile_adaptive(const AdaptiveFrame& f, const packet::Tile& tile,
     packet::RayPacket rays;
     f.pinhole.fill_tile(tile, rays);
     const packet::LaneMask all = rays.active;
-    packet::InstanceHits packet_hits;
     TileShadowOrigins origins;
     std::vector<packet::LaneMask> visible(f.lights.size());
     packet::RayPacket shadow;
     packet::ShadedColors colors;
-    // A few scattered rays cost less one by one than as a packet, whose traversal cost is
-    // mostly per node, not per ray; both give the same hits.
-    const auto one_by_one = [](const packet::LaneMask& lanes) {
-        return lanes.count() <= kSingleRaysMax;
-    };
     const auto trace_primary = [&](const packet::LaneMask& lanes) {
-        const bool single = one_by_one(lanes);
-        if (!single) {
-            rays.active = lanes;
-            packet::intersect_closest(top, rays, packet_hits, f.packet, stats);
-        }
-        for (int lane = 0; lane < packet::kPacketRays; ++lane) {
-            if (!lanes.test(lane)) continue;
-            bvh::InstanceHit& hit = hits[pixel_of(lane)];
-            hit = single ? bvh::intersect_closest(top, rays.ray(lane)) : packet_hits.hit(lane);
-            f.accel.resolve(hit);
-        }
+        rays.active = lanes;
+        trace_tile_hits(f.tracer, tile, f.width, rays, hits, trace_work);
+        rays.active = all;
         work.primary_rays += std::size_t(lanes.count());
     };
     const auto trace_shadows = [&] {
-        for (packet::LaneMask& v : visible) v = packet::LaneMask{};
-        for (std::size_t l = 0; l < f.lights.size() && origins.surface.hit.any(); ++l) {
-            origins.rays_to(f.lights[l], shadow);
-            if (!shadow.active.any()) continue;
-            work.shadow_rays += std::size_t(shadow.active.count());
-            packet::LaneMask occluded;
-            if (one_by_one(shadow.active)) {
-                for (int lane = 0; lane < packet::kPacketRays; ++lane) {
-                    if (shadow.active.test(lane) && bvh::intersect_any(top, shadow.ray(lane))) {
-                        occluded.set(lane);
-                    }
-                }
-            } else {
-                packet::intersect_any(top, shadow, occluded, f.packet, stats);
-            }
-            visible[l] = shadow.active & ~occluded;
-        }
+        work.shadow_rays += trace_tile_shadows(f.tracer, RayCoherence::tile, origins, f.lights,
+                                               shadow, visible, trace_work);
     };
     // The exact path for the whole tile, as the renderer's packet tracer does it.
     const auto trace_whole_tile = [&] {

@@ -20,11 +20,12 @@
 // it.
 
 #include "dynrt/engine/renderer.h"
-#include "dynrt/packet/packet_traversal.h"
 #include "dynrt/packet/pinhole.h"
 #include "dynrt/packet/tiling.h"
 #include "update/scene_accel.h"
-#include "tile_shading.h"
+#include "rendering/stage_work.h"
+#include "rendering/tile_shading.h"
+#include "rendering/trace_backend.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -40,24 +41,16 @@ struct AdaptiveFrame {
     std::span<const PointLight> lights;
     const TileShading& shading;
     const std::vector<std::int32_t>& object_material;
-    const packet::PacketConfig& packet;
+    const TraceBackend& tracer;
     float tolerance;  ///< > 0
     int width;
 };
 
-/// One tile's work, for the frame's stage times and counters.
-struct AdaptiveTileWork {
-    double primary_ms = 0.0, shadow_ms = 0.0, shade_ms = 0.0;  ///< this thread's time
-    std::size_t primary_rays = 0;  ///< samples and refined pixels traced
-    std::size_t shadow_rays = 0;
-    std::size_t interpolated = 0;  ///< pixels filled by interpolation
-};
-
 /// Renders `tile` adaptively into `out` (buffers already sized) and `hits` (the traced pixels'
-/// hits; interpolated pixels get a miss), adding its work to `work` and, when not null, the
-/// packet tracer's counters to `stats`.
+/// hits; interpolated pixels get a miss), adding its work to `work` (its traversal counters
+/// too when `count`).
 void trace_tile_adaptive(const AdaptiveFrame& frame, const packet::Tile& tile,
-                         std::vector<bvh::InstanceHit>& hits, RenderedFrame& out,
-                         AdaptiveTileWork& work, packet::PacketStats* stats);
+                         std::vector<bvh::InstanceHit>& hits, RenderedFrame& out, StageWork& work,
+                         bool count);
 
 }  // namespace dynrt::detail

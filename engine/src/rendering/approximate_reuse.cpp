@@ -4,9 +4,9 @@
 #include "dynrt/packet/pinhole.h"
 #include "dynrt/packet/tiling.h"
 #include "rendering/changed_space.h"
-#include "rendering/lane_tracing.h"
 #include "rendering/same_view.h"
 #include "rendering/tile_shading.h"
+#include "rendering/tile_tracing.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/combinable.h>
@@ -421,8 +421,7 @@ void trace_frame_approximate(const TraceInputs& in, const Camera& camera,
     const TileShading shading{in.materials, scratch.shading_lights, options.ambient,
                               options.background, options.packet.lanes, in.textures};
     const bool count = options.count_packet_work;
-    tbb::combinable<packet::PacketStats> packet_work;
-    tbb::combinable<bvh::TraversalStats> single_work;
+    tbb::combinable<TraceWork> trace_counts;
     tbb::combinable<TileWork> work;
     const Stopwatch trace_clock;
     tbb::parallel_for(0, tiling.count(), [&](int t) {
@@ -438,26 +437,22 @@ void trace_frame_approximate(const TraceInputs& in, const Camera& camera,
         if (!lanes.any()) return;
         TileWork& tw = work.local();
         Stopwatch clock;
-        const LaneWork lane_work{count ? &packet_work.local() : nullptr,
-                                 count ? &single_work.local() : nullptr};
+        TraceWork* trace_work = count ? &trace_counts.local() : nullptr;
         packet::RayPacket rays;
         pinhole.fill_tile(tile, rays);
-        trace_primary_lanes(in.accel, options, tile, width, rays, lanes, scratch.hits, lane_work);
+        const packet::LaneMask tile_lanes = rays.active;
+        rays.active = lanes;
+        trace_tile_hits(in.tracer, tile, width, rays, scratch.hits, trace_work);
+        rays.active = tile_lanes;
         tw.primary_rays += std::size_t(lanes.count());
         tw.primary_ms += clock.lap_ms();
 
         TileShadowOrigins origins;
         origins.compute(in.accel, scratch.hits, width, tile, rays, in.object_material);
-        std::vector<packet::LaneMask> visible(lights.size());
+        std::vector<packet::LaneMask> visible;
         packet::RayPacket shadow;
-        for (std::size_t l = 0; l < lights.size(); ++l) {
-            origins.rays_to(lights[l], shadow);
-            const packet::LaneMask lit = shadow.active;
-            if (!lit.any()) continue;
-            const packet::LaneMask occluded = trace_shadow_lanes(in.accel, options, shadow, lit, lane_work);
-            visible[l] = lit & ~occluded;
-            tw.shadow_rays += std::size_t(lit.count());
-        }
+        tw.shadow_rays += trace_tile_shadows(in.tracer, RayCoherence::tile, origins, lights, shadow,
+                                             visible, trace_work);
         tw.shadow_ms += clock.lap_ms();
 
         // Shade the tile, keeping what the pixels not traced already show.
@@ -616,10 +611,7 @@ void trace_frame_approximate(const TraceInputs& in, const Camera& camera,
     stats.primary_mrays_per_s = stats.primary_ms > 0.0 ? double(stats.primary_rays) / (stats.primary_ms * 1e3) : 0.0;
     stats.shadow_mrays_per_s = stats.shadow_ms > 0.0 ? double(stats.shadow_rays) / (stats.shadow_ms * 1e3) : 0.0;
     if (count) {
-        const packet::PacketStats total = packet_work.combine(
-            [](packet::PacketStats a, const packet::PacketStats& b) { return a += b; });
-        stats.ray_triangle_tests = total.ray_triangle_tests;
-        stats.nodes_visited = total.nodes_visited;
+        trace_counts.combine([](TraceWork a, const TraceWork& b) { return a += b; }).report(stats);
     }
 }
 

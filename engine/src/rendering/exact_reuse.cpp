@@ -6,7 +6,7 @@
 #include "dynrt/packet/tiling.h"
 #include "dynrt/packet/two_level_packet.h"
 #include "rendering/changed_space.h"
-#include "rendering/lane_tracing.h"
+#include "rendering/tile_tracing.h"
 #include "rendering/same_view.h"
 #include "rendering/secondary_rays.h"
 #include "rendering/tile_shading.h"
@@ -274,14 +274,12 @@ void trace_frame_reusing(const TraceInputs& in, const Camera& camera, const Trac
     const bool count = options.count_packet_work;
     std::optional<SecondaryFrame> secondary_frame;
     if (any_secondary(in.scene_materials, options.secondary)) {
-        const SecondaryTracing tracing{in.accel, options.secondary, options.packet,
-                                       options.tracer == Tracer::single, count};
+        const SecondaryTracing tracing{in.accel, in.tracer, options.secondary, count};
         secondary_frame.emplace(SecondaryFrame{tracing, lights, shading, in.scene_materials,
                                                in.object_material, options.secondary_log});
     }
     tbb::combinable<SecondaryWork> secondary_work;
-    tbb::combinable<packet::PacketStats> packet_work;
-    tbb::combinable<bvh::TraversalStats> single_work;
+    tbb::combinable<TraceWork> trace_counts;
     tbb::combinable<TileWork> work;
     // Per thread, the changed boxes near the tile at hand (storage reused across tiles).
     tbb::combinable<ChangedSpace> nearby;
@@ -328,10 +326,12 @@ void trace_frame_reusing(const TraceInputs& in, const Camera& camera, const Trac
                 primary = near.meets_rays(rays, until, rays.active);
             }
         }
-        const LaneWork lane_work{count ? &packet_work.local() : nullptr,
-                                 count ? &single_work.local() : nullptr};
+        TraceWork* trace_work = count ? &trace_counts.local() : nullptr;
         if (primary.any()) {
-            trace_primary_lanes(in.accel, options, tile, width, rays, primary, scratch.hits, lane_work);
+            const packet::LaneMask tile_lanes = rays.active;
+            rays.active = primary;
+            trace_tile_hits(in.tracer, tile, width, rays, scratch.hits, trace_work);
+            rays.active = tile_lanes;
             tw.primary_rays += std::size_t(primary.count());
         }
         tw.primary_ms += clock.lap_ms();
@@ -379,7 +379,8 @@ void trace_frame_reusing(const TraceInputs& in, const Camera& camera, const Trac
             }
             packet::LaneMask occluded;
             if (retrace.any()) {
-                occluded = trace_shadow_lanes(in.accel, options, shadow, retrace, lane_work);
+                shadow.active = retrace;
+                occluded = in.tracer.occluded(shadow, RayCoherence::tile, trace_work);
                 tw.shadow_rays += std::size_t(retrace.count());
             }
             const packet::LaneMask before = memory.visible[slot];
@@ -440,22 +441,7 @@ void trace_frame_reusing(const TraceInputs& in, const Camera& camera, const Trac
                          thread_total > 0.0 ? wall_ms / thread_total : 0.0, stats);
     }
     if (count) {
-        const packet::PacketStats total = packet_work.combine(
-            [](packet::PacketStats a, const packet::PacketStats& b) { return a += b; });
-        stats.ray_triangle_tests = total.ray_triangle_tests;
-        stats.ray_triangle_culled = total.culled_active_bounds + total.culled_beam_planes +
-                                    total.culled_triangle_edges + total.culled_near_far;
-        stats.nodes_visited = total.nodes_visited;
-        if (options.tracer == Tracer::single) {
-            const bvh::TraversalStats single = single_work.combine(
-                [](bvh::TraversalStats a, const bvh::TraversalStats& b) {
-                    a.nodes_visited += b.nodes_visited;
-                    a.triangles_tested += b.triangles_tested;
-                    return a;
-                });
-            stats.ray_triangle_tests = single.triangles_tested;
-            stats.nodes_visited = single.nodes_visited;
-        }
+        trace_counts.combine([](TraceWork a, const TraceWork& b) { return a += b; }).report(stats);
     }
 }
 

@@ -1,5 +1,6 @@
 #include "rendering/frame_pipeline.h"
 
+#include "rendering/cpu_tracer.h"
 #include "rendering/same_view.h"
 #include "update/held_bytes.h"
 
@@ -171,7 +172,8 @@ void FramePipeline::trace(const Scene& scene, const Camera& camera, const TraceS
             2.0f * std::tan(0.5f * glm::radians(camera.fov_y_deg)) / float(std::max(options.height, 1));
         surface_textures.emplace(detail::SurfaceTextures{*textures_, object_texcoords_, camera.eye, pixel_angle});
     }
-    const TraceInputs inputs{accel_, materials_, object_material_, lights, scene.materials,
+    const detail::CpuTracer tracer(accel_, options);
+    const TraceInputs inputs{accel_, tracer, materials_, object_material_, lights, scene.materials,
                              surface_textures ? &*surface_textures : nullptr};
     // A reflection or refraction can show any object from any pixel whose hit spawns one:
     // exact reuse traces such pixels again whenever anything changed (exact_reuse.h), while the

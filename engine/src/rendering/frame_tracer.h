@@ -8,6 +8,7 @@
 #include "dynrt/engine/renderer.h"
 #include "dynrt/packet/packet_shading.h"
 #include "rendering/secondary_rays.h"
+#include "rendering/trace_backend.h"
 #include "update/scene_accel.h"
 
 #include <cstdint>
@@ -18,7 +19,11 @@ namespace dynrt {
 
 /// What a frame's trace reads besides the camera and options; borrowed for the call.
 struct TraceInputs {
+    /// The trees, and the shading geometry of their objects.
     const SceneAccel& accel;
+    /// What traces the frame's rays (trace_backend.h): dynrt's CpuTracer over `accel`, or
+    /// another backend over the same posed scene.
+    const detail::TraceBackend& tracer;
     /// Materials as the shading kernel reads them, and each object's index into them.
     std::span<const packet::PhongMaterial> materials;
     const std::vector<std::int32_t>& object_material;
@@ -34,9 +39,6 @@ struct TraceInputs {
 /// Buffers a trace fills and the next one reuses (one per concurrent trace).
 struct TraceScratch {
     std::vector<bvh::InstanceHit> hits;
-    /// visible[pixel * lights + l]: light l reaches the pixel's hit point (single-ray tracer;
-    /// the packet tracer keeps its verdicts per tile).
-    std::vector<std::uint8_t> visible;
     std::vector<packet::ShadingLight> shading_lights;
 };
 

@@ -4,6 +4,7 @@
 #include "dynrt/packet/packet_shading.h"
 #include "dynrt/engine/stopwatch.h"
 #include "rendering/frame_pipeline.h"
+#include "rendering/cpu_tracer.h"
 #include "rendering/secondary_rays.h"
 
 #include <tbb/blocked_range.h>
@@ -172,8 +173,7 @@ double Renderer::trace_logged_rays(const SecondaryRayLog& log,
     std::vector<std::size_t> first(log.packets.size() + 1, 0);
     for (std::size_t i = 0; i < log.packets.size(); ++i) first[i + 1] = first[i] + log.packets[i].rays.size();
     if (hits) hits->assign(first.back(), bvh::InstanceHit{});
-    const detail::SecondaryTracing tracing{s.pipeline.accel(), options_.secondary, options_.packet,
-                                           options_.tracer == Tracer::single, false};
+    const detail::CpuTracer tracer(s.pipeline.accel(), options_);
     const Stopwatch clock;
     tbb::parallel_for(std::size_t(0), log.packets.size(), [&](std::size_t i) {
         const SecondaryRayPacket& logged = log.packets[i];
@@ -183,9 +183,8 @@ double Renderer::trace_logged_rays(const SecondaryRayLog& log,
         for (int lane = 0; lane < packet::kPacketRays; ++lane) {
             if (logged.lanes.test(lane)) rays.set_ray(lane, logged.rays[k++]);
         }
-        bvh::InstanceHit lane_hits[packet::kPacketRays];
-        detail::SecondaryWork work;
-        detail::trace_secondary_closest(tracing, rays, lane_hits, work);
+        detail::LaneHits lane_hits;
+        tracer.closest(rays, detail::RayCoherence::scattered, lane_hits, nullptr);
         if (!hits) return;
         k = first[i];
         for (int lane = 0; lane < packet::kPacketRays; ++lane) {

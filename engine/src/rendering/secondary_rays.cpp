@@ -3,7 +3,7 @@
 #include "dynrt/bvh/two_level_bvh.h"
 #include "dynrt/engine/shadow_ray_offset.h"
 #include "dynrt/engine/stopwatch.h"
-#include "dynrt/packet/two_level_packet.h"
+#include "rendering/tile_tracing.h"
 
 #include <glm/geometric.hpp>
 
@@ -33,9 +33,7 @@ SecondaryWork& SecondaryWork::operator+=(const SecondaryWork& o) {
     refraction_ms += o.refraction_ms;
     shadow_ms += o.shadow_ms;
     other_ms += o.other_ms;
-    packet_work += o.packet_work;
-    single_work.nodes_visited += o.single_work.nodes_visited;
-    single_work.triangles_tested += o.single_work.triangles_tested;
+    trace += o.trace;
     return *this;
 }
 
@@ -176,90 +174,7 @@ void spawn(const SecondaryFrame& f, const TileShadowOrigins& origins,
     });
 }
 
-/// Copies the rays of `lanes` into the first lanes of `dense`, in lane order, and returns how
-/// many. The packet tracer works on the range from the first to the last active lane, so a
-/// bounce's rays, scattered over the tile's 256 lanes, are traced packed: lane by lane the
-/// results are the same (packet_traversal.h), only the empty chunks go.
-int pack(const RayPacket& rays, const LaneMask& lanes, RayPacket& dense, int (&lane_of)[kPacketRays]) {
-    dense.clear();
-    int n = 0;
-    lanes.for_each([&](int lane) {
-        dense.org_x[n] = rays.org_x[lane];
-        dense.org_y[n] = rays.org_y[lane];
-        dense.org_z[n] = rays.org_z[lane];
-        dense.dir_x[n] = rays.dir_x[lane];
-        dense.dir_y[n] = rays.dir_y[lane];
-        dense.dir_z[n] = rays.dir_z[lane];
-        dense.tmin[n] = rays.tmin[lane];
-        dense.tmax[n] = rays.tmax[lane];
-        dense.active.set(n);
-        lane_of[n++] = lane;
-    });
-    return n;
-}
-
-/// Which lanes of `shadow` (rays from a light) are occluded; packets as trace_closest.
-LaneMask trace_shadows(const SecondaryTracing& f, const RayPacket& shadow, SecondaryWork& work) {
-    const bvh::TwoLevelBvh& tlas = f.accel.top_level();
-    LaneMask occluded;
-    const int count = shadow.active.count();
-    if (!f.single_rays && count >= f.settings.min_packet_rays && f.settings.min_packet_rays <= kPacketRays) {
-        thread_local RayPacket dense;
-        int lane_of[kPacketRays];
-        const int n = pack(shadow, shadow.active, dense, lane_of);
-        LaneMask dense_occluded;
-        packet::intersect_any(tlas, dense, dense_occluded, f.packet, f.count ? &work.packet_work : nullptr);
-        for (int k = 0; k < n; ++k) {
-            if (dense_occluded.test(k)) occluded.set(lane_of[k]);
-        }
-        return occluded;
-    }
-    shadow.active.for_each([&](int lane) {
-        const bool blocked = f.count ? bvh::intersect_any(tlas, shadow.ray(lane), work.single_work)
-                                     : bvh::intersect_any(tlas, shadow.ray(lane));
-        if (blocked) occluded.set(lane);
-    });
-    return occluded;
-}
-
 }  // namespace
-
-void trace_secondary_closest(const SecondaryTracing& f, const packet::RayPacket& rays,
-                             bvh::InstanceHit (&hits)[packet::kPacketRays], SecondaryWork& work) {
-    thread_local packet::InstanceHits packet_hits;
-    thread_local RayPacket dense;
-    int lane_of[kPacketRays];
-    const bvh::TwoLevelBvh& tlas = f.accel.top_level();
-    LaneMask octant[8];
-    rays.active.for_each([&](int lane) {
-        const int o = int(rays.dir_x[lane] < 0.0f) | int(rays.dir_y[lane] < 0.0f) << 1 |
-                      int(rays.dir_z[lane] < 0.0f) << 2;
-        octant[o].set(lane);
-    });
-    const LaneMask all = rays.active;
-    const int min_rays = f.settings.min_packet_rays;
-    for (const LaneMask& group : octant) {
-        const int count = group.count();
-        if (count == 0) continue;
-        if (!f.single_rays && count >= min_rays && min_rays <= kPacketRays) {
-            const int n = pack(rays, group, dense, lane_of);
-            packet::intersect_closest(tlas, dense, packet_hits, f.packet,
-                                      f.count ? &work.packet_work : nullptr);
-            for (int k = 0; k < n; ++k) hits[lane_of[k]] = packet_hits.hit(k);
-            work.packet_rays += std::size_t(count);
-        } else {
-            group.for_each([&](int lane) {
-                hits[lane] = f.count ? bvh::intersect_closest(tlas, rays.ray(lane), work.single_work)
-                                       : bvh::intersect_closest(tlas, rays.ray(lane));
-            });
-            work.single_rays += std::size_t(count);
-        }
-    }
-    all.for_each([&](int lane) {
-        bvh::InstanceHit& hit = hits[lane];
-        if (hit.is_hit()) f.accel.resolve(hit);
-    });
-}
 
 void add_secondary(const SecondaryFrame& f, const TileShadowOrigins& primary,
                    packet::ShadedColors& colors, SecondaryWork& work) {
@@ -282,9 +197,11 @@ void add_secondary(const SecondaryFrame& f, const TileShadowOrigins& primary,
         work.rays_per_depth[std::size_t(bounce.depth - 1)] += rays;
         work.other_ms += clock.lap_ms();
         if (f.log != nullptr) f.log->add(bounce.rays, bounce.kind == Kind::refraction, bounce.depth);
-        const std::size_t packed_before = work.packet_rays;
-        trace_secondary_closest(f.tracing, bounce.rays, s.hits, work);
-        work.packet_rays_per_depth[std::size_t(bounce.depth - 1)] += work.packet_rays - packed_before;
+        TraceWork* trace_work = f.tracing.count ? &work.trace : nullptr;
+        const auto packed = std::size_t(f.tracing.tracer.closest(bounce.rays, RayCoherence::scattered, s.hits, trace_work));
+        work.packet_rays += packed;
+        work.single_rays += rays - packed;
+        work.packet_rays_per_depth[std::size_t(bounce.depth - 1)] += packed;
         (bounce.kind == Kind::reflection ? work.reflection_ms : work.refraction_ms) += clock.lap_ms();
 
         const LaneMask active = bounce.rays.active;
@@ -295,15 +212,9 @@ void add_secondary(const SecondaryFrame& f, const TileShadowOrigins& primary,
             },
             bounce.rays, f.object_material);
         const LaneMask& hit = s.origins.surface.hit;
-        s.visible.assign(f.lights.size(), LaneMask{});
         work.other_ms += clock.lap_ms();
-        for (std::size_t l = 0; l < f.lights.size() && hit.any(); ++l) {
-            s.origins.rays_to(f.lights[l], s.shadow);
-            if (!s.shadow.active.any()) continue;
-            work.shadow_rays += std::size_t(s.shadow.active.count());
-            const LaneMask occluded = trace_shadows(f.tracing, s.shadow, work);
-            s.visible[l] = s.shadow.active & ~occluded;
-        }
+        work.shadow_rays += trace_tile_shadows(f.tracing.tracer, RayCoherence::scattered, s.origins,
+                                               f.lights, s.shadow, s.visible, trace_work);
         work.shadow_ms += clock.lap_ms();
         shade_lanes(f.shading, s.origins, s.visible, s.local);
         active.for_each([&](int lane) {

@@ -9,8 +9,8 @@
 // packet is traced its rays are grouped by direction octant: a group of at least
 // SecondaryRays::min_packet_rays rays (a planar mirror's or a glass pane's, which stay as
 // coherent as the camera rays) is traced as a packet, and the rest (what a curved surface
-// scatters) one ray at a time. Both tracers give the same bits, so the choice changes only the
-// time; the report counts the rays each way (Overbeck, Ramamoorthi and Mark 2008, "Large Ray
+// scatters) one ray at a time (CpuTracer::as_packet). Both tracers give the same bits, so the
+// choice changes only the time; the report counts the rays each way (Overbeck, Ramamoorthi and Mark 2008, "Large Ray
 // Packets for Real-time Whitted Ray Tracing", measure how packets of secondary rays thin out).
 
 #include "dynrt/engine/frame_stats.h"
@@ -21,6 +21,7 @@
 #include "dynrt/packet/ray_packet.h"
 #include "dynrt/scene/scene.h"
 #include "rendering/tile_shading.h"
+#include "rendering/trace_backend.h"
 #include "update/scene_accel.h"
 
 #include <glm/vec3.hpp>
@@ -32,13 +33,13 @@
 
 namespace dynrt::detail {
 
-/// How secondary rays are traced: through which trees, packets or one by one.
+/// How secondary rays are traced: the scene's shading geometry, the tracer behind the seam
+/// (which decides packets or single rays), the depth and cut-off.
 struct SecondaryTracing {
     const SceneAccel& accel;
+    const TraceBackend& tracer;
     SecondaryRays settings;
-    packet::PacketConfig packet;
-    bool single_rays = false;  ///< Tracer::single: every ray one at a time
-    bool count = false;        ///< count packet work into SecondaryWork::packet_work
+    bool count = false;  ///< count traversal work into SecondaryWork::trace
 };
 
 /// What a frame's secondary rays read; fixed for the frame.
@@ -65,8 +66,7 @@ struct SecondaryWork {
     /// Thread time tracing reflection rays, refraction rays (closest hits only), the
     /// secondary hits' shadow rays, and everything else (making rays, shading, bookkeeping).
     double reflection_ms = 0, refraction_ms = 0, shadow_ms = 0, other_ms = 0;
-    packet::PacketStats packet_work;
-    bvh::TraversalStats single_work;
+    TraceWork trace;
 
     /// All of the thread's secondary time.
     double thread_ms() const { return reflection_ms + refraction_ms + shadow_ms + other_ms; }
@@ -82,12 +82,6 @@ bool any_secondary(std::span<const Material> materials, const SecondaryRays& set
 /// wr color(reflected) + wt color(refracted), recursively to settings.max_depth.
 void add_secondary(const SecondaryFrame& frame, const TileShadowOrigins& primary,
                    packet::ShadedColors& colors, SecondaryWork& work);
-
-/// Closest hits of `rays`' active lanes into `hits` (by lane, resolved to scene objects): the
-/// lanes of one direction octant as a packet when there are at least min_packet_rays of them,
-/// the rest one by one; a group's rays are packed into the first lanes of a packet.
-void trace_secondary_closest(const SecondaryTracing& tracing, const packet::RayPacket& rays,
-                             bvh::InstanceHit (&hits)[packet::kPacketRays], SecondaryWork& work);
 
 /// Fills the report's secondary-ray fields from the threads' summed work; `scale` turns the
 /// threads' summed milliseconds into the frame's wall time (the parallel loop's wall time over

@@ -1,0 +1,50 @@
+#pragma once
+// A tile's rays through the trace seam (trace_backend.h), as every mode of the frame traces
+// them: its camera rays' closest hits into the frame's per-pixel hits, and its hit points'
+// shadow rays toward each light.
+
+#include "dynrt/bvh/two_level_bvh.h"
+#include "dynrt/engine/renderer.h"
+#include "dynrt/packet/ray_packet.h"
+#include "dynrt/packet/tiling.h"
+#include "rendering/tile_shading.h"
+#include "rendering/trace_backend.h"
+
+#include <cstddef>
+#include <span>
+#include <vector>
+
+namespace dynrt::detail {
+
+/// Closest hits of `rays`' active lanes (camera rays of `tile`'s pixels), resolved, into
+/// hits[y * width + x]; other pixels' hits are left alone.
+inline void trace_tile_hits(const TraceBackend& tracer, const packet::Tile& tile, int width,
+                            const packet::RayPacket& rays, std::vector<bvh::InstanceHit>& hits,
+                            TraceWork* work) {
+    LaneHits lane_hits;
+    tracer.closest(rays, RayCoherence::tile, lane_hits, work);
+    rays.active.for_each([&](int lane) {
+        const packet::LanePixel px = packet::tile_pixel(tile, lane);
+        hits[std::size_t(px.y) * width + px.x] = lane_hits[lane];
+    });
+}
+
+/// visible[l]: the hit lanes of `origins` that light l reaches (the lit side of their surface
+/// and nothing in between), one shadow batch per light of `coherence` (`shadow` holds the
+/// last). Returns the number of shadow rays traced.
+inline std::size_t trace_tile_shadows(const TraceBackend& tracer, RayCoherence coherence,
+                                      const TileShadowOrigins& origins,
+                                      std::span<const PointLight> lights, packet::RayPacket& shadow,
+                                      std::vector<packet::LaneMask>& visible, TraceWork* work) {
+    visible.assign(lights.size(), packet::LaneMask{});
+    std::size_t traced = 0;
+    for (std::size_t l = 0; l < lights.size() && origins.surface.hit.any(); ++l) {
+        origins.rays_to(lights[l], shadow);
+        if (!shadow.active.any()) continue;
+        traced += std::size_t(shadow.active.count());
+        visible[l] = shadow.active & ~tracer.occluded(shadow, coherence, work);
+    }
+    return traced;
+}
+
+}  // namespace dynrt::detail

@@ -1,0 +1,76 @@
+#pragma once
+// The one seam between a frame and the tracer that answers its rays (issue 36; the shape
+// follows pbrt-v4's wavefront aggregate, whose IntersectClosest and IntersectShadow over a ray
+// queue are implemented once per device). Every ray a frame traces, camera, shadow, reflection
+// or refraction, in every mode (full frames, exact reuse, the approximate modes, adaptive
+// sampling), goes through a TraceBackend as a batch of at most 256 rays: the active lanes of a
+// RayPacket. Hits come back resolved to the scene object and its triangle, so nothing above the
+// seam knows how a tracer groups its objects. dynrt's own tracer (cpu_tracer.h) is one
+// backend; another (Embree, a GPU) implements the same two calls.
+//
+// A backend that is not bit-identical to dynrt's can still be checked: hit_agreement.h counts
+// pixels whose object or triangle differ, and the frame tests compare such a backend's frames
+// against dynrt's within a documented count of edge pixels.
+
+#include "dynrt/bvh/triangle_bvh.h"
+#include "dynrt/bvh/two_level_bvh.h"
+#include "dynrt/engine/frame_stats.h"
+#include "dynrt/packet/packet_config.h"
+#include "dynrt/packet/ray_packet.h"
+
+namespace dynrt::detail {
+
+/// How a batch's rays were made, which is all a tracer is told of their coherence.
+enum class RayCoherence {
+    /// One tile's rays: its camera rays through one eye, or its hit points' shadow rays toward
+    /// one light (which, run from the light, share an origin).
+    tile,
+    /// Rays that may go anywhere: reflection and refraction rays, and the shadow rays of their
+    /// hits.
+    scattered,
+};
+
+/// Closest hits of a batch, by lane.
+using LaneHits = bvh::InstanceHit[packet::kPacketRays];
+
+/// The work a thread's traces did, when a trace counts it (TraceSettings::count_packet_work):
+/// packet traversals' counters and single rays' counters.
+struct TraceWork {
+    packet::PacketStats packet;
+    bvh::TraversalStats single;
+
+    TraceWork& operator+=(const TraceWork& other) {
+        packet += other.packet;
+        single.nodes_visited += other.single.nodes_visited;
+        single.triangles_tested += other.single.triangles_tested;
+        return *this;
+    }
+
+    /// Sets the report's ray/triangle tests, culled pairs and node visits from both tracers'
+    /// counters (a trace may use both: packets for full tiles, single rays for a few).
+    void report(TraceStats& stats) const {
+        stats.ray_triangle_tests = packet.ray_triangle_tests + single.triangles_tested;
+        stats.ray_triangle_culled = packet.culled_active_bounds + packet.culled_beam_planes +
+                                    packet.culled_triangle_edges + packet.culled_near_far;
+        stats.nodes_visited = packet.nodes_visited + single.nodes_visited;
+    }
+};
+
+class TraceBackend {
+public:
+    virtual ~TraceBackend() = default;
+
+    /// Closest hits of `rays`' active lanes within [tmin, tmax] into hits[lane], resolved to
+    /// scene object and triangle (a miss: a default InstanceHit); other lanes are left alone.
+    /// Returns how many of the rays were traced as packets (the rest one by one), for the
+    /// report. `work`, if not null, receives the traversal counters. Thread-safe on a shared
+    /// backend; `work` is the calling thread's.
+    virtual int closest(const packet::RayPacket& rays, RayCoherence coherence, LaneHits& hits,
+                        TraceWork* work) const = 0;
+
+    /// Which of `rays`' active lanes hit anything within [tmin, tmax] (shadow rays).
+    virtual packet::LaneMask occluded(const packet::RayPacket& rays, RayCoherence coherence,
+                                      TraceWork* work) const = 0;
+};
+
+}  // namespace dynrt::detail

@@ -6,12 +6,12 @@ bit-identical to a reference binary's (an older build: `git worktree add ../ref 
 it there). Every case renders a few frames at a small size with both binaries into their own
 folders, then compares
   - each frame's image (binary PPM, so the bytes are the pixels) byte for byte,
-  - each AOV (float EXR) byte for byte,
+  - each AOV (float EXR) byte for byte, but for the second it was written (its capDate),
   - each report's numbers (and its frames' .jsonl stream), leaving out what measures time (keys ending in _ms or _per_s, the
     summary of medians, the update planner's measured choices) and the thread count.
 
     /usr/bin/python3 scripts/frame_suite.py --reference ../ref/build/release/engine/dynrt \\
-        [--candidate build/release/engine/dynrt] [--only NAME] [--keep DIR]
+        [--candidate build/release/engine/dynrt] [--only NAME] [--keep DIR] [--regrouped]
 
 Exit status 0 when every case agrees, 1 when one differs (each difference is printed), 2 on a
 usage error. Scenes from ../shared/scenes are skipped, with a line saying so, when absent.
@@ -67,11 +67,16 @@ UNCOMPARED_KEYS = {"--out", "--report", "summary", "threads", "rebuilds", "objec
                    "leaf_tris_mean", "leaf_tris_max", "depth"}
 
 
+# How the secondary rays were grouped into packets: what regrouping them changes (--regrouped).
+GROUPING_KEYS = {"secondary_packet_rays", "secondary_single_rays", "secondary_packet_rays_per_depth"}
+uncompared = set(UNCOMPARED_KEYS)
+
+
 def counts_of(value):
     """The report without what measures time or follows from measured times."""
     if isinstance(value, dict):
         return {k: counts_of(v) for k, v in value.items()
-                if k not in UNCOMPARED_KEYS and not k.endswith(TIMING_SUFFIXES)}
+                if k not in uncompared and not k.endswith(TIMING_SUFFIXES)}
     if isinstance(value, list):
         return [counts_of(v) for v in value]
     return value
@@ -83,6 +88,23 @@ def render(binary, scene, flags, folder):
                "--out", os.path.join(folder, "%04d.ppm"), "--report", os.path.join(folder, "report.json")]
     run = subprocess.run(command, capture_output=True, text=True, timeout=900)
     return run.returncode, run.stdout + run.stderr
+
+
+def without_capture_date(data):
+    """An EXR's bytes with its capDate attribute's value (the second it was written) blanked."""
+    at = data.find(b"capDate\0string\0")
+    if at < 0:
+        return data
+    start = at + len(b"capDate\0string\0")
+    length = int.from_bytes(data[start:start + 4], "little")
+    return data[:start + 4] + b"\0" * length + data[start + 4 + length:]
+
+
+def same_file(a, b):
+    if not a.endswith(".exr"):
+        return filecmp.cmp(a, b, shallow=False)
+    with open(a, "rb") as fa, open(b, "rb") as fb:
+        return without_capture_date(fa.read()) == without_capture_date(fb.read())
 
 
 def compare(case, reference_folder, candidate_folder):
@@ -99,7 +121,7 @@ def compare(case, reference_folder, candidate_folder):
                 if [counts_of(json.loads(l)) for l in a] != [counts_of(json.loads(l)) for l in b]:
                     problems.append(f"{case}: {name} differs in its counts")
             continue
-        if not filecmp.cmp(os.path.join(reference_folder, name), os.path.join(candidate_folder, name), shallow=False):
+        if not same_file(os.path.join(reference_folder, name), os.path.join(candidate_folder, name)):
             problems.append(f"{case}: {name} differs")
     with open(os.path.join(reference_folder, "report.json")) as a, open(os.path.join(candidate_folder, "report.json")) as b:
         ra, rb = counts_of(json.load(a)), counts_of(json.load(b))
@@ -120,7 +142,11 @@ def main():
     parser.add_argument("--candidate", default=os.path.join(ROOT, "build", "release", "engine", "dynrt"))
     parser.add_argument("--only", action="append", default=[], help="run the cases whose name contains this")
     parser.add_argument("--keep", help="render into this folder and keep it (default: a temporary one)")
+    parser.add_argument("--regrouped", action="store_true",
+                        help="leave out how secondary rays were grouped into packets (for a change that regroups them)")
     args = parser.parse_args()
+    if args.regrouped:
+        uncompared.update(GROUPING_KEYS)
     for binary in (args.reference, args.candidate):
         if not os.access(binary, os.X_OK):
             print(f"frame_suite: error: {binary} is not an executable dynrt", file=sys.stderr)

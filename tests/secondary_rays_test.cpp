@@ -8,6 +8,7 @@
 #include "dynrt/anim/procedural_motion.h"
 #include "dynrt/engine/pixel_reuse.h"
 #include "dynrt/engine/renderer.h"
+#include "dynrt/packet/tiling.h"
 #include "dynrt/engine/scene_loading.h"
 
 #include <gtest/gtest.h>
@@ -113,6 +114,37 @@ TEST(SecondaryRays, PacketsAndSingleRaysGiveTheSameBits) {
     const RenderedFrame no_packets = render(scene, options);
     expect_same_bits(packets, no_packets, "every secondary ray alone");
     EXPECT_EQ(no_packets.stats.secondary_packet_rays, 0u);
+}
+
+// The secondary stage gathers the rays of every tile traced and sorts them into packets across
+// the image: which tiles a process traces (a share of them, as an MPI rank does) may change
+// the packets, never a pixel.
+TEST(SecondaryRays, APixelIsTheSameWhicheverTilesAreTracedWithIt) {
+    const Scene scene = whitted_scene();
+    RenderOptions options = small_options();
+    options.secondary.max_depth = 4;
+    const RenderedFrame whole = render(scene, options);
+    ASSERT_GT(whole.stats.refraction_rays, 0u);
+    for (int r = 0; r < 3; ++r) {
+        options.tiles = packet::TileShare{r, 3};
+        const RenderedFrame part = render(scene, options);
+        const packet::Tiling share(options.width, options.height, options.tiles);
+        std::size_t compared = 0, differing = 0;
+        for (int t = 0; t < share.count(); ++t) {
+            const packet::Tile tile = share.tile(t);
+            for (int y = tile.y0; y < tile.y1; ++y) {
+                for (int x = tile.x0; x < tile.x1; ++x) {
+                    const std::size_t p = std::size_t(y) * std::size_t(options.width) + std::size_t(x);
+                    ++compared;
+                    differing += part.color[p] != whole.color[p];
+                }
+            }
+        }
+        EXPECT_GT(compared, 0u);
+        EXPECT_EQ(differing, 0u) << "share " << r << " of 3";
+        EXPECT_LT(part.stats.reflection_rays + part.stats.refraction_rays,
+                  whole.stats.reflection_rays + whole.stats.refraction_rays);
+    }
 }
 
 TEST(SecondaryRays, DepthZeroAndAHighCutoffAreThePhongImage) {

@@ -22,6 +22,8 @@
 // ceil(log2(n)) middle splits, below kMaxDepth for any n < 2^31.
 
 #include "dynrt/bvh/morton_builder.h"
+#include "dynrt/bvh/morton_code.h"
+#include "dynrt/bvh/radix_sort.h"
 
 #include "binned_sah_core.h"
 #include "huge_pages.h"
@@ -46,11 +48,8 @@ namespace dynrt::bvh::detail {
 namespace {
 
 constexpr int kBitsPerAxis = 10;
-constexpr int kRadixBits = 10;
-constexpr std::uint32_t kBuckets = 1u << kRadixBits;
 constexpr int kCodeBits = 3 * kBitsPerAxis;
-/// Keys per block of the radix sort's parallel passes: each block keeps a histogram of
-/// kBuckets counters (4 KB, in L1) and scatters into kBuckets streams.
+/// Keys per task of the builder's parallel loops over primitives.
 constexpr std::size_t kSortBlock = 32 * 1024;
 /// A range of at most this many primitives (or BuildConfig::leaf_size_max, if smaller) is a
 /// leaf: two triangle blocks. On sphere:1000000 at 1024x1024, leaves of up to 4 gave a tree of
@@ -61,84 +60,9 @@ constexpr std::uint32_t kLeafPrims = 8;
 /// Ranges above this many primitives are split into two tasks.
 constexpr std::uint32_t kTaskMinPrims = 4 * 1024;
 
-/// The 10 low bits of x spread to every third bit (bit i -> bit 3i).
-inline std::uint32_t spread_bits(std::uint32_t x) {
-    x &= 0x3ffu;
-    x = (x | (x << 16)) & 0x030000ffu;
-    x = (x | (x << 8)) & 0x0300f00fu;
-    x = (x | (x << 4)) & 0x030c30c3u;
-    x = (x | (x << 2)) & 0x09249249u;
-    return x;
-}
-
-/// Quantises a centre to the grid over the centres' bounds and interleaves the axes.
-struct MortonGrid {
-    glm::vec3 lo;
-    glm::vec3 scale;
-
-    explicit MortonGrid(const Aabb& centers) : lo(centers.lo) {
-        const glm::vec3 extent = centers.hi - centers.lo;
-        constexpr float kCells = float(1u << kBitsPerAxis);
-        for (int axis = 0; axis < 3; ++axis) {
-            // A flat axis (every centre equal on it) gets cell 0 for all.
-            scale[axis] = extent[axis] > 0.0f ? kCells * 0.99999f / extent[axis] : 0.0f;
-        }
-    }
-
-    std::uint32_t code(const glm::vec3& c) const {
-        std::uint32_t cell[3];
-        for (int axis = 0; axis < 3; ++axis) {
-            const float q = (c[axis] - lo[axis]) * scale[axis];
-            // Clamped: rounding may put the largest centre a hair past the last cell.
-            cell[axis] = std::min(static_cast<std::uint32_t>(std::max(q, 0.0f)),
-                                  (1u << kBitsPerAxis) - 1);
-        }
-        return spread_bits(cell[0]) | (spread_bits(cell[1]) << 1) | (spread_bits(cell[2]) << 2);
-    }
-};
-
 template <class Ref>
 glm::vec3 center_of(const Ref& r) {
     return glm::vec3(r.center(0), r.center(1), r.center(2));
-}
-
-/// Stable LSD radix sort of `keys` by bits [32, 32 + kCodeBits), using `scratch` (same size).
-/// Returns the buffer holding the sorted keys (one of the two).
-std::uint64_t* radix_sort_codes(std::uint64_t* keys, std::uint64_t* scratch, std::size_t n) {
-    const std::size_t blocks = (n + kSortBlock - 1) / kSortBlock;
-    std::vector<std::uint32_t> counts(blocks * kBuckets);
-    std::uint64_t* in = keys;
-    std::uint64_t* out = scratch;
-    for (int shift = 32; shift < 32 + kCodeBits; shift += kRadixBits) {
-        const auto digit = [shift](std::uint64_t key) {
-            return static_cast<std::uint32_t>(key >> shift) & (kBuckets - 1);
-        };
-        tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
-            std::uint32_t* count = counts.data() + b * kBuckets;
-            std::fill(count, count + kBuckets, 0u);
-            const std::size_t end = std::min(n, (b + 1) * kSortBlock);
-            for (std::size_t i = b * kSortBlock; i < end; ++i) ++count[digit(in[i])];
-        });
-        // Exclusive prefix over (digit, block): block b's keys of digit d go after every key
-        // of a smaller digit and after block b' < b's keys of digit d.
-        std::uint32_t sum = 0;
-        for (std::uint32_t d = 0; d < kBuckets; ++d) {
-            for (std::size_t b = 0; b < blocks; ++b) {
-                const std::uint32_t c = counts[b * kBuckets + d];
-                counts[b * kBuckets + d] = sum;
-                sum += c;
-            }
-        }
-        tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
-            std::uint32_t* offset = counts.data() + b * kBuckets;
-            const std::size_t end = std::min(n, (b + 1) * kSortBlock);
-            for (std::size_t i = b * kSortBlock; i < end; ++i) {
-                out[offset[digit(in[i])]++] = in[i];
-            }
-        });
-        std::swap(in, out);
-    }
-    return in;
 }
 
 /// Makes the hierarchy over refs in Morton order (`refs[k]` has code `codes[k]`).
@@ -264,7 +188,7 @@ Bvh build_morton_from_prim_refs(const Ref* refs, std::size_t count,
                               keys[i] = std::uint64_t{grid.code(center_of(refs[i]))} << 32 | i;
                           }
                       });
-    const std::uint64_t* sorted = radix_sort_codes(keys, scratch, count);
+    const std::uint64_t* sorted = radix_sort_high_bits(keys, scratch, count, kCodeBits);
 
     // The refs and codes in Morton order, so the hierarchy reads them sequentially (gathered
     // by the hierarchy itself, the refs' cache misses were the largest part of its time; a

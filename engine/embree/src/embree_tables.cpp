@@ -84,7 +84,7 @@ void print_secondary_table(std::ostream& out, const SecondaryComparison& c) {
     const double rays = double(c.reflection_rays + c.refraction_rays);
     out << "secondary rays of frame 0: " << c.reflection_rays << " reflection + "
         << c.refraction_rays << " refraction in " << c.packets
-        << " tile packets, the same rays replayed by each (Embree: high-quality tree; Mrays/s "
+        << " packets, the same rays replayed by each (Embree: high-quality tree; Mrays/s "
            "from medians; camera rays in the render: "
         << std::fixed << std::setprecision(2) << c.primary_mrays_per_s << " Mrays/s)\n";
     out << std::left << std::setw(26) << "tracer" << std::right << std::setw(22) << "ms"

@@ -340,30 +340,27 @@ double EmbreeTracer::intersect16_logged(const SecondaryRayLog& log, bool coheren
         int ray_of[packet::kPacketRays];
         int k = 0;
         for (int lane = 0; lane < packet::kPacketRays; ++lane) ray_of[lane] = logged.lanes.test(lane) ? k++ : -1;
-        for (int by = 0; by < packet::kTileSize; by += kBlockSide) {
-            for (int bx = 0; bx < packet::kTileSize; bx += kBlockSide) {
-                alignas(64) int valid[kLanes];
-                RTCRayHit16 rh;
-                int any = -1;
-                for (int b = 0; b < kLanes; ++b) {
-                    const int lane = (by + b / kBlockSide) * packet::kTileSize + bx + b % kBlockSide;
-                    valid[b] = ray_of[lane] >= 0 ? -1 : 0;
-                    if (ray_of[lane] >= 0 && any < 0) any = ray_of[lane];
-                }
-                if (any < 0) continue;
-                for (int b = 0; b < kLanes; ++b) {
-                    const int lane = (by + b / kBlockSide) * packet::kTileSize + bx + b % kBlockSide;
-                    // Masked-off lanes still get a harmless ray (the block's first).
-                    const int r = ray_of[lane] >= 0 ? ray_of[lane] : any;
-                    set_rtc_ray_hit16(rh, b, logged.rays[std::size_t(r)], unsigned(b));
-                }
-                rtcIntersect16(valid, scene, &context, &rh);
-                for (int b = 0; b < kLanes; ++b) {
-                    const int lane = (by + b / kBlockSide) * packet::kTileSize + bx + b % kBlockSide;
-                    if (ray_of[lane] < 0 || rh.hit.geomID[b] == RTC_INVALID_GEOMETRY_ID) continue;
-                    store_hit(out, first + std::size_t(ray_of[lane]), rh.hit.geomID[b], rh.hit.primID[b],
-                              rh.hit.u[b], rh.hit.v[b]);
-                }
+        // Blocks of 16 consecutive lanes: rays next to each other in the renderer's sorted
+        // order (one kind and octant, nearby origins).
+        for (int base = 0; base < packet::kPacketRays; base += kLanes) {
+            alignas(64) int valid[kLanes];
+            RTCRayHit16 rh;
+            int any = -1;
+            for (int b = 0; b < kLanes; ++b) {
+                valid[b] = ray_of[base + b] >= 0 ? -1 : 0;
+                if (ray_of[base + b] >= 0 && any < 0) any = ray_of[base + b];
+            }
+            if (any < 0) continue;
+            for (int b = 0; b < kLanes; ++b) {
+                // Masked-off lanes still get a harmless ray (the block's first).
+                const int r = ray_of[base + b] >= 0 ? ray_of[base + b] : any;
+                set_rtc_ray_hit16(rh, b, logged.rays[std::size_t(r)], unsigned(b));
+            }
+            rtcIntersect16(valid, scene, &context, &rh);
+            for (int b = 0; b < kLanes; ++b) {
+                const int r = ray_of[base + b];
+                if (r < 0 || rh.hit.geomID[b] == RTC_INVALID_GEOMETRY_ID) continue;
+                store_hit(out, first + std::size_t(r), rh.hit.geomID[b], rh.hit.primID[b], rh.hit.u[b], rh.hit.v[b]);
             }
         }
     });

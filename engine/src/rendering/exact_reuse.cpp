@@ -9,6 +9,7 @@
 #include "rendering/tile_tracing.h"
 #include "rendering/same_view.h"
 #include "rendering/secondary_rays.h"
+#include "rendering/stage_work.h"
 #include "rendering/tile_shading.h"
 
 #include <tbb/combinable.h>
@@ -96,10 +97,6 @@ std::uint64_t next_stamp() {
 }
 
 /// Per thread: how long each stage took on this thread, and what it traced.
-struct TileWork {
-    double primary_ms = 0.0, shadow_ms = 0.0, shade_ms = 0.0;
-    std::size_t primary_rays = 0, shadow_rays = 0, shadows_only = 0;
-};
 
 /// Whether any pixel of `tile` hits a material that spawns secondary rays.
 bool tile_spawns_secondary(const TraceInputs& in, const packet::Tile& tile, int width,
@@ -243,25 +240,14 @@ void trace_frame_reusing(const TraceInputs& in, const Camera& camera, const Trac
         memory.visible.assign(tiles * light_count, packet::LaneMask{});
         memory.shadow_ends.assign(tiles * light_count, bvh::Aabb{});
     }
-    const auto finish = [&](const TileWork& sum, double wall_ms) {
-        const double thread_total = sum.primary_ms + sum.shadow_ms + sum.shade_ms;
-        const double scale = thread_total > 0.0 ? wall_ms / thread_total : 0.0;
-        stats.primary_ms = sum.primary_ms * scale;
-        stats.shadow_ms = sum.shadow_ms * scale;
-        stats.shade_ms = wall_ms - stats.primary_ms - stats.shadow_ms;
-        stats.primary_rays = sum.primary_rays;
-        stats.shadow_rays = sum.shadow_rays;
+    const auto finish = [&](const StageWork& sum, double wall_ms) {
+        report_stages(sum, wall_ms, 0.0, stats);
         stats.pixels_traced = sum.primary_rays;
         stats.pixels_shadows_retraced = sum.shadows_only;
         stats.pixels_reused = share_pixels - sum.primary_rays - sum.shadows_only;
-        const auto mrays_per_s = [](std::size_t rays, double ms) {
-            return ms > 0.0 ? double(rays) / (ms * 1e3) : 0.0;
-        };
-        stats.primary_mrays_per_s = mrays_per_s(stats.primary_rays, stats.primary_ms);
-        stats.shadow_mrays_per_s = mrays_per_s(stats.shadow_rays, stats.shadow_ms);
     };
     if (!all && plan.changed.empty()) {
-        finish(TileWork{}, 0.0);
+        finish(StageWork{}, 0.0);
         return;
     }
 
@@ -273,20 +259,20 @@ void trace_frame_reusing(const TraceInputs& in, const Camera& camera, const Trac
 
     const bool count = options.count_packet_work;
     std::optional<SecondaryFrame> secondary_frame;
+    std::optional<SecondaryStage> secondary;
     if (any_secondary(in.scene_materials, options.secondary)) {
         const SecondaryTracing tracing{in.accel, in.tracer, options.secondary, count};
         secondary_frame.emplace(SecondaryFrame{tracing, lights, shading, in.scene_materials,
                                                in.object_material, options.secondary_log});
+        secondary.emplace(*secondary_frame, scratch.secondary);
     }
-    tbb::combinable<SecondaryWork> secondary_work;
-    tbb::combinable<TraceWork> trace_counts;
-    tbb::combinable<TileWork> work;
+    tbb::combinable<StageWork> work;
     // Per thread, the changed boxes near the tile at hand (storage reused across tiles).
     tbb::combinable<ChangedSpace> nearby;
     const Stopwatch wall;
     tbb::parallel_for(0, tiling.count(), [&](int t) {
         const packet::Tile tile = tiling.tile(t);
-        TileWork& tw = work.local();
+        StageWork& tw = work.local();
         Stopwatch clock;
         // The tile's rays are made only when a test needs them: most tiles of a frame that
         // reuses pixels are decided by their corner rays alone, and filling 256 rays for each
@@ -326,7 +312,7 @@ void trace_frame_reusing(const TraceInputs& in, const Camera& camera, const Trac
                 primary = near.meets_rays(rays, until, rays.active);
             }
         }
-        TraceWork* trace_work = count ? &trace_counts.local() : nullptr;
+        TraceWork* trace_work = count ? &tw.trace : nullptr;
         if (primary.any()) {
             const packet::LaneMask tile_lanes = rays.active;
             rays.active = primary;
@@ -412,37 +398,14 @@ void trace_frame_reusing(const TraceInputs& in, const Camera& camera, const Trac
         // ---- Shading: the whole tile, the same bits where nothing changed ----
         packet::ShadedColors colors;
         shade_lanes(shading, origins, visible, colors);
-        if (secondary_here) {
-            tw.shade_ms += clock.lap_ms();
-            add_secondary(*secondary_frame, origins, colors, secondary_work.local());
-            clock.lap_ms();  // the secondary work times itself
-        }
         write_tile(shading, tile, origins, scratch.hits, colors, out);
+        if (secondary_here) secondary->gather(t, tile, width, origins);
         tw.shade_ms += clock.lap_ms();
     });
-    const TileWork sum = work.combine([](TileWork a, const TileWork& b) {
-        a.primary_ms += b.primary_ms;
-        a.shadow_ms += b.shadow_ms;
-        a.shade_ms += b.shade_ms;
-        a.primary_rays += b.primary_rays;
-        a.shadow_rays += b.shadow_rays;
-        a.shadows_only += b.shadows_only;
-        return a;
-    });
-    double secondary_thread_ms = 0.0;
-    secondary_work.combine_each([&](const SecondaryWork& w) {
-        secondary_thread_ms += w.thread_ms();
-    });
-    const double wall_ms = wall.elapsed_ms();
-    const double thread_total = sum.primary_ms + sum.shadow_ms + sum.shade_ms + secondary_thread_ms;
-    finish(sum, thread_total > 0.0 ? wall_ms * (1.0 - secondary_thread_ms / thread_total) : wall_ms);
-    if (secondary_frame) {
-        report_secondary(secondary_work.combine([](SecondaryWork a, const SecondaryWork& b) { return a += b; }),
-                         thread_total > 0.0 ? wall_ms / thread_total : 0.0, stats);
-    }
-    if (count) {
-        trace_counts.combine([](TraceWork a, const TraceWork& b) { return a += b; }).report(stats);
-    }
+    const StageWork sum = work.combine([](StageWork a, const StageWork& b) { return a += b; });
+    finish(sum, wall.elapsed_ms());
+    if (secondary) secondary->trace(out, stats);
+    if (count) sum.trace.report(stats);
 }
 
 }  // namespace dynrt::detail

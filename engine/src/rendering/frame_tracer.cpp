@@ -43,16 +43,16 @@ struct FullFrame {
     const TraceInputs& in;
     const packet::PinholeRays& pinhole;
     const detail::TileShading& shading;
-    const detail::SecondaryFrame* secondary;  ///< null: no secondary rays
+    detail::SecondaryStage* secondary;  ///< null: no secondary rays
     int width;
     bool count;
 };
 
-/// One tile of a full frame, in one task: its camera rays, their hits' shadow rays per light,
-/// shading, the reflection and refraction rays of its hits, and the writes to `out`. Each
-/// stage's thread time goes to `work` (the secondary work times itself into `secondary`).
-void trace_full_tile(const FullFrame& f, const packet::Tile& tile, std::vector<bvh::InstanceHit>& hits,
-                     RenderedFrame& out, StageWork& work, detail::SecondaryWork& secondary) {
+/// Tile number `index` of a full frame, in one task: its camera rays, their hits' shadow rays
+/// per light, shading and the writes to `out`, and the first reflection and refraction rays of
+/// its hits gathered for the secondary stage. Each stage's thread time goes to `work`.
+void trace_full_tile(const FullFrame& f, int index, const packet::Tile& tile,
+                     std::vector<bvh::InstanceHit>& hits, RenderedFrame& out, StageWork& work) {
     Stopwatch clock;
     detail::TraceWork* trace_work = f.count ? &work.trace : nullptr;
     packet::RayPacket rays;
@@ -74,12 +74,8 @@ void trace_full_tile(const FullFrame& f, const packet::Tile& tile, std::vector<b
     // still in cache.
     packet::ShadedColors colors;
     detail::shade_lanes(f.shading, origins, visible, colors);
-    if (f.secondary != nullptr) {
-        work.shade_ms += clock.lap_ms();
-        detail::add_secondary(*f.secondary, origins, colors, secondary);
-        clock.lap_ms();  // the secondary work times itself
-    }
     detail::write_tile(f.shading, tile, origins, hits, colors, out);
+    if (f.secondary != nullptr) f.secondary->gather(index, tile, f.width, origins);
     work.shade_ms += clock.lap_ms();
 }
 
@@ -125,25 +121,23 @@ void trace_frame(const TraceInputs& in, const Camera& camera, const TraceSetting
         return;
     }
 
-    std::optional<detail::SecondaryFrame> secondary;
+    std::optional<detail::SecondaryFrame> secondary_frame;
+    std::optional<detail::SecondaryStage> secondary;
     if (detail::any_secondary(in.scene_materials, options.secondary)) {
         const detail::SecondaryTracing tracing{in.accel, in.tracer, options.secondary, count};
-        secondary.emplace(detail::SecondaryFrame{tracing, in.lights, shading, in.scene_materials,
-                                                 in.object_material, options.secondary_log});
+        secondary_frame.emplace(detail::SecondaryFrame{tracing, in.lights, shading, in.scene_materials,
+                                                       in.object_material, options.secondary_log});
+        secondary.emplace(*secondary_frame, scratch.secondary);
     }
     const FullFrame frame{in, rays, shading, secondary ? &*secondary : nullptr, width, count};
     tbb::combinable<StageWork> work;
-    tbb::combinable<detail::SecondaryWork> secondary_work;
     const Stopwatch clock;
     tbb::parallel_for(0, tiling.count(), [&](int i) {
-        trace_full_tile(frame, tiling.tile(i), scratch.hits, out, work.local(), secondary_work.local());
+        trace_full_tile(frame, i, tiling.tile(i), scratch.hits, out, work.local());
     });
-    const double wall_ms = clock.elapsed_ms();
     const StageWork sum = work.combine([](StageWork a, const StageWork& b) { return a += b; });
-    const detail::SecondaryWork secondary_sum = secondary_work.combine(
-        [](detail::SecondaryWork a, const detail::SecondaryWork& b) { return a += b; });
-    const double scale = detail::report_stages(sum, wall_ms, secondary_sum.thread_ms(), stats);
-    if (secondary) detail::report_secondary(secondary_sum, scale, stats);
+    detail::report_stages(sum, clock.elapsed_ms(), 0.0, stats);
+    if (secondary) secondary->trace(out, stats);
     if (count) sum.trace.report(stats);
 }
 

@@ -40,6 +40,7 @@ struct TraceInputs {
 struct TraceScratch {
     std::vector<bvh::InstanceHit> hits;
     std::vector<packet::ShadingLight> shading_lights;
+    detail::SecondaryBuffers secondary;
 };
 
 /// Renders `camera`'s view at options.width x options.height into `out` (its buffers reused),

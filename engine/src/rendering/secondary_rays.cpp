@@ -1,17 +1,25 @@
 #include "rendering/secondary_rays.h"
 
+#include "dynrt/bvh/morton_code.h"
+#include "dynrt/bvh/radix_sort.h"
 #include "dynrt/bvh/two_level_bvh.h"
 #include "dynrt/engine/shadow_ray_offset.h"
 #include "dynrt/engine/stopwatch.h"
+#include "rendering/stage_work.h"
 #include "rendering/tile_tracing.h"
 
 #include <glm/geometric.hpp>
 
+#include <tbb/blocked_range.h>
+#include <tbb/combinable.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <stdexcept>
 
 namespace dynrt::detail {
 
@@ -49,41 +57,21 @@ using packet::kPacketRays;
 using packet::LaneMask;
 using packet::RayPacket;
 
-enum class Kind { reflection, refraction };
+/// The two kinds of secondary ray; a ray's children are slots [2 * ray + kind].
+enum Kind : int { kRefraction = 0, kReflection = 1 };
 
-/// One bounce still to trace: a tile's rays of one kind and depth, each in its pixel's lane,
-/// with its path's weight.
-struct Bounce {
-    RayPacket rays;
-    alignas(64) float weight[3][kPacketRays];
-    int depth = 0;
-    Kind kind = Kind::reflection;
+/// One ray of a path: where it starts and goes, its path's weight, and its pixel.
+struct PathRay {
+    glm::vec3 org{0.0f}, dir{0.0f}, weight{0.0f};
+    std::uint32_t pixel = 0;
 };
 
-/// A thread's buffers, kept across tiles (a bounce is 13 KiB; the stack holds at most two
-/// per depth).
-struct Scratch {
-    std::vector<std::unique_ptr<Bounce>> stack;
-    std::size_t top = 0;
-    bvh::InstanceHit hits[kPacketRays];
-    TileShadowOrigins origins;
-    RayPacket shadow;
-    std::vector<LaneMask> visible;
-    packet::ShadedColors local;
-    alignas(64) float weight[3][kPacketRays];
-
-    Bounce& push() {
-        if (top == stack.size()) stack.push_back(std::make_unique<Bounce>());
-        Bounce& b = *stack[top++];
-        b.rays.clear();
-        return b;
-    }
+/// The children a ray's hit spawned, by kind.
+struct Spawned {
+    PathRay ray[2];
+    bool made[2] = {false, false};
+    bool any() const { return made[0] || made[1]; }
 };
-
-Scratch& thread_scratch() {
-    thread_local Scratch scratch;
-    return scratch;
-}
 
 float max_channel(const glm::vec3& v) { return std::max(v.x, std::max(v.y, v.z)); }
 
@@ -118,136 +106,380 @@ Split split_at(const Material& m, const glm::vec3& d, const glm::vec3& n, bool b
     return s;
 }
 
-void set_lane(RayPacket& rays, int lane, const glm::vec3& org, const glm::vec3& dir) {
-    bvh::Ray ray;
-    ray.org = org;
-    ray.dir = dir;
-    ray.tmin = 0.0f;
-    ray.tmax = std::numeric_limits<float>::infinity();
-    rays.set_ray(lane, ray);
+/// The children spawned at hit lane `lane` of `origins` by a path of weight `path` through
+/// pixel `pixel`: a reflection and a refraction ray whose weights reach the cut-off.
+Spawned spawn_at(const SecondaryFrame& f, const TileShadowOrigins& origins, int lane,
+                 const glm::vec3& path, std::uint32_t pixel) {
+    Spawned out;
+    const packet::SurfacePacket& surface = origins.surface;
+    const Material& m = f.materials[std::size_t(surface.material[lane])];
+    if (!m.traces_secondary()) return out;
+    const glm::vec3 d(-surface.view[0][lane], -surface.view[1][lane], -surface.view[2][lane]);
+    const glm::vec3 n(surface.normal[0][lane], surface.normal[1][lane], surface.normal[2][lane]);
+    // The directions take the shading normal, or the geometric one where it would send a ray
+    // into its own surface (shading_split_holds).
+    const glm::vec3 shading(surface.shading_normal[0][lane], surface.shading_normal[1][lane],
+                            surface.shading_normal[2][lane]);
+    Split split = split_at(m, d, shading, origins.back_hit.test(lane));
+    if (shading != n && !shading_split_holds(d, shading, n, split.reflected, split.refracted)) {
+        split = split_at(m, d, n, origins.back_hit.test(lane));
+    }
+    const glm::vec3 wr = path * split.wr, wt = path * split.wt;
+    const float cutoff = f.tracing.settings.cutoff;
+    if (max_channel(wr) >= cutoff) {
+        const glm::vec3 org(origins.origin[0][lane], origins.origin[1][lane], origins.origin[2][lane]);
+        out.ray[kReflection] = PathRay{org, split.reflected, wr, pixel};
+        out.made[kReflection] = true;
+    }
+    if (max_channel(wt) >= cutoff) {
+        const glm::vec3 point(surface.point[0][lane], surface.point[1][lane], surface.point[2][lane]);
+        out.ray[kRefraction] =
+            PathRay{offset_along_normal(point, -n, origins.magnitude[lane]), split.refracted, wt, pixel};
+        out.made[kRefraction] = true;
+    }
+    return out;
 }
 
-/// Pushes the reflection and refraction bounces spawned at `origins`' hit lanes, whose paths
-/// weigh `weight` and whose rays had depth `depth` - 1.
-void spawn(const SecondaryFrame& f, const TileShadowOrigins& origins,
-           const float (&weight)[3][kPacketRays], int depth, Scratch& s) {
-    if (depth > f.tracing.settings.max_depth) return;
-    const packet::SurfacePacket& surface = origins.surface;
-    Bounce* reflection = nullptr;
-    Bounce* refraction = nullptr;
-    surface.hit.for_each([&](int lane) {
-        const Material& m = f.materials[std::size_t(surface.material[lane])];
-        if (!m.traces_secondary()) return;
-        const glm::vec3 d(-surface.view[0][lane], -surface.view[1][lane], -surface.view[2][lane]);
-        const glm::vec3 n(surface.normal[0][lane], surface.normal[1][lane], surface.normal[2][lane]);
-        const glm::vec3 path(weight[0][lane], weight[1][lane], weight[2][lane]);
-        // The directions take the shading normal, or the geometric one where it would
-        // send a ray into its own surface (shading_split_holds).
-        const glm::vec3 shading(surface.shading_normal[0][lane], surface.shading_normal[1][lane],
-                                surface.shading_normal[2][lane]);
-        Split split = split_at(m, d, shading, origins.back_hit.test(lane));
-        if (shading != n && !shading_split_holds(d, shading, n, split.reflected, split.refracted)) {
-            split = split_at(m, d, n, origins.back_hit.test(lane));
+/// One depth's rays across the frame (depth 0: the camera hits that spawn any), in a fixed
+/// order: depth 0 by tile and lane, then each depth in its parents' order, a parent's
+/// refraction before its reflection.
+struct Wave {
+    std::vector<PathRay> rays;
+    std::vector<std::uint8_t> kind;
+    /// Per ray, once traced: its hit, what the hit spawned and the ray's share of its pixel
+    /// (weight times what it sees). Kept at their size when the wave is emptied: each pass
+    /// writes every ray's, and constructing them again for every wave cost a tenth of the
+    /// stage.
+    std::vector<bvh::InstanceHit> hit;
+    std::vector<Spawned> spawned;
+    std::vector<glm::vec3> share;
+    /// Per ray and kind, its child's index in the next wave, or -1.
+    std::vector<std::int32_t> child;
+
+    std::size_t size() const { return rays.size(); }
+    void clear() {
+        rays.clear();
+        kind.clear();
+        child.clear();
+    }
+};
+
+/// Makes `next` of what `wave`'s rays spawned.
+void make_next(Wave& wave, Wave& next) {
+    next.clear();
+    wave.child.assign(2 * wave.size(), -1);
+    for (std::size_t i = 0; i < wave.size(); ++i) {
+        for (const int k : {kRefraction, kReflection}) {
+            if (!wave.spawned[i].made[k]) continue;
+            wave.child[2 * i + std::size_t(k)] = std::int32_t(next.size());
+            next.rays.push_back(wave.spawned[i].ray[k]);
+            next.kind.push_back(std::uint8_t(k));
         }
-        const glm::vec3 wr = path * split.wr, wt = path * split.wt;
-        if (max_channel(wr) >= f.tracing.settings.cutoff) {
-            if (reflection == nullptr) {
-                reflection = &s.push();
-                reflection->depth = depth;
-                reflection->kind = Kind::reflection;
-            }
-            const glm::vec3 org(origins.origin[0][lane], origins.origin[1][lane], origins.origin[2][lane]);
-            set_lane(reflection->rays, lane, org, split.reflected);
-            for (int c = 0; c < 3; ++c) reflection->weight[c][lane] = wr[c];
-        }
-        if (max_channel(wt) >= f.tracing.settings.cutoff) {
-            if (refraction == nullptr) {
-                refraction = &s.push();
-                refraction->depth = depth;
-                refraction->kind = Kind::refraction;
-            }
-            const glm::vec3 point(surface.point[0][lane], surface.point[1][lane], surface.point[2][lane]);
-            set_lane(refraction->rays, lane, offset_along_normal(point, -n, origins.magnitude[lane]),
-                     split.refracted);
-            for (int c = 0; c < 3; ++c) refraction->weight[c][lane] = wt[c];
-        }
-    });
+    }
 }
+
+/// A thread's buffers for tracing one packet of a wave.
+struct PacketScratch {
+    RayPacket rays;
+    LaneHits hits;
+    std::uint32_t index[kPacketRays];
+    TileShadowOrigins origins;
+    RayPacket shadow;
+    std::vector<LaneMask> visible;
+    packet::ShadedColors colors;
+};
+
+/// Rays [begin, end) of a wave in the order of `keys` (a ray's index in each key's low 32 bits)
+/// as one packet, and their indices, into `p`.
+void fill_packet(const std::uint64_t* keys, std::size_t begin, std::size_t end,
+                 const Wave& wave, PacketScratch& p) {
+    p.rays.clear();
+    for (std::size_t k = 0; k < end - begin; ++k) {
+        const auto i = std::uint32_t(keys[begin + k]);
+        p.index[k] = i;
+        const PathRay& ray = wave.rays[i];
+        p.rays.set_ray(int(k), bvh::Ray{ray.org, ray.dir, 0.0f, std::numeric_limits<float>::infinity()});
+    }
+}
+
+/// Rays of a wave, at most a packet's worth, as positions in its sorted order.
+struct Chunk {
+    std::uint32_t begin, end;
+};
 
 }  // namespace
 
-void add_secondary(const SecondaryFrame& f, const TileShadowOrigins& primary,
-                   packet::ShadedColors& colors, SecondaryWork& work) {
-    Scratch& s = thread_scratch();
-    Stopwatch clock;
-    s.top = 0;
-    for (int c = 0; c < 3; ++c) std::fill(s.weight[c], s.weight[c] + kPacketRays, 1.0f);
-    spawn(f, primary, s.weight, 1, s);
-    const int max_depth = f.tracing.settings.max_depth;
-    if (work.rays_per_depth.size() < std::size_t(std::max(max_depth, 0))) {
-        work.rays_per_depth.resize(std::size_t(max_depth), 0);
-        work.packet_rays_per_depth.resize(std::size_t(max_depth), 0);
-    }
-    const glm::vec3 background = f.shading.background;
-    while (s.top > 0) {
-        // The bounce on top is traced and shaded, then replaced by the bounces it spawns.
-        Bounce& bounce = *s.stack[s.top - 1];
-        const std::size_t rays = std::size_t(bounce.rays.active.count());
-        (bounce.kind == Kind::reflection ? work.reflection_rays : work.refraction_rays) += rays;
-        work.rays_per_depth[std::size_t(bounce.depth - 1)] += rays;
-        work.other_ms += clock.lap_ms();
-        if (f.log != nullptr) f.log->add(bounce.rays, bounce.kind == Kind::refraction, bounce.depth);
-        TraceWork* trace_work = f.tracing.count ? &work.trace : nullptr;
-        const auto packed = std::size_t(f.tracing.tracer.closest(bounce.rays, RayCoherence::scattered, s.hits, trace_work));
-        work.packet_rays += packed;
-        work.single_rays += rays - packed;
-        work.packet_rays_per_depth[std::size_t(bounce.depth - 1)] += packed;
-        (bounce.kind == Kind::reflection ? work.reflection_ms : work.refraction_ms) += clock.lap_ms();
+/// The gathered first bounce and the waves, kept across the stage.
+struct SecondaryBuffers::Data {
+    /// A thread's gathered tiles: each tile's camera hits that spawned rays, in lane order.
+    struct Gathered {
+        struct Segment {
+            int tile;
+            std::size_t begin, end;
+        };
+        std::vector<Segment> segments;
+        bool called = false;  ///< gather ran on the thread
+        std::vector<std::uint32_t> pixel;
+        std::vector<Spawned> spawned;
+    };
+    tbb::enumerable_thread_specific<Gathered> gathered;
+    std::vector<Wave> waves;
+    /// The wave being traced: a sort key per ray (over its index), and the keys sorted (in
+    /// `keys` or `key_scratch`).
+    std::vector<std::uint64_t> keys, key_scratch;
+    const std::uint64_t* sorted = nullptr;
+    std::vector<Chunk> chunks;
+    tbb::enumerable_thread_specific<PacketScratch> scratch;
+    tbb::combinable<SecondaryWork> work;
+};
 
-        const LaneMask active = bounce.rays.active;
-        s.origins.compute_lanes(
-            f.tracing.accel,
-            [&](int lane) -> const bvh::InstanceHit* {
-                return active.test(lane) && s.hits[lane].is_hit() ? &s.hits[lane] : nullptr;
-            },
-            bounce.rays, f.object_material);
-        const LaneMask& hit = s.origins.surface.hit;
-        work.other_ms += clock.lap_ms();
-        work.shadow_rays += trace_tile_shadows(f.tracing.tracer, RayCoherence::scattered, s.origins,
-                                               f.lights, s.shadow, s.visible, trace_work);
-        work.shadow_ms += clock.lap_ms();
-        shade_lanes(f.shading, s.origins, s.visible, s.local);
-        active.for_each([&](int lane) {
-            const bool is_hit = hit.test(lane);
-            for (int c = 0; c < 3; ++c) {
-                const float seen = is_hit ? s.local.rgb[c][lane] : background[c];
-                colors.rgb[c][lane] += bounce.weight[c][lane] * seen;
-            }
-        });
-        // Its weights outlive the slot, which the spawned bounces reuse.
-        for (int c = 0; c < 3; ++c) std::copy_n(bounce.weight[c], kPacketRays, s.weight[c]);
-        const int depth = bounce.depth;
-        --s.top;
-        spawn(f, s.origins, s.weight, depth + 1, s);
+SecondaryBuffers::SecondaryBuffers() : data_(std::make_unique<Data>()) {}
+SecondaryBuffers::~SecondaryBuffers() = default;
+SecondaryBuffers::SecondaryBuffers(SecondaryBuffers&&) noexcept = default;
+SecondaryBuffers& SecondaryBuffers::operator=(SecondaryBuffers&&) noexcept = default;
+
+SecondaryStage::SecondaryStage(const SecondaryFrame& frame, SecondaryBuffers& buffers)
+    : frame_(frame), state_(*buffers.data_) {
+    for (SecondaryBuffers::Data::Gathered& g : state_.gathered) {
+        g.segments.clear();
+        g.pixel.clear();
+        g.spawned.clear();
+        g.called = false;
+    }
+    state_.work.clear();
+}
+
+void SecondaryStage::gather(int tile_index, const packet::Tile& tile, int width,
+                            const TileShadowOrigins& origins) {
+    SecondaryBuffers::Data::Gathered& g = state_.gathered.local();
+    g.called = true;
+    const std::size_t begin = g.pixel.size();
+    const glm::vec3 one(1.0f);
+    origins.surface.hit.for_each([&](int lane) {
+        const packet::LanePixel px = packet::tile_pixel(tile, lane);
+        const auto pixel = std::uint32_t(std::size_t(px.y) * std::size_t(width) + std::size_t(px.x));
+        const Spawned spawned = spawn_at(frame_, origins, lane, one, pixel);
+        if (!spawned.any()) return;
+        g.pixel.push_back(pixel);
+        g.spawned.push_back(spawned);
+    });
+    if (g.pixel.size() > begin) g.segments.push_back({tile_index, begin, g.pixel.size()});
+}
+
+/// Sorts `keys` (each a sort key over a ray's index in its low 32 bits) and cuts them into
+/// packets: at most 256 rays, none across a change of the key's top `group_bits` bits.
+void SecondaryStage::sort_into_packets(int group_bits) {
+    SecondaryBuffers::Data& s = state_;
+    const std::size_t n = s.keys.size();
+    s.key_scratch.resize(n);
+    s.sorted = bvh::radix_sort_high_bits(s.keys.data(), s.key_scratch.data(), n, 32);
+    s.chunks.clear();
+    const int shift = 64 - group_bits;
+    std::size_t begin = 0;
+    for (std::size_t i = 1; i <= n; ++i) {
+        if (i == n || i - begin == std::size_t(kPacketRays) || (s.sorted[i] >> shift) != (s.sorted[begin] >> shift)) {
+            s.chunks.push_back({std::uint32_t(begin), std::uint32_t(i)});
+            begin = i;
+        }
+    }
+}
+
+void SecondaryStage::trace_wave(int depth) {
+    SecondaryBuffers::Data& s = state_;
+    Wave& wave = s.waves[std::size_t(depth)];
+    const std::size_t n = wave.size();
+    if (n > std::numeric_limits<std::uint32_t>::max()) {
+        throw std::length_error("more than 2^32 secondary rays of one depth in a frame");
+    }
+    wave.hit.resize(n);  // every element is written by each pass
+    wave.spawned.resize(n);
+    wave.share.resize(n);
+    const bvh::MortonGrid grid(frame_.tracing.accel.world_bounds());
+    const auto for_each_ray = [&](auto&& per_ray) {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096),
+                          [&](const tbb::blocked_range<std::size_t>& r) {
+                              for (std::size_t i = r.begin(); i < r.end(); ++i) per_ray(i);
+                          });
+    };
+    s.keys.resize(n);
+    // Closest hits, in packets of one kind and direction octant whose origins are close: key
+    // kind (bit 63), octant (60-62), the top 28 bits of the origin's Morton code over the
+    // scene's bounds (32-59), index (0-31).
+    for_each_ray([&](std::size_t i) {
+        const PathRay& ray = wave.rays[i];
+        const std::uint64_t octant = std::uint64_t(ray.dir.x < 0.0f) | std::uint64_t(ray.dir.y < 0.0f) << 1 |
+                                     std::uint64_t(ray.dir.z < 0.0f) << 2;
+        s.keys[i] = std::uint64_t(wave.kind[i]) << 63 | octant << 60 |
+                    std::uint64_t(grid.code(ray.org) >> 2) << 32 | i;
+    });
+    sort_into_packets(4);
+    tbb::parallel_for(std::size_t(0), s.chunks.size(), [&](std::size_t c) {
+        trace_closest(depth, s.chunks[c].begin, s.chunks[c].end);
+    });
+
+    // Shadow rays and shading, in packets whose hit points are close (a light's shadow rays
+    // then span a narrow cone): key miss (bit 63), the hit point's Morton code (32-61).
+    for_each_ray([&](std::size_t i) {
+        const PathRay& ray = wave.rays[i];
+        const bvh::InstanceHit& hit = wave.hit[i];
+        const std::uint64_t code = hit.is_hit() ? grid.code(ray.org + hit.hit.t * ray.dir) : 0;
+        s.keys[i] = std::uint64_t(!hit.is_hit()) << 63 | code << 32 | i;
+    });
+    sort_into_packets(1);
+    tbb::parallel_for(std::size_t(0), s.chunks.size(), [&](std::size_t c) {
+        shade_packet(depth, s.chunks[c].begin, s.chunks[c].end);
+    });
+}
+
+void SecondaryStage::trace_closest(int depth, std::size_t begin, std::size_t end) {
+    SecondaryBuffers::Data& s = state_;
+    const SecondaryFrame& f = frame_;
+    Wave& wave = s.waves[std::size_t(depth)];
+    PacketScratch& p = s.scratch.local();
+    SecondaryWork& work = s.work.local();
+    const auto d = std::size_t(depth - 1);
+    if (work.rays_per_depth.size() <= d) {
+        work.rays_per_depth.resize(d + 1, 0);
+        work.packet_rays_per_depth.resize(d + 1, 0);
+    }
+    Stopwatch clock;
+    const int count = int(end - begin);
+    fill_packet(s.sorted, begin, end, wave, p);
+    const bool reflection = wave.kind[p.index[0]] == kReflection;
+    (reflection ? work.reflection_rays : work.refraction_rays) += std::size_t(count);
+    work.rays_per_depth[d] += std::size_t(count);
+    if (f.log != nullptr) f.log->add(p.rays, !reflection, depth);
+    work.other_ms += clock.lap_ms();
+
+    TraceWork* trace_work = f.tracing.count ? &work.trace : nullptr;
+    const auto packed = std::size_t(f.tracing.tracer.closest(p.rays, RayCoherence::scattered, p.hits, trace_work));
+    work.packet_rays += packed;
+    work.single_rays += std::size_t(count) - packed;
+    work.packet_rays_per_depth[d] += packed;
+    for (int k = 0; k < count; ++k) wave.hit[p.index[k]] = p.hits[k];
+    (reflection ? work.reflection_ms : work.refraction_ms) += clock.lap_ms();
+}
+
+void SecondaryStage::shade_packet(int depth, std::size_t begin, std::size_t end) {
+    SecondaryBuffers::Data& s = state_;
+    const SecondaryFrame& f = frame_;
+    Wave& wave = s.waves[std::size_t(depth)];
+    PacketScratch& p = s.scratch.local();
+    SecondaryWork& work = s.work.local();
+    Stopwatch clock;
+    const int count = int(end - begin);
+    fill_packet(s.sorted, begin, end, wave, p);
+    p.origins.compute_lanes(
+        f.tracing.accel,
+        [&](int lane) -> const bvh::InstanceHit* {
+            const bvh::InstanceHit& hit = wave.hit[p.index[lane]];
+            return p.rays.active.test(lane) && hit.is_hit() ? &hit : nullptr;
+        },
+        p.rays, f.object_material);
+    work.other_ms += clock.lap_ms();
+    TraceWork* trace_work = f.tracing.count ? &work.trace : nullptr;
+    work.shadow_rays += trace_tile_shadows(f.tracing.tracer, RayCoherence::scattered, p.origins,
+                                           f.lights, p.shadow, p.visible, trace_work);
+    work.shadow_ms += clock.lap_ms();
+
+    shade_lanes(f.shading, p.origins, p.visible, p.colors);
+    const bool deeper = depth < f.tracing.settings.max_depth;
+    const glm::vec3 background = f.shading.background;
+    for (int k = 0; k < count; ++k) {
+        const std::uint32_t i = p.index[k];
+        const bool hit = p.origins.surface.hit.test(k);
+        const glm::vec3 seen = hit ? glm::vec3(p.colors.rgb[0][k], p.colors.rgb[1][k], p.colors.rgb[2][k])
+                                   : background;
+        const PathRay& ray = wave.rays[i];
+        wave.share[i] = ray.weight * seen;
+        wave.spawned[i] = hit && deeper ? spawn_at(f, p.origins, k, ray.weight, ray.pixel) : Spawned{};
     }
     work.other_ms += clock.lap_ms();
 }
 
-void report_secondary(const SecondaryWork& work, double scale, TraceStats& stats) {
-    stats.secondary_ms =
-        work.thread_ms() * scale;
-    stats.reflection_rays = work.reflection_rays;
-    stats.refraction_rays = work.refraction_rays;
-    stats.secondary_shadow_rays = work.shadow_rays;
-    stats.secondary_packet_rays = work.packet_rays;
-    stats.secondary_single_rays = work.single_rays;
-    stats.secondary_rays_per_depth = work.rays_per_depth;
-    stats.secondary_packet_rays_per_depth = work.packet_rays_per_depth;
-    const auto mrays_per_s = [](std::size_t rays, double ms) {
-        return ms > 0.0 ? double(rays) / (ms * 1e3) : 0.0;
+namespace {
+
+/// Adds to `color` the shares of ray `i` of waves[depth] (none for depth 0, the camera hit)
+/// and of its children's paths, depth first, a refraction's path before a reflection's.
+void add_path(const std::vector<Wave>& waves, std::size_t depth, std::size_t i, glm::vec3& color) {
+    const Wave& wave = waves[depth];
+    if (depth > 0) color += wave.share[i];
+    if (wave.child.empty()) return;  // the deepest wave
+    for (const int k : {kRefraction, kReflection}) {
+        const std::int32_t c = wave.child[2 * i + std::size_t(k)];
+        if (c >= 0) add_path(waves, depth + 1, std::size_t(c), color);
+    }
+}
+
+}  // namespace
+
+void SecondaryStage::trace(RenderedFrame& out, TraceStats& stats) {
+    SecondaryBuffers::Data& s = state_;
+    const Stopwatch wall;
+    const int max_depth = frame_.tracing.settings.max_depth;
+    s.waves.resize(std::size_t(max_depth) + 1);
+    // Depth 0: the tiles' spawning hits, in tile order whichever thread gathered them.
+    struct Piece {
+        const SecondaryBuffers::Data::Gathered* from;
+        SecondaryBuffers::Data::Gathered::Segment segment;
     };
-    stats.reflection_mrays_per_s = mrays_per_s(work.reflection_rays, work.reflection_ms * scale);
-    stats.refraction_mrays_per_s = mrays_per_s(work.refraction_rays, work.refraction_ms * scale);
+    std::vector<Piece> pieces;
+    for (const SecondaryBuffers::Data::Gathered& g : s.gathered) {
+        for (const SecondaryBuffers::Data::Gathered::Segment& segment : g.segments) pieces.push_back({&g, segment});
+    }
+    std::sort(pieces.begin(), pieces.end(),
+              [](const Piece& a, const Piece& b) { return a.segment.tile < b.segment.tile; });
+    Wave& roots = s.waves[0];
+    roots.clear();
+    roots.spawned.clear();
+    for (const Piece& piece : pieces) {
+        for (std::size_t j = piece.segment.begin; j < piece.segment.end; ++j) {
+            PathRay ray;
+            ray.pixel = piece.from->pixel[j];
+            roots.rays.push_back(ray);
+            roots.kind.push_back(0);
+            roots.spawned.push_back(piece.from->spawned[j]);
+        }
+    }
+    // Depth by depth: the rays the last depth spawned, sorted and traced in packets.
+    std::size_t deepest = 0;
+    for (int depth = 1; depth <= max_depth; ++depth) {
+        make_next(s.waves[std::size_t(depth) - 1], s.waves[std::size_t(depth)]);
+        if (s.waves[std::size_t(depth)].size() == 0) break;
+        trace_wave(depth);
+        deepest = std::size_t(depth);
+    }
+    for (std::size_t d = deepest + 1; d < s.waves.size(); ++d) s.waves[d].clear();
+    s.waves[deepest].child.clear();
+    // Each pixel's shares, added to the colour its camera ray's shading gave.
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, roots.size(), 1024),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                          for (std::size_t i = r.begin(); i < r.end(); ++i) {
+                              add_path(s.waves, 0, i, out.color[roots.rays[i].pixel]);
+                          }
+                      });
+    const double wall_ms = wall.elapsed_ms();
+
+    SecondaryWork sum = s.work.combine([](SecondaryWork a, const SecondaryWork& b) { return a += b; });
+    const double thread_ms = sum.thread_ms();
+    const double scale = thread_ms > 0.0 ? wall_ms / thread_ms : 0.0;
+    stats.secondary_ms = wall_ms;
+    stats.reflection_rays = sum.reflection_rays;
+    stats.refraction_rays = sum.refraction_rays;
+    stats.secondary_shadow_rays = sum.shadow_rays;
+    stats.secondary_packet_rays = sum.packet_rays;
+    stats.secondary_single_rays = sum.single_rays;
+    // A depth per entry once any tile had hits to spawn from, as the per-tile recursion reported.
+    const bool gathered = std::any_of(s.gathered.begin(), s.gathered.end(),
+                                      [](const SecondaryBuffers::Data::Gathered& g) { return g.called; });
+    if (gathered) {
+        sum.rays_per_depth.resize(std::size_t(max_depth), 0);
+        sum.packet_rays_per_depth.resize(std::size_t(max_depth), 0);
+    }
+    stats.secondary_rays_per_depth = sum.rays_per_depth;
+    stats.secondary_packet_rays_per_depth = sum.packet_rays_per_depth;
+    stats.reflection_mrays_per_s = mrays_per_s(sum.reflection_rays, sum.reflection_ms * scale);
+    stats.refraction_mrays_per_s = mrays_per_s(sum.refraction_rays, sum.refraction_ms * scale);
 }
 
 }  // namespace dynrt::detail

@@ -1,33 +1,40 @@
 #pragma once
-// Whitted's reflection and refraction rays for one 16x16 tile (Whitted 1980, "An Improved
-// Illumination Model for Shaded Display"; the model, with its Fresnel term, offsets and
-// cut-offs, is at the top of dynrt/engine/renderer.h).
+// Whitted's reflection and refraction rays (Whitted 1980, "An Improved Illumination Model for
+// Shaded Display"; the model, with its Fresnel term, offsets and cut-offs, is at the top of
+// dynrt/engine/renderer.h), traced as a stage of the frame over ray streams.
 //
-// The tile's rays stay in their pixel's lane from bounce to bounce, so a bounce's reflection
-// rays are one 256-lane packet and its refraction rays another, each lane carrying its path's
-// weight; a depth-first stack of such packets holds the bounces still to trace. Before a
-// packet is traced its rays are grouped by direction octant: a group of at least
-// SecondaryRays::min_packet_rays rays (a planar mirror's or a glass pane's, which stay as
-// coherent as the camera rays) is traced as a packet, and the rest (what a curved surface
-// scatters) one ray at a time (CpuTracer::as_packet). Both tracers give the same bits, so the
-// choice changes only the time; the report counts the rays each way (Overbeck, Ramamoorthi and Mark 2008, "Large Ray
-// Packets for Real-time Whitted Ray Tracing", measure how packets of secondary rays thin out).
+// The tiles of a frame are shaded first; each gathers the first bounce's rays of its hits
+// (SecondaryStage::gather). Then the stage traces the whole frame's rays depth by depth, as
+// pbrt-v4's wavefront integrator does: a depth's rays are sorted by kind (reflection,
+// refraction), direction octant and the Morton order of their origins, so that a planar
+// mirror's or a glass pane's rays from all over the image fill whole coherent packets of 256,
+// which go through the trace seam (trace_backend.h) as scattered rays; each hit is lit by its
+// own shadow rays and shaded, and spawns the next depth's rays. Gathered per tile, the same rays
+// made packets of a few dozen, and most shadow rays at secondary hits went one by one
+// (Overbeck, Ramamoorthi and Mark 2008, "Large Ray Packets for Real-time Whitted Ray Tracing",
+// measure how packets of secondary rays thin out).
+//
+// Each pixel's colour then gets its rays' shares, weight times what each ray sees, added depth
+// first, at every hit the refraction's path before the reflection's: the order of the per-tile
+// recursion this stage replaced, so images are bit-identical to its (frame_suite.py checks).
+// That recursion had one exception, which none of the suite's scenes meets: in a tile whose
+// first lane to spawn anything spawned a refraction alone, it added the reflections first for
+// every pixel of the tile. A pixel's colour no longer depends on its tile's other pixels.
 
 #include "dynrt/engine/frame_stats.h"
 #include "dynrt/engine/renderer.h"
 #include "dynrt/engine/secondary_ray_log.h"
-#include "dynrt/packet/packet_config.h"
 #include "dynrt/packet/packet_shading.h"
 #include "dynrt/packet/ray_packet.h"
+#include "dynrt/packet/tiling.h"
 #include "dynrt/scene/scene.h"
 #include "rendering/tile_shading.h"
 #include "rendering/trace_backend.h"
 #include "update/scene_accel.h"
 
-#include <glm/vec3.hpp>
-
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -52,7 +59,7 @@ struct SecondaryFrame {
     SecondaryRayLog* log = nullptr;  ///< TraceSettings::secondary_log
 };
 
-/// One thread's secondary work over a frame's tiles.
+/// One thread's secondary work over a frame.
 struct SecondaryWork {
     std::size_t reflection_rays = 0;
     std::size_t refraction_rays = 0;
@@ -77,15 +84,51 @@ struct SecondaryWork {
 /// Whether any hit on the scene can spawn a secondary ray under `settings`.
 bool any_secondary(std::span<const Material> materials, const SecondaryRays& settings);
 
-/// Adds to `colors` the secondary rays' share of every hit lane of `primary` (the tile's
-/// camera-ray hits, as TileShadowOrigins computed them from the unit camera rays):
-/// wr color(reflected) + wt color(refracted), recursively to settings.max_depth.
-void add_secondary(const SecondaryFrame& frame, const TileShadowOrigins& primary,
-                   packet::ShadedColors& colors, SecondaryWork& work);
+/// What the secondary stage keeps from frame to frame (TraceScratch::secondary): its buffers of
+/// rays, a few hundred thousand per depth, so that each frame reuses memory already mapped
+/// (mapping it afresh cost a fifth of the stage's time on BART kitchen).
+class SecondaryBuffers {
+public:
+    SecondaryBuffers();
+    ~SecondaryBuffers();
+    SecondaryBuffers(SecondaryBuffers&&) noexcept;
+    SecondaryBuffers& operator=(SecondaryBuffers&&) noexcept;
 
-/// Fills the report's secondary-ray fields from the threads' summed work; `scale` turns the
-/// threads' summed milliseconds into the frame's wall time (the parallel loop's wall time over
-/// its workers' total).
-void report_secondary(const SecondaryWork& work, double scale, TraceStats& stats);
+private:
+    friend class SecondaryStage;
+    struct Data;
+    std::unique_ptr<Data> data_;
+};
+
+/// One frame's secondary rays: gathered from its tiles, then traced as a stage of their own.
+class SecondaryStage {
+public:
+    /// `frame` and `buffers` are borrowed for the stage's life (one stage at a time per
+    /// SecondaryBuffers).
+    SecondaryStage(const SecondaryFrame& frame, SecondaryBuffers& buffers);
+    SecondaryStage(const SecondaryStage&) = delete;
+    SecondaryStage& operator=(const SecondaryStage&) = delete;
+
+    /// From the tile tasks (thread-safe, each tile once): the first reflection and refraction
+    /// rays of `origins`' hit lanes, the camera-ray hits of tile number `tile_index` of the
+    /// frame's tiling, `tile`, in an image `width` pixels wide.
+    void gather(int tile_index, const packet::Tile& tile, int width, const TileShadowOrigins& origins);
+
+    /// After every tile was shaded into out.color: traces the gathered rays and all they
+    /// spawn, to settings.max_depth, and adds each pixel's share to its colour. Sets stats'
+    /// secondary fields (secondary_ms: this stage's wall time).
+    void trace(RenderedFrame& out, TraceStats& stats);
+
+private:
+    /// Traces waves[depth] in two passes, each over packets of its rays sorted anew: closest
+    /// hits, then the hits' shadow rays, shading, each ray's share and what each hit spawns.
+    void trace_wave(int depth);
+    void sort_into_packets(int group_bits);
+    void trace_closest(int depth, std::size_t begin, std::size_t end);
+    void shade_packet(int depth, std::size_t begin, std::size_t end);
+
+    const SecondaryFrame& frame_;
+    SecondaryBuffers::Data& state_;
+};
 
 }  // namespace dynrt::detail

@@ -137,10 +137,11 @@ struct TraceStats {
     /// single-ray tracer, every ray's visits (wide inner nodes and leaves, or binary nodes,
     /// plus top-level nodes), whose triangle tests are then in ray_triangle_tests.
     std::uint64_t nodes_visited = 0;
-    /// Whitted reflection and refraction rays (TraceSettings::secondary): the stage's share of
-    /// the frame's wall time (the rays, their hits' shadow rays and shading), the rays of each
-    /// kind and their rates (closest-hit tracing only, the stage's share of wall time spent
-    /// on them), the shadow rays cast at their hits, how many were traced in packets and one
+    /// Whitted reflection and refraction rays (TraceSettings::secondary): the stage's wall
+    /// time (a stage of its own after the tiles: sorting the rays, tracing them, their hits'
+    /// shadow rays and shading, adding their shares to the pixels), the rays of each kind and
+    /// their rates (closest-hit tracing only, the stage's wall time split by the workers' time
+    /// spent on them), the shadow rays cast at their hits, how many were traced in packets and one
     /// at a time, and the rays per depth (index 0: depth 1, the camera rays' bounces).
     double secondary_ms = 0;
     std::size_t reflection_rays = 0;

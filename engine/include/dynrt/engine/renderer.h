@@ -106,9 +106,10 @@ struct SecondaryRays {
     /// A ray is traced only when a channel of its path's weight is at least this (1/256: it
     /// could not change an 8-bit pixel by more than one step).
     float cutoff = 1.0f / 256.0f;
-    /// A tile's secondary rays of one kind and bounce are traced as one packet when at least
-    /// this many of them share a direction octant; otherwise one by one (bvh::intersect_*),
-    /// which gives the same bits. 0 always uses packets; above 256 never.
+    /// A frame's secondary rays of one depth are sorted into packets of up to 256 by kind,
+    /// direction octant and origin; those of a packet sharing an octant are traced as one
+    /// packet when there are at least this many of them, otherwise one by one
+    /// (bvh::intersect_*), which gives the same bits. 0 always uses packets; above 256 never.
     int min_packet_rays = 32;
 };
 
@@ -253,9 +254,9 @@ public:
     const anim::PosedScene& posed() const;
 
     /// Traces the rays of `log` (a frame's secondary rays, TraceSettings::secondary_log)
-    /// through the last update's trees the way the renderer traced them (a packet per
-    /// direction octant of at least secondary.min_packet_rays rays, the rest one by one, in
-    /// parallel over the packets) and returns the wall time in ms. With `hits`, fills one
+    /// through the last update's trees the way the renderer traced them (each logged packet's
+    /// rays of a direction octant as a packet when there are at least
+    /// secondary.min_packet_rays of them, the rest one by one, in parallel over the packets) and returns the wall time in ms. With `hits`, fills one
     /// closest hit per ray in log order. For benchmarks; throws std::logic_error before any
     /// update.
     double trace_logged_rays(const SecondaryRayLog& log, std::vector<bvh::InstanceHit>* hits = nullptr) const;

@@ -13,8 +13,8 @@
 
 namespace dynrt {
 
-/// One tile's rays of one kind and depth, each in its pixel's lane of the tile
-/// (packet::tile_lane), as the renderer traced them.
+/// One packet of rays of one kind and depth as the renderer traced them: a frame's rays of
+/// that depth sorted by kind, direction octant and origin, up to 256 of them in lanes 0, 1, ...
 struct SecondaryRayPacket {
     bool refraction = false;
     int depth = 1;  ///< 1: spawned at a camera ray's hit

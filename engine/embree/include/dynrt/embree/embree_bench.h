@@ -43,13 +43,13 @@ struct EmbreeRow {
 /// The same reflection and refraction rays traced by dynrt and by Embree (`bench --vs embree`
 /// on a frame with secondary rays): the rays one render of frame 0 traced
 /// (TraceSettings::secondary_log), replayed as dynrt traced them (Renderer::trace_logged_rays)
-/// and through Embree's high-quality tree in 4x4-lane blocks of each tile packet with
+/// and through Embree's high-quality tree in 16-lane blocks of each packet with
 /// rtcIntersect16 (coherent and default contexts) and one by one with rtcIntersect1,
 /// interleaved run by run.
 struct SecondaryComparison {
     std::size_t reflection_rays = 0;
     std::size_t refraction_rays = 0;
-    std::size_t packets = 0;  ///< tile packets (one kind, one depth, one tile each)
+    std::size_t packets = 0;  ///< packets as traced (one kind, one depth, up to 256 sorted rays)
     /// The render's camera rays' rate (FrameStats::primary_mrays_per_s), for scale.
     double primary_mrays_per_s = 0;
     Spread dynrt_ms, embree16_coherent_ms, embree16_ms, embree1_ms;

@@ -94,10 +94,10 @@ public:
                       std::size_t& rays, std::vector<std::uint32_t>* occluded = nullptr);
 
     /// Closest hits of logged reflection and refraction rays (SecondaryRayLog, a frame's
-    /// packets as the renderer traced them), parallel over the packets: each 16x16 tile packet
-    /// as sixteen 4x4-lane blocks (the camera rays' arrangement, which keeps neighbouring
-    /// pixels' secondary rays together), one rtcIntersect16 per block holding a ray, the other
-    /// lanes masked off, with a coherent context or Embree's default (incoherent) one. `hits`
+    /// packets as the renderer traced them), parallel over the packets: each 256-lane packet
+    /// as sixteen blocks of 16 lanes (rays next to each other in the renderer's sorted order:
+    /// one kind and octant, nearby origins), one rtcIntersect16 per block holding a ray, the
+    /// other lanes masked off, with a coherent context or Embree's default (incoherent) one. `hits`
     /// gets one entry per ray in log order (object, prim; -1 on a miss). Returns ms.
     double intersect16_logged(const SecondaryRayLog& log, bool coherent, PixelHits& hits);
     /// The same rays one at a time with rtcIntersect1. Same results as intersect16_logged.

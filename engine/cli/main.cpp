@@ -142,9 +142,9 @@ int main(int argc, char** argv) {
                         "path's weight is at least this")
             ->check(CLI::Range(0.0, 1.0))->capture_default_str();
         cmd->add_option("--secondary-packet-min", args.secondary_packet_min,
-                        "A tile's reflection or refraction rays of one direction octant go as a "
-                        "packet when at least this many, else one by one (same image; 0: always "
-                        "packets, 257: never)")
+                        "Reflection or refraction rays, sorted across the frame into packets of "
+                        "up to 256, go as a packet when at least this many of one share a direction "
+                        "octant, else one by one (same image; 0: always packets, 257: never)")
             ->check(CLI::Range(0, 257))->capture_default_str();
         cmd->add_option("--reuse", args.reuse,
                         "Reuse of the previous frame's pixels: exact (re-trace only rays that "

@@ -90,6 +90,22 @@ def render(binary, scene, flags, folder):
     return run.returncode, run.stdout + run.stderr
 
 
+def without_new_keys(reference, candidate, added, path=""):
+    """`candidate` without the keys `reference` lacks (a report field or job setting the
+    candidate added); their paths go into `added`."""
+    if isinstance(reference, dict) and isinstance(candidate, dict):
+        kept = {}
+        for k, v in candidate.items():
+            if k in reference:
+                kept[k] = without_new_keys(reference[k], v, added, path + "." + k)
+            else:
+                added.add((path + "." + k).lstrip("."))
+        return kept
+    if isinstance(reference, list) and isinstance(candidate, list) and len(reference) == len(candidate):
+        return [without_new_keys(a, b, added, path) for a, b in zip(reference, candidate)]
+    return candidate
+
+
 def without_capture_date(data):
     """An EXR's bytes with its capDate attribute's value (the second it was written) blanked."""
     at = data.find(b"capDate\0string\0")
@@ -107,7 +123,9 @@ def same_file(a, b):
         return without_capture_date(fa.read()) == without_capture_date(fb.read())
 
 
-def compare(case, reference_folder, candidate_folder):
+def compare(case, reference_folder, candidate_folder, added):
+    """The differences between two folders' renders; keys only the candidate's reports have go
+    into `added` (reported, not differences)."""
     problems = []
     reference_files = sorted(f for f in os.listdir(reference_folder) if not f.startswith("."))
     candidate_files = sorted(f for f in os.listdir(candidate_folder) if not f.startswith("."))
@@ -118,13 +136,15 @@ def compare(case, reference_folder, candidate_folder):
             continue
         if name.endswith(".jsonl"):  # the report's frames as they came: numbers compared
             with open(os.path.join(reference_folder, name)) as a, open(os.path.join(candidate_folder, name)) as b:
-                if [counts_of(json.loads(l)) for l in a] != [counts_of(json.loads(l)) for l in b]:
+                ca, cb = [counts_of(json.loads(l)) for l in a], [counts_of(json.loads(l)) for l in b]
+                if ca != without_new_keys(ca, cb, added):
                     problems.append(f"{case}: {name} differs in its counts")
             continue
         if not same_file(os.path.join(reference_folder, name), os.path.join(candidate_folder, name)):
             problems.append(f"{case}: {name} differs")
     with open(os.path.join(reference_folder, "report.json")) as a, open(os.path.join(candidate_folder, "report.json")) as b:
         ra, rb = counts_of(json.load(a)), counts_of(json.load(b))
+    rb = without_new_keys(ra, rb, added)
     if ra != rb:
         for i, (fa, fb) in enumerate(zip(ra.get("frames", []), rb.get("frames", []))):
             differing = sorted(k for k in set(fa) | set(fb) if fa.get(k) != fb.get(k))
@@ -152,7 +172,7 @@ def main():
             print(f"frame_suite: error: {binary} is not an executable dynrt", file=sys.stderr)
             return 2
     work = args.keep or tempfile.mkdtemp(prefix="dynrt_frame_suite_")
-    problems, ran = [], 0
+    problems, ran, added = [], 0, set()
     for name, scene, flags in CASES:
         if args.only and not any(o in name for o in args.only):
             continue
@@ -171,13 +191,15 @@ def main():
         if ref_code != 0 or new_code != 0:
             problems.append(f"{name}: exit {ref_code} against {new_code}\n{ref_out}{new_out}")
             continue
-        found = compare(name, ref_folder, new_folder)
+        found = compare(name, ref_folder, new_folder, added)
         problems += found
         print(f"{name}: {'same' if not found else 'DIFFERS'}")
     if not args.keep:
         shutil.rmtree(work, ignore_errors=True)
     for problem in problems:
         print(problem)
+    if added:
+        print("only in the candidate's reports (not compared): " + ", ".join(sorted(added)))
     print(f"{ran} cases, {len(problems)} differences")
     return 1 if problems else 0
 

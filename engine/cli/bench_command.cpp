@@ -16,6 +16,7 @@
 
 #if DYNRT_HAVE_EMBREE
 #include "dynrt/embree/embree_bench.h"
+#include "dynrt/embree/stage_bench.h"
 #endif
 
 #include <nlohmann/json.hpp>
@@ -358,6 +359,11 @@ int run_bench(const BenchArgs& args) {
                       << " red pixels: hit/object differs; " << counts.prim_only_differs
                       << " yellow: primitive only; over all Embree qualities)\n";
         }
+        // Whole frames through each backend behind the trace seam, stage by stage.
+        const std::vector<dynrt::embree::StageRow> stages =
+            dynrt::embree::bench_stages(scene, camera, base, repeat, args.warmup);
+        std::cout << "\n";
+        dynrt::embree::print_stage_table(std::cout, stages);
         // The reflection and refraction rays, when the frame has any.
         const dynrt::embree::SecondaryComparison secondary =
             dynrt::embree::bench_secondary_embree(scene, camera, base, repeat, args.warmup);
@@ -368,6 +374,7 @@ int run_bench(const BenchArgs& args) {
         if (!json.empty()) {
             nlohmann::ordered_json doc = nlohmann::ordered_json::parse(json);
             doc["embree"] = nlohmann::ordered_json::parse(dynrt::embree::embree_json(embree_rows));
+            doc["stages"] = nlohmann::ordered_json::parse(dynrt::embree::stages_json(stages));
             if (secondary.packets > 0) {
                 doc["embree_secondary"] = nlohmann::ordered_json::parse(dynrt::embree::secondary_json(secondary));
             }

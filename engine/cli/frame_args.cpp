@@ -2,6 +2,10 @@
 
 #include "frame_args.h"
 
+#if DYNRT_HAVE_EMBREE
+#include "dynrt/embree/embree_backend.h"
+#endif
+
 #include "command_warnings.h"
 
 #include "dynrt/anim/clip_selection.h"
@@ -14,7 +18,9 @@
 #include <charconv>
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <iostream>
+#include <memory>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
@@ -71,6 +77,21 @@ dynrt::PointLight parse_light(const std::string& text) {
     return dynrt::PointLight{glm::vec3(v[0], v[1], v[2]), v.size() == 4 ? v[3] : 1.0f};
 }
 
+/// The factory of the backend `name` names (--backend), or a clear error.
+std::function<std::shared_ptr<dynrt::FrameBackend>()> backend_factory(const std::string& name) {
+#if DYNRT_HAVE_EMBREE
+    dynrt::embree::BuildQuality quality = dynrt::embree::BuildQuality::medium;
+    if (name != "embree" && !dynrt::embree::parse_backend_quality(name, quality)) {
+        throw std::invalid_argument("--backend '" + name + "': dynrt, embree, embree-low, "
+                                    "embree-medium, embree-high or embree-refit");
+    }
+    return [quality] { return dynrt::embree::make_embree_backend(quality); };
+#else
+    throw std::runtime_error("--backend " + name + ": this dynrt was built without Embree "
+                             "(install libembree-dev and reconfigure)");
+#endif
+}
+
 dynrt::RenderOptions render_options(const FrameArgs& args) {
     dynrt::RenderOptions options;
     options.width = options.height = 0;
@@ -82,6 +103,7 @@ dynrt::RenderOptions render_options(const FrameArgs& args) {
         args.builder == "morton" ? dynrt::bvh::BuildMethod::morton : dynrt::bvh::BuildMethod::binned_sah;
     for (const std::string& light : args.lights) options.lights.push_back(parse_light(light));
     options.tracer = args.tracer == "single" ? dynrt::Tracer::single : dynrt::Tracer::packet;
+    if (args.backend != "dynrt") options.backend = backend_factory(args.backend);
     options.packet.culling = dynrt::packet::PacketCulling::parse(args.packet_culling);
     options.adaptive_tolerance = args.adaptive;
     options.smooth_normals = args.normals != "flat";

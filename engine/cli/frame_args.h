@@ -27,6 +27,8 @@ struct FrameArgs {
     unsigned leaf_size = dynrt::bvh::BuildConfig{}.leaf_size_max;
     int threads = 0;
     std::string tracer = "packet";
+    /// The tracer behind the trace seam: dynrt, or embree[-QUALITY] (RenderOptions::backend).
+    std::string backend = "dynrt";
     std::string bvh = "wide";
     std::string packet_culling = "all";
     float adaptive = 0.0f;

@@ -118,6 +118,14 @@ int main(int argc, char** argv) {
             ->check(CLI::Range(1, 1024));
         cmd->add_option("--tracer", args.tracer, "packet (16x16 ray packets) or single (one ray at a time)")
             ->check(CLI::IsMember({"packet", "single"}))->capture_default_str();
+        cmd->add_option("--backend", args.backend,
+                        "What traces the rays behind the trace seam: dynrt (its own tracers, "
+                        "--tracer) or Embree when built with it: embree (medium build quality), "
+                        "embree-low, embree-medium, embree-high or embree-refit; the same frames, "
+                        "rays and shading either way")
+            ->check(CLI::IsMember({"dynrt", "embree", "embree-low", "embree-medium", "embree-high",
+                                   "embree-refit"}))
+            ->capture_default_str();
         cmd->add_option("--bvh", args.bvh,
                         "Tree packets and single rays trace: wide (8 children per node, "
                         "triangles in SIMD blocks of 4) or binary; the same hits either way")

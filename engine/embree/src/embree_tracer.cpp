@@ -19,6 +19,7 @@
 
 
 #include <algorithm>
+#include <span>
 #include <functional>
 #include <iomanip>
 #include <limits>
@@ -143,11 +144,16 @@ struct EmbreeTracer::State {
     }
     /// A new scene holding `frame`'s triangles, not committed.
     void create(const Scene& scene, const anim::PosedScene& frame, BuildQuality quality);
+    /// The same with each object's world positions from positions_of(object, scratch).
+    template <typename PositionsOf>
+    void create_from(const Scene& scene, PositionsOf&& positions_of, BuildQuality quality);
+    /// Copies object `object`'s new positions into its vertex buffer and marks it updated.
+    void update_object(std::size_t object, std::span<const glm::vec3> positions);
 };
 
 namespace {
 
-void copy_positions(const std::vector<glm::vec3>& p, float* vertices) {
+void copy_positions(std::span<const glm::vec3> p, float* vertices) {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, p.size(), 16384),
                       [&](const tbb::blocked_range<std::size_t>& range) {
                           for (std::size_t v = range.begin(); v < range.end(); ++v) {
@@ -172,8 +178,20 @@ EmbreeTracer::~EmbreeTracer() {
 
 void EmbreeTracer::State::create(const Scene& source, const anim::PosedScene& frame,
                                  BuildQuality build_quality) {
-    release_scene();
+    create_from(
+        source,
+        [&](std::size_t i, std::vector<glm::vec3>&) -> const std::vector<glm::vec3>& {
+            return frame.objects[i].positions;
+        },
+        build_quality);
     posed = &frame;
+}
+
+template <typename PositionsOf>
+void EmbreeTracer::State::create_from(const Scene& source, PositionsOf&& positions_of,
+                                      BuildQuality build_quality) {
+    release_scene();
+    posed = nullptr;
     quality = build_quality;
     indices.resize(source.objects.size());
     vertex_buffers.assign(source.objects.size(), nullptr);
@@ -185,11 +203,14 @@ void EmbreeTracer::State::create(const Scene& source, const anim::PosedScene& fr
                                        ? RTC_BUILD_QUALITY_LOW
                                        : rtc_quality(build_quality));
     rtcSetSceneFlags(scene, dynamic ? RTC_SCENE_FLAG_DYNAMIC : RTC_SCENE_FLAG_NONE);
+    std::vector<glm::vec3> scratch;
     for (std::size_t i = 0; i < source.objects.size(); ++i) {
         const std::vector<glm::uvec3>& tris = source.objects[i].mesh.triangles;
-        const std::vector<glm::vec3>& p = frame.objects[i].positions;
         indices[i] = tris;
-        if (tris.empty() || p.empty()) continue;  // an empty geometry is an Embree error
+        if (tris.empty()) continue;  // an empty geometry is an Embree error
+        const auto& positions = positions_of(i, scratch);
+        const std::span<const glm::vec3> p(positions.data(), positions.size());
+        if (p.empty()) continue;
         RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
         rtcSetGeometryBuildQuality(geom, rtc_quality(build_quality));
         // Own (not shared) buffers: Embree pads them for its 16-byte vertex loads.
@@ -210,6 +231,13 @@ void EmbreeTracer::State::create(const Scene& source, const anim::PosedScene& fr
         rtcReleaseGeometry(geom);
         check(device, "creating a triangle geometry");
     }
+}
+
+void EmbreeTracer::State::update_object(std::size_t object, std::span<const glm::vec3> positions) {
+    copy_positions(positions, vertex_buffers[object]);
+    RTCGeometry geom = rtcGetGeometry(scene, unsigned(object));
+    rtcUpdateGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0);
+    rtcCommitGeometry(geom);
 }
 
 double EmbreeTracer::build(const Scene& scene, BuildQuality quality) {
@@ -237,10 +265,7 @@ FrameLoad EmbreeTracer::load_frame(const Scene& scene, const anim::PosedScene& p
         s.posed = &posed;
         for (std::size_t i = 0; i < scene.objects.size(); ++i) {
             if (!s.vertex_buffers[i] || !posed.objects[i].changed) continue;
-            copy_positions(posed.objects[i].positions, s.vertex_buffers[i]);
-            RTCGeometry geom = rtcGetGeometry(s.scene, unsigned(i));
-            rtcUpdateGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0);
-            rtcCommitGeometry(geom);
+            s.update_object(i, posed.objects[i].positions);
         }
         check(s.device, "updating vertex buffers");
     }
@@ -455,18 +480,7 @@ double EmbreeTracer::occluded16(const Camera& camera, int width, int height,
                     const bool lit = shadow_ray(origins[lane], light, org, dir);
                     valid[lane] = lit ? -1 : 0;
                     active += lit;
-                    ray.org_x[lane] = org.x;
-                    ray.org_y[lane] = org.y;
-                    ray.org_z[lane] = org.z;
-                    ray.dir_x[lane] = dir.x;
-                    ray.dir_y[lane] = dir.y;
-                    ray.dir_z[lane] = dir.z;
-                    ray.tnear[lane] = 0.0f;
-                    ray.tfar[lane] = 1.0f;
-                    ray.time[lane] = 0.0f;
-                    ray.mask[lane] = ~0u;
-                    ray.id[lane] = unsigned(lane);
-                    ray.flags[lane] = 0;
+                    set_rtc_ray16(ray, lane, bvh::Ray{org, dir, 0.0f, 1.0f}, unsigned(lane));
                 }
                 if (active == 0) continue;
                 rtcOccluded16(valid, s.scene, &context, &ray);
@@ -534,6 +548,111 @@ double EmbreeTracer::occluded1(const Camera& camera, int width, int height,
     const double ms = clock.elapsed_ms();
     rays_traced = counts.combine(std::plus<>());
     return ms;
+}
+
+FrameLoad EmbreeTracer::load_geometry(const Scene& scene, const FrameGeometry& geometry,
+                                      BuildQuality quality) {
+    State& s = *state_;
+    FrameLoad load;
+    Stopwatch clock;
+    if (!s.scene || s.quality != quality || s.indices.size() != scene.objects.size()) {
+        s.create_from(
+            scene,
+            [&](std::size_t i, std::vector<glm::vec3>& scratch) { return geometry.world_positions(i, scratch); },
+            quality);
+    } else {
+        std::vector<glm::vec3> scratch;
+        for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+            if (!s.vertex_buffers[i] || !geometry.changed(i)) continue;
+            s.update_object(i, geometry.world_positions(i, scratch));
+        }
+        check(s.device, "updating vertex buffers");
+    }
+    load.upload_ms = clock.lap_ms();
+    const EmbreeFloatMode mode;
+    rtcCommitScene(s.scene);
+    load.commit_ms = clock.lap_ms();
+    check(s.device, "rtcCommitScene");
+    return load;
+}
+
+void EmbreeTracer::forget() { state_->release_scene(); }
+
+namespace {
+
+/// The lanes of block `b` (0-15) of a 256-lane batch: a 4x4 block of a tile's pixels (lane =
+/// 16 * row + column) when `tile`, else 16 consecutive lanes.
+int block_lane(bool tile, int b, int k) {
+    if (!tile) return b * kLanes + k;
+    const int bx = b % kBlockSide, by = b / kBlockSide;
+    return (by * kBlockSide + k / kBlockSide) * packet::kTileSize + bx * kBlockSide + k % kBlockSide;
+}
+
+/// Runs body(b, valid, any) for each block of `rays` holding an active lane: valid[k] is -1
+/// for an active lane k of the block, 0 otherwise; `any` is an active lane of the block.
+template <typename Body>
+void for_each_active_block(const packet::RayPacket& rays, bool tile, Body&& body) {
+    for (int b = 0; b < packet::kPacketRays / kLanes; ++b) {
+        alignas(64) int valid[kLanes];
+        int any = -1;
+        for (int k = 0; k < kLanes; ++k) {
+            const int lane = block_lane(tile, b, k);
+            valid[k] = rays.active.test(lane) ? -1 : 0;
+            if (valid[k] != 0 && any < 0) any = lane;
+        }
+        if (any >= 0) body(b, valid, any);
+    }
+}
+
+}  // namespace
+
+void EmbreeTracer::closest_lanes(const packet::RayPacket& rays, bool tile,
+                                 bvh::InstanceHit (&hits)[packet::kPacketRays]) const {
+    const EmbreeFloatMode mode;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    if (tile) context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    for_each_active_block(rays, tile, [&](int b, int* valid, int any) {
+        RTCRayHit16 rh;
+        for (int k = 0; k < kLanes; ++k) {
+            // Masked-off lanes still get a harmless ray (an active one's).
+            const int lane = valid[k] ? block_lane(tile, b, k) : any;
+            set_rtc_ray_hit16(rh, k, rays.ray(lane), unsigned(k));
+        }
+        rtcIntersect16(valid, state_->scene, &context, &rh);
+        for (int k = 0; k < kLanes; ++k) {
+            if (!valid[k]) continue;
+            bvh::InstanceHit& hit = hits[block_lane(tile, b, k)];
+            hit = bvh::InstanceHit{};
+            if (rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) continue;
+            hit.object = rh.hit.geomID[k];
+            hit.hit.t = rh.ray.tfar[k];
+            hit.hit.u = rh.hit.u[k];
+            hit.hit.v = rh.hit.v[k];
+            hit.hit.prim = rh.hit.primID[k];
+        }
+    });
+}
+
+packet::LaneMask EmbreeTracer::occluded_lanes(const packet::RayPacket& rays, bool tile) const {
+    const EmbreeFloatMode mode;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    if (tile) context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    packet::LaneMask occluded;
+    for_each_active_block(rays, tile, [&](int b, int* valid, int any) {
+        RTCRay16 r;
+        for (int k = 0; k < kLanes; ++k) {
+            const int lane = valid[k] ? block_lane(tile, b, k) : any;
+            set_rtc_ray16(r, k, rays.ray(lane), unsigned(k));
+        }
+        rtcOccluded16(valid, state_->scene, &context, &r);
+        for (int k = 0; k < kLanes; ++k) {
+            // rtcOccluded16 sets tfar to -inf for an occluded ray.
+            if (valid[k] && r.tfar[k] < 0.0f) occluded.set(block_lane(tile, b, k));
+        }
+    });
+    return occluded;
 }
 
 }  // namespace dynrt::embree

@@ -80,6 +80,10 @@ nlohmann::ordered_json frame_json(const FrameStats& s) {
     // Reflection and refraction rays per depth (index 0: depth 1); empty without any.
     j["secondary_rays_per_depth"] = s.secondary_rays_per_depth;
     j["secondary_packet_rays_per_depth"] = s.secondary_packet_rays_per_depth;
+    if (s.backend != "dynrt") {  // a frame traced by another backend (Renderer::use_backend)
+        j["backend"] = s.backend;
+        j["backend_load_ms"] = s.backend_load_ms;
+    }
     j["reuse_mode"] = s.reuse_mode;
     j["reuse_reason"] = s.reuse_reason;
     j["rebuilds"] = nlohmann::ordered_json::array();
@@ -138,6 +142,8 @@ FrameStats frame_from_json(const nlohmann::json& j) {
                                        choice.at("chosen").get<std::string>(),
                                        choice.at("why").get<std::string>()});
     }
+    s.backend = j.value("backend", std::string("dynrt"));
+    s.backend_load_ms = j.value("backend_load_ms", 0.0);
     s.rank = j.value("rank", -1);
     s.handout_ms = j.value("handout_ms", 0.0);
     s.wait_ms = j.value("wait_ms", 0.0);

@@ -25,7 +25,7 @@
 #include "update/scene_accel.h"
 #include "rendering/stage_work.h"
 #include "rendering/tile_shading.h"
-#include "rendering/trace_backend.h"
+#include "dynrt/engine/trace_backend.h"
 
 #include <cstddef>
 #include <cstdint>

@@ -5,7 +5,7 @@
 // batch changes only the time; that choice is made here and nowhere else (as_packet).
 
 #include "dynrt/engine/renderer.h"
-#include "rendering/trace_backend.h"
+#include "dynrt/engine/trace_backend.h"
 #include "update/scene_accel.h"
 
 namespace dynrt::detail {

@@ -4,7 +4,9 @@
 #include "rendering/same_view.h"
 #include "update/held_bytes.h"
 
+#include <glm/mat4x4.hpp>
 #include <glm/trigonometric.hpp>
+#include <glm/vec4.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -13,6 +15,44 @@
 #include <string>
 
 namespace dynrt {
+
+namespace {
+
+/// The frame an update received, as another backend loads it: world positions per object.
+class PipelineGeometry final : public FrameGeometry {
+public:
+    PipelineGeometry(std::span<const ObjectState> states, const FixedPositions& fixed)
+        : states_(states), fixed_(fixed) {}
+
+    std::span<const glm::vec3> world_positions(std::size_t object,
+                                               std::vector<glm::vec3>& scratch) const override {
+        const ObjectState& state = states_[object];
+        switch (state.motion_class) {
+            case anim::MotionClass::static_: return fixed_.world(object, scratch);
+            case anim::MotionClass::rigid: {
+                const std::span<const glm::vec3> local = fixed_.object_space(object);
+                scratch.resize(local.size());
+                for (std::size_t v = 0; v < local.size(); ++v) {
+                    scratch[v] = glm::vec3(state.transform * glm::dvec4(glm::dvec3(local[v]), 1.0));
+                }
+                return scratch;
+            }
+            default: return state.world_positions;
+        }
+    }
+    bool changed(std::size_t object) const override { return states_[object].changed; }
+
+private:
+    std::span<const ObjectState> states_;
+    const FixedPositions& fixed_;
+};
+
+}  // namespace
+
+void FramePipeline::use_backend(std::shared_ptr<FrameBackend> backend) {
+    backend_ = std::move(backend);
+    clear_trees();
+}
 
 void FramePipeline::clear() {
     clear_trees();
@@ -38,6 +78,7 @@ bool FramePipeline::textures_current(const Scene& scene) const {
 
 void FramePipeline::clear_trees() {
     accel_.clear();
+    if (backend_) backend_->forget();
     updated_ = false;
     reuse_.valid = false;
     pixel_cache_.valid = false;
@@ -114,10 +155,14 @@ const FrameStats& FramePipeline::update(const Scene& scene, std::span<const Obje
     }
     invalidated_.clear();
     accel_.update(scene, states, fixed, policy, stats, stats);
+    if (backend_) {
+        stats.backend = backend_->name();
+        stats.backend_load_ms = backend_->load(scene, PipelineGeometry(states, fixed));
+    }
     update_wall_ms_ = frame_clock.elapsed_ms();
     // Everything the update did besides building trees (posing, checks, gathering triangles),
     // so that the stages shown add up to total_ms.
-    stats.update_ms = std::max(0.0, update_wall_ms_ - stats.build_ms);
+    stats.update_ms = std::max(0.0, update_wall_ms_ - stats.build_ms - stats.backend_load_ms);
     stats.total_ms = update_wall_ms_;
     updated_ = true;
     return stats;
@@ -172,7 +217,8 @@ void FramePipeline::trace(const Scene& scene, const Camera& camera, const TraceS
             2.0f * std::tan(0.5f * glm::radians(camera.fov_y_deg)) / float(std::max(options.height, 1));
         surface_textures.emplace(detail::SurfaceTextures{*textures_, object_texcoords_, camera.eye, pixel_angle});
     }
-    const detail::CpuTracer tracer(accel_, options);
+    const detail::CpuTracer cpu(accel_, options);
+    const TraceBackend& tracer = backend_ ? static_cast<const TraceBackend&>(*backend_) : cpu;
     const TraceInputs inputs{accel_, tracer, materials_, object_material_, lights, scene.materials,
                              surface_textures ? &*surface_textures : nullptr};
     // A reflection or refraction can show any object from any pixel whose hit spawns one:

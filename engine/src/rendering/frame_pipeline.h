@@ -12,6 +12,7 @@
 #include "dynrt/engine/stopwatch.h"
 #include "dynrt/engine/texture_figures.h"
 #include "dynrt/engine/texture_set.h"
+#include "dynrt/engine/trace_backend.h"
 #include "dynrt/engine/update_plan.h"
 #include "dynrt/packet/packet_shading.h"
 #include "dynrt/scene/scene.h"
@@ -53,6 +54,11 @@ public:
     void trace(const Scene& scene, const Camera& camera, const TraceSettings& options,
                std::span<const PointLight> lights, RenderedFrame& out);
 
+    /// Traces with `backend` (not null) instead of dynrt's own tracer, or with dynrt's again
+    /// (null): each update then also loads its frame into the backend. Forgets the trees, as
+    /// clear_trees().
+    void use_backend(std::shared_ptr<FrameBackend> backend);
+
     /// Whether an update has completed since construction or clear().
     bool updated() const { return updated_; }
     /// The last update's figures.
@@ -89,6 +95,8 @@ public:
 
 private:
     SceneAccel accel_;
+    /// Another tracer behind the seam, or null for dynrt's CpuTracer.
+    std::shared_ptr<FrameBackend> backend_;
     FrameStats update_stats_;
     double update_wall_ms_ = 0.0;
     bool updated_ = false;

@@ -54,7 +54,7 @@ struct FullFrame {
 void trace_full_tile(const FullFrame& f, int index, const packet::Tile& tile,
                      std::vector<bvh::InstanceHit>& hits, RenderedFrame& out, StageWork& work) {
     Stopwatch clock;
-    detail::TraceWork* trace_work = f.count ? &work.trace : nullptr;
+    TraceWork* trace_work = f.count ? &work.trace : nullptr;
     packet::RayPacket rays;
     f.pinhole.fill_tile(tile, rays);
     detail::trace_tile_hits(f.in.tracer, tile, f.width, rays, hits, trace_work);
@@ -66,7 +66,7 @@ void trace_full_tile(const FullFrame& f, int index, const packet::Tile& tile,
     origins.compute(f.in.accel, hits, f.width, tile, rays, f.in.object_material);
     thread_local std::vector<packet::LaneMask> visible;
     packet::RayPacket& shadow = rays;  // the camera rays are done with
-    work.shadow_rays += detail::trace_tile_shadows(f.in.tracer, detail::RayCoherence::tile, origins,
+    work.shadow_rays += detail::trace_tile_shadows(f.in.tracer, RayCoherence::tile, origins,
                                                    f.in.lights, shadow, visible, trace_work);
     work.shadow_ms += clock.lap_ms();
 

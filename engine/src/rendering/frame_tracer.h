@@ -8,7 +8,7 @@
 #include "dynrt/engine/renderer.h"
 #include "dynrt/packet/packet_shading.h"
 #include "rendering/secondary_rays.h"
-#include "rendering/trace_backend.h"
+#include "dynrt/engine/trace_backend.h"
 #include "update/scene_accel.h"
 
 #include <cstdint>
@@ -23,7 +23,7 @@ struct TraceInputs {
     const SceneAccel& accel;
     /// What traces the frame's rays (trace_backend.h): dynrt's CpuTracer over `accel`, or
     /// another backend over the same posed scene.
-    const detail::TraceBackend& tracer;
+    const TraceBackend& tracer;
     /// Materials as the shading kernel reads them, and each object's index into them.
     std::span<const packet::PhongMaterial> materials;
     const std::vector<std::int32_t>& object_material;

@@ -150,6 +150,7 @@ Renderer::Renderer(RenderOptions options)
         throw std::invalid_argument("adaptive sampling traces 16x16 packets: it needs the packet "
                                     "tracer, not the single-ray one");
     }
+    if (options_.backend) use_backend(options_.backend());
 }
 
 Renderer::~Renderer() = default;
@@ -162,6 +163,10 @@ void Renderer::reset() {
 }
 
 void Renderer::forget_trees() { state_->pipeline.clear_trees(); }
+
+void Renderer::use_backend(std::shared_ptr<FrameBackend> backend) {
+    state_->pipeline.use_backend(std::move(backend));
+}
 
 TextureFigures Renderer::texture_figures() const { return state_->pipeline.texture_figures(); }
 
@@ -183,8 +188,8 @@ double Renderer::trace_logged_rays(const SecondaryRayLog& log,
         for (int lane = 0; lane < packet::kPacketRays; ++lane) {
             if (logged.lanes.test(lane)) rays.set_ray(lane, logged.rays[k++]);
         }
-        detail::LaneHits lane_hits;
-        tracer.closest(rays, detail::RayCoherence::scattered, lane_hits, nullptr);
+        LaneHits lane_hits;
+        tracer.closest(rays, RayCoherence::scattered, lane_hits, nullptr);
         if (!hits) return;
         k = first[i];
         for (int lane = 0; lane < packet::kPacketRays; ++lane) {

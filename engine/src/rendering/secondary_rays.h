@@ -29,7 +29,7 @@
 #include "dynrt/packet/tiling.h"
 #include "dynrt/scene/scene.h"
 #include "rendering/tile_shading.h"
-#include "rendering/trace_backend.h"
+#include "dynrt/engine/trace_backend.h"
 #include "update/scene_accel.h"
 
 #include <cstddef>

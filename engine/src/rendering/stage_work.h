@@ -5,7 +5,7 @@
 // between the stages in proportion to the workers' summed time in each.
 
 #include "dynrt/engine/frame_stats.h"
-#include "rendering/trace_backend.h"
+#include "dynrt/engine/trace_backend.h"
 
 #include <algorithm>
 #include <cstddef>

@@ -8,7 +8,7 @@
 #include "dynrt/packet/ray_packet.h"
 #include "dynrt/packet/tiling.h"
 #include "rendering/tile_shading.h"
-#include "rendering/trace_backend.h"
+#include "dynrt/engine/trace_backend.h"
 
 #include <cstddef>
 #include <span>

@@ -195,6 +195,12 @@ struct FrameStats : UpdateStats, TreeShape, TraceStats, DistributionStats {
     /// `dynrt render`: the output stage's time encoding and writing this frame's files (on its
     /// writer thread, beside the next frame's render; FrameWriter), not part of total_ms.
     double write_ms = 0;
+    /// The tracer that answered the frame's rays: "dynrt", or a backend behind the trace seam
+    /// (Renderer::use_backend, e.g. "embree-low"), and what loading the frame into that
+    /// backend took (its update stage; 0 for dynrt, whose update is update_ms and build_ms,
+    /// which still run under another backend for the shading geometry). Part of total_ms.
+    std::string backend = "dynrt";
+    double backend_load_ms = 0;
 };
 
 }  // namespace dynrt

@@ -74,6 +74,7 @@
 #include "dynrt/engine/frame_stats.h"
 #include "dynrt/engine/pixel_reuse.h"
 #include "dynrt/engine/secondary_ray_log.h"
+#include "dynrt/engine/trace_backend.h"
 #include "dynrt/engine/texture_figures.h"
 #include "dynrt/engine/update_plan.h"
 #include "dynrt/packet/tiling.h"
@@ -83,6 +84,7 @@
 #include <glm/vec3.hpp>
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -176,6 +178,9 @@ struct RenderOptions : UpdatePolicy, TraceSettings {
     /// Empty: one default light at c + 4 R normalize(-0.5, 1.0, 0.8) (scene box centre c,
     /// half-diagonal R) unless the scene defines its own.
     std::vector<PointLight> lights;
+    /// Makes the tracer behind the trace seam for each Renderer made with these options
+    /// (Renderer::use_backend; `--backend embree-...`); empty: dynrt's own.
+    std::function<std::shared_ptr<FrameBackend>()> backend;
 };
 
 /// Per-pixel results, row-major with y = 0 the top row.
@@ -276,6 +281,12 @@ public:
     /// it to time a full build and trace per run without timing the textures' first reading,
     /// a start-up cost a render pays once.
     void forget_trees();
+
+    /// Traces every later frame with `backend` (behind the trace seam: Embree, say) instead
+    /// of dynrt's own tracer, or with dynrt's again for null: the same frames, rays and
+    /// shading, another tracer's hits. Each update then also loads its frame into the backend
+    /// (FrameStats::backend_load_ms). Forgets the trees, as forget_trees().
+    void use_backend(std::shared_ptr<FrameBackend> backend);
 
 private:
     struct State;

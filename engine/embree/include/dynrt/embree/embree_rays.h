@@ -35,6 +35,23 @@ inline RTCRayHit to_rtc_ray_hit(const bvh::Ray& ray) {
     return rh;
 }
 
+/// `ray` in lane `lane` of a 16-ray packet for rtcOccluded16: the fields of to_rtc_ray_hit's ray
+/// (ray id `id`).
+inline void set_rtc_ray16(RTCRay16& r, int lane, const bvh::Ray& ray, unsigned id) {
+    r.org_x[lane] = ray.org.x;
+    r.org_y[lane] = ray.org.y;
+    r.org_z[lane] = ray.org.z;
+    r.dir_x[lane] = ray.dir.x;
+    r.dir_y[lane] = ray.dir.y;
+    r.dir_z[lane] = ray.dir.z;
+    r.tnear[lane] = ray.tmin;
+    r.tfar[lane] = ray.tmax;
+    r.time[lane] = 0.0f;
+    r.mask[lane] = ~0u;
+    r.id[lane] = id;
+    r.flags[lane] = 0;
+}
+
 /// `ray` in lane `lane` of a 16-ray packet for rtcIntersect16 / rtcOccluded16, the same fields
 /// as to_rtc_ray_hit (ray id `id`).
 inline void set_rtc_ray_hit16(RTCRayHit16& rh, int lane, const bvh::Ray& ray, unsigned id) {

@@ -8,6 +8,8 @@
 #include "dynrt/engine/camera.h"
 #include "dynrt/engine/renderer.h"
 #include "dynrt/engine/secondary_ray_log.h"
+#include "dynrt/engine/trace_backend.h"
+#include "dynrt/packet/ray_packet.h"
 #include "dynrt/scene/scene.h"
 
 #include <cstddef>
@@ -106,6 +108,22 @@ public:
     double occluded1(const Camera& camera, int width, int height,
                      const std::vector<PointLight>& lights, const PixelHits& hits,
                      std::size_t& rays, std::vector<std::uint32_t>* occluded = nullptr);
+
+    /// One frame given object by object (FrameGeometry, the trace seam's view of an update):
+    /// as load_frame, creating the geometries at the first call, with another quality or
+    /// object count, and otherwise copying the changed objects' positions.
+    FrameLoad load_geometry(const Scene& scene, const FrameGeometry& geometry, BuildQuality quality);
+    /// Releases the scene: the next load creates it afresh.
+    void forget();
+
+    /// The trace seam's calls (EmbreeBackend): closest hits of `rays`' active lanes into
+    /// hits[lane] (object = geomID, prim = primID, Embree's t, u, v; a miss a default hit),
+    /// and which active lanes are occluded, with rtcIntersect16 / rtcOccluded16 over blocks of
+    /// 16 lanes: a tile's 4x4-pixel blocks with a coherent context when `tile`, else 16
+    /// consecutive lanes with the default one. Thread-safe after a load.
+    void closest_lanes(const packet::RayPacket& rays, bool tile,
+                       bvh::InstanceHit (&hits)[packet::kPacketRays]) const;
+    packet::LaneMask occluded_lanes(const packet::RayPacket& rays, bool tile) const;
 
 private:
     struct State;

@@ -17,8 +17,16 @@
 #include "dynrt/engine/frame_stats.h"
 #include "dynrt/packet/packet_config.h"
 #include "dynrt/packet/ray_packet.h"
+#include "dynrt/scene/scene.h"
 
-namespace dynrt::detail {
+#include <glm/vec3.hpp>
+
+#include <cstddef>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace dynrt {
 
 /// How a batch's rays were made, which is all a tracer is told of their coherence.
 enum class RayCoherence {
@@ -73,4 +81,33 @@ public:
                                       TraceWork* work) const = 0;
 };
 
-}  // namespace dynrt::detail
+/// One frame's world-space geometry, object by object (scene order), as a backend other than
+/// dynrt's loads it: the same posed frame dynrt's update received.
+class FrameGeometry {
+public:
+    virtual ~FrameGeometry() = default;
+    /// Object `object`'s world-space positions at the frame, indexed as its mesh's: a span
+    /// into storage of its own or into `scratch`, which it may fill; valid until the next call.
+    virtual std::span<const glm::vec3> world_positions(std::size_t object,
+                                                       std::vector<glm::vec3>& scratch) const = 0;
+    /// False when the object is known not to have moved since the previous frame.
+    virtual bool changed(std::size_t object) const = 0;
+};
+
+/// A tracer other than dynrt's own behind the seam (Renderer::use_backend): Embree, later a
+/// GPU. Each frame, after dynrt's update (whose trees' shading geometry the frame is still
+/// shaded with), it loads the frame's geometry; then it answers the frame's rays. Its hits
+/// must name the scene's objects and their mesh triangles (triangle i of object o:
+/// scene.objects[o].mesh.triangles[i]), with barycentrics as dynrt's.
+class FrameBackend : public TraceBackend {
+public:
+    /// The backend's name in reports, e.g. "embree-low".
+    virtual std::string name() const = 0;
+    /// Brings the backend's own acceleration structures to `scene`'s frame as `geometry` gives
+    /// it. Returns the milliseconds it took (the backend's update stage).
+    virtual double load(const Scene& scene, const FrameGeometry& geometry) = 0;
+    /// Forgets what was loaded: the next load builds from nothing (Renderer::forget_trees).
+    virtual void forget() = 0;
+};
+
+}  // namespace dynrt

@@ -8,11 +8,13 @@
 // pbrt-v4's wavefront integrator does: a depth's rays are sorted by kind (reflection,
 // refraction), direction octant and the Morton order of their origins, so that a planar
 // mirror's or a glass pane's rays from all over the image fill whole coherent packets of 256,
-// which go through the trace seam (trace_backend.h) as scattered rays; each hit is lit by its
-// own shadow rays and shaded, and spawns the next depth's rays. Gathered per tile, the same rays
-// made packets of a few dozen, and most shadow rays at secondary hits went one by one
-// (Overbeck, Ramamoorthi and Mark 2008, "Large Ray Packets for Real-time Whitted Ray Tracing",
-// measure how packets of secondary rays thin out).
+// which go through the trace seam (trace_backend.h) as scattered rays for their closest hits.
+// Then, sorted again by hit point when the scene has two lights or more (so that a packet's
+// shadow rays toward a light span a narrow cone), each hit is lit by its own shadow rays,
+// shaded, and spawns the next depth's rays, each packet writing them into its own run.
+// Gathered per tile, the same rays made packets of a few dozen, and most shadow rays at
+// secondary hits went one by one (Overbeck, Ramamoorthi and Mark 2008, "Large Ray Packets
+// for Real-time Whitted Ray Tracing", measure how packets of secondary rays thin out).
 //
 // Each pixel's colour then gets its rays' shares, weight times what each ray sees, added depth
 // first, at every hit the refraction's path before the reflection's: the order of the per-tile
@@ -125,7 +127,7 @@ private:
     void trace_wave(int depth);
     void sort_into_packets(int group_bits);
     void trace_closest(int depth, std::size_t begin, std::size_t end);
-    void shade_packet(int depth, std::size_t begin, std::size_t end);
+    void shade_packet(int depth, std::size_t packet_index);
 
     const SecondaryFrame& frame_;
     SecondaryBuffers::Data& state_;

@@ -588,20 +588,34 @@ int block_lane(bool tile, int b, int k) {
     return (by * kBlockSide + k / kBlockSide) * packet::kTileSize + bx * kBlockSide + k % kBlockSide;
 }
 
-/// Runs body(b, valid, any) for each block of `rays` holding an active lane: valid[k] is -1
-/// for an active lane k of the block, 0 otherwise; `any` is an active lane of the block.
+/// Runs body(lane, valid) for each block of `rays` holding an active lane: lane[k] is the
+/// batch lane that goes in slot k of the 16-ray packet (for a masked-off slot an active lane
+/// of the block, so that no slot holds garbage), valid[k] -1 for an active slot, 0 otherwise.
 template <typename Body>
 void for_each_active_block(const packet::RayPacket& rays, bool tile, Body&& body) {
     for (int b = 0; b < packet::kPacketRays / kLanes; ++b) {
         alignas(64) int valid[kLanes];
+        int lane[kLanes];
         int any = -1;
         for (int k = 0; k < kLanes; ++k) {
-            const int lane = block_lane(tile, b, k);
-            valid[k] = rays.active.test(lane) ? -1 : 0;
-            if (valid[k] != 0 && any < 0) any = lane;
+            lane[k] = block_lane(tile, b, k);
+            valid[k] = rays.active.test(lane[k]) ? -1 : 0;
+            if (valid[k] != 0 && any < 0) any = lane[k];
         }
-        if (any >= 0) body(b, valid, any);
+        if (any < 0) continue;
+        for (int k = 0; k < kLanes; ++k) {
+            if (valid[k] == 0) lane[k] = any;
+        }
+        body(lane, valid);
     }
+}
+
+/// The context of the seam's calls: coherent for a tile's rays.
+RTCIntersectContext seam_context(bool tile) {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    if (tile) context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    return context;
 }
 
 }  // namespace
@@ -609,47 +623,33 @@ void for_each_active_block(const packet::RayPacket& rays, bool tile, Body&& body
 void EmbreeTracer::closest_lanes(const packet::RayPacket& rays, bool tile,
                                  bvh::InstanceHit (&hits)[packet::kPacketRays]) const {
     const EmbreeFloatMode mode;
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    if (tile) context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-    for_each_active_block(rays, tile, [&](int b, int* valid, int any) {
+    RTCIntersectContext context = seam_context(tile);
+    for_each_active_block(rays, tile, [&](const int* lane, int* valid) {
         RTCRayHit16 rh;
-        for (int k = 0; k < kLanes; ++k) {
-            // Masked-off lanes still get a harmless ray (an active one's).
-            const int lane = valid[k] ? block_lane(tile, b, k) : any;
-            set_rtc_ray_hit16(rh, k, rays.ray(lane), unsigned(k));
-        }
+        for (int k = 0; k < kLanes; ++k) set_rtc_ray_hit16(rh, k, rays.ray(lane[k]), unsigned(k));
         rtcIntersect16(valid, state_->scene, &context, &rh);
         for (int k = 0; k < kLanes; ++k) {
             if (!valid[k]) continue;
-            bvh::InstanceHit& hit = hits[block_lane(tile, b, k)];
+            bvh::InstanceHit& hit = hits[lane[k]];
             hit = bvh::InstanceHit{};
             if (rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) continue;
             hit.object = rh.hit.geomID[k];
-            hit.hit.t = rh.ray.tfar[k];
-            hit.hit.u = rh.hit.u[k];
-            hit.hit.v = rh.hit.v[k];
-            hit.hit.prim = rh.hit.primID[k];
+            hit.hit = bvh::Hit{rh.ray.tfar[k], rh.hit.u[k], rh.hit.v[k], rh.hit.primID[k]};
         }
     });
 }
 
 packet::LaneMask EmbreeTracer::occluded_lanes(const packet::RayPacket& rays, bool tile) const {
     const EmbreeFloatMode mode;
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    if (tile) context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    RTCIntersectContext context = seam_context(tile);
     packet::LaneMask occluded;
-    for_each_active_block(rays, tile, [&](int b, int* valid, int any) {
+    for_each_active_block(rays, tile, [&](const int* lane, int* valid) {
         RTCRay16 r;
-        for (int k = 0; k < kLanes; ++k) {
-            const int lane = valid[k] ? block_lane(tile, b, k) : any;
-            set_rtc_ray16(r, k, rays.ray(lane), unsigned(k));
-        }
+        for (int k = 0; k < kLanes; ++k) set_rtc_ray16(r, k, rays.ray(lane[k]), unsigned(k));
         rtcOccluded16(valid, state_->scene, &context, &r);
         for (int k = 0; k < kLanes; ++k) {
             // rtcOccluded16 sets tfar to -inf for an occluded ray.
-            if (valid[k] && r.tfar[k] < 0.0f) occluded.set(block_lane(tile, b, k));
+            if (valid[k] && r.tfar[k] < 0.0f) occluded.set(lane[k]);
         }
     });
     return occluded;

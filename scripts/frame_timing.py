@@ -1,0 +1,86 @@
+#!/usr/bin/env python3
+"""Times two dynrt binaries on the same frames of a set of scenes, alternately, and prints each
+scene's per-frame median for both and their ratio.
+
+For changes to the frame path that must not make a frame slower (issue 36): every case renders
+a few frames at 1024x1024 with each binary in turn, `--rounds` times (the order alternating
+round by round), and takes the median total_ms over the frames after the first (which builds
+every tree and reads the textures), then the median over the rounds. It prints the stages'
+medians too. Scenes from ../shared/scenes are skipped when absent.
+
+    /usr/bin/python3 scripts/frame_timing.py --reference OLD_DYNRT [--candidate NEW_DYNRT]
+        [--rounds 3] [--only NAME]
+"""
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+SHARED = os.path.join(os.path.dirname(ROOT), "shared", "scenes")
+
+# Still scenes with --reuse off: the default exact reuse would skip the work being timed.
+CASES = [
+    ("kitchen", "shared:bart/kitchen/kitchen.aff", ["--frames", "0-7", "--reuse", "off"]),
+    ("robots", "shared:bart/robots/Robot.aff", ["--frames", "0-7", "--reuse", "off"]),
+    ("museum", "shared:bart/museum/museum5.aff", ["--frames", "0-7", "--reuse", "off"]),
+    ("cesiumman", "shared:cesiumman/CesiumMan.glb", ["--frames", "0-15", "--reuse", "off"]),
+    ("fox", "shared:fox/Fox.glb", ["--frames", "0-15", "--reuse", "off"]),
+    ("sphere1M-still", "sphere:1000000", ["--frames", "0-7", "--reuse", "off"]),
+    ("sphere1M-wave", "sphere:1000000", ["--frames", "0-7", "--anim", "wave"]),
+    ("sphere1M-explode", "sphere:1000000", ["--frames", "0-7", "--anim", "explode"]),
+]
+STAGES = ["update_ms", "build_ms", "primary_ms", "shadow_ms", "shade_ms", "secondary_ms"]
+
+
+def run(binary, scene, flags, work):
+    report = os.path.join(work, "report.json")
+    subprocess.run([binary, "render", scene, "--res", "1024x1024", "-q", *flags,
+                    "--out", os.path.join(work, "f%04d.ppm"), "--report", report], check=True)
+    frames = json.load(open(report))["frames"][1:]
+    return (statistics.median(f["total_ms"] for f in frames),
+            {k: statistics.median(f[k] for f in frames) for k in STAGES})
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--reference", required=True)
+    parser.add_argument("--candidate", default=os.path.join(ROOT, "build", "release", "engine", "dynrt"))
+    parser.add_argument("--rounds", type=int, default=3)
+    parser.add_argument("--only", action="append", default=[])
+    args = parser.parse_args()
+    work = tempfile.mkdtemp(prefix="dynrt_frame_timing_")
+    for name, scene, flags in CASES:
+        if args.only and not any(o in name for o in args.only):
+            continue
+        if scene.startswith("shared:"):
+            scene = os.path.join(SHARED, scene[len("shared:"):])
+            if not os.path.exists(scene):
+                print(f"{name}: skipped ({scene} is not there)")
+                continue
+        totals = {args.reference: [], args.candidate: []}
+        stages = {args.reference: [], args.candidate: []}
+        for r in range(args.rounds):
+            order = (args.reference, args.candidate) if r % 2 == 0 else (args.candidate, args.reference)
+            for binary in order:
+                total, per_stage = run(binary, scene, flags, work)
+                totals[binary].append(total)
+                stages[binary].append(per_stage)
+        before, after = statistics.median(totals[args.reference]), statistics.median(totals[args.candidate])
+        spread = lambda v: f"{min(v):.1f}-{max(v):.1f}"
+        print(f"{name:18s} reference {before:8.1f} ms ({spread(totals[args.reference])})  candidate "
+              f"{after:8.1f} ms ({spread(totals[args.candidate])})  candidate/reference {after / before:.3f}")
+        for label, binary in (("reference", args.reference), ("candidate", args.candidate)):
+            print(f"    {label}: " + " ".join(
+                f"{k[:-3]}={statistics.median(s[k] for s in stages[binary]):.1f}" for k in STAGES))
+        sys.stdout.flush()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -394,15 +394,7 @@ void trace_frame_approximate(const TraceInputs& in, const Camera& camera,
     };
 
     // ---- The frame as it stands, then the selected pixels traced into it ----
-    out.width = width;
-    out.height = height;
-    out.color.resize(pixels);
-    const std::size_t hit_pixels = options.hit_buffers ? pixels : 0;
-    out.depth.resize(hit_pixels);
-    out.object.resize(hit_pixels);
-    out.prim.resize(hit_pixels);
-    out.normal.resize(hit_pixels);
-    scratch.hits.resize(pixels);
+    size_frame(options, scratch, out);
     for_each_pixel(pixels, [&](std::size_t p) {
         out.color[p] = cache.color[p];
         if (!options.hit_buffers) return;
@@ -414,12 +406,7 @@ void trace_frame_approximate(const TraceInputs& in, const Camera& camera,
     });
     const double prepare_ms = wall.elapsed_ms();
 
-    scratch.shading_lights.clear();
-    for (const PointLight& light : lights) {
-        scratch.shading_lights.push_back(packet::ShadingLight{light.position, light.intensity});
-    }
-    const TileShading shading{in.materials, scratch.shading_lights, options.ambient,
-                              options.background, options.packet.lanes, in.textures};
+    const TileShading shading = frame_shading(in, options, scratch);
     const bool count = options.count_packet_work;
     tbb::combinable<TraceWork> trace_counts;
     tbb::combinable<TileWork> work;

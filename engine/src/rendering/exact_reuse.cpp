@@ -197,6 +197,176 @@ void remember_inputs(const ReuseInputs& now, ReuseMemory& memory, RenderedFrame&
     out.reuse_stamp = memory.stamp;
 }
 
+namespace {
+
+/// What every tile of an exact-reuse trace reads, and the memory it updates.
+struct ReuseFrame {
+    const TraceInputs& in;
+    const Camera& camera;
+    const packet::PinholeRays& pinhole;
+    const TileShading& shading;
+    const ChangedSpace& space;
+    SecondaryStage* secondary;  ///< null: no secondary rays
+    ReuseMemory& memory;
+    std::vector<bvh::InstanceHit>& hits;
+    int width;
+    bool all;    ///< every pixel is traced (ReusePlan::full)
+    bool count;  ///< traversal counters (TraceSettings::count_packet_work)
+};
+
+/// A tile's camera rays, made only when a test needs them: most tiles of a frame that reuses
+/// pixels are decided by their corner rays alone, and filling 256 rays for each was most of
+/// the cost of such a frame.
+struct LazyTileRays {
+    LazyTileRays(const packet::PinholeRays& pinhole_rays, const packet::Tile& tile_)
+        : pinhole(pinhole_rays), tile(tile_) {}
+
+    const packet::PinholeRays& pinhole;
+    const packet::Tile& tile;
+    packet::RayPacket rays;
+    bool filled = false;
+
+    packet::RayPacket& get() {
+        if (!filled) pinhole.fill_tile(tile, rays);
+        filled = true;
+        return rays;
+    }
+};
+
+/// The lanes of tile `t` whose camera rays may see something else than at the last trace
+/// (every lane when the whole frame is traced).
+packet::LaneMask changed_primary(const ReuseFrame& f, int t, const packet::Tile& tile,
+                                 LazyTileRays& rays, ChangedSpace& near) {
+    if (f.all) return rays.get().active;
+    // The corner pixels' rays (padding covers their rounding against fill_tile's).
+    const glm::vec3 corners[4] = {f.pinhole.ray(tile.x0, tile.y0).dir, f.pinhole.ray(tile.x1 - 1, tile.y0).dir,
+                                  f.pinhole.ray(tile.x0, tile.y1 - 1).dir,
+                                  f.pinhole.ray(tile.x1 - 1, tile.y1 - 1).dir};
+    // Only the boxes the tile's pyramid may meet are tested further.
+    if (!f.space.select_pyramid(f.camera.eye, corners, near) ||
+        (f.memory.all_hit[t] && !near.meets_hull(f.camera.eye, f.memory.hit_points[t]))) {
+        return {};
+    }
+    const packet::RayPacket& tile_rays = rays.get();
+    alignas(64) float until[packet::kPacketRays];
+    std::fill(std::begin(until), std::end(until), 0.0f);
+    for (int y = tile.y0; y < tile.y1; ++y) {
+        for (int x = tile.x0; x < tile.x1; ++x) {
+            const bvh::InstanceHit& hit = f.hits[std::size_t(y) * f.width + x];
+            until[packet::tile_lane(tile, x, y)] = hit.is_hit() ? hit.hit.t : std::numeric_limits<float>::infinity();
+        }
+    }
+    return near.meets_rays(tile_rays, until, tile_rays.active);
+}
+
+/// Tile `t`'s shadow rays toward each light that may be blocked otherwise than at the last
+/// trace (those of the re-traced `primary` lanes, and those meeting a changed box), traced
+/// again; visible[l] gets the lanes light l reaches now, kept or re-traced, and the memory
+/// what the next trace tests. Returns the lanes whose shadows alone were traced again.
+packet::LaneMask retrace_shadows(const ReuseFrame& f, int t, const TileShadowOrigins& origins,
+                                 const packet::LaneMask& primary, ChangedSpace& near,
+                                 std::vector<packet::LaneMask>& visible, StageWork& tw) {
+    const std::span<const PointLight> lights = f.in.lights;
+    visible.assign(lights.size(), packet::LaneMask{});
+    packet::LaneMask shadows_only;
+    packet::RayPacket shadow;
+    for (std::size_t l = 0; l < lights.size(); ++l) {
+        const std::size_t slot = std::size_t(t) * lights.size() + l;
+        origins.rays_to(lights[l], shadow);
+        const packet::LaneMask lit = shadow.active;
+        packet::LaneMask retrace = lit & primary;
+        if (f.space.select_hull(lights[l].position, f.memory.shadow_ends[slot], near)) {
+            // Shadow rays run from the light over t in [0, 1].
+            const packet::LaneMask meets = near.meets_rays(shadow, shadow.tmax, lit & ~primary);
+            retrace |= meets;
+            shadows_only |= meets;
+        }
+        packet::LaneMask occluded;
+        if (retrace.any()) {
+            shadow.active = retrace;
+            occluded = f.in.tracer.occluded(shadow, RayCoherence::tile, f.count ? &tw.trace : nullptr);
+            tw.shadow_rays += std::size_t(retrace.count());
+        }
+        const packet::LaneMask before = f.memory.visible[slot];
+        visible[l] = (before & ~primary & ~retrace) | (retrace & ~occluded);
+        f.memory.visible[slot] = visible[l];
+        if (primary.any()) {
+            bvh::Aabb ends;
+            lit.for_each([&](int lane) {
+                const bvh::Ray ray = shadow.ray(lane);
+                ends.extend(ray.org + ray.dir);
+            });
+            f.memory.shadow_ends[slot] = ends;
+        }
+    }
+    return shadows_only;
+}
+
+/// Tile number `t` of an exact-reuse trace: its camera rays and shadow rays that may have
+/// changed traced again, then, if any pixel may show something else, the whole tile shaded
+/// (the same bits where nothing changed) and its secondary rays gathered.
+void trace_reuse_tile(const ReuseFrame& f, int t, const packet::Tile& tile, ChangedSpace& near,
+                      StageWork& tw, RenderedFrame& out) {
+    Stopwatch clock;
+    LazyTileRays rays(f.pinhole, tile);
+    // ---- Primary rays that may see something else ----
+    const packet::LaneMask primary = changed_primary(f, t, tile, rays, near);
+    if (primary.any()) {
+        packet::RayPacket& tile_rays = rays.get();
+        const packet::LaneMask tile_lanes = tile_rays.active;
+        tile_rays.active = primary;
+        trace_tile_hits(f.in.tracer, tile, f.width, tile_rays, f.hits, f.count ? &tw.trace : nullptr);
+        tile_rays.active = tile_lanes;
+        tw.primary_rays += std::size_t(primary.count());
+    }
+    tw.primary_ms += clock.lap_ms();
+
+    // ---- Shadow rays that may see something else ----
+    const std::size_t light_count = f.in.lights.size();
+    bool shadows_may_change = false;
+    for (std::size_t l = 0; l < light_count && !shadows_may_change; ++l) {
+        shadows_may_change = f.space.meets_hull(f.in.lights[l].position,
+                                                f.memory.shadow_ends[std::size_t(t) * light_count + l]);
+    }
+    const bool secondary_here = f.secondary && tile_spawns_secondary(f.in, tile, f.width, f.hits);
+    if (!primary.any() && !shadows_may_change && !secondary_here) {
+        tw.shadow_ms += clock.lap_ms();
+        return;  // the tile keeps every pixel
+    }
+    TileShadowOrigins origins;
+    origins.compute(f.in.accel, f.hits, f.width, tile, rays.get(), f.in.object_material);
+    if (primary.any()) {
+        bvh::Aabb points;
+        origins.surface.hit.for_each([&](int lane) {
+            points.extend(glm::vec3(origins.surface.point[0][lane], origins.surface.point[1][lane],
+                                    origins.surface.point[2][lane]));
+        });
+        f.memory.hit_points[t] = points;
+        f.memory.all_hit[t] = origins.surface.hit == rays.get().active;
+    }
+    thread_local std::vector<packet::LaneMask> visible;
+    packet::LaneMask shadows_only = retrace_shadows(f, t, origins, primary, near, visible, tw);
+    if (secondary_here) {
+        // Every pixel whose hit spawns secondary rays is traced again from its hit on.
+        (origins.surface.hit & ~primary & ~shadows_only).for_each([&](int lane) {
+            const auto m = std::size_t(origins.surface.material[lane]);
+            if (f.in.scene_materials[m].traces_secondary()) shadows_only.set(lane);
+        });
+    }
+    tw.shadows_only += std::size_t(shadows_only.count());
+    tw.shadow_ms += clock.lap_ms();
+    if (!primary.any() && !shadows_only.any()) return;  // the same pixels again
+
+    // ---- Shading: the whole tile, the same bits where nothing changed ----
+    packet::ShadedColors colors;
+    shade_lanes(f.shading, origins, visible, colors);
+    write_tile(f.shading, tile, origins, f.hits, colors, out);
+    if (secondary_here) f.secondary->gather(t, tile, f.width, origins);
+    tw.shade_ms += clock.lap_ms();
+}
+
+}  // namespace
+
 void trace_frame_reusing(const TraceInputs& in, const Camera& camera, const TraceSettings& options,
                          const ReusePlan& plan, ReuseMemory& memory, TraceScratch& scratch,
                          RenderedFrame& out) {
@@ -206,34 +376,18 @@ void trace_frame_reusing(const TraceInputs& in, const Camera& camera, const Trac
     // The tiles this trace renders (a process's share, or all); the memory is per tile of it.
     const packet::Tiling tiling(width, height, options.tiles);
     const std::size_t share_pixels = options.tiles.whole() ? pixels : tiling.pixel_count();
-    const std::span<const PointLight> lights = in.lights;
-    const std::size_t light_count = lights.size();
+    const std::size_t light_count = in.lights.size();
     TraceStats& stats = out.stats;
     stats.reuse_mode = pixel_reuse_name(PixelReuse::exact);
     stats.reuse_reason = plan.reason;
     stats.interpolated_pixels = 0;
     stats.pixels_filled = 0;
-
-    scratch.shading_lights.clear();
-    for (const PointLight& light : lights) {
-        scratch.shading_lights.push_back(packet::ShadingLight{light.position, light.intensity});
-    }
-    const TileShading shading{in.materials, scratch.shading_lights, options.ambient,
-                              options.background, options.packet.lanes, in.textures};
+    const TileShading shading = frame_shading(in, options, scratch);
     // Until remember_inputs: a trace that throws half way leaves nothing to reuse.
     memory.valid = false;
-    const bool all = plan.full;
-    if (all) {
+    if (plan.full) {
         // Nothing to keep: size the frame and the memory for a full trace.
-        out.width = width;
-        out.height = height;
-        out.color.resize(pixels);
-        const std::size_t hit_pixels = options.hit_buffers ? pixels : 0;
-        out.depth.resize(hit_pixels);
-        out.object.resize(hit_pixels);
-        out.prim.resize(hit_pixels);
-        out.normal.resize(hit_pixels);
-        scratch.hits.resize(pixels);
+        size_frame(options, scratch, out);
         const std::size_t tiles = std::size_t(tiling.count());
         memory.hit_points.assign(tiles, bvh::Aabb{});
         memory.all_hit.assign(tiles, 0);
@@ -246,7 +400,7 @@ void trace_frame_reusing(const TraceInputs& in, const Camera& camera, const Trac
         stats.pixels_shadows_retraced = sum.shadows_only;
         stats.pixels_reused = share_pixels - sum.primary_rays - sum.shadows_only;
     };
-    if (!all && plan.changed.empty()) {
+    if (!plan.full && plan.changed.empty()) {
         finish(StageWork{}, 0.0);
         return;
     }
@@ -254,7 +408,7 @@ void trace_frame_reusing(const TraceInputs& in, const Camera& camera, const Trac
     // The scale of everything the tests compare: scene, changed boxes, eye and lights.
     float scale = std::max(largest_coordinate(in.accel.world_bounds()), largest_coordinate(camera.eye));
     for (const bvh::Aabb& box : plan.changed) scale = std::max(scale, largest_coordinate(box));
-    for (const PointLight& light : lights) scale = std::max(scale, largest_coordinate(light.position));
+    for (const PointLight& light : in.lights) scale = std::max(scale, largest_coordinate(light.position));
     const ChangedSpace space(plan.changed, scale);
 
     const bool count = options.count_packet_work;
@@ -262,145 +416,19 @@ void trace_frame_reusing(const TraceInputs& in, const Camera& camera, const Trac
     std::optional<SecondaryStage> secondary;
     if (any_secondary(in.scene_materials, options.secondary)) {
         const SecondaryTracing tracing{in.accel, in.tracer, options.secondary, count};
-        secondary_frame.emplace(SecondaryFrame{tracing, lights, shading, in.scene_materials,
+        secondary_frame.emplace(SecondaryFrame{tracing, in.lights, shading, in.scene_materials,
                                                in.object_material, options.secondary_log});
         secondary.emplace(*secondary_frame, scratch.secondary);
     }
+    const ReuseFrame frame{in,     camera,         pinhole,       shading, space,
+                           secondary ? &*secondary : nullptr, memory, scratch.hits,
+                           width,  plan.full,      count};
     tbb::combinable<StageWork> work;
     // Per thread, the changed boxes near the tile at hand (storage reused across tiles).
     tbb::combinable<ChangedSpace> nearby;
     const Stopwatch wall;
     tbb::parallel_for(0, tiling.count(), [&](int t) {
-        const packet::Tile tile = tiling.tile(t);
-        StageWork& tw = work.local();
-        Stopwatch clock;
-        // The tile's rays are made only when a test needs them: most tiles of a frame that
-        // reuses pixels are decided by their corner rays alone, and filling 256 rays for each
-        // was most of the cost of such a frame.
-        packet::RayPacket rays;
-        bool filled = false;
-        const auto fill = [&] {
-            if (!filled) pinhole.fill_tile(tile, rays);
-            filled = true;
-        };
-        ChangedSpace& near = nearby.local();
-
-        // ---- Primary rays that may see something else ----
-        packet::LaneMask primary;
-        if (all) {
-            fill();
-            primary = rays.active;
-        } else {
-            // The corner pixels' rays (padding covers their rounding against fill_tile's).
-            const glm::vec3 corners[4] = {pinhole.ray(tile.x0, tile.y0).dir,
-                                          pinhole.ray(tile.x1 - 1, tile.y0).dir,
-                                          pinhole.ray(tile.x0, tile.y1 - 1).dir,
-                                          pinhole.ray(tile.x1 - 1, tile.y1 - 1).dir};
-            // Only the boxes the tile's pyramid may meet are tested further.
-            if (space.select_pyramid(camera.eye, corners, near) &&
-                (!memory.all_hit[t] || near.meets_hull(camera.eye, memory.hit_points[t]))) {
-                fill();
-                alignas(64) float until[packet::kPacketRays];
-                std::fill(std::begin(until), std::end(until), 0.0f);
-                for (int y = tile.y0; y < tile.y1; ++y) {
-                    for (int x = tile.x0; x < tile.x1; ++x) {
-                        const bvh::InstanceHit& hit = scratch.hits[std::size_t(y) * width + x];
-                        until[packet::tile_lane(tile, x, y)] =
-                            hit.is_hit() ? hit.hit.t : std::numeric_limits<float>::infinity();
-                    }
-                }
-                primary = near.meets_rays(rays, until, rays.active);
-            }
-        }
-        TraceWork* trace_work = count ? &tw.trace : nullptr;
-        if (primary.any()) {
-            const packet::LaneMask tile_lanes = rays.active;
-            rays.active = primary;
-            trace_tile_hits(in.tracer, tile, width, rays, scratch.hits, trace_work);
-            rays.active = tile_lanes;
-            tw.primary_rays += std::size_t(primary.count());
-        }
-        tw.primary_ms += clock.lap_ms();
-
-        // ---- Shadow rays that may see something else ----
-        bool shadows_may_change = false;
-        for (std::size_t l = 0; l < light_count && !shadows_may_change; ++l) {
-            shadows_may_change =
-                space.meets_hull(lights[l].position, memory.shadow_ends[t * light_count + l]);
-        }
-        const bool secondary_here =
-            secondary_frame && tile_spawns_secondary(in, tile, width, scratch.hits);
-        if (!primary.any() && !shadows_may_change && !secondary_here) {
-            tw.shadow_ms += clock.lap_ms();
-            return;  // the tile keeps every pixel
-        }
-        fill();
-        TileShadowOrigins origins;
-        origins.compute(in.accel, scratch.hits, width, tile, rays, in.object_material);
-        if (primary.any()) {
-            bvh::Aabb points;
-            for (int lane = 0; lane < packet::kPacketRays; ++lane) {
-                if (!origins.surface.hit.test(lane)) continue;
-                points.extend(glm::vec3(origins.surface.point[0][lane],
-                                        origins.surface.point[1][lane],
-                                        origins.surface.point[2][lane]));
-            }
-            memory.hit_points[t] = points;
-            memory.all_hit[t] = origins.surface.hit == rays.active;
-        }
-        std::vector<packet::LaneMask> visible(light_count);
-        packet::LaneMask shadows_only;
-        packet::RayPacket shadow;
-        for (std::size_t l = 0; l < light_count; ++l) {
-            const std::size_t slot = t * light_count + l;
-            origins.rays_to(lights[l], shadow);
-            const packet::LaneMask lit = shadow.active;
-            packet::LaneMask retrace = lit & primary;
-            if (space.select_hull(lights[l].position, memory.shadow_ends[slot], near)) {
-                // Shadow rays run from the light over t in [0, 1].
-                const packet::LaneMask kept = lit & ~primary;
-                const packet::LaneMask meets = near.meets_rays(shadow, shadow.tmax, kept);
-                retrace |= meets;
-                shadows_only |= meets;
-            }
-            packet::LaneMask occluded;
-            if (retrace.any()) {
-                shadow.active = retrace;
-                occluded = in.tracer.occluded(shadow, RayCoherence::tile, trace_work);
-                tw.shadow_rays += std::size_t(retrace.count());
-            }
-            const packet::LaneMask before = memory.visible[slot];
-            packet::LaneMask& now = visible[l];
-            now = (before & ~primary & ~retrace) | (retrace & ~occluded);
-            memory.visible[slot] = now;
-            if (primary.any()) {
-                bvh::Aabb ends;
-                for (int lane = 0; lane < packet::kPacketRays; ++lane) {
-                    if (!lit.test(lane)) continue;
-                    const bvh::Ray ray = shadow.ray(lane);
-                    ends.extend(ray.org + ray.dir);
-                }
-                memory.shadow_ends[slot] = ends;
-            }
-        }
-        if (secondary_here) {
-            // Every pixel whose hit spawns secondary rays is traced again from its hit on.
-            for (int lane = 0; lane < packet::kPacketRays; ++lane) {
-                if (!origins.surface.hit.test(lane) || primary.test(lane) || shadows_only.test(lane)) continue;
-                const auto m = std::size_t(origins.surface.material[lane]);
-                if (in.scene_materials[m].traces_secondary()) shadows_only.set(lane);
-            }
-        }
-        tw.shadows_only += std::size_t(shadows_only.count());
-        tw.shadow_ms += clock.lap_ms();
-        if (!primary.any() && !shadows_only.any()) return;  // the same pixels again
-
-        // ---- Shading: the whole tile, the same bits where nothing changed ----
-        packet::ShadedColors colors;
-        shade_lanes(shading, origins, visible, colors);
-        write_tile(shading, tile, origins, scratch.hits, colors, out);
-        if (secondary_here) secondary->gather(t, tile, width, origins);
-        tw.shade_ms += clock.lap_ms();
+        trace_reuse_tile(frame, t, tiling.tile(t), nearby.local(), work.local(), out);
     });
     const StageWork sum = work.combine([](StageWork a, const StageWork& b) { return a += b; });
     finish(sum, wall.elapsed_ms());

@@ -81,29 +81,10 @@ void trace_full_tile(const FullFrame& f, int index, const packet::Tile& tile,
 
 }  // namespace
 
-void trace_frame(const TraceInputs& in, const Camera& camera, const TraceSettings& options,
-                 TraceScratch& scratch, RenderedFrame& out) {
-    const int width = options.width, height = options.height;
-    const packet::PinholeRays rays(camera, width, height);
-    const std::size_t pixels = std::size_t(width) * std::size_t(height);
-    // The tiles this trace renders: every one, or a process's share of them.
-    const packet::Tiling tiling(width, height, options.tiles);
-    TraceStats& stats = out.stats;  // the trace stage fills its part only
-    // The shading kernel's view of the lights (bookkeeping, outside the stage clocks).
-    scratch.shading_lights.clear();
-    for (const PointLight& light : in.lights) {
-        scratch.shading_lights.push_back(packet::ShadingLight{light.position, light.intensity});
-    }
-    stats.secondary_ms = 0.0;
-    stats.reflection_rays = stats.refraction_rays = 0;
-    stats.reflection_mrays_per_s = stats.refraction_mrays_per_s = 0.0;
-    stats.secondary_shadow_rays = stats.secondary_packet_rays = stats.secondary_single_rays = 0;
-    stats.secondary_rays_per_depth.clear();
-    stats.secondary_packet_rays_per_depth.clear();
-    const detail::TileShading shading{in.materials, scratch.shading_lights, options.ambient,
-                                      options.background, options.packet.lanes, in.textures};
-    out.width = width;
-    out.height = height;
+void size_frame(const TraceSettings& options, TraceScratch& scratch, RenderedFrame& out) {
+    const std::size_t pixels = std::size_t(options.width) * std::size_t(options.height);
+    out.width = options.width;
+    out.height = options.height;
     out.color.resize(pixels);
     const std::size_t hit_pixels = options.hit_buffers ? pixels : 0;
     out.depth.resize(hit_pixels);
@@ -111,6 +92,33 @@ void trace_frame(const TraceInputs& in, const Camera& camera, const TraceSetting
     out.prim.resize(hit_pixels);
     out.normal.resize(hit_pixels);
     scratch.hits.resize(pixels);
+}
+
+detail::TileShading frame_shading(const TraceInputs& in, const TraceSettings& options,
+                                  TraceScratch& scratch) {
+    scratch.shading_lights.clear();
+    for (const PointLight& light : in.lights) {
+        scratch.shading_lights.push_back(packet::ShadingLight{light.position, light.intensity});
+    }
+    return detail::TileShading{in.materials, scratch.shading_lights, options.ambient,
+                               options.background, options.packet.lanes, in.textures};
+}
+
+void trace_frame(const TraceInputs& in, const Camera& camera, const TraceSettings& options,
+                 TraceScratch& scratch, RenderedFrame& out) {
+    const int width = options.width, height = options.height;
+    const packet::PinholeRays rays(camera, width, height);
+    // The tiles this trace renders: every one, or a process's share of them.
+    const packet::Tiling tiling(width, height, options.tiles);
+    TraceStats& stats = out.stats;  // the trace stage fills its part only
+    stats.secondary_ms = 0.0;
+    stats.reflection_rays = stats.refraction_rays = 0;
+    stats.reflection_mrays_per_s = stats.refraction_mrays_per_s = 0.0;
+    stats.secondary_shadow_rays = stats.secondary_packet_rays = stats.secondary_single_rays = 0;
+    stats.secondary_rays_per_depth.clear();
+    stats.secondary_packet_rays_per_depth.clear();
+    const detail::TileShading shading = frame_shading(in, options, scratch);
+    size_frame(options, scratch, out);
     const bool count = options.count_packet_work;
 
     if (options.adaptive_tolerance > 0.0f) {

@@ -43,6 +43,15 @@ struct TraceScratch {
     detail::SecondaryBuffers secondary;
 };
 
+/// Sizes `out` for options.width x options.height: the colour, and the hit buffers (depth,
+/// object, prim, normal) when options.hit_buffers, else none; sizes scratch.hits alike.
+void size_frame(const TraceSettings& options, TraceScratch& scratch, RenderedFrame& out);
+
+/// The shading kernel's view of a trace: `in`'s materials, lights (made into
+/// scratch.shading_lights, which it borrows) and textures, options' ambient and background.
+detail::TileShading frame_shading(const TraceInputs& in, const TraceSettings& options,
+                                  TraceScratch& scratch);
+
 /// Renders `camera`'s view at options.width x options.height into `out` (its buffers reused),
 /// with options' tracer, culling, adaptive tolerance, secondary rays, background and ambient,
 /// lit by `in.lights`. Adaptive sampling ignores the secondary rays: callers turn it off when

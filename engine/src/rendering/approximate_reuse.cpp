@@ -6,6 +6,7 @@
 #include "rendering/changed_space.h"
 #include "rendering/same_view.h"
 #include "rendering/tile_shading.h"
+#include "rendering/stage_work.h"
 #include "rendering/tile_tracing.h"
 
 #include <tbb/blocked_range.h>
@@ -133,37 +134,110 @@ void for_each_neighbour(int x, int y, int width, int height, F&& f) {
     }
 }
 
-struct TileWork {
-    double primary_ms = 0.0, shadow_ms = 0.0, shade_ms = 0.0;
-    std::size_t primary_rays = 0, shadow_rays = 0;
+/// What the phases of an approximate trace share.
+struct ApproximateFrame {
+    const TraceInputs& in;
+    const Camera& camera;
+    const TraceSettings& options;
+    const packet::PinholeRays& pinhole;
+    const packet::Tiling& tiling;
+    PixelCache& cache;
+    int width, height;
+    std::size_t pixels;
+    bool render_cache;  ///< PixelReuse::render_cache (else frameless)
 };
 
-}  // namespace
+/// The render cache after the camera moved: each sample forward-reprojected to `f.camera`,
+/// the nearest winning per pixel, then depth-culled.
+void reproject(const ApproximateFrame& f) {
+    const Camera& camera = f.camera;
+    const TraceSettings& options = f.options;
+    PixelCache& cache = f.cache;
+    const int width = f.width, height = f.height;
+    const std::size_t pixels = f.pixels;
+    // Forward reprojection with a depth test: per target pixel the nearest sample wins,
+    // by an atomic minimum over (depth bits, source pixel), the same whatever the order.
+    const Projection to(camera, width, height);
+    std::vector<std::uint64_t>& nearest = cache.nearest_scratch;
+    nearest.assign(pixels, ~std::uint64_t{0});
+    for_each_pixel(pixels, [&](std::size_t p) {
+        if (cache.age[p] == PixelCache::kEmpty) return;
+        // A miss keeps its direction, a point at infinity: it lands where that direction
+        // is seen from the new eye, behind every hit.
+        const bool hit = cache.object[p] >= 0;
+        int x, y;
+        if (!to.pixel_of(hit ? cache.point[p] : camera.eye + cache.point[p], x, y)) return;
+        const float depth = hit ? glm::length(cache.point[p] - camera.eye) : kInf;
+        const std::uint64_t key = (std::uint64_t(std::bit_cast<std::uint32_t>(depth)) << 32) | p;
+        std::atomic_ref<std::uint64_t> slot(nearest[std::size_t(y) * width + x]);
+        std::uint64_t seen = slot.load(std::memory_order_relaxed);
+        while (key < seen && !slot.compare_exchange_weak(seen, key, std::memory_order_relaxed)) {
+        }
+    });
+    // Gathered into the spare arrays, which then become the cache's, with each sample's
+    // depth (-1 for none) for the depth culling below.
+    PixelCache& to_cache = cache.spare();
+    resize(to_cache, pixels);
+    std::vector<float>& depth = to_cache.depth_scratch;
+    depth.resize(pixels);
+    const Sample none = empty_sample(options.background);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pixels, 4096),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+        for (std::size_t p = range.begin(); p < range.end(); ++p) {
+            if (nearest[p] == ~std::uint64_t{0}) {
+                store(to_cache, p, none);
+                depth[p] = -1.0f;
+                continue;
+            }
+            Sample s = sample_at(cache, std::size_t(nearest[p] & 0xffffffffu));
+            s.age = std::uint8_t(std::min<int>(s.age + 1, PixelCache::kOldest));
+            store(to_cache, p, s);
+            depth[p] = s.object < 0 ? kInf : glm::length(s.point - camera.eye);
+        }
+    });
+    // Depth culling (Walter et al. 1999, section 4.3): forward reprojection leaves cracks
+    // in a surface that comes nearer, and what lies behind it shows through them. A sample
+    // much farther than most of its neighbours is such a point: dropped, it becomes a hole
+    // that the fill below closes from the surface around it.
+    const auto nearer = [&](float n, float d) { return int(n >= 0.0f && n < kDepthCullRatio * d); };
+    tbb::parallel_for(0, height, [&](int y) {
+        const float* row = &depth[std::size_t(y) * width];
+        for (int x = 0; x < width; ++x) {
+            const float d = row[x];
+            if (d < 0.0f) continue;
+            int count = 0;
+            if (x > 0 && y > 0 && x + 1 < width && y + 1 < height) {
+                // Inside the image: the eight neighbours without bounds checks.
+                const float* up = row - width;
+                const float* down = row + width;
+                count = nearer(up[x - 1], d) + nearer(up[x], d) + nearer(up[x + 1], d) +
+                        nearer(row[x - 1], d) + nearer(row[x + 1], d) +
+                        nearer(down[x - 1], d) + nearer(down[x], d) + nearer(down[x + 1], d);
+            } else {
+                for_each_neighbour(x, y, width, height,
+                                   [&](std::size_t q) { count += nearer(depth[q], d); });
+            }
+            // Six of eight: a sample at a silhouette has three to five nearer neighbours.
+            if (count >= 6) to_cache.age[std::size_t(y) * width + x] = PixelCache::kEmpty;
+        }
+    });
+    cache.swap_samples();
+}
 
-void trace_frame_approximate(const TraceInputs& in, const Camera& camera,
-                             const TraceSettings& options, std::span<const bvh::Aabb> boxes,
-                             std::span<const std::uint64_t> versions, PixelCache& cache,
-                             TraceScratch& scratch, RenderedFrame& out) {
-    const Stopwatch wall;
-    const int width = options.width, height = options.height;
-    const std::size_t pixels = std::size_t(width) * std::size_t(height);
-    const packet::PinholeRays pinhole(camera, width, height);
-    const packet::Tiling tiling(width, height);
-    const std::span<const PointLight> lights = in.lights;
-    const bool render_cache = options.reuse.mode == PixelReuse::render_cache;
-    TraceStats& stats = out.stats;
-    stats.reuse_mode = pixel_reuse_name(options.reuse.mode);
-    stats.interpolated_pixels = 0;
-
-    // ---- The samples as this frame starts: kept, reprojected or none ----
-    const bool fresh = !cache.valid || cache.settings.width != width ||
-                       cache.settings.height != height || cache.settings.tracer != options.tracer ||
+/// The samples as this frame starts: kept (a step older), reprojected, or none (new image
+/// settings); all made oldest when the lights changed. Sets stats.reuse_reason.
+void start_samples(const ApproximateFrame& f, std::span<const bvh::Aabb> boxes, TraceStats& stats) {
+    PixelCache& cache = f.cache;
+    const TraceSettings& options = f.options;
+    const std::size_t pixels = f.pixels;
+    const bool fresh = !cache.valid || cache.settings.width != f.width ||
+                       cache.settings.height != f.height || cache.settings.tracer != options.tracer ||
                        cache.settings.background != options.background ||
                        cache.settings.ambient != options.ambient ||
                        cache.settings.smooth_normals != options.smooth_normals ||
                        boxes.size() < cache.object_boxes.size();
-    const bool moved = !fresh && !same_camera(cache.camera, camera);
-    const bool relit = !fresh && !same_lights(cache.lights, lights);
+    const bool moved = !fresh && !same_camera(cache.camera, f.camera);
+    const bool relit = !fresh && !same_lights(cache.lights, f.in.lights);
     if (fresh) {
         resize(cache, pixels);
         const Sample none = empty_sample(options.background);
@@ -171,74 +245,8 @@ void trace_frame_approximate(const TraceInputs& in, const Camera& camera,
         cache.object_boxes.clear();
         cache.object_versions.clear();
         stats.reuse_reason = cache.valid ? "image settings changed" : "first frame";
-    } else if (moved && render_cache) {
-        // Forward reprojection with a depth test: per target pixel the nearest sample wins,
-        // by an atomic minimum over (depth bits, source pixel), the same whatever the order.
-        const Projection to(camera, width, height);
-        std::vector<std::uint64_t>& nearest = cache.nearest_scratch;
-        nearest.assign(pixels, ~std::uint64_t{0});
-        for_each_pixel(pixels, [&](std::size_t p) {
-            if (cache.age[p] == PixelCache::kEmpty) return;
-            // A miss keeps its direction, a point at infinity: it lands where that direction
-            // is seen from the new eye, behind every hit.
-            const bool hit = cache.object[p] >= 0;
-            int x, y;
-            if (!to.pixel_of(hit ? cache.point[p] : camera.eye + cache.point[p], x, y)) return;
-            const float depth = hit ? glm::length(cache.point[p] - camera.eye) : kInf;
-            const std::uint64_t key = (std::uint64_t(std::bit_cast<std::uint32_t>(depth)) << 32) | p;
-            std::atomic_ref<std::uint64_t> slot(nearest[std::size_t(y) * width + x]);
-            std::uint64_t seen = slot.load(std::memory_order_relaxed);
-            while (key < seen && !slot.compare_exchange_weak(seen, key, std::memory_order_relaxed)) {
-            }
-        });
-        // Gathered into the spare arrays, which then become the cache's, with each sample's
-        // depth (-1 for none) for the depth culling below.
-        PixelCache& to_cache = cache.spare();
-        resize(to_cache, pixels);
-        std::vector<float>& depth = to_cache.depth_scratch;
-        depth.resize(pixels);
-        const Sample none = empty_sample(options.background);
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pixels, 4096),
-                          [&](const tbb::blocked_range<std::size_t>& range) {
-            for (std::size_t p = range.begin(); p < range.end(); ++p) {
-                if (nearest[p] == ~std::uint64_t{0}) {
-                    store(to_cache, p, none);
-                    depth[p] = -1.0f;
-                    continue;
-                }
-                Sample s = sample_at(cache, std::size_t(nearest[p] & 0xffffffffu));
-                s.age = std::uint8_t(std::min<int>(s.age + 1, PixelCache::kOldest));
-                store(to_cache, p, s);
-                depth[p] = s.object < 0 ? kInf : glm::length(s.point - camera.eye);
-            }
-        });
-        // Depth culling (Walter et al. 1999, section 4.3): forward reprojection leaves cracks
-        // in a surface that comes nearer, and what lies behind it shows through them. A sample
-        // much farther than most of its neighbours is such a point: dropped, it becomes a hole
-        // that the fill below closes from the surface around it.
-        const auto nearer = [&](float n, float d) { return int(n >= 0.0f && n < kDepthCullRatio * d); };
-        tbb::parallel_for(0, height, [&](int y) {
-            const float* row = &depth[std::size_t(y) * width];
-            for (int x = 0; x < width; ++x) {
-                const float d = row[x];
-                if (d < 0.0f) continue;
-                int count = 0;
-                if (x > 0 && y > 0 && x + 1 < width && y + 1 < height) {
-                    // Inside the image: the eight neighbours without bounds checks.
-                    const float* up = row - width;
-                    const float* down = row + width;
-                    count = nearer(up[x - 1], d) + nearer(up[x], d) + nearer(up[x + 1], d) +
-                            nearer(row[x - 1], d) + nearer(row[x + 1], d) +
-                            nearer(down[x - 1], d) + nearer(down[x], d) + nearer(down[x + 1], d);
-                } else {
-                    for_each_neighbour(x, y, width, height,
-                                       [&](std::size_t q) { count += nearer(depth[q], d); });
-                }
-                // Six of eight: a sample at a silhouette has three to five nearer neighbours.
-                if (count >= 6) to_cache.age[std::size_t(y) * width + x] = PixelCache::kEmpty;
-            }
-        });
-        cache.swap_samples();
+    } else if (moved && f.render_cache) {
+        reproject(f);
         stats.reuse_reason = "camera moved: reprojected";
     } else {
         for_each_pixel(pixels, [&](std::size_t p) {
@@ -255,10 +263,24 @@ void trace_frame_approximate(const TraceInputs& in, const Camera& camera,
         }
         stats.reuse_reason += ", lights changed";
     }
+}
 
-    // ---- What changed since the last frame ----
-    std::vector<std::uint8_t> changed(boxes.size(), 0);
+/// The objects changed since the cache's frame, and the space their boxes (then and now) take.
+struct Changes {
+    std::vector<std::uint8_t> changed;  ///< per object
     std::vector<bvh::Aabb> changed_boxes;
+    float scale = 0.0f;
+};
+
+Changes changes_since(const ApproximateFrame& f, std::span<const bvh::Aabb> boxes,
+                      std::span<const std::uint64_t> versions) {
+    const PixelCache& cache = f.cache;
+    const Camera& camera = f.camera;
+    Changes c;
+    std::vector<std::uint8_t>& changed = c.changed;
+    std::vector<bvh::Aabb>& changed_boxes = c.changed_boxes;
+    float& scale = c.scale;
+    changed.assign(boxes.size(), 0);
     for (std::size_t i = 0; i < boxes.size(); ++i) {
         const bool known = i < cache.object_versions.size();
         if (known && cache.object_versions[i] == versions[i]) continue;
@@ -266,7 +288,6 @@ void trace_frame_approximate(const TraceInputs& in, const Camera& camera,
         if (known) changed_boxes.push_back(cache.object_boxes[i]);
         changed_boxes.push_back(boxes[i]);
     }
-    float scale = 0.0f;
     for (const bvh::Aabb& b : changed_boxes) {
         if (b.is_empty()) continue;
         for (int a = 0; a < 3; ++a) scale = std::max({scale, std::fabs(b.lo[a]), std::fabs(b.hi[a])});
@@ -277,83 +298,123 @@ void trace_frame_approximate(const TraceInputs& in, const Camera& camera,
     // sample shows (an approximation: an object moving into a pixel is seen once it is
     // traced for its age or as a hole).
     if (changed_boxes.size() > kMostChangedBoxes) changed_boxes.clear();
-    const ChangedSpace space(changed_boxes, scale);
-    tbb::combinable<ChangedSpace> nearby;
+    return c;
+}
 
-    // ---- Rank every pixel ----
-    const int blocks_x = (width + kBlock - 1) / kBlock, blocks_y = (height + kBlock - 1) / kBlock;
-    const auto block_of = [&](int x, int y) { return std::size_t(y / kBlock) * blocks_x + x / kBlock; };
-    std::vector<std::uint16_t> level(std::size_t(blocks_x) * blocks_y);
+/// Every 8x8 block's rank: the most urgent of its pixels' (changed, hole, then by age).
+struct Ranking {
+    int blocks_x = 0;
+    std::vector<std::uint16_t> level;
+    std::array<std::size_t, kLevels> histogram{};
+
+    std::size_t block_of(int x, int y) const { return std::size_t(y / kBlock) * blocks_x + x / kBlock; }
+};
+
+Ranking rank_blocks(const ApproximateFrame& f, const Changes& changes) {
+    const PixelCache& cache = f.cache;
+    const Camera& camera = f.camera;
+    const packet::PinholeRays& pinhole = f.pinhole;
+    const int width = f.width;
+    const std::vector<std::uint8_t>& changed = changes.changed;
+    const ChangedSpace space(changes.changed_boxes, changes.scale);
+    tbb::combinable<ChangedSpace> nearby;
+    Ranking ranking;
+    ranking.blocks_x = (f.width + kBlock - 1) / kBlock;
+    const int blocks_y = (f.height + kBlock - 1) / kBlock;
+    ranking.level.assign(std::size_t(ranking.blocks_x) * blocks_y, 0);
+    std::vector<std::uint16_t>& level = ranking.level;
+    const auto block_of = [&](int x, int y) { return ranking.block_of(x, y); };
     tbb::combinable<std::array<std::size_t, kLevels>> histograms([] {
         std::array<std::size_t, kLevels> h{};
         return h;
     });
-    tbb::parallel_for(0, tiling.count(), [&](int t) {
-        const packet::Tile tile = tiling.tile(t);
-        packet::LaneMask must;
-        if (!space.empty()) {
-            packet::RayPacket rays;
-            pinhole.fill_tile(tile, rays);
-            const glm::vec3 corners[4] = {
-                rays.ray(packet::tile_lane(tile, tile.x0, tile.y0)).dir,
-                rays.ray(packet::tile_lane(tile, tile.x1 - 1, tile.y0)).dir,
-                rays.ray(packet::tile_lane(tile, tile.x0, tile.y1 - 1)).dir,
-                rays.ray(packet::tile_lane(tile, tile.x1 - 1, tile.y1 - 1)).dir};
-            ChangedSpace& near = nearby.local();
-            if (space.select_pyramid(camera.eye, corners, near)) {
-                alignas(64) float until[packet::kPacketRays];
-                std::fill(std::begin(until), std::end(until), 0.0f);
-                for (int y = tile.y0; y < tile.y1; ++y) {
-                    for (int x = tile.x0; x < tile.x1; ++x) {
-                        const glm::vec3& q = cache.point[std::size_t(y) * width + x];
-                        // A reprojected point is near, not on, the new ray: a little beyond.
-                        until[packet::tile_lane(tile, x, y)] =
-                            cache.object[std::size_t(y) * width + x] >= 0
-                                ? 1.01f * glm::length(q - camera.eye)
-                                : kInf;
-                    }
+    tbb::parallel_for(0, f.tiling.count(), [&](int t) {
+        const packet::Tile tile = f.tiling.tile(t);
+    packet::LaneMask must;
+    if (!space.empty()) {
+        packet::RayPacket rays;
+        pinhole.fill_tile(tile, rays);
+        const glm::vec3 corners[4] = {
+            rays.ray(packet::tile_lane(tile, tile.x0, tile.y0)).dir,
+            rays.ray(packet::tile_lane(tile, tile.x1 - 1, tile.y0)).dir,
+            rays.ray(packet::tile_lane(tile, tile.x0, tile.y1 - 1)).dir,
+            rays.ray(packet::tile_lane(tile, tile.x1 - 1, tile.y1 - 1)).dir};
+        ChangedSpace& near = nearby.local();
+        if (space.select_pyramid(camera.eye, corners, near)) {
+            alignas(64) float until[packet::kPacketRays];
+            std::fill(std::begin(until), std::end(until), 0.0f);
+            for (int y = tile.y0; y < tile.y1; ++y) {
+                for (int x = tile.x0; x < tile.x1; ++x) {
+                    const glm::vec3& q = cache.point[std::size_t(y) * width + x];
+                    // A reprojected point is near, not on, the new ray: a little beyond.
+                    until[packet::tile_lane(tile, x, y)] =
+                        cache.object[std::size_t(y) * width + x] >= 0
+                            ? 1.01f * glm::length(q - camera.eye)
+                            : kInf;
                 }
-                must = near.meets_rays(rays, until, rays.active);
             }
+            must = near.meets_rays(rays, until, rays.active);
         }
-        // Pixels are ranked, then traced, in 8x8 blocks: a block takes its most urgent pixel's
-        // rank. Scattered single pixels would leave every packet sparse and incoherent (a 25%
-        // budget of random pixels cost as much as tracing all of them on BART kitchen).
-        std::array<std::size_t, kLevels>& histogram = histograms.local();
-        for (int by = tile.y0; by < tile.y1; by += kBlock) {
-            for (int bx = tile.x0; bx < tile.x1; bx += kBlock) {
-                // A block ranks as a hole when a good part of it is one: scattered cracks
-                // are filled well from their neighbours, and would otherwise put nearly every
-                // block of a moving view above the oldest.
-                int block_level = 0, holes = 0, inside = 0;
-                for (int y = by; y < std::min(by + kBlock, tile.y1); ++y) {
-                    for (int x = bx; x < std::min(bx + kBlock, tile.x1); ++x) {
-                        const std::size_t p = std::size_t(y) * width + x;
-                        const std::int32_t object = cache.object[p];
-                        const bool empty = cache.age[p] == PixelCache::kEmpty;
-                        const bool shows_change =
-                            !empty && object >= 0 &&
-                            (std::size_t(object) >= changed.size() || changed[std::size_t(object)]);
-                        ++inside;
-                        holes += empty;
-                        const int l = must.test(packet::tile_lane(tile, x, y)) || shows_change
-                                          ? kChangedLevel
-                                          : empty ? 0 : cache.age[p];
-                        block_level = std::max(block_level, l);
-                    }
+    }
+    // Pixels are ranked, then traced, in 8x8 blocks: a block takes its most urgent pixel's
+    // rank. Scattered single pixels would leave every packet sparse and incoherent (a 25%
+    // budget of random pixels cost as much as tracing all of them on BART kitchen).
+    std::array<std::size_t, kLevels>& histogram = histograms.local();
+    for (int by = tile.y0; by < tile.y1; by += kBlock) {
+        for (int bx = tile.x0; bx < tile.x1; bx += kBlock) {
+            // A block ranks as a hole when a good part of it is one: scattered cracks
+            // are filled well from their neighbours, and would otherwise put nearly every
+            // block of a moving view above the oldest.
+            int block_level = 0, holes = 0, inside = 0;
+            for (int y = by; y < std::min(by + kBlock, tile.y1); ++y) {
+                for (int x = bx; x < std::min(bx + kBlock, tile.x1); ++x) {
+                    const std::size_t p = std::size_t(y) * width + x;
+                    const std::int32_t object = cache.object[p];
+                    const bool empty = cache.age[p] == PixelCache::kEmpty;
+                    const bool shows_change =
+                        !empty && object >= 0 &&
+                        (std::size_t(object) >= changed.size() || changed[std::size_t(object)]);
+                    ++inside;
+                    holes += empty;
+                    const int l = must.test(packet::tile_lane(tile, x, y)) || shows_change
+                                      ? kChangedLevel
+                                      : empty ? 0 : cache.age[p];
+                    block_level = std::max(block_level, l);
                 }
-                if (block_level < kHoleLevel && holes * kHoleShare >= inside) block_level = kHoleLevel + holes;
-                level[block_of(bx, by)] = std::uint16_t(block_level);
-                ++histogram[std::size_t(block_level)];
             }
+            if (block_level < kHoleLevel && holes * kHoleShare >= inside) block_level = kHoleLevel + holes;
+            level[block_of(bx, by)] = std::uint16_t(block_level);
+            ++histogram[std::size_t(block_level)];
         }
+    }
     });
-    std::array<std::size_t, kLevels> histogram{};
     histograms.combine_each([&](const std::array<std::size_t, kLevels>& h) {
-        for (int l = 0; l < kLevels; ++l) histogram[std::size_t(l)] += h[std::size_t(l)];
+        for (int l = 0; l < kLevels; ++l) ranking.histogram[std::size_t(l)] += h[std::size_t(l)];
     });
+    return ranking;
+}
 
-    // ---- The budget, and the rank it reaches ----
+/// The blocks this frame traces: every block above the threshold rank, and of those at it,
+/// the ones whose hash falls below the cut-off, so that the budget is met exactly.
+struct Selection {
+    const Ranking& ranking;
+    int threshold = 0;
+    std::uint64_t frame_seed = 0, cutoff = 0;
+
+    bool operator()(int x, int y) const {
+        const std::size_t b = ranking.block_of(x, y);
+        const int level = ranking.level[b];
+        return level > threshold || (level == threshold && hash(frame_seed ^ b) < cutoff);
+    }
+};
+
+Selection choose_blocks(const ApproximateFrame& f, const Ranking& ranking) {
+    const PixelCache& cache = f.cache;
+    const TraceSettings& options = f.options;
+    const std::size_t pixels = f.pixels;
+    const bool render_cache = f.render_cache;
+    const std::array<std::size_t, kLevels>& histogram = ranking.histogram;
+    const std::vector<std::uint16_t>& level = ranking.level;
     std::size_t budget = pixels;
     if (options.reuse.budget_ms > 0.0) {
         if (cache.ns_per_pixel > 0.0) budget = std::size_t(options.reuse.budget_ms * 1e6 / cache.ns_per_pixel);
@@ -388,123 +449,109 @@ void trace_frame_approximate(const TraceInputs& in, const Camera& camera,
             cutoff = hashes[need];
         }
     }
-    const auto selected = [&](int x, int y) {
-        const std::size_t b = block_of(x, y);
-        return level[b] > threshold || (level[b] == threshold && hash(frame_seed ^ b) < cutoff);
-    };
+    return Selection{ranking, threshold, frame_seed, cutoff};
+}
 
-    // ---- The frame as it stands, then the selected pixels traced into it ----
-    size_frame(options, scratch, out);
-    for_each_pixel(pixels, [&](std::size_t p) {
-        out.color[p] = cache.color[p];
-        if (!options.hit_buffers) return;
-        const bool point = cache.age[p] != PixelCache::kEmpty && cache.object[p] >= 0;
-        out.depth[p] = point ? glm::length(cache.point[p] - camera.eye) : kInf;
-        out.object[p] = point ? cache.object[p] : -1;
-        out.prim[p] = point ? cache.prim[p] : -1;
-        out.normal[p] = point ? cache.normal[p] : glm::vec3(0.0f);
-    });
-    const double prepare_ms = wall.elapsed_ms();
-
-    const TileShading shading = frame_shading(in, options, scratch);
-    const bool count = options.count_packet_work;
-    tbb::combinable<TraceWork> trace_counts;
-    tbb::combinable<TileWork> work;
-    const Stopwatch trace_clock;
-    tbb::parallel_for(0, tiling.count(), [&](int t) {
-        const packet::Tile tile = tiling.tile(t);
-        packet::LaneMask lanes;
-        for (int y = tile.y0; y < tile.y1; ++y) {
-            for (int x = tile.x0; x < tile.x1; ++x) {
-                const std::size_t p = std::size_t(y) * width + x;
-                if (selected(x, y)) lanes.set(packet::tile_lane(tile, x, y));
-                else scratch.hits[p] = bvh::InstanceHit{};  // shaded as a miss, then restored
-            }
+/// Traces the selected pixels of `tile` into `out` (the others keep what it holds) and
+/// stores their samples in the cache.
+void trace_selected_tile(const ApproximateFrame& f, const TileShading& shading,
+                         const Selection& selected, const packet::Tile& tile, TraceScratch& scratch,
+                         StageWork& tw, RenderedFrame& out) {
+    const TraceInputs& in = f.in;
+    const TraceSettings& options = f.options;
+    const packet::PinholeRays& pinhole = f.pinhole;
+    PixelCache& cache = f.cache;
+    const std::span<const PointLight> lights = in.lights;
+    const int width = f.width;
+    packet::LaneMask lanes;
+    for (int y = tile.y0; y < tile.y1; ++y) {
+        for (int x = tile.x0; x < tile.x1; ++x) {
+            const std::size_t p = std::size_t(y) * width + x;
+            if (selected(x, y)) lanes.set(packet::tile_lane(tile, x, y));
+            else scratch.hits[p] = bvh::InstanceHit{};  // shaded as a miss, then restored
         }
-        if (!lanes.any()) return;
-        TileWork& tw = work.local();
-        Stopwatch clock;
-        TraceWork* trace_work = count ? &trace_counts.local() : nullptr;
-        packet::RayPacket rays;
-        pinhole.fill_tile(tile, rays);
-        const packet::LaneMask tile_lanes = rays.active;
-        rays.active = lanes;
-        trace_tile_hits(in.tracer, tile, width, rays, scratch.hits, trace_work);
-        rays.active = tile_lanes;
-        tw.primary_rays += std::size_t(lanes.count());
-        tw.primary_ms += clock.lap_ms();
-
-        TileShadowOrigins origins;
-        origins.compute(in.accel, scratch.hits, width, tile, rays, in.object_material);
-        std::vector<packet::LaneMask> visible;
-        packet::RayPacket shadow;
-        tw.shadow_rays += trace_tile_shadows(in.tracer, RayCoherence::tile, origins, lights, shadow,
-                                             visible, trace_work);
-        tw.shadow_ms += clock.lap_ms();
-
-        // Shade the tile, keeping what the pixels not traced already show.
-        struct Kept {
-            glm::vec3 color, normal;
-            float depth;
-            std::int32_t object, prim;
-        };
-        std::array<Kept, packet::kPacketRays> kept;
-        for (int lane = 0; lane < packet::kPacketRays; ++lane) {
-            const packet::LanePixel px = packet::tile_pixel(tile, lane);
-            if (!px.inside || lanes.test(lane)) continue;
-            const std::size_t p = std::size_t(px.y) * width + px.x;
-            kept[std::size_t(lane)] =
-                options.hit_buffers
-                    ? Kept{out.color[p], out.normal[p], out.depth[p], out.object[p], out.prim[p]}
-                    : Kept{out.color[p], glm::vec3(0.0f), 0.0f, 0, 0};
-        }
-        packet::ShadedColors colors;
-        shade_tile(shading, tile, origins, visible, scratch.hits, colors, out);
-        for (int lane = 0; lane < packet::kPacketRays; ++lane) {
-            const packet::LanePixel px = packet::tile_pixel(tile, lane);
-            if (!px.inside) continue;
-            const std::size_t p = std::size_t(px.y) * width + px.x;
-            if (!lanes.test(lane)) {
-                const Kept& k = kept[std::size_t(lane)];
-                out.color[p] = k.color;
-                if (options.hit_buffers) {
-                    out.depth[p] = k.depth;
-                    out.normal[p] = k.normal;
-                    out.object[p] = k.object;
-                    out.prim[p] = k.prim;
-                }
-                continue;
-            }
-            // The traced sample, for the next frames.
-            const bool hit = origins.surface.hit.test(lane);
-            const bvh::InstanceHit& h = scratch.hits[p];
-            store(cache, p,
-                  Sample{out.color[p],
-                         hit ? glm::vec3(origins.surface.point[0][lane], origins.surface.point[1][lane],
-                                         origins.surface.point[2][lane])
-                             : rays.ray(lane).dir,
-                         hit ? glm::vec3(origins.surface.normal[0][lane], origins.surface.normal[1][lane],
-                                         origins.surface.normal[2][lane])
-                             : glm::vec3(0.0f),
-                         hit ? std::int32_t(h.object) : -1, hit ? std::int32_t(h.hit.prim) : -1, 0});
-        }
-        tw.shade_ms += clock.lap_ms();
-    });
-    const double trace_ms = trace_clock.elapsed_ms();
-    const TileWork sum = work.combine([](TileWork a, const TileWork& b) {
-        a.primary_ms += b.primary_ms;
-        a.shadow_ms += b.shadow_ms;
-        a.shade_ms += b.shade_ms;
-        a.primary_rays += b.primary_rays;
-        a.shadow_rays += b.shadow_rays;
-        return a;
-    });
-    if (sum.primary_rays > 0) {
-        const double ns = (prepare_ms + trace_ms) * 1e6 / double(sum.primary_rays);
-        cache.ns_per_pixel = cache.ns_per_pixel > 0.0 ? 0.5 * (cache.ns_per_pixel + ns) : ns;
     }
+    if (!lanes.any()) return;
+    Stopwatch clock;
+    TraceWork* trace_work = f.options.count_packet_work ? &tw.trace : nullptr;
+    packet::RayPacket rays;
+    pinhole.fill_tile(tile, rays);
+    const packet::LaneMask tile_lanes = rays.active;
+    rays.active = lanes;
+    trace_tile_hits(in.tracer, tile, width, rays, scratch.hits, trace_work);
+    rays.active = tile_lanes;
+    tw.primary_rays += std::size_t(lanes.count());
+    tw.primary_ms += clock.lap_ms();
 
-    // ---- Holes left: the mean of their sampled neighbours, a few passes out ----
+    TileShadowOrigins origins;
+    origins.compute(in.accel, scratch.hits, width, tile, rays, in.object_material);
+    std::vector<packet::LaneMask> visible;
+    packet::RayPacket shadow;
+    tw.shadow_rays += trace_tile_shadows(in.tracer, RayCoherence::tile, origins, lights, shadow,
+                                         visible, trace_work);
+    tw.shadow_ms += clock.lap_ms();
+
+    // Shade the tile, keeping what the pixels not traced already show.
+    struct Kept {
+        glm::vec3 color, normal;
+        float depth;
+        std::int32_t object, prim;
+    };
+    std::array<Kept, packet::kPacketRays> kept;
+    for (int lane = 0; lane < packet::kPacketRays; ++lane) {
+        const packet::LanePixel px = packet::tile_pixel(tile, lane);
+        if (!px.inside || lanes.test(lane)) continue;
+        const std::size_t p = std::size_t(px.y) * width + px.x;
+        kept[std::size_t(lane)] =
+            options.hit_buffers
+                ? Kept{out.color[p], out.normal[p], out.depth[p], out.object[p], out.prim[p]}
+                : Kept{out.color[p], glm::vec3(0.0f), 0.0f, 0, 0};
+    }
+    packet::ShadedColors colors;
+    shade_tile(shading, tile, origins, visible, scratch.hits, colors, out);
+    for (int lane = 0; lane < packet::kPacketRays; ++lane) {
+        const packet::LanePixel px = packet::tile_pixel(tile, lane);
+        if (!px.inside) continue;
+        const std::size_t p = std::size_t(px.y) * width + px.x;
+        if (!lanes.test(lane)) {
+            const Kept& k = kept[std::size_t(lane)];
+            out.color[p] = k.color;
+            if (options.hit_buffers) {
+                out.depth[p] = k.depth;
+                out.normal[p] = k.normal;
+                out.object[p] = k.object;
+                out.prim[p] = k.prim;
+            }
+            continue;
+        }
+        // The traced sample, for the next frames.
+        const bool hit = origins.surface.hit.test(lane);
+        const bvh::InstanceHit& h = scratch.hits[p];
+        store(cache, p,
+              Sample{out.color[p],
+                     hit ? glm::vec3(origins.surface.point[0][lane], origins.surface.point[1][lane],
+                                     origins.surface.point[2][lane])
+                         : rays.ray(lane).dir,
+                     hit ? glm::vec3(origins.surface.normal[0][lane], origins.surface.normal[1][lane],
+                                     origins.surface.normal[2][lane])
+                         : glm::vec3(0.0f),
+                     hit ? std::int32_t(h.object) : -1, hit ? std::int32_t(h.hit.prim) : -1, 0});
+    }
+    tw.shade_ms += clock.lap_ms();
+}
+
+/// Holes left (pixels without a sample): the mean of their known neighbours, a few passes
+/// out; the render cache keeps a crack's fill as a sample.
+struct HoleFill {
+    std::size_t holes = 0, filled = 0;
+};
+
+HoleFill fill_holes(const ApproximateFrame& f, RenderedFrame& out) {
+    PixelCache& cache = f.cache;
+    const Camera& camera = f.camera;
+    const int width = f.width, height = f.height;
+    const std::size_t pixels = f.pixels;
+    const bool render_cache = f.render_cache;
     std::vector<std::uint8_t>& known = cache.known_scratch;
     known.resize(pixels);
     for_each_pixel(pixels, [&](std::size_t p) { known[p] = cache.age[p] != PixelCache::kEmpty; });
@@ -573,11 +620,61 @@ void trace_frame_approximate(const TraceInputs& in, const Camera& camera,
         known.swap(next);
     }
 
+    return HoleFill{holes, filled};
+}
+
+}  // namespace
+
+void trace_frame_approximate(const TraceInputs& in, const Camera& camera,
+                             const TraceSettings& options, std::span<const bvh::Aabb> boxes,
+                             std::span<const std::uint64_t> versions, PixelCache& cache,
+                             TraceScratch& scratch, RenderedFrame& out) {
+    const Stopwatch wall;
+    const int width = options.width, height = options.height;
+    const std::size_t pixels = std::size_t(width) * std::size_t(height);
+    const packet::PinholeRays pinhole(camera, width, height);
+    const packet::Tiling tiling(width, height);
+    TraceStats& stats = out.stats;
+    stats.reuse_mode = pixel_reuse_name(options.reuse.mode);
+    stats.interpolated_pixels = 0;
+    const ApproximateFrame f{in, camera, options, pinhole, tiling, cache, width, height, pixels,
+                             options.reuse.mode == PixelReuse::render_cache};
+
+    start_samples(f, boxes, stats);
+    const Ranking ranking = rank_blocks(f, changes_since(f, boxes, versions));
+    const Selection selected = choose_blocks(f, ranking);
+
+    // ---- The frame as it stands, then the selected pixels traced into it ----
+    size_frame(options, scratch, out);
+    for_each_pixel(pixels, [&](std::size_t p) {
+        out.color[p] = cache.color[p];
+        if (!options.hit_buffers) return;
+        const bool point = cache.age[p] != PixelCache::kEmpty && cache.object[p] >= 0;
+        out.depth[p] = point ? glm::length(cache.point[p] - camera.eye) : kInf;
+        out.object[p] = point ? cache.object[p] : -1;
+        out.prim[p] = point ? cache.prim[p] : -1;
+        out.normal[p] = point ? cache.normal[p] : glm::vec3(0.0f);
+    });
+    const double prepare_ms = wall.elapsed_ms();
+    const TileShading shading = frame_shading(in, options, scratch);
+    tbb::combinable<StageWork> work;
+    const Stopwatch trace_clock;
+    tbb::parallel_for(0, tiling.count(), [&](int t) {
+        trace_selected_tile(f, shading, selected, tiling.tile(t), scratch, work.local(), out);
+    });
+    const double trace_ms = trace_clock.elapsed_ms();
+    const StageWork sum = work.combine([](StageWork a, const StageWork& b) { return a += b; });
+    if (sum.primary_rays > 0) {
+        const double ns = (prepare_ms + trace_ms) * 1e6 / double(sum.primary_rays);
+        cache.ns_per_pixel = cache.ns_per_pixel > 0.0 ? 0.5 * (cache.ns_per_pixel + ns) : ns;
+    }
+    const HoleFill fill = fill_holes(f, out);
+
     // ---- Remember ----
     cache.valid = true;
     cache.camera = camera;
     cache.settings = options;
-    cache.lights.assign(lights.begin(), lights.end());
+    cache.lights.assign(in.lights.begin(), in.lights.end());
     cache.object_boxes.assign(boxes.begin(), boxes.end());
     cache.object_versions.assign(versions.begin(), versions.end());
     ++cache.frames;
@@ -593,13 +690,11 @@ void trace_frame_approximate(const TraceInputs& in, const Camera& camera,
     stats.shadow_rays = sum.shadow_rays;
     stats.pixels_traced = sum.primary_rays;
     stats.pixels_shadows_retraced = 0;
-    stats.pixels_filled = filled;
-    stats.pixels_reused = pixels - sum.primary_rays - holes;
-    stats.primary_mrays_per_s = stats.primary_ms > 0.0 ? double(stats.primary_rays) / (stats.primary_ms * 1e3) : 0.0;
-    stats.shadow_mrays_per_s = stats.shadow_ms > 0.0 ? double(stats.shadow_rays) / (stats.shadow_ms * 1e3) : 0.0;
-    if (count) {
-        trace_counts.combine([](TraceWork a, const TraceWork& b) { return a += b; }).report(stats);
-    }
+    stats.pixels_filled = fill.filled;
+    stats.pixels_reused = pixels - sum.primary_rays - fill.holes;
+    stats.primary_mrays_per_s = mrays_per_s(stats.primary_rays, stats.primary_ms);
+    stats.shadow_mrays_per_s = mrays_per_s(stats.shadow_rays, stats.shadow_ms);
+    if (options.count_packet_work) sum.trace.report(stats);
 }
 
 }  // namespace dynrt::detail

@@ -88,180 +88,224 @@ private:
 
 }  // namespace
 
+namespace {
+
+/// One tile under adaptive sampling: its sample grid, camera rays and the state its stages
+/// share (trace_tile_adaptive).
+class AdaptiveTile {
+public:
+    AdaptiveTile(const AdaptiveFrame& frame, const packet::Tile& tile, std::vector<bvh::InstanceHit>& hits,
+                 RenderedFrame& out, StageWork& work, bool count)
+        : f_(frame), tile_(tile), hits_(hits), out_(out), work_(work),
+          trace_work_(count ? &work.trace : nullptr), visible_(frame.lights.size()) {
+        nx_ = grid_of(tile.x1 - tile.x0, gx_);
+        ny_ = grid_of(tile.y1 - tile.y0, gy_);
+        f_.pinhole.fill_tile(tile, rays_);
+        all_ = rays_.active;
+    }
+
+    void run() {
+        if (nx_ < 2 || ny_ < 2) {  // a tile one pixel wide or high: no cells
+            trace_whole_tile();
+            return;
+        }
+        for (int j = 0; j < ny_; ++j) {
+            for (int i = 0; i < nx_; ++i) samples_.set(lane_at(gx_[i], gy_[j]));
+        }
+        trace_primary(samples_);
+        work_.primary_ms += clock_.lap_ms();
+        // A tile is interpolated whole or traced whole: tracing part of a tile costs about as
+        // much as tracing all of it (a packet's cost is mostly per node, not per ray).
+        const bool one_object_per_cell = cells_see_one_object();
+        work_.shade_ms += clock_.lap_ms();
+        if (!one_object_per_cell) {
+            trace_whole_tile();
+            return;
+        }
+        // The samples' shadows and colours.
+        origins_.compute(f_.accel, hits_, f_.width, tile_, rays_, f_.object_material);
+        trace_shadows();
+        work_.shadow_ms += clock_.lap_ms();
+        shade_lanes(f_.shading, origins_, visible_, colors_);
+        const bool smooth = cells_shade_alike();
+        work_.shade_ms += clock_.lap_ms();
+        if (!smooth) {
+            trace_whole_tile();
+            return;
+        }
+        interpolate();
+        work_.shade_ms += clock_.lap_ms();
+    }
+
+private:
+    const AdaptiveFrame& f_;
+    const packet::Tile& tile_;
+    std::vector<bvh::InstanceHit>& hits_;
+    RenderedFrame& out_;
+    StageWork& work_;
+    TraceWork* trace_work_;
+    Stopwatch clock_;
+    int gx_[kMaxGrid], gy_[kMaxGrid];
+    int nx_ = 0, ny_ = 0;
+    packet::RayPacket rays_;
+    packet::LaneMask all_, samples_;
+    TileShadowOrigins origins_;
+    std::vector<packet::LaneMask> visible_;
+    packet::RayPacket shadow_;
+    packet::ShadedColors colors_;
+
+    int lane_at(int dx, int dy) const { return packet::tile_lane(tile_, tile_.x0 + dx, tile_.y0 + dy); }
+    /// Corner lanes of cell (i, j), around the quad: top left, top right, bottom right, bottom left.
+    std::array<int, 4> corners_of(int i, int j) const {
+        return std::array<int, 4>{lane_at(gx_[i], gy_[j]), lane_at(gx_[i + 1], gy_[j]),
+                                  lane_at(gx_[i + 1], gy_[j + 1]), lane_at(gx_[i], gy_[j + 1])};
+    }
+    const bvh::InstanceHit& hit_at(int lane) const {
+        const packet::LanePixel px = packet::tile_pixel(tile_, lane);
+        return hits_[std::size_t(px.y) * std::size_t(f_.width) + std::size_t(px.x)];
+    }
+    glm::vec3 color_of(int lane) const {
+        return origins_.surface.hit.test(lane)
+                   ? glm::vec3(colors_.rgb[0][lane], colors_.rgb[1][lane], colors_.rgb[2][lane])
+                   : f_.shading.background;
+    }
+    glm::vec3 normal_of(int lane) const {
+        const packet::SurfacePacket& s = origins_.surface;
+        return glm::vec3(s.normal[0][lane], s.normal[1][lane], s.normal[2][lane]);
+    }
+
+    void trace_primary(const packet::LaneMask& lanes) {
+        rays_.active = lanes;
+        trace_tile_hits(f_.tracer, tile_, f_.width, rays_, hits_, trace_work_);
+        rays_.active = all_;
+        work_.primary_rays += std::size_t(lanes.count());
+    }
+    void trace_shadows() {
+        work_.shadow_rays += trace_tile_shadows(f_.tracer, RayCoherence::tile, origins_, f_.lights,
+                                                shadow_, visible_, trace_work_);
+    }
+    /// The exact path for the whole tile, as the renderer's packet tracer does it.
+    void trace_whole_tile() {
+        trace_primary(all_);
+        work_.primary_ms += clock_.lap_ms();
+        origins_.compute(f_.accel, hits_, f_.width, tile_, rays_, f_.object_material);
+        trace_shadows();
+        work_.shadow_ms += clock_.lap_ms();
+        shade_tile(f_.shading, tile_, origins_, visible_, hits_, colors_, out_);
+        work_.shade_ms += clock_.lap_ms();
+    }
+
+    /// What the samples' hits alone say: every cell's four corners hit one object (or all
+    /// miss) and no other object's box reaches into the cell's frustum in front of them.
+    bool cells_see_one_object() const {
+        const glm::dvec3 eye(rays_.org_x[0], rays_.org_y[0], rays_.org_z[0]);
+        const std::vector<bvh::Aabb>& boxes = f_.accel.object_world_boxes();
+        for (int j = 0; j + 1 < ny_; ++j) {
+            for (int i = 0; i + 1 < nx_; ++i) {
+                const std::array<int, 4> c = corners_of(i, j);
+                const std::uint32_t object = hit_at(c[0]).object;  // kInvalidId for a miss
+                for (int k = 1; k < 4; ++k) {
+                    if (hit_at(c[k]).object != object) return false;
+                }
+                // Another object can show in the cell only where it reaches into the frustum;
+                // for a cell on one object, only in front of that object's farthest corner hit
+                // (the rays are unit, so t is distance). Behind it, only a fold of the object
+                // itself could uncover it: the approximation.
+                double farthest = std::numeric_limits<double>::infinity();
+                if (object != bvh::kInvalidId) {
+                    farthest = 0.0;
+                    for (int k = 0; k < 4; ++k) farthest = std::max(farthest, double(hit_at(c[k]).hit.t));
+                    farthest *= 1.0 + 1e-5;
+                }
+                std::array<glm::dvec3, 4> d;
+                for (int k = 0; k < 4; ++k) {
+                    d[k] = glm::dvec3(rays_.dir_x[c[k]], rays_.dir_y[c[k]], rays_.dir_z[c[k]]);
+                }
+                const Frustum cell(eye, d);
+                for (std::size_t k = 0; k < boxes.size(); ++k) {
+                    if (k == object) continue;
+                    if (cell.distance_to(boxes[k]) <= farthest && cell.reaches(boxes[k])) return false;
+                }
+            }
+        }
+        return true;
+    }
+
+    /// Every hit cell's corners are lit by the same lights and agree within the tolerance in
+    /// normal and colour.
+    bool cells_shade_alike() const {
+        const packet::SurfacePacket& surface = origins_.surface;
+        const float tol = f_.tolerance;
+        for (int j = 0; j + 1 < ny_; ++j) {
+            for (int i = 0; i + 1 < nx_; ++i) {
+                const std::array<int, 4> c = corners_of(i, j);
+                if (!surface.hit.test(c[0])) continue;  // all four miss
+                for (int k = 1; k < 4; ++k) {
+                    for (const packet::LaneMask& v : visible_) {
+                        if (v.test(c[k]) != v.test(c[0])) return false;
+                    }
+                    const glm::vec3 diff = glm::abs(color_of(c[k]) - color_of(c[0]));
+                    // Written so that a NaN fails it.
+                    const bool alike = glm::dot(normal_of(c[k]), normal_of(c[0])) >= 1.0f - tol &&
+                                       std::max(std::max(diff.x, diff.y), diff.z) <= tol;
+                    if (!alike) return false;
+                }
+            }
+        }
+        return true;
+    }
+
+    /// Every other pixel from its cell's corners.
+    void interpolate() {
+        const bool hit_buffers = !out_.depth.empty();
+        for (int j = 0; j + 1 < ny_; ++j) {
+            for (int i = 0; i + 1 < nx_; ++i) {
+                const std::array<int, 4> c = corners_of(i, j);
+                const bool hit = origins_.surface.hit.test(c[0]);
+                glm::vec3 color[4], normal[4];
+                float depth[4];
+                for (int k = 0; k < 4; ++k) {
+                    color[k] = color_of(c[k]);
+                    normal[k] = hit ? normal_of(c[k]) : glm::vec3(0.0f);
+                    depth[k] = hit_at(c[k]).hit.t;
+                }
+                const bvh::InstanceHit& first = hit_at(c[0]);
+                const float width = float(gx_[i + 1] - gx_[i]), height = float(gy_[j + 1] - gy_[j]);
+                for_each_pixel_of_cell(gx_, nx_, gy_, ny_, i, j, [&](int dx, int dy) {
+                    const bool sample = samples_.test(lane_at(dx, dy));
+                    const float fx = float(dx - gx_[i]) / width, fy = float(dy - gy_[j]) / height;
+                    const float weight[4] = {(1.0f - fx) * (1.0f - fy), fx * (1.0f - fy), fx * fy,
+                                             (1.0f - fx) * fy};
+                    const std::size_t p = std::size_t(tile_.y0 + dy) * std::size_t(f_.width) +
+                                          std::size_t(tile_.x0 + dx);
+                    // Samples take their own values: the weights of a corner are exactly 1 and 0.
+                    out_.color[p] = weight[0] * color[0] + weight[1] * color[1] +
+                                    weight[2] * color[2] + weight[3] * color[3];
+                    if (!sample) ++work_.interpolated;
+                    if (!hit_buffers) return;
+                    if (!hit) {
+                        write_miss(out_, p);
+                        return;
+                    }
+                    const bvh::InstanceHit& own = sample ? hit_at(lane_at(dx, dy)) : first;
+                    out_.depth[p] = weight[0] * depth[0] + weight[1] * depth[1] +
+                                    weight[2] * depth[2] + weight[3] * depth[3];
+                    out_.object[p] = std::int32_t(own.object);
+                    out_.prim[p] = std::int32_t(own.hit.prim);
+                    out_.normal[p] = glm::normalize(weight[0] * normal[0] + weight[1] * normal[1] +
+                                                    weight[2] * normal[2] + weight[3] * normal[3]);
+                });
+            }
+        }
+    }
+};
+
+}  // namespace
+
 void trace_tile_adaptive(const AdaptiveFrame& f, const packet::Tile& tile,
                          std::vector<bvh::InstanceHit>& hits, RenderedFrame& out,
                          StageWork& work, bool count) {
-    TraceWork* trace_work = count ? &work.trace : nullptr;
-    Stopwatch clock;
-    const auto pixel_of = [&](int lane) {
-        const packet::LanePixel px = packet::tile_pixel(tile, lane);
-        return std::size_t(px.y) * std::size_t(f.width) + std::size_t(px.x);
-    };
-    int gx[kMaxGrid], gy[kMaxGrid];
-    const int nx = grid_of(tile.x1 - tile.x0, gx), ny = grid_of(tile.y1 - tile.y0, gy);
-    const auto lane_at = [&](int dx, int dy) { return packet::tile_lane(tile, tile.x0 + dx, tile.y0 + dy); };
-    // Corner lanes of cell (i, j), around the quad: top left, top right, bottom right, bottom left.
-    const auto corners_of = [&](int i, int j) {
-        return std::array<int, 4>{lane_at(gx[i], gy[j]), lane_at(gx[i + 1], gy[j]),
-                                  lane_at(gx[i + 1], gy[j + 1]), lane_at(gx[i], gy[j + 1])};
-    };
-
-    packet::RayPacket rays;
-    f.pinhole.fill_tile(tile, rays);
-    const packet::LaneMask all = rays.active;
-    TileShadowOrigins origins;
-    std::vector<packet::LaneMask> visible(f.lights.size());
-    packet::RayPacket shadow;
-    packet::ShadedColors colors;
-    const auto trace_primary = [&](const packet::LaneMask& lanes) {
-        rays.active = lanes;
-        trace_tile_hits(f.tracer, tile, f.width, rays, hits, trace_work);
-        rays.active = all;
-        work.primary_rays += std::size_t(lanes.count());
-    };
-    const auto trace_shadows = [&] {
-        work.shadow_rays += trace_tile_shadows(f.tracer, RayCoherence::tile, origins, f.lights,
-                                               shadow, visible, trace_work);
-    };
-    // The exact path for the whole tile, as the renderer's packet tracer does it.
-    const auto trace_whole_tile = [&] {
-        trace_primary(all);
-        work.primary_ms += clock.lap_ms();
-        origins.compute(f.accel, hits, f.width, tile, rays, f.object_material);
-        trace_shadows();
-        work.shadow_ms += clock.lap_ms();
-        shade_tile(f.shading, tile, origins, visible, hits, colors, out);
-        work.shade_ms += clock.lap_ms();
-    };
-    if (nx < 2 || ny < 2) {  // a tile one pixel wide or high: no cells
-        trace_whole_tile();
-        return;
-    }
-
-    // ---- The samples, and what their hits alone say about each cell ----
-    packet::LaneMask samples;
-    for (int j = 0; j < ny; ++j) {
-        for (int i = 0; i < nx; ++i) samples.set(lane_at(gx[i], gy[j]));
-    }
-    trace_primary(samples);
-    work.primary_ms += clock.lap_ms();
-    const auto hit_at = [&](int lane) -> const bvh::InstanceHit& { return hits[pixel_of(lane)]; };
-    const glm::dvec3 eye(rays.org_x[0], rays.org_y[0], rays.org_z[0]);
-    const auto frustum_of = [&](const std::array<int, 4>& lanes) {
-        std::array<glm::dvec3, 4> d;
-        for (int k = 0; k < 4; ++k) {
-            d[k] = glm::dvec3(rays.dir_x[lanes[k]], rays.dir_y[lanes[k]], rays.dir_z[lanes[k]]);
-        }
-        return Frustum(eye, d);
-    };
-    const std::vector<bvh::Aabb>& boxes = f.accel.object_world_boxes();
-    bool smooth = true;  // the whole tile, cell by cell
-    for (int j = 0; j + 1 < ny && smooth; ++j) {
-        for (int i = 0; i + 1 < nx && smooth; ++i) {
-            const std::array<int, 4> c = corners_of(i, j);
-            const std::uint32_t object = hit_at(c[0]).object;  // kInvalidId for a miss
-            for (int k = 1; k < 4; ++k) smooth = smooth && hit_at(c[k]).object == object;
-            if (!smooth) break;
-            // Another object can show in the cell only where it reaches into the frustum;
-            // for a cell on one object, only in front of that object's farthest corner hit
-            // (the rays are unit, so t is distance). Behind it, only a fold of the object
-            // itself could uncover it: the approximation.
-            double farthest = std::numeric_limits<double>::infinity();
-            if (object != bvh::kInvalidId) {
-                farthest = 0.0;
-                for (int k = 0; k < 4; ++k) farthest = std::max(farthest, double(hit_at(c[k]).hit.t));
-                farthest *= 1.0 + 1e-5;
-            }
-            const Frustum cell = frustum_of(c);
-            for (std::size_t k = 0; k < boxes.size() && smooth; ++k) {
-                if (k == object) continue;
-                smooth = !(cell.distance_to(boxes[k]) <= farthest && cell.reaches(boxes[k]));
-            }
-        }
-    }
-    work.shade_ms += clock.lap_ms();
-    // A tile is interpolated whole or traced whole: tracing part of a tile costs about as much
-    // as tracing all of it (a packet's cost is mostly per node, not per ray).
-    if (!smooth) {
-        trace_whole_tile();
-        return;
-    }
-
-    // ---- The samples' shadows and colours ----
-    origins.compute(f.accel, hits, f.width, tile, rays, f.object_material);
-    trace_shadows();
-    work.shadow_ms += clock.lap_ms();
-    const packet::SurfacePacket& surface = origins.surface;
-    shade_lanes(f.shading, origins, visible, colors);
-    const auto color_of = [&](int lane) {
-        return surface.hit.test(lane)
-                   ? glm::vec3(colors.rgb[0][lane], colors.rgb[1][lane], colors.rgb[2][lane])
-                   : f.shading.background;
-    };
-    const auto normal_of = [&](int lane) {
-        return glm::vec3(surface.normal[0][lane], surface.normal[1][lane], surface.normal[2][lane]);
-    };
-    const float tol = f.tolerance;
-    for (int j = 0; j + 1 < ny && smooth; ++j) {
-        for (int i = 0; i + 1 < nx && smooth; ++i) {
-            const std::array<int, 4> c = corners_of(i, j);
-            if (!surface.hit.test(c[0])) continue;  // all four miss
-            for (int k = 1; k < 4 && smooth; ++k) {
-                for (const packet::LaneMask& v : visible) smooth = smooth && v.test(c[k]) == v.test(c[0]);
-                const glm::vec3 diff = glm::abs(color_of(c[k]) - color_of(c[0]));
-                smooth = smooth && glm::dot(normal_of(c[k]), normal_of(c[0])) >= 1.0f - tol &&
-                         std::max(std::max(diff.x, diff.y), diff.z) <= tol;
-            }
-        }
-    }
-    work.shade_ms += clock.lap_ms();
-    if (!smooth) {
-        trace_whole_tile();
-        return;
-    }
-
-    // ---- Every other pixel from its cell's corners ----
-    const bool hit_buffers = !out.depth.empty();
-    for (int j = 0; j + 1 < ny; ++j) {
-        for (int i = 0; i + 1 < nx; ++i) {
-            const std::array<int, 4> c = corners_of(i, j);
-            const bool hit = surface.hit.test(c[0]);
-            glm::vec3 color[4], normal[4];
-            float depth[4];
-            for (int k = 0; k < 4; ++k) {
-                color[k] = color_of(c[k]);
-                normal[k] = hit ? normal_of(c[k]) : glm::vec3(0.0f);
-                depth[k] = hit_at(c[k]).hit.t;
-            }
-            const bvh::InstanceHit& first = hit_at(c[0]);
-            const float width = float(gx[i + 1] - gx[i]), height = float(gy[j + 1] - gy[j]);
-            for_each_pixel_of_cell(gx, nx, gy, ny, i, j, [&](int dx, int dy) {
-                const bool sample = samples.test(lane_at(dx, dy));
-                const float fx = float(dx - gx[i]) / width, fy = float(dy - gy[j]) / height;
-                const float weight[4] = {(1.0f - fx) * (1.0f - fy), fx * (1.0f - fy), fx * fy,
-                                         (1.0f - fx) * fy};
-                const std::size_t p = std::size_t(tile.y0 + dy) * std::size_t(f.width) +
-                                      std::size_t(tile.x0 + dx);
-                // Samples take their own values: the weights of a corner are exactly 1 and 0.
-                out.color[p] = weight[0] * color[0] + weight[1] * color[1] +
-                               weight[2] * color[2] + weight[3] * color[3];
-                if (!sample) ++work.interpolated;
-                if (!hit_buffers) return;
-                if (!hit) {
-                    write_miss(out, p);
-                    return;
-                }
-                const bvh::InstanceHit& own = sample ? hit_at(lane_at(dx, dy)) : first;
-                out.depth[p] = weight[0] * depth[0] + weight[1] * depth[1] +
-                               weight[2] * depth[2] + weight[3] * depth[3];
-                out.object[p] = std::int32_t(own.object);
-                out.prim[p] = std::int32_t(own.hit.prim);
-                out.normal[p] = glm::normalize(weight[0] * normal[0] + weight[1] * normal[1] +
-                                               weight[2] * normal[2] + weight[3] * normal[3]);
-            });
-        }
-    }
-    work.shade_ms += clock.lap_ms();
+    AdaptiveTile(f, tile, hits, out, work, count).run();
 }
 
 }  // namespace dynrt::detail

@@ -254,26 +254,27 @@ double EmbreeTracer::build(const Scene& scene, BuildQuality quality) {
     return ms;
 }
 
+namespace {
+
+/// A full pose as the geometry a load reads (every object's world positions).
+class PosedGeometry final : public FrameGeometry {
+public:
+    explicit PosedGeometry(const anim::PosedScene& posed) : posed_(posed) {}
+    std::span<const glm::vec3> world_positions(std::size_t object, std::vector<glm::vec3>&) const override {
+        return posed_.objects[object].positions;
+    }
+    bool changed(std::size_t object) const override { return posed_.objects[object].changed; }
+
+private:
+    const anim::PosedScene& posed_;
+};
+
+}  // namespace
+
 FrameLoad EmbreeTracer::load_frame(const Scene& scene, const anim::PosedScene& posed,
                                    BuildQuality quality) {
-    State& s = *state_;
-    FrameLoad load;
-    Stopwatch clock;
-    if (!s.scene || s.quality != quality || s.indices.size() != scene.objects.size()) {
-        s.create(scene, posed, quality);
-    } else {
-        s.posed = &posed;
-        for (std::size_t i = 0; i < scene.objects.size(); ++i) {
-            if (!s.vertex_buffers[i] || !posed.objects[i].changed) continue;
-            s.update_object(i, posed.objects[i].positions);
-        }
-        check(s.device, "updating vertex buffers");
-    }
-    load.upload_ms = clock.lap_ms();
-    const EmbreeFloatMode mode;
-    rtcCommitScene(s.scene);
-    load.commit_ms = clock.lap_ms();
-    check(s.device, "rtcCommitScene");
+    const FrameLoad load = load_geometry(scene, PosedGeometry(posed), quality);
+    state_->posed = &posed;  // for the shadow rays' origins (occluded16, occluded1)
     return load;
 }
 

@@ -6,6 +6,7 @@
 // test accepts (the slab distances are monotone in the planes).
 
 #include "dynrt/bvh/aabb.h"
+#include "dynrt/bvh/box_test_scale.h"
 #include "dynrt/bvh/ray.h"
 
 #include <glm/vec3.hpp>
@@ -17,16 +18,10 @@ namespace dynrt::bvh::detail {
 
 // ---- Robust box test ------------------------------------------------------------------------
 //
-// Ize 2013: with the reciprocal direction rounded and t = (plane - org) * inv_dir rounded twice
-// more, each slab distance is within gamma(3) of the exact value, where
-// gamma(n) = n u / (1 - n u) and u = 2^-24 is the unit roundoff. Growing the far distance by
-// (1 + 2 gamma(3)) therefore never rejects a box the exact ray meets (for t >= 0, i.e. rays with
-// tmin >= 0, which is every ray the engine makes). The same factor is applied to the ray's
-// current tmax: a triangle whose watertight t equals the closest hit so far may lie exactly on
-// the box's near face, and a rounded-up near distance must not hide it.
-constexpr float kUnitRoundoff = std::numeric_limits<float>::epsilon() * 0.5f;
-constexpr float gamma_n(int n) { return n * kUnitRoundoff / (1.0f - n * kUnitRoundoff); }
-constexpr float kFarScale = 1.0f + 2.0f * gamma_n(3);
+// The far distance grows by kFarScale (box_test_scale.h, Ize 2013). The same factor is applied
+// to the ray's current tmax: a triangle whose watertight t equals the closest hit so far may lie
+// exactly on the box's near face, and a rounded-up near distance must not hide it.
+using bvh::kFarScale;
 
 /// Per-ray constants of the box test.
 //

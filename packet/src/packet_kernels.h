@@ -31,6 +31,7 @@
 
 #include "packet_work.h"
 
+#include "dynrt/bvh/box_test_scale.h"
 #include "dynrt/bvh/triangle.h"
 #include "dynrt/packet/packet_traversal.h"
 
@@ -44,11 +45,9 @@
 namespace dynrt::packet::detail {
 
 
-// The single-ray box test's growth of far distances (bvh/src/triangle_bvh.cpp, Ize 2013); the
-// two must be the same constant for the box tests to agree bit for bit.
-constexpr float kUnitRoundoff = std::numeric_limits<float>::epsilon() * 0.5f;
-constexpr float gamma_n(int n) { return n * kUnitRoundoff / (1.0f - n * kUnitRoundoff); }
-constexpr float kFarScale = 1.0f + 2.0f * gamma_n(3);
+// The single-ray box test's growth of far distances (dynrt/bvh/box_test_scale.h, Ize 2013): the
+// same constant, so that the box tests agree bit for bit.
+using bvh::kFarScale;
 
 // ---- Box tests ------------------------------------------------------------------------------
 

@@ -15,6 +15,8 @@
 
 #include "dynrt/packet/two_level_packet.h"
 
+#include "dynrt/bvh/box_test_scale.h"
+
 #include "dynrt/packet/simd.h"
 
 #include <bit>
@@ -28,10 +30,8 @@ namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
-// The single-ray box test's growth of far distances (bvh/src/robust_box_test.h, Ize 2013).
-constexpr float kUnitRoundoff = std::numeric_limits<float>::epsilon() * 0.5f;
-constexpr float gamma_n(int n) { return n * kUnitRoundoff / (1.0f - n * kUnitRoundoff); }
-constexpr float kFarScale = 1.0f + 2.0f * gamma_n(3);
+// The single-ray box test's growth of far distances (dynrt/bvh/box_test_scale.h, Ize 2013).
+using bvh::kFarScale;
 
 constexpr int kStackSize = 2 * static_cast<int>(bvh::kMaxDepth);
 

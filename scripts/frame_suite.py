@@ -29,6 +29,8 @@ import tempfile
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 SHARED = os.path.join(os.path.dirname(ROOT), "shared", "scenes")
+sys.path.insert(0, HERE)
+from suite_cases import selected_cases  # noqa: E402
 
 # Deterministic updates: the default planner ('auto') picks refit or rebuild from measured
 # times, which may differ between two runs of the same binary.
@@ -173,14 +175,7 @@ def main():
             return 2
     work = args.keep or tempfile.mkdtemp(prefix="dynrt_frame_suite_")
     problems, ran, added = [], 0, set()
-    for name, scene, flags in CASES:
-        if args.only and not any(o in name for o in args.only):
-            continue
-        if scene.startswith("shared:"):
-            scene = os.path.join(SHARED, scene[len("shared:"):])
-            if not os.path.exists(scene):
-                print(f"{name}: skipped ({scene} is not there)")
-                continue
+    for name, scene, flags in selected_cases(CASES, args.only):
         results = []
         for side, binary in (("reference", args.reference), ("candidate", args.candidate)):
             folder = os.path.join(work, name, side)

@@ -23,6 +23,8 @@ import tempfile
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 SHARED = os.path.join(os.path.dirname(ROOT), "shared", "scenes")
+sys.path.insert(0, HERE)
+from suite_cases import selected_cases  # noqa: E402
 
 # Still scenes with --reuse off: the default exact reuse would skip the work being timed.
 CASES = [
@@ -55,14 +57,7 @@ def main():
     parser.add_argument("--only", action="append", default=[])
     args = parser.parse_args()
     work = tempfile.mkdtemp(prefix="dynrt_frame_timing_")
-    for name, scene, flags in CASES:
-        if args.only and not any(o in name for o in args.only):
-            continue
-        if scene.startswith("shared:"):
-            scene = os.path.join(SHARED, scene[len("shared:"):])
-            if not os.path.exists(scene):
-                print(f"{name}: skipped ({scene} is not there)")
-                continue
+    for name, scene, flags in selected_cases(CASES, args.only):
         totals = {args.reference: [], args.candidate: []}
         stages = {args.reference: [], args.candidate: []}
         for r in range(args.rounds):

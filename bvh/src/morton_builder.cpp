@@ -188,7 +188,7 @@ Bvh build_morton_from_prim_refs(const Ref* refs, std::size_t count,
                               keys[i] = std::uint64_t{grid.code(center_of(refs[i]))} << 32 | i;
                           }
                       });
-    const std::uint64_t* sorted = radix_sort_high_bits(keys, scratch, count, kCodeBits);
+    const std::uint64_t* sorted = radix_sort_bits(keys, scratch, count, 32, kCodeBits);
 
     // The refs and codes in Morton order, so the hierarchy reads them sequentially (gathered
     // by the hierarchy itself, the refs' cache misses were the largest part of its time; a

@@ -18,15 +18,18 @@ constexpr std::size_t kSortBlock = 32 * 1024;
 
 }  // namespace
 
-std::uint64_t* radix_sort_high_bits(std::uint64_t* keys, std::uint64_t* scratch, std::size_t n,
-                                    int key_bits) {
+std::uint64_t* radix_sort_bits(std::uint64_t* keys, std::uint64_t* scratch, std::size_t n,
+                               int first_bit, int bit_count) {
     const std::size_t blocks = (n + kSortBlock - 1) / kSortBlock;
     std::vector<std::uint32_t> counts(blocks * kBuckets);
     std::uint64_t* in = keys;
     std::uint64_t* out = scratch;
-    for (int shift = 32; shift < 32 + key_bits; shift += kRadixBits) {
-        const auto digit = [shift](std::uint64_t key) {
-            return static_cast<std::uint32_t>(key >> shift) & (kBuckets - 1);
+    for (int shift = first_bit; shift < first_bit + bit_count; shift += kRadixBits) {
+        // The last pass's digit stops at the range's end.
+        const int bits = std::min(kRadixBits, first_bit + bit_count - shift);
+        const std::uint32_t mask = (1u << bits) - 1;
+        const auto digit = [shift, mask](std::uint64_t key) {
+            return static_cast<std::uint32_t>(key >> shift) & mask;
         };
         tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
             std::uint32_t* count = counts.data() + b * kBuckets;

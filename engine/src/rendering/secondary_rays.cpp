@@ -61,12 +61,14 @@ using packet::RayPacket;
 enum Kind : int { kRefraction = 0, kReflection = 1 };
 
 /// One ray of a path: where it starts and goes, its path's weight, and its pixel.
+/// Left uninitialised when made without values: waves and runs of them are sized first and
+/// written after.
 struct PathRay {
-    glm::vec3 org{0.0f}, dir{0.0f}, weight{0.0f};
-    std::uint32_t pixel = 0;
+    glm::vec3 org, dir, weight;
+    std::uint32_t pixel;
 };
 
-/// The children a ray's hit spawned, by kind.
+/// The children a ray's hit spawned, by kind (ray[k] is set where made[k]).
 struct Spawned {
     PathRay ray[2];
     bool made[2] = {false, false};
@@ -299,6 +301,8 @@ void SecondaryStage::gather(int tile_index, const packet::Tile& tile, int width,
     const std::size_t roots_begin = g.pixel.size(), rays_begin = g.rays.size();
     const glm::vec3 one(1.0f);
     origins.surface.hit.for_each([&](int lane) {
+        // Most hits of most scenes spawn nothing: decided by the material alone.
+        if (!frame_.materials[std::size_t(origins.surface.material[lane])].traces_secondary()) return;
         const packet::LanePixel px = packet::tile_pixel(tile, lane);
         const auto pixel = std::uint32_t(std::size_t(px.y) * std::size_t(width) + std::size_t(px.x));
         const Spawned spawned = spawn_at(frame_, origins, lane, one, pixel);

@@ -135,7 +135,7 @@ public:
         return inner_->load(scene, geometry);
     }
     void forget() override { inner_->forget(); }
-    int closest(const packet::RayPacket& rays, RayCoherence coherence, LaneHits& hits,
+    int closest(const packet::RayPacket& rays, RayCoherence coherence, HitTarget hits,
                 TraceWork* work) const override {
         const int packed = inner_->closest(rays, coherence, hits, work);
         rays.active.for_each([&](int lane) {

@@ -17,7 +17,7 @@ public:
 
     void forget() override { tracer_.forget(); }
 
-    int closest(const packet::RayPacket& rays, RayCoherence coherence, LaneHits& hits,
+    int closest(const packet::RayPacket& rays, RayCoherence coherence, HitTarget hits,
                 TraceWork* /*work*/) const override {
         tracer_.closest_lanes(rays, coherence == RayCoherence::tile, hits);
         return rays.active.count();  // every ray in a packet of 16

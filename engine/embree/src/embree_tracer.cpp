@@ -621,8 +621,7 @@ RTCIntersectContext seam_context(bool tile) {
 
 }  // namespace
 
-void EmbreeTracer::closest_lanes(const packet::RayPacket& rays, bool tile,
-                                 bvh::InstanceHit (&hits)[packet::kPacketRays]) const {
+void EmbreeTracer::closest_lanes(const packet::RayPacket& rays, bool tile, HitTarget hits) const {
     const EmbreeFloatMode mode;
     RTCIntersectContext context = seam_context(tile);
     for_each_active_block(rays, tile, [&](const int* lane, int* valid) {

@@ -53,22 +53,28 @@ bool CpuTracer::as_packet(int count, RayCoherence coherence) const {
 }
 
 void CpuTracer::closest_group(const RayPacket& rays, const LaneMask& lanes, bool packed,
-                              LaneHits& hits, TraceWork* work) const {
+                              HitTarget hits, TraceWork* work) const {
     const bvh::TwoLevelBvh& tlas = accel_.top_level();
     if (!packed) {
         lanes.for_each([&](int lane) {
-            hits[lane] = work ? bvh::intersect_closest(tlas, rays.ray(lane), work->single)
-                              : bvh::intersect_closest(tlas, rays.ray(lane));
+            bvh::InstanceHit hit = work ? bvh::intersect_closest(tlas, rays.ray(lane), work->single)
+                                        : bvh::intersect_closest(tlas, rays.ray(lane));
+            accel_.resolve(hit);
+            hits[lane] = hit;
         });
         return;
     }
     Scratch& s = thread_scratch();
     const int n = pack(rays, lanes, s.dense, s.lane_of);
     packet::intersect_closest(tlas, s.dense, s.hits, packet_, work ? &work->packet : nullptr);
-    for (int k = 0; k < n; ++k) hits[s.lane_of[k]] = s.hits.hit(k);
+    for (int k = 0; k < n; ++k) {
+        bvh::InstanceHit hit = s.hits.hit(k);
+        accel_.resolve(hit);
+        hits[s.lane_of[k]] = hit;
+    }
 }
 
-int CpuTracer::closest(const RayPacket& rays, RayCoherence coherence, LaneHits& hits,
+int CpuTracer::closest(const RayPacket& rays, RayCoherence coherence, HitTarget hits,
                        TraceWork* work) const {
     int packet_rays = 0;
     if (coherence == RayCoherence::tile) {
@@ -78,7 +84,11 @@ int CpuTracer::closest(const RayPacket& rays, RayCoherence coherence, LaneHits& 
             Scratch& s = thread_scratch();
             packet::intersect_closest(accel_.top_level(), rays, s.hits, packet_,
                                       work ? &work->packet : nullptr);
-            rays.active.for_each([&](int lane) { hits[lane] = s.hits.hit(lane); });
+            rays.active.for_each([&](int lane) {
+                bvh::InstanceHit hit = s.hits.hit(lane);
+                accel_.resolve(hit);
+                hits[lane] = hit;
+            });
             packet_rays = count;
         } else {
             closest_group(rays, rays.active, false, hits, work);
@@ -99,7 +109,6 @@ int CpuTracer::closest(const RayPacket& rays, RayCoherence coherence, LaneHits& 
             if (packed) packet_rays += count;
         }
     }
-    rays.active.for_each([&](int lane) { accel_.resolve(hits[lane]); });
     return packet_rays;
 }
 

@@ -18,7 +18,7 @@ public:
         : accel_(accel), single_rays_(options.tracer == Tracer::single), packet_(options.packet),
           min_scattered_(options.secondary.min_packet_rays) {}
 
-    int closest(const packet::RayPacket& rays, RayCoherence coherence, LaneHits& hits,
+    int closest(const packet::RayPacket& rays, RayCoherence coherence, HitTarget hits,
                 TraceWork* work) const override;
     packet::LaneMask occluded(const packet::RayPacket& rays, RayCoherence coherence,
                               TraceWork* work) const override;
@@ -40,10 +40,10 @@ private:
     packet::PacketConfig packet_;
     int min_scattered_;
 
-    /// Closest hits of `lanes` of `rays`, unresolved: packed into the first lanes of one
-    /// packet, or one by one.
+    /// Closest hits of `lanes` of `rays`, resolved: packed into the first lanes of one packet,
+    /// or one by one.
     void closest_group(const packet::RayPacket& rays, const packet::LaneMask& lanes, bool as_packet,
-                       LaneHits& hits, TraceWork* work) const;
+                       HitTarget hits, TraceWork* work) const;
 };
 
 }  // namespace dynrt::detail

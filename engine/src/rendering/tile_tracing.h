@@ -21,12 +21,10 @@ namespace dynrt::detail {
 inline void trace_tile_hits(const TraceBackend& tracer, const packet::Tile& tile, int width,
                             const packet::RayPacket& rays, std::vector<bvh::InstanceHit>& hits,
                             TraceWork* work) {
-    LaneHits lane_hits;
-    tracer.closest(rays, RayCoherence::tile, lane_hits, work);
-    rays.active.for_each([&](int lane) {
-        const packet::LanePixel px = packet::tile_pixel(tile, lane);
-        hits[std::size_t(px.y) * width + px.x] = lane_hits[lane];
-    });
+    tracer.closest(rays, RayCoherence::tile,
+                   HitTarget(hits.data() + std::size_t(tile.y0) * std::size_t(width) + std::size_t(tile.x0),
+                             std::size_t(width)),
+                   work);
 }
 
 /// visible[l]: the hit lanes of `origins` that light l reaches (the lit side of their surface

@@ -41,6 +41,22 @@ enum class RayCoherence {
 /// Closest hits of a batch, by lane.
 using LaneHits = bvh::InstanceHit[packet::kPacketRays];
 
+/// Where a batch's closest hits go: lane l's to base[(l / 16) * row_stride + l % 16]. Either
+/// a LaneHits array (row_stride 16), or a tile of a frame's per-pixel hits (base at the tile's
+/// top-left pixel, row_stride the image width), so that a tile's camera rays' hits land in
+/// place, without a copy.
+struct HitTarget {
+    bvh::InstanceHit* base;
+    std::size_t row_stride = std::size_t(packet::kTileSize);
+
+    HitTarget(LaneHits& hits) : base(hits) {}  // NOLINT: a LaneHits array is a target
+    HitTarget(bvh::InstanceHit* first, std::size_t stride) : base(first), row_stride(stride) {}
+
+    bvh::InstanceHit& operator[](int lane) const {
+        return base[std::size_t(lane / packet::kTileSize) * row_stride + std::size_t(lane % packet::kTileSize)];
+    }
+};
+
 /// The work a thread's traces did, when a trace counts it (TraceSettings::count_packet_work):
 /// packet traversals' counters and single rays' counters.
 struct TraceWork {
@@ -69,11 +85,12 @@ public:
     virtual ~TraceBackend() = default;
 
     /// Closest hits of `rays`' active lanes within [tmin, tmax] into hits[lane], resolved to
-    /// scene object and triangle (a miss: a default InstanceHit); other lanes are left alone.
+    /// scene object and triangle (a miss: a default InstanceHit); other lanes' entries are left
+    /// alone.
     /// Returns how many of the rays were traced as packets (the rest one by one), for the
     /// report. `work`, if not null, receives the traversal counters. Thread-safe on a shared
     /// backend; `work` is the calling thread's.
-    virtual int closest(const packet::RayPacket& rays, RayCoherence coherence, LaneHits& hits,
+    virtual int closest(const packet::RayPacket& rays, RayCoherence coherence, HitTarget hits,
                         TraceWork* work) const = 0;
 
     /// Which of `rays`' active lanes hit anything within [tmin, tmax] (shadow rays).

@@ -121,8 +121,7 @@ public:
     /// and which active lanes are occluded, with rtcIntersect16 / rtcOccluded16 over blocks of
     /// 16 lanes: a tile's 4x4-pixel blocks with a coherent context when `tile`, else 16
     /// consecutive lanes with the default one. Thread-safe after a load.
-    void closest_lanes(const packet::RayPacket& rays, bool tile,
-                       bvh::InstanceHit (&hits)[packet::kPacketRays]) const;
+    void closest_lanes(const packet::RayPacket& rays, bool tile, HitTarget hits) const;
     packet::LaneMask occluded_lanes(const packet::RayPacket& rays, bool tile) const;
 
 private:

@@ -19,7 +19,6 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
-#include <optional>
 
 namespace dynrt::detail {
 
@@ -395,7 +394,7 @@ void trace_frame_reusing(const TraceInputs& in, const Camera& camera, const Trac
         memory.shadow_ends.assign(tiles * light_count, bvh::Aabb{});
     }
     const auto finish = [&](const StageWork& sum, double wall_ms) {
-        report_stages(sum, wall_ms, 0.0, stats);
+        report_stages(sum, wall_ms, stats);
         stats.pixels_traced = sum.primary_rays;
         stats.pixels_shadows_retraced = sum.shadows_only;
         stats.pixels_reused = share_pixels - sum.primary_rays - sum.shadows_only;
@@ -412,17 +411,9 @@ void trace_frame_reusing(const TraceInputs& in, const Camera& camera, const Trac
     const ChangedSpace space(plan.changed, scale);
 
     const bool count = options.count_packet_work;
-    std::optional<SecondaryFrame> secondary_frame;
-    std::optional<SecondaryStage> secondary;
-    if (any_secondary(in.scene_materials, options.secondary)) {
-        const SecondaryTracing tracing{in.accel, in.tracer, options.secondary, count};
-        secondary_frame.emplace(SecondaryFrame{tracing, in.lights, shading, in.scene_materials,
-                                               in.object_material, options.secondary_log});
-        secondary.emplace(*secondary_frame, scratch.secondary);
-    }
-    const ReuseFrame frame{in,     camera,         pinhole,       shading, space,
-                           secondary ? &*secondary : nullptr, memory, scratch.hits,
-                           width,  plan.full,      count};
+    FrameSecondary secondary(in, options, shading, scratch);
+    const ReuseFrame frame{in,     camera,   pinhole,      shading, space, secondary.stage(),
+                           memory, scratch.hits, width, plan.full, count};
     tbb::combinable<StageWork> work;
     // Per thread, the changed boxes near the tile at hand (storage reused across tiles).
     tbb::combinable<ChangedSpace> nearby;
@@ -432,7 +423,7 @@ void trace_frame_reusing(const TraceInputs& in, const Camera& camera, const Trac
     });
     const StageWork sum = work.combine([](StageWork a, const StageWork& b) { return a += b; });
     finish(sum, wall.elapsed_ms());
-    if (secondary) secondary->trace(out, stats);
+    if (secondary.stage()) secondary.stage()->trace(out, stats);
     if (count) sum.trace.report(stats);
 }
 

@@ -13,7 +13,6 @@
 #include <tbb/combinable.h>
 #include <tbb/parallel_for.h>
 
-#include <optional>
 #include <vector>
 
 namespace dynrt {
@@ -33,7 +32,7 @@ void trace_adaptive(const detail::AdaptiveFrame& frame, const packet::Tiling& ti
     });
     const double wall_ms = clock.elapsed_ms();
     const StageWork sum = work.combine([](StageWork a, const StageWork& b) { return a += b; });
-    detail::report_stages(sum, wall_ms, 0.0, out.stats);
+    detail::report_stages(sum, wall_ms, out.stats);
     out.stats.interpolated_pixels = sum.interpolated;
     if (count) sum.trace.report(out.stats);
 }
@@ -80,6 +79,15 @@ void trace_full_tile(const FullFrame& f, int index, const packet::Tile& tile,
 }
 
 }  // namespace
+
+FrameSecondary::FrameSecondary(const TraceInputs& in, const TraceSettings& options,
+                               const detail::TileShading& shading, TraceScratch& scratch) {
+    if (!detail::any_secondary(in.scene_materials, options.secondary)) return;
+    const detail::SecondaryTracing tracing{in.accel, in.tracer, options.secondary, options.count_packet_work};
+    frame_.emplace(detail::SecondaryFrame{tracing, in.lights, shading, in.scene_materials,
+                                          in.object_material, options.secondary_log});
+    stage_.emplace(*frame_, scratch.secondary);
+}
 
 void size_frame(const TraceSettings& options, TraceScratch& scratch, RenderedFrame& out) {
     const std::size_t pixels = std::size_t(options.width) * std::size_t(options.height);
@@ -129,23 +137,16 @@ void trace_frame(const TraceInputs& in, const Camera& camera, const TraceSetting
         return;
     }
 
-    std::optional<detail::SecondaryFrame> secondary_frame;
-    std::optional<detail::SecondaryStage> secondary;
-    if (detail::any_secondary(in.scene_materials, options.secondary)) {
-        const detail::SecondaryTracing tracing{in.accel, in.tracer, options.secondary, count};
-        secondary_frame.emplace(detail::SecondaryFrame{tracing, in.lights, shading, in.scene_materials,
-                                                       in.object_material, options.secondary_log});
-        secondary.emplace(*secondary_frame, scratch.secondary);
-    }
-    const FullFrame frame{in, rays, shading, secondary ? &*secondary : nullptr, width, count};
+    FrameSecondary secondary(in, options, shading, scratch);
+    const FullFrame frame{in, rays, shading, secondary.stage(), width, count};
     tbb::combinable<StageWork> work;
     const Stopwatch clock;
     tbb::parallel_for(0, tiling.count(), [&](int i) {
         trace_full_tile(frame, i, tiling.tile(i), scratch.hits, out, work.local());
     });
     const StageWork sum = work.combine([](StageWork a, const StageWork& b) { return a += b; });
-    detail::report_stages(sum, clock.elapsed_ms(), 0.0, stats);
-    if (secondary) secondary->trace(out, stats);
+    detail::report_stages(sum, clock.elapsed_ms(), stats);
+    if (secondary.stage()) secondary.stage()->trace(out, stats);
     if (count) sum.trace.report(stats);
 }
 

@@ -12,6 +12,7 @@
 #include "update/scene_accel.h"
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -51,6 +52,23 @@ void size_frame(const TraceSettings& options, TraceScratch& scratch, RenderedFra
 /// scratch.shading_lights, which it borrows) and textures, options' ambient and background.
 detail::TileShading frame_shading(const TraceInputs& in, const TraceSettings& options,
                                   TraceScratch& scratch);
+
+/// A trace's secondary stage (secondary_rays.h) when its materials and options spawn
+/// reflection or refraction rays, else none; the frame it reads is kept beside it.
+class FrameSecondary {
+public:
+    FrameSecondary(const TraceInputs& in, const TraceSettings& options,
+                   const detail::TileShading& shading, TraceScratch& scratch);
+    FrameSecondary(const FrameSecondary&) = delete;
+    FrameSecondary& operator=(const FrameSecondary&) = delete;
+
+    /// The stage, or null for a frame without secondary rays.
+    detail::SecondaryStage* stage() { return stage_ ? &*stage_ : nullptr; }
+
+private:
+    std::optional<detail::SecondaryFrame> frame_;
+    std::optional<detail::SecondaryStage> stage_;
+};
 
 /// Renders `camera`'s view at options.width x options.height into `out` (its buffers reused),
 /// with options' tracer, culling, adaptive tolerance, secondary rays, background and ambient,

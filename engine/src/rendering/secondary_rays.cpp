@@ -68,7 +68,8 @@ struct PathRay {
     std::uint32_t pixel;
 };
 
-/// The children a ray's hit spawned, by kind (ray[k] is set where made[k]).
+/// The children a ray's hit spawned, by kind (ray[k] is set where made[k]; the others are
+/// left uninitialised, so that a hit spawning nothing costs nothing to answer).
 struct Spawned {
     PathRay ray[2];
     bool made[2] = {false, false};
@@ -301,8 +302,6 @@ void SecondaryStage::gather(int tile_index, const packet::Tile& tile, int width,
     const std::size_t roots_begin = g.pixel.size(), rays_begin = g.rays.size();
     const glm::vec3 one(1.0f);
     origins.surface.hit.for_each([&](int lane) {
-        // Most hits of most scenes spawn nothing: decided by the material alone.
-        if (!frame_.materials[std::size_t(origins.surface.material[lane])].traces_secondary()) return;
         const packet::LanePixel px = packet::tile_pixel(tile, lane);
         const auto pixel = std::uint32_t(std::size_t(px.y) * std::size_t(width) + std::size_t(px.x));
         const Spawned spawned = spawn_at(frame_, origins, lane, one, pixel);
@@ -468,7 +467,6 @@ namespace {
 void add_path(const std::vector<Wave>& waves, std::size_t depth, std::size_t i, glm::vec3& color) {
     const Wave& wave = waves[depth];
     if (depth > 0) color += wave.share[i];
-    if (wave.child.empty()) return;  // the deepest wave
     for (const int k : {kRefraction, kReflection}) {
         const std::int32_t c = wave.child[2 * i + std::size_t(k)];
         if (c >= 0) add_path(waves, depth + 1, std::size_t(c), color);
@@ -502,7 +500,7 @@ void SecondaryStage::trace(RenderedFrame& out, TraceStats& stats) {
     }
     Wave& roots = s.waves[0];
     roots.resize(roots_at.back());
-    if (max_depth >= 1) s.waves[1].resize(rays_at.back());
+    s.waves[1].resize(rays_at.back());  // the stage exists only for max_depth >= 1
     tbb::parallel_for(std::size_t(0), pieces.size(), [&](std::size_t k) {
         const SecondaryBuffers::Data::Gathered& g = *pieces[k].from;
         const auto& seg = pieces[k].segment;

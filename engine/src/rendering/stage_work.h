@@ -39,23 +39,18 @@ struct StageWork {
 inline double mrays_per_s(std::size_t rays, double ms) { return ms > 0.0 ? double(rays) / (ms * 1e3) : 0.0; }
 
 /// Sets stats' primary, shadow and shade times, rays and rates from the threads' summed work
-/// `sum` over a loop that took `wall_ms`, whose workers also spent `secondary_thread_ms` on
-/// secondary rays: each stage gets the share of `wall_ms` its thread time is of the total,
-/// and shade_ms what the others leave. Returns that scale (wall over thread milliseconds), by
-/// which the secondary work's own times become wall time.
-inline double report_stages(const StageWork& sum, double wall_ms, double secondary_thread_ms,
-                            TraceStats& stats) {
-    const double thread_total = sum.primary_ms + sum.shadow_ms + sum.shade_ms + secondary_thread_ms;
+/// `sum` over a tile loop that took `wall_ms`: each stage gets the share of `wall_ms` its
+/// thread time is of the total, and shade_ms what the others leave.
+inline void report_stages(const StageWork& sum, double wall_ms, TraceStats& stats) {
+    const double thread_total = sum.primary_ms + sum.shadow_ms + sum.shade_ms;
     const double scale = thread_total > 0.0 ? wall_ms / thread_total : 0.0;
     stats.primary_ms = sum.primary_ms * scale;
     stats.shadow_ms = sum.shadow_ms * scale;
-    stats.shade_ms =
-        std::max(0.0, wall_ms - stats.primary_ms - stats.shadow_ms - secondary_thread_ms * scale);
+    stats.shade_ms = std::max(0.0, wall_ms - stats.primary_ms - stats.shadow_ms);
     stats.primary_rays = sum.primary_rays;
     stats.shadow_rays = sum.shadow_rays;
     stats.primary_mrays_per_s = mrays_per_s(stats.primary_rays, stats.primary_ms);
     stats.shadow_mrays_per_s = mrays_per_s(stats.shadow_rays, stats.shadow_ms);
-    return scale;
 }
 
 }  // namespace dynrt::detail

@@ -5,11 +5,9 @@
 #include "update/held_bytes.h"
 
 #include <glm/mat4x4.hpp>
-#include <glm/trigonometric.hpp>
 #include <glm/vec4.hpp>
 
 #include <algorithm>
-#include <cmath>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -56,24 +54,7 @@ void FramePipeline::use_backend(std::shared_ptr<FrameBackend> backend) {
 
 void FramePipeline::clear() {
     clear_trees();
-    textures_.reset();
-    textures_scene_ = nullptr;
-    textures_maps_.clear();
-}
-
-bool FramePipeline::textures_current(const Scene& scene) const {
-    if (!textures_ || textures_scene_ != &scene) return false;
-    // Materials are few; comparing their maps per trace costs nothing next to the trace.
-    std::size_t k = 0;
-    for (std::size_t m = 0; m < scene.materials.size(); ++m) {
-        const std::optional<TextureMap>& map = scene.materials[m].diffuse_map;
-        if (!map) continue;
-        if (k == textures_maps_.size() || textures_maps_[k].first != m || !(textures_maps_[k].second == *map)) {
-            return false;
-        }
-        ++k;
-    }
-    return k == textures_maps_.size();
+    textures_.clear();
 }
 
 void FramePipeline::clear_trees() {
@@ -84,58 +65,29 @@ void FramePipeline::clear_trees() {
     pixel_cache_.valid = false;
     camera_moving_ = false;
     versions_.clear();
-    invalidated_.clear();
-}
-
-void FramePipeline::refresh_parts() {
-    const std::size_t count = versions_.size();
-    parts_.resize(count);
-    parts_versions_.resize(count, 0);
-    for (std::size_t i = 0; i < count; ++i) {
-        if (parts_versions_[i] == versions_[i]) continue;
-        parts_[i].clear();
-        accel_.object_world_parts(i, kPartsPerObject, parts_[i]);
-        parts_versions_[i] = versions_[i];
-    }
 }
 
 void FramePipeline::invalidate(std::size_t object) {
     accel_.invalidate(object);
-    // The trees change at the next update, not now (a trace before it still shows the object
-    // as it was): that update moves the object's version.
-    mark_invalidated(object);
-}
-
-void FramePipeline::mark_invalidated(std::size_t object) {
-    // A flag per object rather than a list: objects added and removed many times between two
-    // updates must not grow it.
-    if (invalidated_.size() <= object) invalidated_.resize(object + 1, 0);
-    invalidated_[object] = 1;
+    versions_.invalidate(object);
 }
 
 void FramePipeline::release(std::size_t object) {
     accel_.release(object);
-    if (object < parts_.size()) parts_[object] = {};
+    versions_.release(object);
 }
 
 void FramePipeline::renew(std::size_t object) {
     accel_.renew(object);
-    mark_invalidated(object);
+    versions_.invalidate(object);
 }
 
 std::size_t FramePipeline::memory_bytes() const {
-    std::size_t bytes = accel_.memory_bytes() + held_bytes(materials_) + held_bytes(object_material_) +
-                        held_bytes(object_texcoords_) + held_bytes(textures_maps_) + held_bytes(versions_) + held_bytes(invalidated_) +
-                        held_bytes(parts_) + held_bytes(parts_versions_);
-    for (const std::vector<bvh::Aabb>& parts : parts_) bytes += held_bytes(parts);
-    if (textures_) bytes += textures_->bytes();
-    return bytes;
+    return accel_.memory_bytes() + held_bytes(materials_) + held_bytes(object_material_) +
+           textures_.memory_bytes() + versions_.memory_bytes();
 }
 
-TextureFigures FramePipeline::texture_figures() const {
-    if (!textures_) return {};
-    return TextureFigures{textures_->texture_count(), textures_->bytes(), 1e3 * textures_->load_seconds()};
-}
+TextureFigures FramePipeline::texture_figures() const { return textures_.figures(); }
 
 const FrameStats& FramePipeline::update(const Scene& scene, std::span<const ObjectState> states,
                                         const FixedPositions& fixed, const UpdatePolicy& policy,
@@ -145,15 +97,7 @@ const FrameStats& FramePipeline::update(const Scene& scene, std::span<const Obje
     stats = FrameStats{};
     stats.frame = frame;
     // Versions first: an update that throws half way has still changed what it touched.
-    if (states.size() < versions_.size()) versions_.clear();
-    while (versions_.size() < states.size()) versions_.push_back(++last_version_);
-    for (std::size_t i = 0; i < states.size(); ++i) {
-        if (states[i].changed) versions_[i] = ++last_version_;
-    }
-    for (std::size_t i = 0; i < invalidated_.size() && i < versions_.size(); ++i) {
-        if (invalidated_[i]) versions_[i] = ++last_version_;
-    }
-    invalidated_.clear();
+    versions_.advance(states);
     accel_.update(scene, states, fixed, policy, stats, stats);
     if (backend_) {
         stats.backend = backend_->name();
@@ -197,26 +141,8 @@ void FramePipeline::trace(const Scene& scene, const Camera& camera, const TraceS
     accel_.use_vertex_normals(options.smooth_normals);
     // Textures: read, decoded and MIP-mapped once per scene (and again when its materials map
     // other textures).
-    std::optional<detail::SurfaceTextures> surface_textures;
-    if (TextureSet::needed(scene)) {
-        if (!textures_current(scene)) {
-            textures_ = std::make_unique<TextureSet>(scene);
-            textures_scene_ = &scene;
-            textures_maps_.clear();
-            for (std::size_t m = 0; m < scene.materials.size(); ++m) {
-                if (scene.materials[m].diffuse_map) textures_maps_.emplace_back(m, *scene.materials[m].diffuse_map);
-            }
-        }
-        object_texcoords_.clear();
-        // The triangles the trees hold, which hits index (a scene object's may have gone since).
-        for (std::size_t i = 0; i < scene.objects.size(); ++i) {
-            object_texcoords_.push_back(
-                detail::ObjectTexcoords{scene.objects[i].mesh.texcoords, accel_.object_triangles(i)});
-        }
-        const float pixel_angle =
-            2.0f * std::tan(0.5f * glm::radians(camera.fov_y_deg)) / float(std::max(options.height, 1));
-        surface_textures.emplace(detail::SurfaceTextures{*textures_, object_texcoords_, camera.eye, pixel_angle});
-    }
+    const std::optional<detail::SurfaceTextures> surface_textures =
+        textures_.for_trace(scene, accel_.shading(), camera, options.height);
     const detail::CpuTracer cpu(accel_, options);
     const TraceBackend& tracer = backend_ ? static_cast<const TraceBackend&>(*backend_) : cpu;
     const TraceInputs inputs{accel_, tracer, materials_, object_material_, lights, scene.materials,
@@ -237,16 +163,15 @@ void FramePipeline::trace(const Scene& scene, const Camera& camera, const TraceS
         reuse_.valid = false;
         out.reuse_stamp = 0;
         detail::trace_frame_approximate(inputs, camera, options, accel_.object_world_boxes(),
-                                        versions_, pixel_cache_, scratch_, out);
+                                        versions_.versions(), pixel_cache_, scratch_, out);
     } else if (exact && !camera_moving) {
         pixel_cache_.valid = false;
-        refresh_parts();
         const detail::ReuseInputs now{camera,           options,
                                       lights,           materials_,
                                       scene.materials,  object_material_,
                                       accel_.object_world_boxes(),
-                                      versions_,        out.reuse_stamp,
-                                      parts_};
+                                      versions_.versions(), out.reuse_stamp,
+                                      versions_.parts(accel_)};
         const detail::ReusePlan plan = detail::plan_exact_reuse(reuse_, now);
         detail::trace_frame_reusing(inputs, camera, options, plan, reuse_, scratch_, out);
         detail::remember_inputs(now, reuse_, out);

@@ -19,6 +19,8 @@
 #include "rendering/approximate_reuse.h"
 #include "rendering/exact_reuse.h"
 #include "rendering/frame_tracer.h"
+#include "rendering/object_versions.h"
+#include "rendering/scene_textures.h"
 #include "update/scene_accel.h"
 
 #include <cstdint>
@@ -104,37 +106,18 @@ private:
     /// refreshed per trace (kept to avoid reallocating), and the trace's own buffers.
     std::vector<packet::PhongMaterial> materials_;
     std::vector<std::int32_t> object_material_;
-    /// The textures of the scene traced last, opened for `textures_scene_` whose materials
-    /// mapped them as `textures_maps_` says (each mapped material's index and map), kept until
-    /// either differs or clear(); and each object's texture coordinates, refreshed per trace.
-    std::unique_ptr<TextureSet> textures_;
-    const Scene* textures_scene_ = nullptr;
-    std::vector<std::pair<std::size_t, TextureMap>> textures_maps_;
-    /// Whether textures_ was opened for `scene` as its materials map textures now.
-    bool textures_current(const Scene& scene) const;
-    std::vector<detail::ObjectTexcoords> object_texcoords_;
     TraceScratch scratch_;
-    /// Per object, a version that changes whenever its geometry may have (an update that
-    /// said it changed, an invalidation): exact pixel reuse compares them between traces.
-    std::vector<std::uint64_t> versions_;
-    std::uint64_t last_version_ = 0;
-    /// Per object, whether it was invalidated since the last update: its version moves when
-    /// it runs.
-    std::vector<std::uint8_t> invalidated_;
-    void mark_invalidated(std::size_t object);
-    /// Per object, the world boxes of a cut through its tree (SceneAccel::object_world_parts)
-    /// and the version they were taken at: refreshed for exact reuse when the version moves.
-    std::vector<std::vector<bvh::Aabb>> parts_;
-    std::vector<std::uint64_t> parts_versions_;
-    /// Boxes per object: 16 follow a skinned figure's limbs closely enough that a still
-    /// camera re-traces about half the pixels its one box covers (CesiumMan, Fox).
-    static constexpr std::size_t kPartsPerObject = 16;
-    void refresh_parts();
+    /// The textures of the scene traced last, kept between traces.
+    detail::SceneTextures textures_;
+    /// What pixel reuse compares between traces: each object's geometry version, and its parts.
+    ObjectVersions versions_;
+    /// Exact reuse's memory of the last trace with it.
     detail::ReuseMemory reuse_;
     /// Exact reuse: the last trace was a full one because the camera had moved, and its
     /// camera (a camera that keeps moving is traced without recording reuse memory).
     bool camera_moving_ = false;
     Camera last_camera_;
+    /// The render cache's and frameless mode's per-pixel samples.
     detail::PixelCache pixel_cache_;
 };
 

@@ -76,7 +76,7 @@ struct ShadowOrigin {
 /// normal, the view vector and material per lane, so the shading kernel reads the same arrays
 /// while they are hot.
 ///
-/// The shading normal (renderer.h, "Shading normals"): where SceneAccel::world_vertex_normals
+/// The shading normal (renderer.h, "Shading normals"): where ShadingGeometry::world_vertex_normals
 /// gives the hit triangle's vertex normals n0, n1, n2, it is s = (1 - u - v) n0 + u n1 + v n2
 /// normalised, negated when s . n < 0 for the facing normal n (so it lies on the eye's side
 /// exactly when the geometric normal does, whichever way the file's normals and winding
@@ -157,7 +157,7 @@ struct TileShadowOrigins {
                 surface.material[lane] = object_material[ih->object];
                 object[lane] = std::int32_t(ih->object);
                 prim[lane] = ih->hit.prim;
-                if (accel.world_vertex_normals(ih->object, ih->hit.prim, normals)) smooth.set(lane);
+                if (accel.shading().world_vertex_normals(ih->object, ih->hit.prim, normals)) smooth.set(lane);
             } else {
                 std::memcpy(coords, kHarmless, sizeof coords);
             }

@@ -1,51 +1,20 @@
-#include "scene_accel.h"
+#include "update/scene_accel.h"
 
-#include "dynrt/bvh/refit.h"
 #include "dynrt/engine/stopwatch.h"
-#include "dynrt/scene/vertex_normals.h"
 #include "update/held_bytes.h"
 
-#include <tbb/parallel_for.h>
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>
 
 #include <glm/mat4x4.hpp>
 #include <glm/matrix.hpp>
 
 #include <algorithm>
-#include <atomic>
-#include <optional>
 #include <span>
 
 namespace dynrt {
 
 namespace {
-
-bool same(const bvh::Triangle& a, const bvh::Triangle& b) {
-    return a.v0 == b.v0 && a.v1 == b.v1 && a.v2 == b.v2;
-}
-
-/// triangles[t] = the mesh's triangle t over `positions`. Returns whether any triangle differs
-/// from what `triangles` held (true when its size changes): the fallback that catches frames
-/// whose animation data changed but whose vertices did not, at the price of a compare in the
-/// pass that writes them anyway.
-bool assemble(const Mesh& mesh, std::span<const glm::vec3> positions,
-              std::vector<bvh::Triangle>& triangles) {
-    const bool resized = triangles.size() != mesh.triangles.size();
-    triangles.resize(mesh.triangles.size());
-    std::atomic<bool> changed{resized};
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, triangles.size(), 4096),
-                      [&](const tbb::blocked_range<std::size_t>& range) {
-                          bool differs = false;
-                          for (std::size_t t = range.begin(); t < range.end(); ++t) {
-                              const glm::uvec3& i = mesh.triangles[t];
-                              const bvh::Triangle tri{positions[i.x], positions[i.y], positions[i.z]};
-                              differs |= !same(tri, triangles[t]);
-                              triangles[t] = tri;
-                          }
-                          if (differs) changed.store(true, std::memory_order_relaxed);
-                      });
-    return changed.load();
-}
 
 /// out[t] = the mesh's triangle t over `positions`, in parallel; returns their bounding box.
 /// Precondition: out.size() == mesh.triangles.size().
@@ -104,43 +73,7 @@ void SceneAccel::clear() {
     static_slot_of_.clear();
     top_ = bvh::TwoLevelBvh{};
     object_boxes_.clear();
-}
-
-void SceneAccel::build(ObjectTree& object, const bvh::BuildConfig& config) {
-    const Stopwatch clock;
-    object.tree = bvh::build_triangle_bvh(object.triangles, config, std::move(object.tree));
-    const double ms = clock.elapsed_ms();
-    // Its SAH cost and shape are measured after the timed work (see update).
-    object.measured = false;
-    object.built = true;
-    object.built_with = config.method;
-    object.costs.penalty_ms = 0.0;
-    object.costs.last_extra_ms = -1.0;
-    // Small trees say little about the rate: their time is mostly fixed costs.
-    const double per_triangle_ns =
-        object.triangles.size() >= 10000 ? ms * 1e6 / double(object.triangles.size()) : -1.0;
-    if (config.method == bvh::BuildMethod::morton) {
-        object.costs.fast_ms = ms;
-        if (per_triangle_ns > 0.0) rates_.fast_ns = per_triangle_ns;
-    } else {
-        object.costs.sah_ms = ms;
-        if (per_triangle_ns > 0.0) rates_.sah_ns = per_triangle_ns;
-    }
-}
-
-TraceCost SceneAccel::trace_cost_of(std::size_t i) const {
-    TraceCost cost;
-    cost.trace_ms = last_trace_ms_;
-    if (i >= objects_.size() || i >= object_boxes_.size()) return cost;
-    const ObjectTree& object = objects_[i];
-    const bvh::Aabb& box = object_boxes_[i];
-    if (!object.measured || last_scene_sah_ <= 0.0 || last_root_area_ <= 0.0 || box.is_empty()) {
-        return cost;
-    }
-    cost.share = std::min(1.0, double(box.half_area()) / last_root_area_ * object.sah /
-                                   last_scene_sah_);
-    if (object.built_sah > 0.0) cost.degradation = std::max(1.0, object.sah / object.built_sah);
-    return cost;
+    shading_.clear();
 }
 
 void SceneAccel::invalidate(std::size_t object) {
@@ -158,8 +91,9 @@ void SceneAccel::release(std::size_t object) {
     emptied.motion_class = old.motion_class;
     emptied.built = old.built;
     emptied.measured = old.measured;
-    // Its corners and normals were borrowed from the removed mesh, which goes away now.
     objects_[object] = std::move(emptied);
+    // Its corners and normals were borrowed from the removed mesh, which goes away now.
+    shading_.forget(object);
 }
 
 void SceneAccel::renew(std::size_t object) {
@@ -167,6 +101,7 @@ void SceneAccel::renew(std::size_t object) {
     // A static one leaves the group's list at the group's next build; until then it holds no
     // triangles there (it was released), so no hit resolves to it.
     objects_[object] = ObjectTree{};
+    shading_.forget(object);
 }
 
 namespace {
@@ -182,7 +117,7 @@ std::size_t tree_bytes(const bvh::TriangleBvh& tree) {
 
 std::size_t SceneAccel::memory_bytes() const {
     const auto object_bytes = [](const ObjectTree& o) {
-        return held_bytes(o.triangles) + tree_bytes(o.tree) + held_bytes(o.own_normals);
+        return held_bytes(o.triangles) + tree_bytes(o.tree);
     };
     std::size_t bytes = held_bytes(objects_) + object_bytes(static_group_);
     for (const ObjectTree& o : objects_) bytes += object_bytes(o);
@@ -190,9 +125,19 @@ std::size_t SceneAccel::memory_bytes() const {
     bytes += held_bytes(instance_trees_) + held_bytes(top_.instances) + held_bytes(top_.world_boxes) +
              held_bytes(top_.top.nodes) + held_bytes(top_.top.prim_ids);
     bytes += held_bytes(object_boxes_) + held_bytes(positions_) + held_bytes(history_) +
-             held_bytes(plan_.objects);
+             held_bytes(plan_.objects) + shading_.memory_bytes();
     return bytes;
 }
+
+/// One update's inputs, as every object's step reads them.
+struct SceneAccel::Update {
+    const Scene& scene;
+    std::span<const ObjectState> states;
+    const FixedPositions& fixed;
+    const UpdatePolicy& policy;
+    /// The build settings of exploding objects (their own cost ratio).
+    bvh::BuildConfig exploding_build;
+};
 
 void SceneAccel::update(const Scene& scene, std::span<const ObjectState> states,
                         const FixedPositions& fixed, const UpdatePolicy& policy,
@@ -207,7 +152,6 @@ void SceneAccel::update(const Scene& scene, std::span<const ObjectState> states,
     }
     plan_update(history_, StaticGroupHistory{static_group_known_, static_group_.built}, states,
                 policy.method, plan_);
-    const UpdatePlan& plan = plan_;
     objects_.resize(count);
     object_boxes_.resize(count);
     for (std::size_t i = 0; i < count; ++i) {
@@ -215,163 +159,50 @@ void SceneAccel::update(const Scene& scene, std::span<const ObjectState> states,
         objects_[i].known = true;
     }
 
-    bvh::BuildConfig exploding_build = policy.build;
-    exploding_build.cost_ratio = policy.exploding_cost_ratio;
-    const bvh::SahCosts costs = policy.build.sah_costs();
-
-    Stopwatch clock;
-    if (plan.rebuild_static_group) {
-        build_static_group(scene, states, fixed, policy.build, plan.static_group_reason, stats);
+    Update run{scene, states, fixed, policy, policy.build};
+    run.exploding_build.cost_ratio = policy.exploding_cost_ratio;
+    if (plan_.rebuild_static_group) {
+        build_static_group(scene, states, fixed, policy.build, plan_.static_group_reason, stats);
     }
-    for (std::size_t i = 0; i < count; ++i) {
-        ObjectTree& object = objects_[i];
-        const ObjectState& pose = states[i];
-        const ObjectPlan& planned = plan.objects[i];
-        const Mesh& mesh = scene.objects[i].mesh;
-        count_class(pose.motion_class, mesh.triangles.size(), stats);
-        const bool exploding = pose.motion_class == anim::MotionClass::exploding;
-        bvh::BuildConfig config = exploding ? exploding_build : policy.build;
-        // Builds are binned SAH unless the method says otherwise: the fast method always uses
-        // the Morton builder, the automatic one where it predicts a lower cost (below).
-        if (policy.method == UpdateMethod::fast) config.method = bvh::BuildMethod::morton;
-        const auto choose = [&](const RebuildChoice& choice, const std::string& why) {
-            config.method = choice.method;
-            stats.choices.push_back(TreeChoice{
-                i, scene.objects[i].name,
-                choice.method == bvh::BuildMethod::morton ? "rebuild (fast)" : "rebuild (sah)",
-                why});
-        };
-        // After any choice: the builder is part of the record.
-        const auto record = [&](RebuildReason reason, double refitted_sah = 0.0) {
-            stats.rebuilds.push_back(TreeRebuild{i, scene.objects[i].name, reason, refitted_sah,
-                                                 object.built_sah,
-                                                 bvh::build_method_name(config.method)});
-            ++stats.objects_rebuilt;
-            stats.triangles_rebuilt += mesh.triangles.size();
-        };
-        if (pose.motion_class == anim::MotionClass::rigid) {
-            // Written whatever the action: the transform is composed in double, its inverse
-            // too, so the ray transform is as exact as float storage allows.
-            object.object_to_world = glm::mat4(pose.transform);
-            object.world_to_object = glm::mat4(glm::inverse(pose.transform));
-        }
+    for (std::size_t i = 0; i < count; ++i) update_object(i, run, stats);
+    shading_.refresh(scene, states, fixed);
+    build_top(stats);
+    stats.build_ms = stats.refit_ms + stats.rebuild_ms + stats.top_level_ms;
+    measure(policy.build.sah_costs(), shape);
+}
 
-        switch (planned.action) {
-            case TreeAction::build_in_static_group:  // built above, once for all
-                break;
-            case TreeAction::keep:
-            case TreeAction::move_instance:
-                ++stats.objects_skipped;
-                break;
-            case TreeAction::rebuild: {
-                // Only an exploding object's rebuild replaces a tree that matches its class;
-                // every other rebuild has none to keep.
-                const bool had_tree = planned.reason == RebuildReason::exploding;
-                clock.lap_ms();
-                const bool moved =
-                    assemble(mesh, pose.motion_class == anim::MotionClass::rigid
-                                       ? fixed.object_space(i)
-                                       : pose.world_positions,
-                             object.triangles);
-                stats.update_ms += clock.lap_ms();
-                if (had_tree && !moved) {
-                    // The animation said it changed; its vertices say otherwise.
-                    ++stats.objects_skipped;
-                    break;
-                }
-                if (policy.method == UpdateMethod::automatic && had_tree) {
-                    const RebuildChoice choice = choose_rebuild(
-                        object.costs, mesh.triangles.size(), rates_, trace_cost_of(i));
-                    choose(choice, explain_rebuild(choice));
-                }
-                record(planned.reason);
-                // The tree does not match the triangles just stored until the build
-                // completes: should it throw, the next update must rebuild, not refit.
-                object.built = false;
-                build(object, config);
-                stats.rebuild_ms += clock.lap_ms();
-                break;
-            }
-            case TreeAction::refit: {
-                clock.lap_ms();
-                const bool moved = assemble(mesh, pose.world_positions, object.triangles);
-                stats.update_ms += clock.lap_ms();
-                if (!moved) {
-                    ++stats.objects_skipped;
-                    break;
-                }
-                if (policy.method == UpdateMethod::automatic) {
-                    if (const std::optional<RebuildChoice> skip = rebuild_instead_of_refit(
-                            object.costs, mesh.triangles.size(), rates_, trace_cost_of(i))) {
-                        choose(*skip, explain_skipped_refit(object.costs, *skip));
-                        record(RebuildReason::refits_cost_more, object.sah);
-                        object.built = false;
-                        build(object, config);
-                        stats.rebuild_ms += clock.lap_ms();
-                        break;
-                    }
-                }
-                object.built = false;  // until the refit completes (see above)
-                const bvh::RefitResult refit = bvh::refit(object.tree, object.triangles, costs);
-                object.built = !refit.needs_rebuild();
-                const double refit_ms = clock.lap_ms();
-                stats.refit_ms += refit_ms;
-                object.costs.refit_ms = refit_ms;
-                ++stats.objects_refitted;
-                stats.triangles_refitted += mesh.triangles.size();
-                std::optional<RebuildReason> rebuild;
-                if (refit.needs_rebuild()) {
-                    rebuild = RebuildReason::degenerate_gained_area;
-                } else if (policy.method == UpdateMethod::threshold) {
-                    rebuild = judge_refit(refit, object.built_sah, policy);
-                } else if (policy.method == UpdateMethod::automatic) {
-                    const RefitJudgement judgement =
-                        judge_refit_cost(refit.sah_cost, object.built_sah, object.costs,
-                                         mesh.triangles.size(), rates_, trace_cost_of(i));
-                    if (judgement.rebuild) {
-                        rebuild = RebuildReason::refits_cost_more;
-                        choose(judgement.choice, explain_refit(judgement));
-                    } else {
-                        object.costs.penalty_ms = judgement.penalty_ms;
-                        object.costs.last_extra_ms = judgement.extra_ms;
-                        stats.choices.push_back(
-                            TreeChoice{i, scene.objects[i].name, "refit", explain_refit(judgement)});
-                    }
-                }
-                if (rebuild) {
-                    const bool degraded = *rebuild == RebuildReason::sah_degraded ||
-                                          *rebuild == RebuildReason::refits_cost_more;
-                    record(*rebuild, degraded ? refit.sah_cost : 0.0);
-                    build(object, config);
-                    stats.rebuild_ms += clock.lap_ms();
-                } else {
-                    object.sah = refit.sah_cost;
-                }
-                break;
-            }
-        }
+void SceneAccel::update_object(std::size_t i, const Update& run, UpdateStats& stats) {
+    ObjectTree& object = objects_[i];
+    const ObjectState& pose = run.states[i];
+    const ObjectPlan& planned = plan_.objects[i];
+    const Mesh& mesh = run.scene.objects[i].mesh;
+    count_class(pose.motion_class, mesh.triangles.size(), stats);
+    const bool rigid = pose.motion_class == anim::MotionClass::rigid;
+    if (rigid) {
+        // Written whatever the action: the transform is composed in double, its inverse
+        // too, so the ray transform is as exact as float storage allows.
+        object.object_to_world = glm::mat4(pose.transform);
+        object.world_to_object = glm::mat4(glm::inverse(pose.transform));
     }
-
-    // ---- Vertex normals, for shading: borrowed spans, refreshed every update ----
-    for (std::size_t i = 0; i < count; ++i) {
-        ObjectTree& object = objects_[i];
-        object.corners = scene.objects[i].mesh.triangles;
-        switch (states[i].motion_class) {
-            case anim::MotionClass::static_:
-                object.normals = object.own_normals;  // taken when the static group was built
-                break;
-            case anim::MotionClass::rigid:
-                object.normals = fixed.object_space_normals(i);
-                object.normal_to_world = glm::mat3(normal_matrix(glm::dmat3(states[i].transform)));
-                break;
-            default:
-                object.normals = states[i].world_normals;
-                break;
-        }
+    ObjectUpdate update{i, run.scene.objects[i].name, mesh, {}, planned,
+                        pose.motion_class == anim::MotionClass::exploding ? run.exploding_build
+                                                                          : run.policy.build,
+                        costs_.trace_cost(object_boxes_[i], object.sah, object.built_sah, object.measured)};
+    // Builds are binned SAH unless the method says otherwise: the fast method always uses the
+    // Morton builder, the automatic one where it predicts a lower cost (object_tree.cpp).
+    if (run.policy.method == UpdateMethod::fast) update.config.method = bvh::BuildMethod::morton;
+    // Read only when the triangles are (the library API checks a borrowed buffer as it reads).
+    if (planned.action == TreeAction::rebuild) {
+        update.positions = rigid ? run.fixed.object_space(i) : pose.world_positions;
+    } else if (planned.action == TreeAction::refit) {
+        update.positions = pose.world_positions;
     }
+    update_tree(object, update, run.policy, costs_, stats);
+}
 
-    // ---- Top level: the static group and one instance per other object, every frame ----
-    clock.lap_ms();
+void SceneAccel::build_top(UpdateStats& stats) {
+    // The static group and one instance per other object, every frame.
+    const Stopwatch clock;
     std::vector<bvh::Instance> instances;
     instance_trees_.clear();
     if (!static_objects_.empty()) {
@@ -381,7 +212,7 @@ void SceneAccel::update(const Scene& scene, std::span<const ObjectState> states,
         instances.push_back(group);
         instance_trees_.push_back(&static_group_);
     }
-    for (std::size_t i = 0; i < count; ++i) {
+    for (std::size_t i = 0; i < objects_.size(); ++i) {
         ObjectTree& object = objects_[i];
         if (object.motion_class == anim::MotionClass::static_) continue;
         bvh::Instance instance;
@@ -394,32 +225,19 @@ void SceneAccel::update(const Scene& scene, std::span<const ObjectState> states,
         instance_trees_.push_back(&object);
     }
     bvh::build_top_level(top_, std::move(instances));
-    stats.top_level_ms = clock.lap_ms();
+    stats.top_level_ms = clock.elapsed_ms();
     for (std::size_t k = 0; k < top_.instances.size(); ++k) {
         const std::uint32_t id = top_.instances[k].object;
         if (id != static_group_id()) object_boxes_[id] = top_.world_boxes[k];
     }
-    stats.build_ms = stats.refit_ms + stats.rebuild_ms + stats.top_level_ms;
+}
 
-    // ---- Shape of the whole structure ----
+void SceneAccel::measure(const bvh::SahCosts& costs, TreeShape& shape) {
     // Trees built this frame are measured here, outside the build's timer but inside the
     // frame's (update_ms): their SAH cost is what later refits are compared with and what the
     // automatic update method predicts trace times from; their shape is only reported. The
     // walks are parallel (bvh.cpp), a few ms for a million triangles.
-    for (ObjectTree* tree : instance_trees_) {
-        ObjectTree& object = *tree;
-        if (object.measured) continue;
-        object.built_sah = object.sah = bvh::sah_cost(object.tree.bvh, costs);
-        object.shape = bvh::compute_stats(object.tree.bvh);
-        object.measured = true;
-        // How much poorer the Morton tree is than the binned-SAH tree, for the cost model:
-        // measured against this object's last binned-SAH tree.
-        if (object.built_with == bvh::BuildMethod::binned_sah) {
-            object.costs.sah_tree_sah = object.built_sah;
-        } else if (object.costs.sah_tree_sah > 0.0) {
-            object.costs.fast_quality = object.built_sah / object.costs.sah_tree_sah;
-        }
-    }
+    for (ObjectTree* tree : instance_trees_) measure_tree(*tree, costs);
     // SAH cost of the two levels as one tree: the top level's inner nodes, then each object's
     // own cost (relative to its root) weighted by the chance of reaching its world box.
     const bvh::Aabb bounds = world_bounds();
@@ -442,8 +260,7 @@ void SceneAccel::update(const Scene& scene, std::span<const ObjectState> states,
         leaf_max = std::max(leaf_max, object.shape.leaf_prims_max);
         depth = std::max(depth, object.shape.depth);
     }
-    last_scene_sah_ = sah;
-    last_root_area_ = root_area;
+    costs_.note_scene(sah, root_area);
     const bvh::BvhStats top_shape = bvh::compute_stats(top_.top);
     shape.triangles = triangles;
     shape.sah_cost = sah;
@@ -483,8 +300,7 @@ void SceneAccel::build_static_group(const Scene& scene, std::span<const ObjectSt
         const Mesh& mesh = scene.objects[i].mesh;
         const std::span<bvh::Triangle> out(all.data() + first, mesh.triangles.size());
         object_boxes_[i] = gather(mesh, fixed.world(i, positions_), out);
-        const std::span<const glm::vec3> normals = fixed.world_normals(i, positions_);
-        objects_[i].own_normals.assign(normals.begin(), normals.end());
+        shading_.keep_static_normals(i, fixed.world_normals(i, positions_));
         static_objects_.push_back(std::uint32_t(i));
         static_first_.push_back(std::uint32_t(first));
         std::fill(static_slot_of_.begin() + std::ptrdiff_t(first),
@@ -498,7 +314,7 @@ void SceneAccel::build_static_group(const Scene& scene, std::span<const ObjectSt
     }
     stats.update_ms += clock.lap_ms();
     static_group_.motion_class = anim::MotionClass::static_;
-    build(static_group_, config);
+    build_tree(static_group_, config, costs_);
     stats.rebuild_ms += clock.lap_ms();
 }
 
@@ -517,19 +333,6 @@ bvh::Triangle SceneAccel::world_triangle(std::size_t object, std::uint32_t prim)
     return bvh::Triangle{transform_point(o.object_to_world, t.v0),
                          transform_point(o.object_to_world, t.v1),
                          transform_point(o.object_to_world, t.v2)};
-}
-
-bool SceneAccel::world_vertex_normals(std::size_t object, std::uint32_t prim, glm::vec3 (&out)[3]) const {
-    const ObjectTree& o = objects_[object];
-    if (!vertex_normals_ || o.normals.empty()) return false;
-    const glm::uvec3& corner = o.corners[prim];
-    out[0] = o.normals[corner.x];
-    out[1] = o.normals[corner.y];
-    out[2] = o.normals[corner.z];
-    if (o.motion_class == anim::MotionClass::rigid) {
-        for (glm::vec3& n : out) n = normalize_or_zero(o.normal_to_world * n);
-    }
-    return true;
 }
 
 void SceneAccel::object_world_parts(std::size_t i, std::size_t max_parts,

@@ -3,8 +3,9 @@
 // per object, kept from frame to frame and brought up to date by the action the update planner
 // chose for it (dynrt/engine/update_plan.h: what each class gets, and why), and a top level
 // over the objects, rebuilt every frame (it holds a handful of boxes). SceneAccel carries a
-// plan out: it gathers triangles, builds, refits (asking judge_refit whether the refit stands),
-// times each stage and reports it.
+// plan out, each object's step in object_tree.h (gather its triangles, build or refit, judge
+// the refit), times each stage and reports it; beside the trees it keeps the cost model's
+// memory (cost_memory.h) and what shading reads of the objects (shading_geometry.h).
 //
 // Static objects share one tree (the static group), built in world space at the first
 // update, so a scene of static objects traces exactly one tree over all its triangles.
@@ -21,8 +22,10 @@
 #include "dynrt/engine/frame_stats.h"
 #include "dynrt/engine/update_plan.h"
 #include "dynrt/scene/scene.h"
+#include "update/cost_memory.h"
+#include "update/object_tree.h"
+#include "update/shading_geometry.h"
 
-#include <glm/mat3x3.hpp>
 #include <glm/mat4x4.hpp>
 
 #include <cstddef>
@@ -93,31 +96,16 @@ public:
 
     /// The trace time (primary + shadow rays) of the frame just traced on these trees: the
     /// automatic update method predicts the next frames' trace times from it (update_cost.h).
-    void note_trace_ms(double ms) { last_trace_ms_ = ms; }
+    void note_trace_ms(double ms) { costs_.note_trace_ms(ms); }
 
     /// World-space triangle `prim` of `object` at the last update (for shading hits):
     /// transformed from object space for rigid objects, in float, the same for every caller.
     bvh::Triangle world_triangle(std::size_t object, std::uint32_t prim) const;
 
-    /// The world-space unit normals of triangle `prim`'s three vertices at the last update
-    /// (for smooth shading), into `out` in corner order; false, leaving `out` alone, when the
-    /// object has none (ObjectState::world_normals, FixedPositions::object_space_normals and
-    /// world_normals gave none) or use_vertex_normals(false) turned them off. A rigid object's
-    /// are turned by the cofactor matrix of its transform and renormalised, in float.
-    bool world_vertex_normals(std::size_t object, std::uint32_t prim, glm::vec3 (&out)[3]) const;
-
-    /// The vertex indices of `object`'s triangles at the last update (the scene's, borrowed
-    /// then, and valid until the next update as the trees are), in the order `prim` counts
-    /// them; empty for an object the last update did not see. Shading reads hits' texture
-    /// coordinates through them: a mesh removed from the library API since keeps its hits,
-    /// and these, until the next update, while its scene object's triangles are gone.
-    std::span<const glm::uvec3> object_triangles(std::size_t object) const {
-        return object < objects_.size() ? objects_[object].corners : std::span<const glm::uvec3>{};
-    }
-
-    /// Whether world_vertex_normals gives the objects' normals (true after construction); a
-    /// trace sets it from TraceSettings::smooth_normals. Not thread-safe with traces.
-    void use_vertex_normals(bool on) { vertex_normals_ = on; }
+    /// The objects' corners and vertex normals at the last update, as shading reads them.
+    const ShadingGeometry& shading() const { return shading_; }
+    /// Whether shading() gives the objects' vertex normals (ShadingGeometry::use_vertex_normals).
+    void use_vertex_normals(bool on) { shading_.use_vertex_normals(on); }
 
     /// Turns a hit on the static group (see below) into the object and triangle it hit; any
     /// other hit is left as it is. Every hit from top_level() goes through it before use.
@@ -150,48 +138,16 @@ public:
     void object_world_parts(std::size_t i, std::size_t max_parts, std::vector<bvh::Aabb>& out) const;
 
 private:
-    struct ObjectTree {
-        /// The triangles the tree was built or refitted from, in the mesh's order: world space
-        /// for static, deformable and exploding objects, object space for rigid ones.
-        std::vector<bvh::Triangle> triangles;
-        bvh::TriangleBvh tree;
-        anim::MotionClass motion_class = anim::MotionClass::static_;
-        /// Rigid objects: object to world this frame, and its inverse (the identity otherwise).
-        glm::mat4 object_to_world{1.0f};
-        glm::mat4 world_to_object{1.0f};
-        /// SAH cost at the last build, and now (after refits).
-        double built_sah = 0.0;
-        double sah = 0.0;
-        bvh::BvhStats shape;
-        /// The tree matches the triangles (TreeHistory::built).
-        bool built = false;
-        /// built_sah, sah and shape describe the current tree (false right after a build).
-        bool measured = false;
-        /// Static objects: where their triangles start in the static group.
-        std::uint32_t group_first = 0;
-        /// An update has seen the object (so motion_class is the last update's).
-        bool known = false;
-        /// The builder of its current tree, and what its builds and refits measured.
-        bvh::BuildMethod built_with = bvh::BuildMethod::binned_sah;
-        ObjectCosts costs;
-        /// Its mesh's triangles (the scene's, borrowed) and its unit vertex normals in the
-        /// space of its triangles, or empty: world space for static objects (own_normals, a
-        /// copy taken when the static group is built), deformable and exploding ones
-        /// (borrowed from ObjectState), object space for rigid ones (borrowed from
-        /// FixedPositions), which normal_to_world turns (the cofactor matrix of
-        /// object_to_world).
-        std::span<const glm::uvec3> corners;
-        std::span<const glm::vec3> normals;
-        std::vector<glm::vec3> own_normals;
-        glm::mat3 normal_to_world{1.0f};
-    };
-
-    /// Builds `object`'s tree from its triangles with `config`'s builder, and records the
-    /// time in its costs and in rates_.
-    void build(ObjectTree& object, const bvh::BuildConfig& config);
-    /// Object `i`'s inputs to the cost model: the last frame's trace time and the object's
-    /// share of it (its weighted SAH over the scene's, from the last update).
-    TraceCost trace_cost_of(std::size_t i) const;
+    struct Update;
+    /// Object `i`'s step of update `run`: its class counted, its rigid transform taken, the
+    /// planned action carried out on its tree.
+    void update_object(std::size_t i, const Update& run, UpdateStats& stats);
+    /// The top level over the static group and the other objects' trees, and the objects'
+    /// world boxes from it.
+    void build_top(UpdateStats& stats);
+    /// Measures the trees built this update, the scene's SAH cost for the cost model, and the
+    /// whole structure's shape into `shape`.
+    void measure(const bvh::SahCosts& costs, TreeShape& shape);
     void build_static_group(const Scene& scene, std::span<const ObjectState> objects,
                             const FixedPositions& fixed, const bvh::BuildConfig& config,
                             RebuildReason reason, UpdateStats& stats);
@@ -218,13 +174,10 @@ private:
     std::vector<TreeHistory> history_;
     UpdatePlan plan_;
     bool static_group_known_ = false;
-    /// The cost model's memory: build rates measured so far, the last frame's trace time, and
-    /// the last update's scene SAH cost and root half area.
-    BuildRates rates_;
-    double last_trace_ms_ = 0.0;
-    double last_scene_sah_ = 0.0;
-    double last_root_area_ = 0.0;
-    bool vertex_normals_ = true;
+    /// What the automatic update method remembers across frames.
+    CostMemory costs_;
+    /// The objects' corners and vertex normals, refreshed by every update.
+    ShadingGeometry shading_;
 };
 
 }  // namespace dynrt

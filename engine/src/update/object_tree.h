@@ -1,0 +1,85 @@
+#pragma once
+// One object's tree over the frames of a sequence, and the one step that brings it up to date:
+// the action the update planner chose for it (update_plan.h) carried out, with the refit or
+// rebuild judged by the policy's method (judge_refit, or the measured costs of update_cost.h).
+// SceneAccel holds one ObjectTree per object and one for the static group, and builds the top
+// level over them.
+
+#include "dynrt/anim/motion_class.h"
+#include "dynrt/bvh/binned_sah_builder.h"
+#include "dynrt/bvh/triangle.h"
+#include "dynrt/bvh/triangle_bvh.h"
+#include "dynrt/engine/frame_stats.h"
+#include "dynrt/engine/update_plan.h"
+#include "dynrt/scene/scene.h"
+#include "update/cost_memory.h"
+
+#include <glm/mat4x4.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace dynrt {
+
+struct ObjectTree {
+    /// The triangles the tree was built or refitted from, in the mesh's order: world space
+    /// for static, deformable and exploding objects, object space for rigid ones.
+    std::vector<bvh::Triangle> triangles;
+    bvh::TriangleBvh tree;
+    anim::MotionClass motion_class = anim::MotionClass::static_;
+    /// Rigid objects: object to world this frame, and its inverse (the identity otherwise).
+    glm::mat4 object_to_world{1.0f};
+    glm::mat4 world_to_object{1.0f};
+    /// SAH cost at the last build, and now (after refits).
+    double built_sah = 0.0;
+    double sah = 0.0;
+    bvh::BvhStats shape;
+    /// The tree matches the triangles (TreeHistory::built).
+    bool built = false;
+    /// built_sah, sah and shape describe the current tree (false right after a build).
+    bool measured = false;
+    /// Static objects: where their triangles start in the static group.
+    std::uint32_t group_first = 0;
+    /// An update has seen the object (so motion_class is the last update's).
+    bool known = false;
+    /// The builder of its current tree, and what its builds and refits measured.
+    bvh::BuildMethod built_with = bvh::BuildMethod::binned_sah;
+    ObjectCosts costs;
+};
+
+/// Builds `object`'s tree from its triangles with `config`'s builder, and records the time in
+/// its costs and in `memory`. Its SAH cost and shape are measured later (measure_tree), outside
+/// the build's time.
+void build_tree(ObjectTree& object, const bvh::BuildConfig& config, CostMemory& memory);
+
+/// After a build: records the new tree's SAH cost (what later refits are compared with, and
+/// what the automatic method predicts trace times from) and shape; a no-op for a tree measured
+/// already.
+void measure_tree(ObjectTree& object, const bvh::SahCosts& costs);
+
+/// One object of an update: which it is, the mesh and pose it has now, and what was planned.
+struct ObjectUpdate {
+    std::size_t index;
+    const std::string& name;
+    const Mesh& mesh;
+    /// The positions its triangles are gathered from: object space for a rigid object, world
+    /// space for the others.
+    std::span<const glm::vec3> positions;
+    ObjectPlan planned;
+    /// The builder and its settings for a rebuild (the object's class's, and the method's).
+    bvh::BuildConfig config;
+    /// Its inputs to the automatic method's choices (CostMemory::trace_cost, from the last
+    /// update, taken before this one changes anything).
+    TraceCost trace;
+};
+
+/// Carries out `update.planned.action` on `object` (a rebuild or a refit; keep and
+/// move_instance only count as skipped; build_in_static_group is the static group's), and
+/// records the work, its times and its choices in `stats`. Throws what the builder throws, the
+/// tree then marked not built so that the next update rebuilds it.
+void update_tree(ObjectTree& object, const ObjectUpdate& update, const UpdatePolicy& policy,
+                 CostMemory& memory, UpdateStats& stats);
+
+}  // namespace dynrt

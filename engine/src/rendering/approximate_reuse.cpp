@@ -5,9 +5,7 @@
 #include "dynrt/packet/tiling.h"
 #include "rendering/changed_space.h"
 #include "rendering/same_view.h"
-#include "rendering/tile_shading.h"
-#include "rendering/stage_work.h"
-#include "rendering/tile_tracing.h"
+#include "rendering/tile_pass.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/combinable.h>
@@ -452,71 +450,71 @@ Selection choose_blocks(const ApproximateFrame& f, const Ranking& ranking) {
     return Selection{ranking, threshold, frame_seed, cutoff};
 }
 
-/// Traces the selected pixels of `tile` into `out` (the others keep what it holds) and
-/// stores their samples in the cache.
-void trace_selected_tile(const ApproximateFrame& f, const TileShading& shading,
-                         const Selection& selected, const packet::Tile& tile, TraceScratch& scratch,
-                         StageWork& tw, RenderedFrame& out) {
-    const TraceInputs& in = f.in;
-    const TraceSettings& options = f.options;
-    const packet::PinholeRays& pinhole = f.pinhole;
-    PixelCache& cache = f.cache;
-    const std::span<const PointLight> lights = in.lights;
-    const int width = f.width;
-    packet::LaneMask lanes;
-    for (int y = tile.y0; y < tile.y1; ++y) {
-        for (int x = tile.x0; x < tile.x1; ++x) {
-            const std::size_t p = std::size_t(y) * width + x;
-            if (selected(x, y)) lanes.set(packet::tile_lane(tile, x, y));
-            else scratch.hits[p] = bvh::InstanceHit{};  // shaded as a miss, then restored
+/// The approximate modes' choice of rays for trace_tile (tile_pass.h): the selected pixels of
+/// a tile traced into `out`, the others keeping what it holds, and the traced pixels' samples
+/// stored in the cache.
+class SelectedTile {
+public:
+    SelectedTile(const ApproximateFrame& f, const Selection& selected, const packet::Tile& tile,
+                 std::vector<bvh::InstanceHit>& hits, RenderedFrame& out)
+        : f_(f), selected_(selected), tile_(tile), hits_(hits), out_(out) {}
+
+    packet::LaneMask camera_lanes(TileRays&) {
+        for (int y = tile_.y0; y < tile_.y1; ++y) {
+            for (int x = tile_.x0; x < tile_.x1; ++x) {
+                const std::size_t p = std::size_t(y) * f_.width + x;
+                const int lane = packet::tile_lane(tile_, x, y);
+                if (selected_(x, y)) {
+                    lanes_.set(lane);
+                    continue;
+                }
+                hits_[p] = bvh::InstanceHit{};  // shaded as a miss, then restored
+                kept_[std::size_t(lane)] = f_.options.hit_buffers
+                                               ? Kept{out_.color[p], out_.normal[p], out_.depth[p],
+                                                      out_.object[p], out_.prim[p]}
+                                               : Kept{out_.color[p], glm::vec3(0.0f), 0.0f, 0, 0};
+            }
         }
+        return lanes_;
     }
-    if (!lanes.any()) return;
-    Stopwatch clock;
-    TraceWork* trace_work = f.options.count_packet_work ? &tw.trace : nullptr;
-    packet::RayPacket rays;
-    pinhole.fill_tile(tile, rays);
-    const packet::LaneMask tile_lanes = rays.active;
-    rays.active = lanes;
-    trace_tile_hits(in.tracer, tile, width, rays, scratch.hits, trace_work);
-    rays.active = tile_lanes;
-    tw.primary_rays += std::size_t(lanes.count());
-    tw.primary_ms += clock.lap_ms();
+    bool may_change(const packet::LaneMask& traced) { return traced.any(); }
+    bool shadows(const TileShadowOrigins& origins, const packet::LaneMask&, TileRays&,
+                 std::vector<packet::LaneMask>& visible, StageWork& work) {
+        packet::RayPacket shadow;
+        work.shadow_rays += trace_tile_shadows(f_.in.tracer, RayCoherence::tile, origins, f_.in.lights,
+                                               shadow, visible, f_.options.count_packet_work ? &work.trace : nullptr);
+        return true;
+    }
+    /// What the pixels not traced showed restored, the traced ones' samples stored.
+    void written(const TileShadowOrigins& origins, TileRays& rays, RenderedFrame& out);
+    bool gathers_secondary() const { return false; }
 
-    TileShadowOrigins origins;
-    origins.compute(in.accel, scratch.hits, width, tile, rays, in.object_material);
-    std::vector<packet::LaneMask> visible;
-    packet::RayPacket shadow;
-    tw.shadow_rays += trace_tile_shadows(in.tracer, RayCoherence::tile, origins, lights, shadow,
-                                         visible, trace_work);
-    tw.shadow_ms += clock.lap_ms();
-
-    // Shade the tile, keeping what the pixels not traced already show.
+private:
+    /// A pixel's values as the frame held them before the tile was written.
     struct Kept {
         glm::vec3 color, normal;
         float depth;
         std::int32_t object, prim;
     };
-    std::array<Kept, packet::kPacketRays> kept;
+    const ApproximateFrame& f_;
+    const Selection& selected_;
+    const packet::Tile& tile_;
+    std::vector<bvh::InstanceHit>& hits_;
+    RenderedFrame& out_;
+    packet::LaneMask lanes_;
+    std::array<Kept, packet::kPacketRays> kept_;
+};
+
+void SelectedTile::written(const TileShadowOrigins& origins, TileRays& rays, RenderedFrame& out) {
+    const bool hit_buffers = f_.options.hit_buffers;
     for (int lane = 0; lane < packet::kPacketRays; ++lane) {
-        const packet::LanePixel px = packet::tile_pixel(tile, lane);
-        if (!px.inside || lanes.test(lane)) continue;
-        const std::size_t p = std::size_t(px.y) * width + px.x;
-        kept[std::size_t(lane)] =
-            options.hit_buffers
-                ? Kept{out.color[p], out.normal[p], out.depth[p], out.object[p], out.prim[p]}
-                : Kept{out.color[p], glm::vec3(0.0f), 0.0f, 0, 0};
-    }
-    packet::ShadedColors colors;
-    shade_tile(shading, tile, origins, visible, scratch.hits, colors, out);
-    for (int lane = 0; lane < packet::kPacketRays; ++lane) {
-        const packet::LanePixel px = packet::tile_pixel(tile, lane);
+        const packet::LanePixel px = packet::tile_pixel(tile_, lane);
         if (!px.inside) continue;
-        const std::size_t p = std::size_t(px.y) * width + px.x;
-        if (!lanes.test(lane)) {
-            const Kept& k = kept[std::size_t(lane)];
+        const std::size_t p = std::size_t(px.y) * f_.width + px.x;
+        if (!lanes_.test(lane)) {
+            const Kept& k = kept_[std::size_t(lane)];
             out.color[p] = k.color;
-            if (options.hit_buffers) {
+            if (hit_buffers) {
                 out.depth[p] = k.depth;
                 out.normal[p] = k.normal;
                 out.object[p] = k.object;
@@ -526,18 +524,17 @@ void trace_selected_tile(const ApproximateFrame& f, const TileShading& shading,
         }
         // The traced sample, for the next frames.
         const bool hit = origins.surface.hit.test(lane);
-        const bvh::InstanceHit& h = scratch.hits[p];
-        store(cache, p,
+        const bvh::InstanceHit& h = hits_[p];
+        store(f_.cache, p,
               Sample{out.color[p],
                      hit ? glm::vec3(origins.surface.point[0][lane], origins.surface.point[1][lane],
                                      origins.surface.point[2][lane])
-                         : rays.ray(lane).dir,
+                         : rays.get().ray(lane).dir,
                      hit ? glm::vec3(origins.surface.normal[0][lane], origins.surface.normal[1][lane],
                                      origins.surface.normal[2][lane])
                          : glm::vec3(0.0f),
                      hit ? std::int32_t(h.object) : -1, hit ? std::int32_t(h.hit.prim) : -1, 0});
     }
-    tw.shade_ms += clock.lap_ms();
 }
 
 /// Holes left (pixels without a sample): the mean of their known neighbours, a few passes
@@ -659,8 +656,11 @@ void trace_frame_approximate(const TraceInputs& in, const Camera& camera,
     const TileShading shading = frame_shading(in, options, scratch);
     tbb::combinable<StageWork> work;
     const Stopwatch trace_clock;
+    const TilePass pass{in, pinhole, shading, nullptr, scratch.hits, width, options.count_packet_work};
     tbb::parallel_for(0, tiling.count(), [&](int t) {
-        trace_selected_tile(f, shading, selected, tiling.tile(t), scratch, work.local(), out);
+        const packet::Tile tile = tiling.tile(t);
+        SelectedTile choice(f, selected, tile, scratch.hits, out);
+        trace_tile(pass, t, tile, choice, work.local(), out);
     });
     const double trace_ms = trace_clock.elapsed_ms();
     const StageWork sum = work.combine([](StageWork a, const StageWork& b) { return a += b; });

@@ -6,11 +6,8 @@
 #include "dynrt/packet/tiling.h"
 #include "dynrt/packet/two_level_packet.h"
 #include "rendering/changed_space.h"
-#include "rendering/tile_tracing.h"
 #include "rendering/same_view.h"
-#include "rendering/secondary_rays.h"
-#include "rendering/stage_work.h"
-#include "rendering/tile_shading.h"
+#include "rendering/tile_pass.h"
 
 #include <tbb/combinable.h>
 #include <tbb/parallel_for.h>
@@ -198,49 +195,25 @@ void remember_inputs(const ReuseInputs& now, ReuseMemory& memory, RenderedFrame&
 
 namespace {
 
-/// What every tile of an exact-reuse trace reads, and the memory it updates.
+/// What every tile of an exact-reuse trace reads besides the pass, and the memory it updates.
 struct ReuseFrame {
-    const TraceInputs& in;
+    const TilePass& pass;
     const Camera& camera;
-    const packet::PinholeRays& pinhole;
-    const TileShading& shading;
     const ChangedSpace& space;
-    SecondaryStage* secondary;  ///< null: no secondary rays
     ReuseMemory& memory;
-    std::vector<bvh::InstanceHit>& hits;
-    int width;
-    bool all;    ///< every pixel is traced (ReusePlan::full)
-    bool count;  ///< traversal counters (TraceSettings::count_packet_work)
-};
-
-/// A tile's camera rays, made only when a test needs them: most tiles of a frame that reuses
-/// pixels are decided by their corner rays alone, and filling 256 rays for each was most of
-/// the cost of such a frame.
-struct LazyTileRays {
-    LazyTileRays(const packet::PinholeRays& pinhole_rays, const packet::Tile& tile_)
-        : pinhole(pinhole_rays), tile(tile_) {}
-
-    const packet::PinholeRays& pinhole;
-    const packet::Tile& tile;
-    packet::RayPacket rays;
-    bool filled = false;
-
-    packet::RayPacket& get() {
-        if (!filled) pinhole.fill_tile(tile, rays);
-        filled = true;
-        return rays;
-    }
+    bool all;  ///< every pixel is traced (ReusePlan::full)
 };
 
 /// The lanes of tile `t` whose camera rays may see something else than at the last trace
 /// (every lane when the whole frame is traced).
 packet::LaneMask changed_primary(const ReuseFrame& f, int t, const packet::Tile& tile,
-                                 LazyTileRays& rays, ChangedSpace& near) {
+                                 TileRays& rays, ChangedSpace& near) {
     if (f.all) return rays.get().active;
     // The corner pixels' rays (padding covers their rounding against fill_tile's).
-    const glm::vec3 corners[4] = {f.pinhole.ray(tile.x0, tile.y0).dir, f.pinhole.ray(tile.x1 - 1, tile.y0).dir,
-                                  f.pinhole.ray(tile.x0, tile.y1 - 1).dir,
-                                  f.pinhole.ray(tile.x1 - 1, tile.y1 - 1).dir};
+    const packet::PinholeRays& pinhole = f.pass.pinhole;
+    const glm::vec3 corners[4] = {pinhole.ray(tile.x0, tile.y0).dir, pinhole.ray(tile.x1 - 1, tile.y0).dir,
+                                  pinhole.ray(tile.x0, tile.y1 - 1).dir,
+                                  pinhole.ray(tile.x1 - 1, tile.y1 - 1).dir};
     // Only the boxes the tile's pyramid may meet are tested further.
     if (!f.space.select_pyramid(f.camera.eye, corners, near) ||
         (f.memory.all_hit[t] && !near.meets_hull(f.camera.eye, f.memory.hit_points[t]))) {
@@ -251,7 +224,7 @@ packet::LaneMask changed_primary(const ReuseFrame& f, int t, const packet::Tile&
     std::fill(std::begin(until), std::end(until), 0.0f);
     for (int y = tile.y0; y < tile.y1; ++y) {
         for (int x = tile.x0; x < tile.x1; ++x) {
-            const bvh::InstanceHit& hit = f.hits[std::size_t(y) * f.width + x];
+            const bvh::InstanceHit& hit = f.pass.hits[std::size_t(y) * f.pass.width + x];
             until[packet::tile_lane(tile, x, y)] = hit.is_hit() ? hit.hit.t : std::numeric_limits<float>::infinity();
         }
     }
@@ -265,7 +238,7 @@ packet::LaneMask changed_primary(const ReuseFrame& f, int t, const packet::Tile&
 packet::LaneMask retrace_shadows(const ReuseFrame& f, int t, const TileShadowOrigins& origins,
                                  const packet::LaneMask& primary, ChangedSpace& near,
                                  std::vector<packet::LaneMask>& visible, StageWork& tw) {
-    const std::span<const PointLight> lights = f.in.lights;
+    const std::span<const PointLight> lights = f.pass.in.lights;
     visible.assign(lights.size(), packet::LaneMask{});
     packet::LaneMask shadows_only;
     packet::RayPacket shadow;
@@ -283,7 +256,7 @@ packet::LaneMask retrace_shadows(const ReuseFrame& f, int t, const TileShadowOri
         packet::LaneMask occluded;
         if (retrace.any()) {
             shadow.active = retrace;
-            occluded = f.in.tracer.occluded(shadow, RayCoherence::tile, f.count ? &tw.trace : nullptr);
+            occluded = f.pass.in.tracer.occluded(shadow, RayCoherence::tile, f.pass.trace_work(tw));
             tw.shadow_rays += std::size_t(retrace.count());
         }
         const packet::LaneMask before = f.memory.visible[slot];
@@ -301,68 +274,62 @@ packet::LaneMask retrace_shadows(const ReuseFrame& f, int t, const TileShadowOri
     return shadows_only;
 }
 
-/// Tile number `t` of an exact-reuse trace: its camera rays and shadow rays that may have
-/// changed traced again, then, if any pixel may show something else, the whole tile shaded
-/// (the same bits where nothing changed) and its secondary rays gathered.
-void trace_reuse_tile(const ReuseFrame& f, int t, const packet::Tile& tile, ChangedSpace& near,
-                      StageWork& tw, RenderedFrame& out) {
-    Stopwatch clock;
-    LazyTileRays rays(f.pinhole, tile);
-    // ---- Primary rays that may see something else ----
-    const packet::LaneMask primary = changed_primary(f, t, tile, rays, near);
-    if (primary.any()) {
-        packet::RayPacket& tile_rays = rays.get();
-        const packet::LaneMask tile_lanes = tile_rays.active;
-        tile_rays.active = primary;
-        trace_tile_hits(f.in.tracer, tile, f.width, tile_rays, f.hits, f.count ? &tw.trace : nullptr);
-        tile_rays.active = tile_lanes;
-        tw.primary_rays += std::size_t(primary.count());
-    }
-    tw.primary_ms += clock.lap_ms();
+/// Exact reuse's choice of rays for trace_tile (tile_pass.h), for tile number `t`: its camera
+/// rays and shadow rays that may have changed traced again, then, if any pixel may show
+/// something else, the whole tile shaded (the same bits where nothing changed) and its
+/// secondary rays gathered.
+class ReuseTile {
+public:
+    ReuseTile(const ReuseFrame& f, int t, const packet::Tile& tile, ChangedSpace& near)
+        : f_(f), t_(t), tile_(tile), near_(near) {}
 
-    // ---- Shadow rays that may see something else ----
-    const std::size_t light_count = f.in.lights.size();
-    bool shadows_may_change = false;
-    for (std::size_t l = 0; l < light_count && !shadows_may_change; ++l) {
-        shadows_may_change = f.space.meets_hull(f.in.lights[l].position,
-                                                f.memory.shadow_ends[std::size_t(t) * light_count + l]);
-    }
-    const bool secondary_here = f.secondary && tile_spawns_secondary(f.in, tile, f.width, f.hits);
-    if (!primary.any() && !shadows_may_change && !secondary_here) {
-        tw.shadow_ms += clock.lap_ms();
-        return;  // the tile keeps every pixel
-    }
-    TileShadowOrigins origins;
-    origins.compute(f.in.accel, f.hits, f.width, tile, rays.get(), f.in.object_material);
-    if (primary.any()) {
-        bvh::Aabb points;
-        origins.surface.hit.for_each([&](int lane) {
-            points.extend(glm::vec3(origins.surface.point[0][lane], origins.surface.point[1][lane],
-                                    origins.surface.point[2][lane]));
-        });
-        f.memory.hit_points[t] = points;
-        f.memory.all_hit[t] = origins.surface.hit == rays.get().active;
-    }
-    thread_local std::vector<packet::LaneMask> visible;
-    packet::LaneMask shadows_only = retrace_shadows(f, t, origins, primary, near, visible, tw);
-    if (secondary_here) {
-        // Every pixel whose hit spawns secondary rays is traced again from its hit on.
-        (origins.surface.hit & ~primary & ~shadows_only).for_each([&](int lane) {
-            const auto m = std::size_t(origins.surface.material[lane]);
-            if (f.in.scene_materials[m].traces_secondary()) shadows_only.set(lane);
-        });
-    }
-    tw.shadows_only += std::size_t(shadows_only.count());
-    tw.shadow_ms += clock.lap_ms();
-    if (!primary.any() && !shadows_only.any()) return;  // the same pixels again
+    packet::LaneMask camera_lanes(TileRays& rays) { return changed_primary(f_, t_, tile_, rays, near_); }
 
-    // ---- Shading: the whole tile, the same bits where nothing changed ----
-    packet::ShadedColors colors;
-    shade_lanes(f.shading, origins, visible, colors);
-    write_tile(f.shading, tile, origins, f.hits, colors, out);
-    if (secondary_here) f.secondary->gather(t, tile, f.width, origins);
-    tw.shade_ms += clock.lap_ms();
-}
+    bool may_change(const packet::LaneMask& primary) {
+        const std::span<const PointLight> lights = f_.pass.in.lights;
+        bool shadows_may_change = false;
+        for (std::size_t l = 0; l < lights.size() && !shadows_may_change; ++l) {
+            shadows_may_change = f_.space.meets_hull(lights[l].position,
+                                                     f_.memory.shadow_ends[std::size_t(t_) * lights.size() + l]);
+        }
+        secondary_here_ = f_.pass.secondary &&
+                          tile_spawns_secondary(f_.pass.in, tile_, f_.pass.width, f_.pass.hits);
+        return primary.any() || shadows_may_change || secondary_here_;
+    }
+
+    bool shadows(const TileShadowOrigins& origins, const packet::LaneMask& primary, TileRays& rays,
+                 std::vector<packet::LaneMask>& visible, StageWork& work) {
+        if (primary.any()) {
+            bvh::Aabb points;
+            origins.surface.hit.for_each([&](int lane) {
+                points.extend(glm::vec3(origins.surface.point[0][lane], origins.surface.point[1][lane],
+                                        origins.surface.point[2][lane]));
+            });
+            f_.memory.hit_points[t_] = points;
+            f_.memory.all_hit[t_] = origins.surface.hit == rays.get().active;
+        }
+        packet::LaneMask shadows_only = retrace_shadows(f_, t_, origins, primary, near_, visible, work);
+        if (secondary_here_) {
+            // Every pixel whose hit spawns secondary rays is traced again from its hit on.
+            (origins.surface.hit & ~primary & ~shadows_only).for_each([&](int lane) {
+                const auto m = std::size_t(origins.surface.material[lane]);
+                if (f_.pass.in.scene_materials[m].traces_secondary()) shadows_only.set(lane);
+            });
+        }
+        work.shadows_only += std::size_t(shadows_only.count());
+        return primary.any() || shadows_only.any();  // else the same pixels again
+    }
+
+    void written(const TileShadowOrigins&, TileRays&, RenderedFrame&) {}
+    bool gathers_secondary() const { return secondary_here_; }
+
+private:
+    const ReuseFrame& f_;
+    int t_;
+    const packet::Tile& tile_;
+    ChangedSpace& near_;
+    bool secondary_here_ = false;
+};
 
 }  // namespace
 
@@ -412,14 +379,16 @@ void trace_frame_reusing(const TraceInputs& in, const Camera& camera, const Trac
 
     const bool count = options.count_packet_work;
     FrameSecondary secondary(in, options, shading, scratch);
-    const ReuseFrame frame{in,     camera,   pinhole,      shading, space, secondary.stage(),
-                           memory, scratch.hits, width, plan.full, count};
+    const TilePass pass{in, pinhole, shading, secondary.stage(), scratch.hits, width, count};
+    const ReuseFrame frame{pass, camera, space, memory, plan.full};
     tbb::combinable<StageWork> work;
     // Per thread, the changed boxes near the tile at hand (storage reused across tiles).
     tbb::combinable<ChangedSpace> nearby;
     const Stopwatch wall;
     tbb::parallel_for(0, tiling.count(), [&](int t) {
-        trace_reuse_tile(frame, t, tiling.tile(t), nearby.local(), work.local(), out);
+        const packet::Tile tile = tiling.tile(t);
+        ReuseTile choice(frame, t, tile, nearby.local());
+        trace_tile(pass, t, tile, choice, work.local(), out);
     });
     const StageWork sum = work.combine([](StageWork a, const StageWork& b) { return a += b; });
     finish(sum, wall.elapsed_ms());

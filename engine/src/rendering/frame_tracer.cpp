@@ -7,8 +7,7 @@
 #include "dynrt/packet/tiling.h"
 #include "rendering/adaptive_tile.h"
 #include "rendering/stage_work.h"
-#include "rendering/tile_shading.h"
-#include "rendering/tile_tracing.h"
+#include "rendering/tile_pass.h"
 
 #include <tbb/combinable.h>
 #include <tbb/parallel_for.h>
@@ -37,46 +36,23 @@ void trace_adaptive(const detail::AdaptiveFrame& frame, const packet::Tiling& ti
     if (count) sum.trace.report(out.stats);
 }
 
-/// What every tile of a full frame reads.
-struct FullFrame {
-    const TraceInputs& in;
-    const packet::PinholeRays& pinhole;
-    const detail::TileShading& shading;
-    detail::SecondaryStage* secondary;  ///< null: no secondary rays
-    int width;
-    bool count;
+/// A full frame's choice of rays for trace_tile (tile_pass.h): every camera ray and every
+/// shadow ray of every tile.
+struct EveryRay {
+    const detail::TilePass& f;
+
+    packet::LaneMask camera_lanes(detail::TileRays& rays) { return rays.get().active; }
+    bool may_change(const packet::LaneMask&) { return true; }
+    bool shadows(const detail::TileShadowOrigins& origins, const packet::LaneMask&, detail::TileRays& rays,
+                 std::vector<packet::LaneMask>& visible, StageWork& work) {
+        packet::RayPacket& shadow = rays.get();  // the camera rays are done with
+        work.shadow_rays += detail::trace_tile_shadows(f.in.tracer, RayCoherence::tile, origins, f.in.lights,
+                                                       shadow, visible, f.trace_work(work));
+        return true;
+    }
+    void written(const detail::TileShadowOrigins&, detail::TileRays&, RenderedFrame&) {}
+    bool gathers_secondary() const { return true; }
 };
-
-/// Tile number `index` of a full frame, in one task: its camera rays, their hits' shadow rays
-/// per light, shading and the writes to `out`, and the first reflection and refraction rays of
-/// its hits gathered for the secondary stage. Each stage's thread time goes to `work`.
-void trace_full_tile(const FullFrame& f, int index, const packet::Tile& tile,
-                     std::vector<bvh::InstanceHit>& hits, RenderedFrame& out, StageWork& work) {
-    Stopwatch clock;
-    TraceWork* trace_work = f.count ? &work.trace : nullptr;
-    packet::RayPacket rays;
-    f.pinhole.fill_tile(tile, rays);
-    detail::trace_tile_hits(f.in.tracer, tile, f.width, rays, hits, trace_work);
-    work.primary_rays += std::size_t(rays.active.count());
-    work.primary_ms += clock.lap_ms();
-
-    // The shadow rays start from the hit points, made from the camera rays' directions.
-    detail::TileShadowOrigins origins;
-    origins.compute(f.in.accel, hits, f.width, tile, rays, f.in.object_material);
-    thread_local std::vector<packet::LaneMask> visible;
-    packet::RayPacket& shadow = rays;  // the camera rays are done with
-    work.shadow_rays += detail::trace_tile_shadows(f.in.tracer, RayCoherence::tile, origins,
-                                                   f.in.lights, shadow, visible, trace_work);
-    work.shadow_ms += clock.lap_ms();
-
-    // Shading, on the normals and hit points the shadow rays were made from while they are
-    // still in cache.
-    packet::ShadedColors colors;
-    detail::shade_lanes(f.shading, origins, visible, colors);
-    detail::write_tile(f.shading, tile, origins, hits, colors, out);
-    if (f.secondary != nullptr) f.secondary->gather(index, tile, f.width, origins);
-    work.shade_ms += clock.lap_ms();
-}
 
 }  // namespace
 
@@ -138,11 +114,12 @@ void trace_frame(const TraceInputs& in, const Camera& camera, const TraceSetting
     }
 
     FrameSecondary secondary(in, options, shading, scratch);
-    const FullFrame frame{in, rays, shading, secondary.stage(), width, count};
+    const detail::TilePass pass{in, rays, shading, secondary.stage(), scratch.hits, width, count};
     tbb::combinable<StageWork> work;
     const Stopwatch clock;
     tbb::parallel_for(0, tiling.count(), [&](int i) {
-        trace_full_tile(frame, i, tiling.tile(i), scratch.hits, out, work.local());
+        EveryRay every{pass};
+        detail::trace_tile(pass, i, tiling.tile(i), every, work.local(), out);
     });
     const StageWork sum = work.combine([](StageWork a, const StageWork& b) { return a += b; });
     detail::report_stages(sum, clock.elapsed_ms(), stats);

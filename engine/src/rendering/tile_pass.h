@@ -1,0 +1,120 @@
+#pragma once
+// One tile's pass through a frame's stages, written once for every mode that traces pixels:
+//
+//   camera rays -> closest hits -> hit records -> shadow rays per light -> shading -> writes
+//   -> the hits' first reflection and refraction rays gathered for the secondary stage
+//
+// run in one task per 16x16 tile, each stage timed on its own thread (stage_work.h). A mode is
+// a choice of which rays enter and what is kept (the `choice` of trace_tile):
+//
+//   a full frame     every camera ray, every shadow ray (frame_tracer.cpp, EveryRay);
+//   exact reuse      the camera rays that may see something else, the shadow rays that may be
+//                    blocked otherwise, the other pixels kept (exact_reuse.cpp, ReuseTile);
+//   render cache,    the pixels of the chosen blocks, whose samples are stored; the others
+//   frameless        keep what the frame shows (approximate_reuse.cpp, SelectedTile).
+//
+// Adaptive sampling (adaptive_tile.h) traces its tiles' corners first and chooses the rest from
+// what they show, so it runs its own loop over the same seam calls (tile_tracing.h).
+
+#include "dynrt/packet/pinhole.h"
+#include "dynrt/packet/ray_packet.h"
+#include "dynrt/packet/tiling.h"
+#include "dynrt/engine/stopwatch.h"
+#include "rendering/frame_tracer.h"
+#include "rendering/secondary_rays.h"
+#include "rendering/stage_work.h"
+#include "rendering/tile_shading.h"
+#include "rendering/tile_tracing.h"
+
+#include <vector>
+
+namespace dynrt::detail {
+
+/// A tile's camera rays, made only when something needs them: most tiles of a frame that
+/// reuses pixels are decided by their corner rays alone, and filling 256 rays for each was
+/// most of the cost of such a frame.
+class TileRays {
+public:
+    TileRays(const packet::PinholeRays& pinhole, const packet::Tile& tile) : pinhole_(pinhole), tile_(tile) {}
+
+    packet::RayPacket& get() {
+        if (!filled_) pinhole_.fill_tile(tile_, rays_);
+        filled_ = true;
+        return rays_;
+    }
+
+private:
+    const packet::PinholeRays& pinhole_;
+    const packet::Tile& tile_;
+    packet::RayPacket rays_;
+    bool filled_ = false;
+};
+
+/// What every tile of a frame reads, whatever the mode.
+struct TilePass {
+    const TraceInputs& in;
+    const packet::PinholeRays& pinhole;
+    const TileShading& shading;
+    SecondaryStage* secondary;  ///< null: no secondary rays
+    /// The frame's per-pixel hits, which the camera rays' hits are written into in place.
+    std::vector<bvh::InstanceHit>& hits;
+    int width;
+    bool count;  ///< traversal counters (TraceSettings::count_packet_work)
+
+    TraceWork* trace_work(StageWork& work) const { return count ? &work.trace : nullptr; }
+};
+
+/// Tile number `index` of a frame: `choice` says, in this order, once each,
+///
+///   packet::LaneMask camera_lanes(TileRays&)          the camera rays traced (their hits
+///                                                     written in place), none to keep all;
+///   bool may_change(const packet::LaneMask& traced)   whether any pixel may show something
+///                                                     else; if not, the tile stops here;
+///   bool shadows(const TileShadowOrigins&, const packet::LaneMask& traced, TileRays&,
+///                std::vector<packet::LaneMask>& visible, StageWork&)
+///                                                     visible[l]: the hit lanes light l
+///                                                     reaches (traced, or kept); whether to
+///                                                     shade and write the tile;
+///   void written(const TileShadowOrigins&, TileRays&, RenderedFrame&)
+///                                                     after the whole tile was written;
+///   bool gathers_secondary()                          whether its hits' secondary rays join
+///                                                     the secondary stage.
+template <class Choice>
+void trace_tile(const TilePass& f, int index, const packet::Tile& tile, Choice& choice,
+                StageWork& work, RenderedFrame& out) {
+    Stopwatch clock;
+    TileRays rays(f.pinhole, tile);
+    const packet::LaneMask traced = choice.camera_lanes(rays);
+    if (traced.any()) {
+        packet::RayPacket& camera = rays.get();
+        const packet::LaneMask tile_lanes = camera.active;
+        camera.active = traced;
+        trace_tile_hits(f.in.tracer, tile, f.width, camera, f.hits, f.trace_work(work));
+        camera.active = tile_lanes;
+        work.primary_rays += std::size_t(traced.count());
+    }
+    work.primary_ms += clock.lap_ms();
+    if (!choice.may_change(traced)) {
+        work.shadow_ms += clock.lap_ms();
+        return;  // the tile keeps every pixel
+    }
+
+    // The shadow rays start from the hit points, made from the camera rays' directions.
+    TileShadowOrigins origins;
+    origins.compute(f.in.accel, f.hits, f.width, tile, rays.get(), f.in.object_material);
+    thread_local std::vector<packet::LaneMask> visible;
+    const bool shade = choice.shadows(origins, traced, rays, visible, work);
+    work.shadow_ms += clock.lap_ms();
+    if (!shade) return;
+
+    // Shading, on the normals and hit points the shadow rays were made from while they are
+    // still in cache; the whole tile, which gives the same bits where nothing changed.
+    packet::ShadedColors colors;
+    shade_lanes(f.shading, origins, visible, colors);
+    write_tile(f.shading, tile, origins, f.hits, colors, out);
+    choice.written(origins, rays, out);
+    if (f.secondary != nullptr && choice.gathers_secondary()) f.secondary->gather(index, tile, f.width, origins);
+    work.shade_ms += clock.lap_ms();
+}
+
+}  // namespace dynrt::detail

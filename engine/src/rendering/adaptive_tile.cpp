@@ -1,7 +1,7 @@
 #include "adaptive_tile.h"
 
 #include "dynrt/engine/stopwatch.h"
-#include "rendering/tile_tracing.h"
+#include "rendering/tile_pass.h"
 
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
@@ -94,10 +94,11 @@ namespace {
 /// share (trace_tile_adaptive).
 class AdaptiveTile {
 public:
-    AdaptiveTile(const AdaptiveFrame& frame, const packet::Tile& tile, std::vector<bvh::InstanceHit>& hits,
-                 RenderedFrame& out, StageWork& work, bool count)
-        : f_(frame), tile_(tile), hits_(hits), out_(out), work_(work),
-          trace_work_(count ? &work.trace : nullptr), visible_(frame.lights.size()) {
+    AdaptiveTile(const AdaptiveFrame& frame, int index, const packet::Tile& tile, RenderedFrame& out,
+                 StageWork& work)
+        : f_(frame.pass), tolerance_(frame.tolerance), index_(index), tile_(tile), hits_(frame.pass.hits),
+          out_(out), work_(work), trace_work_(frame.pass.trace_work(work)),
+          visible_(frame.pass.in.lights.size()) {
         nx_ = grid_of(tile.x1 - tile.x0, gx_);
         ny_ = grid_of(tile.y1 - tile.y0, gy_);
         f_.pinhole.fill_tile(tile, rays_);
@@ -123,7 +124,7 @@ public:
             return;
         }
         // The samples' shadows and colours.
-        origins_.compute(f_.accel, hits_, f_.width, tile_, rays_, f_.object_material);
+        origins_.compute(f_.in.accel, hits_, f_.width, tile_, rays_, f_.in.object_material);
         trace_shadows();
         work_.shadow_ms += clock_.lap_ms();
         shade_lanes(f_.shading, origins_, visible_, colors_);
@@ -138,7 +139,9 @@ public:
     }
 
 private:
-    const AdaptiveFrame& f_;
+    const TilePass& f_;
+    float tolerance_;
+    int index_;
     const packet::Tile& tile_;
     std::vector<bvh::InstanceHit>& hits_;
     RenderedFrame& out_;
@@ -176,30 +179,25 @@ private:
 
     void trace_primary(const packet::LaneMask& lanes) {
         rays_.active = lanes;
-        trace_tile_hits(f_.tracer, tile_, f_.width, rays_, hits_, trace_work_);
+        trace_tile_hits(f_.in.tracer, tile_, f_.width, rays_, hits_, trace_work_);
         rays_.active = all_;
         work_.primary_rays += std::size_t(lanes.count());
     }
     void trace_shadows() {
-        work_.shadow_rays += trace_tile_shadows(f_.tracer, RayCoherence::tile, origins_, f_.lights,
+        work_.shadow_rays += trace_tile_shadows(f_.in.tracer, RayCoherence::tile, origins_, f_.in.lights,
                                                 shadow_, visible_, trace_work_);
     }
-    /// The exact path for the whole tile, as the renderer's packet tracer does it.
+    /// The exact path for the whole tile: the full frame's tile pass.
     void trace_whole_tile() {
-        trace_primary(all_);
-        work_.primary_ms += clock_.lap_ms();
-        origins_.compute(f_.accel, hits_, f_.width, tile_, rays_, f_.object_material);
-        trace_shadows();
-        work_.shadow_ms += clock_.lap_ms();
-        shade_tile(f_.shading, tile_, origins_, visible_, hits_, colors_, out_);
-        work_.shade_ms += clock_.lap_ms();
+        EveryRay every{f_};
+        trace_tile(f_, index_, tile_, every, work_, out_);
     }
 
     /// What the samples' hits alone say: every cell's four corners hit one object (or all
     /// miss) and no other object's box reaches into the cell's frustum in front of them.
     bool cells_see_one_object() const {
         const glm::dvec3 eye(rays_.org_x[0], rays_.org_y[0], rays_.org_z[0]);
-        const std::vector<bvh::Aabb>& boxes = f_.accel.object_world_boxes();
+        const std::vector<bvh::Aabb>& boxes = f_.in.accel.object_world_boxes();
         for (int j = 0; j + 1 < ny_; ++j) {
             for (int i = 0; i + 1 < nx_; ++i) {
                 const std::array<int, 4> c = corners_of(i, j);
@@ -235,7 +233,7 @@ private:
     /// normal and colour.
     bool cells_shade_alike() const {
         const packet::SurfacePacket& surface = origins_.surface;
-        const float tol = f_.tolerance;
+        const float tol = tolerance_;
         for (int j = 0; j + 1 < ny_; ++j) {
             for (int i = 0; i + 1 < nx_; ++i) {
                 const std::array<int, 4> c = corners_of(i, j);
@@ -302,10 +300,9 @@ private:
 
 }  // namespace
 
-void trace_tile_adaptive(const AdaptiveFrame& f, const packet::Tile& tile,
-                         std::vector<bvh::InstanceHit>& hits, RenderedFrame& out,
-                         StageWork& work, bool count) {
-    AdaptiveTile(f, tile, hits, out, work, count).run();
+void trace_tile_adaptive(const AdaptiveFrame& frame, int index, const packet::Tile& tile,
+                         RenderedFrame& out, StageWork& work) {
+    AdaptiveTile(frame, index, tile, out, work).run();
 }
 
 }  // namespace dynrt::detail

@@ -22,10 +22,8 @@
 #include "dynrt/engine/renderer.h"
 #include "dynrt/packet/pinhole.h"
 #include "dynrt/packet/tiling.h"
-#include "update/scene_accel.h"
 #include "rendering/stage_work.h"
-#include "rendering/tile_shading.h"
-#include "dynrt/engine/trace_backend.h"
+#include "rendering/tile_pass.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -36,21 +34,15 @@ namespace dynrt::detail {
 
 /// What adaptive sampling needs besides the tile; fixed for a frame.
 struct AdaptiveFrame {
-    const SceneAccel& accel;
-    const packet::PinholeRays& pinhole;
-    std::span<const PointLight> lights;
-    const TileShading& shading;
-    const std::vector<std::int32_t>& object_material;
-    const TraceBackend& tracer;
+    /// The frame's tile pass (without secondary rays), which a tile not interpolated takes.
+    const TilePass& pass;
     float tolerance;  ///< > 0
-    int width;
 };
 
-/// Renders `tile` adaptively into `out` (buffers already sized) and `hits` (the traced pixels'
-/// hits; interpolated pixels get a miss), adding its work to `work` (its traversal counters
-/// too when `count`).
-void trace_tile_adaptive(const AdaptiveFrame& frame, const packet::Tile& tile,
-                         std::vector<bvh::InstanceHit>& hits, RenderedFrame& out, StageWork& work,
-                         bool count);
+/// Renders tile number `index`, `tile`, adaptively into `out` (buffers already sized) and the
+/// pass's hits (the traced pixels' hits; interpolated pixels get a miss), adding its work to
+/// `work`.
+void trace_tile_adaptive(const AdaptiveFrame& frame, int index, const packet::Tile& tile,
+                         RenderedFrame& out, StageWork& work);
 
 }  // namespace dynrt::detail

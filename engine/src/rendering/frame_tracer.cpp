@@ -22,37 +22,18 @@ using detail::StageWork;
 
 /// The adaptive path (RenderOptions::adaptive_tolerance > 0): each tile sampled, traced,
 /// shadowed and shaded by trace_tile_adaptive in one task.
-void trace_adaptive(const detail::AdaptiveFrame& frame, const packet::Tiling& tiling,
-                    std::vector<bvh::InstanceHit>& hits, bool count, RenderedFrame& out) {
+void trace_adaptive(const detail::AdaptiveFrame& frame, const packet::Tiling& tiling, RenderedFrame& out) {
     tbb::combinable<StageWork> work;
     const Stopwatch clock;
     tbb::parallel_for(0, tiling.count(), [&](int i) {
-        detail::trace_tile_adaptive(frame, tiling.tile(i), hits, out, work.local(), count);
+        detail::trace_tile_adaptive(frame, i, tiling.tile(i), out, work.local());
     });
     const double wall_ms = clock.elapsed_ms();
     const StageWork sum = work.combine([](StageWork a, const StageWork& b) { return a += b; });
     detail::report_stages(sum, wall_ms, out.stats);
     out.stats.interpolated_pixels = sum.interpolated;
-    if (count) sum.trace.report(out.stats);
+    if (frame.pass.count) sum.trace.report(out.stats);
 }
-
-/// A full frame's choice of rays for trace_tile (tile_pass.h): every camera ray and every
-/// shadow ray of every tile.
-struct EveryRay {
-    const detail::TilePass& f;
-
-    packet::LaneMask camera_lanes(detail::TileRays& rays) { return rays.get().active; }
-    bool may_change(const packet::LaneMask&) { return true; }
-    bool shadows(const detail::TileShadowOrigins& origins, const packet::LaneMask&, detail::TileRays& rays,
-                 std::vector<packet::LaneMask>& visible, StageWork& work) {
-        packet::RayPacket& shadow = rays.get();  // the camera rays are done with
-        work.shadow_rays += detail::trace_tile_shadows(f.in.tracer, RayCoherence::tile, origins, f.in.lights,
-                                                       shadow, visible, f.trace_work(work));
-        return true;
-    }
-    void written(const detail::TileShadowOrigins&, detail::TileRays&, RenderedFrame&) {}
-    bool gathers_secondary() const { return true; }
-};
 
 }  // namespace
 
@@ -106,10 +87,8 @@ void trace_frame(const TraceInputs& in, const Camera& camera, const TraceSetting
     const bool count = options.count_packet_work;
 
     if (options.adaptive_tolerance > 0.0f) {
-        const detail::AdaptiveFrame frame{in.accel, rays, in.lights, shading,
-                                          in.object_material, in.tracer,
-                                          options.adaptive_tolerance, width};
-        trace_adaptive(frame, tiling, scratch.hits, count, out);
+        const detail::TilePass pass{in, rays, shading, nullptr, scratch.hits, width, count};
+        trace_adaptive(detail::AdaptiveFrame{pass, options.adaptive_tolerance}, tiling, out);
         return;
     }
 
@@ -118,7 +97,7 @@ void trace_frame(const TraceInputs& in, const Camera& camera, const TraceSetting
     tbb::combinable<StageWork> work;
     const Stopwatch clock;
     tbb::parallel_for(0, tiling.count(), [&](int i) {
-        EveryRay every{pass};
+        detail::EveryRay every{pass};
         detail::trace_tile(pass, i, tiling.tile(i), every, work.local(), out);
     });
     const StageWork sum = work.combine([](StageWork a, const StageWork& b) { return a += b; });

@@ -7,14 +7,15 @@
 // run in one task per 16x16 tile, each stage timed on its own thread (stage_work.h). A mode is
 // a choice of which rays enter and what is kept (the `choice` of trace_tile):
 //
-//   a full frame     every camera ray, every shadow ray (frame_tracer.cpp, EveryRay);
+//   a full frame     every camera ray, every shadow ray (EveryRay, below);
 //   exact reuse      the camera rays that may see something else, the shadow rays that may be
 //                    blocked otherwise, the other pixels kept (exact_reuse.cpp, ReuseTile);
 //   render cache,    the pixels of the chosen blocks, whose samples are stored; the others
 //   frameless        keep what the frame shows (approximate_reuse.cpp, SelectedTile).
 //
-// Adaptive sampling (adaptive_tile.h) traces its tiles' corners first and chooses the rest from
-// what they show, so it runs its own loop over the same seam calls (tile_tracing.h).
+// Adaptive sampling (adaptive_tile.h) traces a tile's sample grid first and decides from what
+// it shows whether to interpolate the rest; a tile it cannot interpolate takes this pass with
+// every ray.
 
 #include "dynrt/packet/pinhole.h"
 #include "dynrt/packet/ray_packet.h"
@@ -116,5 +117,23 @@ void trace_tile(const TilePass& f, int index, const packet::Tile& tile, Choice& 
     if (f.secondary != nullptr && choice.gathers_secondary()) f.secondary->gather(index, tile, f.width, origins);
     work.shade_ms += clock.lap_ms();
 }
+
+/// A full frame's choice of rays for trace_tile: every camera ray and every shadow ray of the
+/// tile.
+struct EveryRay {
+    const TilePass& f;
+
+    packet::LaneMask camera_lanes(TileRays& rays) { return rays.get().active; }
+    bool may_change(const packet::LaneMask&) { return true; }
+    bool shadows(const TileShadowOrigins& origins, const packet::LaneMask&, TileRays& rays,
+                 std::vector<packet::LaneMask>& visible, StageWork& work) {
+        packet::RayPacket& shadow = rays.get();  // the camera rays are done with
+        work.shadow_rays += trace_tile_shadows(f.in.tracer, RayCoherence::tile, origins, f.in.lights, shadow,
+                                               visible, f.trace_work(work));
+        return true;
+    }
+    void written(const TileShadowOrigins&, TileRays&, RenderedFrame&) {}
+    bool gathers_secondary() const { return true; }
+};
 
 }  // namespace dynrt::detail

@@ -16,14 +16,14 @@
 // whole revolution per step (10 Hz: the scene moves 0.1 s per step). A real spinning lidar fires
 // while the scene moves; here each revolution sees one instant.
 //
-// Ray order. The engine traces each run of 256 consecutive rays of a batch as one packet when
-// the run is coherent: every direction within about 25 degrees of the run's mean and of one sign
-// per axis (src/api/ray_batch.h); otherwise it splits the run by the directions' signs and
-// traces each coherent group of 16 or more as a packet, the rest ray by ray. So the order in
+// Ray order. The engine splits each run of 256 consecutive rays of a batch by the directions'
+// signs and traces each group of 16 or more whose directions lie within about 25 degrees of its
+// middle ray's as one packet, the rest ray by ray (CpuTracer::as_packet,
+// src/rendering/cpu_tracer.h). So the order in
 // which the program lays its rays out decides how well the packets fill. --order picks it:
 //   firing   for each azimuth, every channel (the order a spinning lidar fires in): a run is
 //            8 azimuth columns of the 32 channels; the fan crosses the horizon, so each run
-//            splits by the vertical sign into two partly filled packets.
+//            splits by the vertical sign into two packets of about half the rays.
 //   channel  for each channel, every azimuth (a range image row by row): a run of 256 sweeps
 //            90 degrees of azimuth, far too wide for a packet.
 //   horizon  (default) the rays below the horizon first, then those above it, each half in

@@ -1,9 +1,10 @@
 #pragma once
 // Tracing a caller's batch of arbitrary rays through a SceneAccel (Engine::intersect and
-// Engine::occluded): the batch is cut into runs of 256 consecutive rays, each run into groups
-// by the signs of the directions; a group whose rays are coherent is traced as one packet
-// (packet/, with the group's lanes active), any other ray by ray. Both give the same hits bit
-// for bit (the packet tracer's contract), so the grouping only changes the time.
+// Engine::occluded): the batch is cut into runs of 256 consecutive rays, checked, and each run
+// handed to dynrt's tracer behind the trace seam (rendering/cpu_tracer.h) as rays of unknown
+// coherence, which splits it into groups by the signs of the directions and traces a coherent
+// group as one packet, any other ray by ray (CpuTracer::as_packet, the one rule). Both give the
+// same hits bit for bit (the packet tracer's contract), so the grouping only changes the time.
 
 #include "dynrt/api/engine.h"
 #include "dynrt/api/types.h"
@@ -13,14 +14,6 @@
 #include <span>
 
 namespace dynrt::api_detail {
-
-/// A group of rays is traced as a packet when every direction lies within this cosine of the
-/// group's middle ray's direction (about 25 degrees): packets share one traversal, which pays
-/// while the rays visit mostly the same nodes. Measured in benchmarks/bm_api.cpp.
-inline constexpr float kCoherentCosine = 0.9f;
-
-/// Smaller groups go ray by ray: the packet machinery costs more than it saves for a few rays.
-inline constexpr int kPacketRaysMin = 16;
 
 /// Closest hits (`hits` sized as `rays`). A hit's mesh is mesh_ids[object] for the object
 /// (slot) it hit, or the object index itself when `mesh_ids` is empty (MeshSlots::ids_of_slots).

@@ -2,6 +2,8 @@
 
 #include "dynrt/packet/two_level_packet.h"
 
+#include <bit>
+
 namespace dynrt::detail {
 
 namespace {
@@ -45,14 +47,84 @@ Scratch& thread_scratch() {
     return scratch;
 }
 
-}  // namespace
-
-bool CpuTracer::as_packet(int count, RayCoherence coherence) const {
-    if (single_rays_) return false;
-    return coherence == RayCoherence::tile ? count > kFewTileRays : count >= min_scattered_;
+/// `lanes` of `rays` by the octant of their directions.
+void split_by_octant(const RayPacket& rays, const LaneMask& lanes, LaneMask (&octant)[8]) {
+    lanes.for_each([&](int lane) {
+        const int o = int(rays.dir_x[lane] < 0.0f) | int(rays.dir_y[lane] < 0.0f) << 1 |
+                      int(rays.dir_z[lane] < 0.0f) << 2;
+        octant[o].set(lane);
+    });
 }
 
-void CpuTracer::closest_group(const RayPacket& rays, const LaneMask& lanes, bool packed,
+/// The `k`-th lane of `lanes` (0-based, in lane order); precondition: k < lanes.count().
+int nth_lane(const LaneMask& lanes, int k) {
+    int w = 0;
+    for (; k >= std::popcount(lanes.words[w]); ++w) k -= std::popcount(lanes.words[w]);
+    std::uint64_t bits = lanes.words[w];
+    for (; k > 0; --k) bits &= bits - 1;
+    return w * 64 + std::countr_zero(bits);
+}
+
+/// One past the last lane of `lanes` (0 when empty).
+int lane_end(const LaneMask& lanes) {
+    for (int w = kPacketRays / 64 - 1; w >= 0; --w) {
+        if (lanes.words[w] != 0) return w * 64 + 64 - std::countl_zero(lanes.words[w]);
+    }
+    return 0;
+}
+
+/// Whether every direction of `group` lies within `cosine` of the direction of its middle lane
+/// (in lane order), and, with `same_octant`, in that direction's octant. No square root:
+/// cos(d, r) >= c is tested as (d.r)^2 >= c^2 |d|^2 |r|^2 with d.r > 0. A group of the first
+/// lanes (a caller's run) is tested in one branch-free pass, which the compiler vectorises.
+template <bool same_octant>
+bool within_cone(const RayPacket& rays, const LaneMask& group, float cosine) {
+    const int middle = nth_lane(group, group.count() / 2);
+    const float rx = rays.dir_x[middle], ry = rays.dir_y[middle], rz = rays.dir_z[middle];
+    const float c2rr = cosine * cosine * (rx * rx + ry * ry + rz * rz);
+    const bool nx = rx < 0.0f, ny = ry < 0.0f, nz = rz < 0.0f;
+    const auto close = [&](int lane) {
+        const float dx = rays.dir_x[lane], dy = rays.dir_y[lane], dz = rays.dir_z[lane];
+        const float dr = dx * rx + dy * ry + dz * rz;
+        bool near = (dr > 0.0f) & (dr * dr >= c2rr * (dx * dx + dy * dy + dz * dz));
+        if constexpr (same_octant) near &= ((dx < 0.0f) == nx) & ((dy < 0.0f) == ny) & ((dz < 0.0f) == nz);
+        return near;
+    };
+    const int end = lane_end(group);
+    bool coherent = true;
+    if (group.count() == end) {
+        // Lanes 0 to end - 1, a caller's run: no mask to read.
+        for (int lane = 0; lane < end; ++lane) coherent &= close(lane);
+        return coherent;
+    }
+    group.for_each([&](int lane) { coherent &= close(lane); });
+    return coherent;
+}
+
+}  // namespace
+
+bool CpuTracer::as_packet(const RayPacket& rays, const LaneMask& group, RayCoherence coherence) const {
+    if (single_rays_) return false;
+    const int count = group.count();
+    switch (coherence) {
+        case RayCoherence::tile: return count > kFewTileRays;
+        case RayCoherence::scattered: return count >= min_scattered_;
+        case RayCoherence::unknown:
+            return count >= kPacketRaysMin && within_cone<false>(rays, group, kCoherentCosine);
+    }
+    return false;
+}
+
+bool CpuTracer::one_coherent_group(const RayPacket& rays) const {
+    return !single_rays_ && rays.active.count() >= kPacketRaysMin &&
+           within_cone<true>(rays, rays.active, kCoherentCosine);
+}
+
+bool CpuTracer::in_place(const RayPacket& rays, const LaneMask& lanes, RayCoherence coherence) {
+    return coherence == RayCoherence::tile || (coherence == RayCoherence::unknown && lanes == rays.active);
+}
+
+void CpuTracer::closest_group(const RayPacket& rays, const LaneMask& lanes, bool packed, bool traced_in_place,
                               HitTarget hits, TraceWork* work) const {
     const bvh::TwoLevelBvh& tlas = accel_.top_level();
     if (!packed) {
@@ -65,6 +137,15 @@ void CpuTracer::closest_group(const RayPacket& rays, const LaneMask& lanes, bool
         return;
     }
     Scratch& s = thread_scratch();
+    if (traced_in_place) {
+        packet::intersect_closest(tlas, rays, s.hits, packet_, work ? &work->packet : nullptr);
+        lanes.for_each([&](int lane) {
+            bvh::InstanceHit hit = s.hits.hit(lane);
+            accel_.resolve(hit);
+            hits[lane] = hit;
+        });
+        return;
+    }
     const int n = pack(rays, lanes, s.dense, s.lane_of);
     packet::intersect_closest(tlas, s.dense, s.hits, packet_, work ? &work->packet : nullptr);
     for (int k = 0; k < n; ++k) {
@@ -76,59 +157,76 @@ void CpuTracer::closest_group(const RayPacket& rays, const LaneMask& lanes, bool
 
 int CpuTracer::closest(const RayPacket& rays, RayCoherence coherence, HitTarget hits,
                        TraceWork* work) const {
-    int packet_rays = 0;
     if (coherence == RayCoherence::tile) {
         // A tile's rays, traced in their pixels' lanes: the packet's beam spans the tile.
-        const int count = rays.active.count();
-        if (as_packet(count, coherence)) {
-            Scratch& s = thread_scratch();
-            packet::intersect_closest(accel_.top_level(), rays, s.hits, packet_,
-                                      work ? &work->packet : nullptr);
-            rays.active.for_each([&](int lane) {
-                bvh::InstanceHit hit = s.hits.hit(lane);
-                accel_.resolve(hit);
-                hits[lane] = hit;
-            });
-            packet_rays = count;
-        } else {
-            closest_group(rays, rays.active, false, hits, work);
-        }
-    } else {
-        // Scattered rays, by direction octant.
-        LaneMask octant[8];
-        rays.active.for_each([&](int lane) {
-            const int o = int(rays.dir_x[lane] < 0.0f) | int(rays.dir_y[lane] < 0.0f) << 1 |
-                          int(rays.dir_z[lane] < 0.0f) << 2;
-            octant[o].set(lane);
-        });
-        for (const LaneMask& group : octant) {
-            const int count = group.count();
-            if (count == 0) continue;
-            const bool packed = as_packet(count, coherence);
-            closest_group(rays, group, packed, hits, work);
-            if (packed) packet_rays += count;
-        }
+        const bool packed = as_packet(rays, rays.active, coherence);
+        closest_group(rays, rays.active, packed, true, hits, work);
+        return packed ? rays.active.count() : 0;
+    }
+    if (coherence == RayCoherence::unknown && one_coherent_group(rays)) {
+        closest_group(rays, rays.active, true, true, hits, work);
+        return rays.active.count();
+    }
+    // Scattered rays, and a caller's, by direction octant.
+    int packet_rays = 0;
+    LaneMask octant[8];
+    split_by_octant(rays, rays.active, octant);
+    for (const LaneMask& group : octant) {
+        if (!group.any()) continue;
+        const bool packed = as_packet(rays, group, coherence);
+        closest_group(rays, group, packed, in_place(rays, group, coherence), hits, work);
+        if (packed) packet_rays += group.count();
     }
     return packet_rays;
 }
 
 LaneMask CpuTracer::occluded(const RayPacket& rays, RayCoherence coherence, TraceWork* work) const {
+    int packet_rays = 0;
+    return occluded(rays, coherence, work, packet_rays);
+}
+
+LaneMask CpuTracer::occluded(const RayPacket& rays, RayCoherence coherence, TraceWork* work,
+                             int& packet_rays) const {
+    packet_rays = 0;
+    if (coherence != RayCoherence::unknown) {
+        // A tile's shadow rays toward one light, or a sorted stream's toward one light.
+        const bool packed = as_packet(rays, rays.active, coherence);
+        if (packed) packet_rays = rays.active.count();
+        return occluded_group(rays, rays.active, packed, in_place(rays, rays.active, coherence), work);
+    }
+    if (one_coherent_group(rays)) {
+        packet_rays = rays.active.count();
+        return occluded_group(rays, rays.active, true, true, work);
+    }
+    LaneMask octant[8], blocked;
+    split_by_octant(rays, rays.active, octant);
+    for (const LaneMask& group : octant) {
+        if (!group.any()) continue;
+        const bool packed = as_packet(rays, group, coherence);
+        blocked |= occluded_group(rays, group, packed, in_place(rays, group, coherence), work);
+        if (packed) packet_rays += group.count();
+    }
+    return blocked;
+}
+
+LaneMask CpuTracer::occluded_group(const RayPacket& rays, const LaneMask& lanes, bool packed,
+                                   bool traced_in_place, TraceWork* work) const {
     const bvh::TwoLevelBvh& tlas = accel_.top_level();
     LaneMask blocked;
-    if (!as_packet(rays.active.count(), coherence)) {
-        rays.active.for_each([&](int lane) {
+    if (!packed) {
+        lanes.for_each([&](int lane) {
             const bool hit = work ? bvh::intersect_any(tlas, rays.ray(lane), work->single)
                                   : bvh::intersect_any(tlas, rays.ray(lane));
             if (hit) blocked.set(lane);
         });
         return blocked;
     }
-    if (coherence == RayCoherence::tile) {
+    if (traced_in_place) {
         packet::intersect_any(tlas, rays, blocked, packet_, work ? &work->packet : nullptr);
         return blocked;
     }
     Scratch& s = thread_scratch();
-    const int n = pack(rays, rays.active, s.dense, s.lane_of);
+    const int n = pack(rays, lanes, s.dense, s.lane_of);
     LaneMask dense_blocked;
     packet::intersect_any(tlas, s.dense, dense_blocked, packet_, work ? &work->packet : nullptr);
     for (int k = 0; k < n; ++k) {

@@ -23,16 +23,33 @@ public:
     packet::LaneMask occluded(const packet::RayPacket& rays, RayCoherence coherence,
                               TraceWork* work) const override;
 
-    /// The one rule for packet versus single rays: whether `count` rays of `coherence` are
-    /// traced as one packet. Never under Tracer::single. A tile's rays: more than
-    /// kFewTileRays, since a packet's traversal costs mostly per node, not per ray (a
-    /// handful of a tile's pixels, re-traced by reuse or adaptive sampling, cost less one by
-    /// one). Scattered rays: at least SecondaryRays::min_packet_rays of them, and for closest
-    /// hits those of one direction octant (a planar mirror's or a glass pane's stay as
-    /// coherent as camera rays; what a curved surface scatters does not).
-    bool as_packet(int count, RayCoherence coherence) const;
+    /// occluded(), also saying how many of the rays were traced as packets (the library API
+    /// reports it).
+    packet::LaneMask occluded(const packet::RayPacket& rays, RayCoherence coherence, TraceWork* work,
+                              int& packet_rays) const;
+
+    /// The one rule for packet versus single rays: whether the rays of `group` (lanes of
+    /// `rays`, of `coherence`) are traced as one packet. Never under Tracer::single.
+    ///   tile       more than kFewTileRays, since a packet's traversal costs mostly per node,
+    ///              not per ray (a handful of a tile's pixels, re-traced by reuse or adaptive
+    ///              sampling, cost less one by one);
+    ///   scattered  at least SecondaryRays::min_packet_rays of them, and for closest hits those
+    ///              of one direction octant (a planar mirror's or a glass pane's stay as
+    ///              coherent as camera rays; what a curved surface scatters does not);
+    ///   unknown    at least kPacketRaysMin of one octant, every direction within
+    ///              kCoherentCosine of the group's middle ray's (a caller's rays may be in any
+    ///              order; packets pay while their rays visit mostly the same nodes).
+    bool as_packet(const packet::RayPacket& rays, const packet::LaneMask& group, RayCoherence coherence) const;
+
+    /// Whether rays of unknown coherence are all one group that as_packet sends as a packet
+    /// (one octant, within the cone): the common case of a caller's batch in a coherent order,
+    /// recognised in one pass before any split.
+    bool one_coherent_group(const packet::RayPacket& rays) const;
 
     static constexpr int kFewTileRays = 32;
+    /// About 25 degrees, and 16 rays: measured on the library API's queries (benchmarks/bm_api.cpp).
+    static constexpr float kCoherentCosine = 0.9f;
+    static constexpr int kPacketRaysMin = 16;
 
 private:
     const SceneAccel& accel_;
@@ -40,10 +57,18 @@ private:
     packet::PacketConfig packet_;
     int min_scattered_;
 
-    /// Closest hits of `lanes` of `rays`, resolved: packed into the first lanes of one packet,
-    /// or one by one.
+    /// Whether a packet of `lanes` of `rays` is traced in their own lanes rather than packed
+    /// into the first ones: a tile's rays (the packet's beam spans the tile), and a caller's
+    /// batch when the group is all of it. Lane by lane the hits are the same either way
+    /// (packet_traversal.h); packing drops the empty chunks of a sparse group.
+    static bool in_place(const packet::RayPacket& rays, const packet::LaneMask& lanes, RayCoherence coherence);
+    /// Closest hits of `lanes` of `rays`, resolved: as one packet (in place, or packed into
+    /// the first lanes of one), or one by one.
     void closest_group(const packet::RayPacket& rays, const packet::LaneMask& lanes, bool as_packet,
-                       HitTarget hits, TraceWork* work) const;
+                       bool traced_in_place, HitTarget hits, TraceWork* work) const;
+    /// Which of `lanes` of `rays` are blocked, traced as closest_group traces them.
+    packet::LaneMask occluded_group(const packet::RayPacket& rays, const packet::LaneMask& lanes,
+                                    bool as_packet, bool traced_in_place, TraceWork* work) const;
 };
 
 }  // namespace dynrt::detail

@@ -36,6 +36,9 @@ enum class RayCoherence {
     /// Rays that may go anywhere: reflection and refraction rays, and the shadow rays of their
     /// hits.
     scattered,
+    /// A caller's rays, of which nothing is known: the library API's batches (a camera's, a
+    /// lidar sweep's, or rays in any order).
+    unknown,
 };
 
 /// Closest hits of a batch, by lane.

@@ -1,4 +1,4 @@
-# The installable package of the library API (README "Library API"): `cmake --install BUILD
+# The installable package of the library API (docs/library-api.md "Library API"): `cmake --install BUILD
 # --prefix P` puts into P
 #   lib/libdynrt.so*                      the shared library (target dynrt_api)
 #   include/dynrt/dynrt.h, api/*.h,       the public API headers and nothing else: the engine's

@@ -8,14 +8,16 @@ required=(build-essential cmake ninja-build pkg-config ccache
           libopenimageio-dev libbenchmark-dev libgtest-dev libcli11-dev
           libassimp-dev  # OBJ, PLY, FBX, Collada... scene files (engine/src/loaders/assimp_loader.cpp)
           gnuplot-nox   # gnuplot draws the charts of `dynrt bench --plot`
-          pybind11-dev python3-dev python3-numpy python3-pytest)  # the Python module (engine/python)
+          pybind11-dev python3-dev python3-numpy python3-pytest  # the Python module (engine/python)
+          doxygen mkdocs)  # the API reference and the guide's site (scripts/docs.sh, their tests)
 # The fuzz targets (scripts/fuzz.sh, run by scripts/test.sh) need clang and libFuzzer's runtime,
 # which Debian ships in libclang-rt-dev; older archives have it in a dependency of clang itself.
 fuzz=(clang libclang-rt-dev)
 # Embree is only a comparison backend and test oracle; Open MPI lets `mpirun dynrt render`
 # spread frames or tiles across processes (engine/mpi); the ffmpeg program writes `--out
 # anim.mp4` (and the video tests run with it). Installed when the archive has them.
-optional=(libembree-dev libopenmpi-dev openmpi-bin ffmpeg)
+# Chromium opens the guide's site in a test (Docs.SiteBuildsAndShows).
+optional=(libembree-dev libopenmpi-dev openmpi-bin ffmpeg chromium fonts-liberation)
 
 missing=()
 for p in "${required[@]}" "${fuzz[@]}" "${optional[@]}"; do
@@ -40,3 +42,5 @@ $sudo apt-get install -y -qq --no-install-recommends libopenmpi-dev openmpi-bin 
   || echo "install-deps: optional Open MPI not available; dynrt is built without MPI and its tests are skipped"
 $sudo apt-get install -y -qq --no-install-recommends ffmpeg >/dev/null \
   || echo "install-deps: optional ffmpeg not available; video output is refused and its tests are skipped"
+$sudo apt-get install -y -qq --no-install-recommends chromium fonts-liberation >/dev/null \
+  || echo "install-deps: optional chromium not available; the test that opens the guide's site is skipped"

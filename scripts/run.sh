@@ -13,7 +13,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
 bash scripts/build.sh release -DCMAKE_BUILD_TYPE=Release -- dynrt dynrt_python
-# `import dynrt` from Debian's python3 from now on (README "Python").
+# `import dynrt` from Debian's python3 from now on (docs/python.md "Python").
 bash scripts/install-python.sh build/release
 mkdir -p out
 dynrt=./build/release/engine/dynrt

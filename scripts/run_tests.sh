@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs the tests of one build tree: each GoogleTest program once, split into as many shards as
 # there are cores run side by side, then ctest for the tests that are not GoogleTest cases
-# (label gtest: examples, the README check, the installed-package build), then the Python
+# (label gtest: examples, the docs/library-api.md check, the installed-package build), then the Python
 # module's pytest suite (tests/python) when the tree built the module.
 # With DYNRT_TEST_TALLY set to a file, appends a line "PASSED FAILED" per program and one for
 # ctest, which scripts/test.sh sums into its closing summary line.

@@ -344,7 +344,7 @@ TEST_F(GltfLoaderTest, UnnamedNodesMultiPrimitiveMeshesAndMaterials) {
     EXPECT_EQ(scene.objects[2].material, 1u);
 }
 
-// The material mapping (gltf_loader.cpp, README "Materials"): base = baseColorFactor,
+// The material mapping (gltf_loader.cpp, docs/scene-input.md "Materials"): base = baseColorFactor,
 //   reflectance = metallic * base * (1 - roughness)^2, transmittance = transmission *
 //   (1 - metallic) * base, diffuse = base * (1 - transmission), ior from KHR_materials_ior
 //   (1.5 when the material has either extension, 1 otherwise).

@@ -1,5 +1,5 @@
 // Procedural scenes: the exact definitions of scenes/README.md recomputed independently here
-// (a second implementation written from the README, plus known answers computed in Python),
+// (a second implementation written from scenes/README.md, plus known answers computed in Python),
 // spec composition, malformed specs, load_scene dispatch, and check_scene's invariants.
 
 #include "dynrt/engine/scene_loading.h"

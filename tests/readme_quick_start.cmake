@@ -1,6 +1,6 @@
 # CTest Readme.QuickStartIsTheExample (registered in tests/CMakeLists.txt):
 #   cmake -DREADME=README.md -DEXAMPLE=engine/examples/quick_start.cpp -P readme_quick_start.cmake
-# The README's "Library API" example must be the compiled and tested quick_start.cpp, byte for
+# The docs/library-api.md's example must be the compiled and tested quick_start.cpp, byte for
 # byte: between the lines `<!-- quick_start.cpp begins -->` and `<!-- quick_start.cpp ends -->`
 # it holds a ```cpp fence around the file's text and nothing else.
 cmake_minimum_required(VERSION 3.22)
@@ -25,7 +25,7 @@ set(expected "```cpp\n${example}```\n")
 if(NOT block STREQUAL expected)
   file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/readme_quick_start.expected "${expected}")
   file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/readme_quick_start.found "${block}")
-  message(FATAL_ERROR "The README's quick_start block differs from ${EXAMPLE}: compare "
+  message(FATAL_ERROR "The quick_start block of ${README} differs from ${EXAMPLE}: compare "
           "${CMAKE_CURRENT_BINARY_DIR}/readme_quick_start.found with .expected (diff -u), "
-          "then copy the file into the README between the markers")
+          "then copy the file into ${README} between the markers")
 endif()

@@ -1,7 +1,7 @@
 // dynrt's own texture lookups (textures/texture_filter.h, mip_pyramid.h, TextureSet) against
 // the OpenImageIO TextureSystem they replace, on the same files and footprints: every wrap
 // mode, magnification and minification across the MIP levels up to the 1x1 level, power-of-two
-// and other sizes, grey, RGB, RGBA and 16-bit images. The documented tolerance (README
+// and other sizes, grey, RGB, RGBA and 16-bit images. The documented tolerance (docs/rendering.md
 // "Textures") is 1/255 per channel of the filtered, still sRGB-encoded value; the figure
 // printed is the largest difference seen. Also: SIMD lanes, whole batches and one lane give
 // the same bits,

@@ -1,4 +1,4 @@
-// Textures (README "Textures"): TextureSet's lookups (texel colours, orientation, wrap modes,
+// Textures (docs/rendering.md "Textures"): TextureSet's lookups (texel colours, orientation, wrap modes,
 // footprints, sRGB decoding, files and embedded images, and a clear warning instead of an error
 // for an unreadable file); textured quads rendered by dynrt::Renderer against the exact
 // reference and against the texels worked out by hand, from a hand-made scene and from glTF

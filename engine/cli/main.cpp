@@ -28,7 +28,7 @@ std::string join_args(const std::string& message) {
     return colon == std::string::npos ? message : message.substr(colon + 2);
 }
 
-/// The exit codes (README "Exit codes"): 0 done, 1 a failure while running (a scene file that
+/// The exit codes (docs/rendering.md, "Exit codes" under "Command line"): 0 done, 1 a failure while running (a scene file that
 /// cannot be read, an output that cannot be written, a failing MPI rank), 2 a usage error (a
 /// bad flag or value, found by CLI11 or by our own checks before anything is rendered).
 constexpr int kExitFailure = 1;

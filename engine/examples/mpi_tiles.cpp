@@ -1,4 +1,4 @@
-// An embedder's own MPI program (README "Rendering across processes"): every rank holds an
+// An embedder's own MPI program (docs/mpi.md "Rendering across processes"): every rank holds an
 // Engine with the same meshes and moves them alike each step; each renders its interleaved
 // share of the 16x16 tiles (RenderSettings::tile_share), packs those pixels in
 // tile_share_pixels order and MPI_Gatherv sends them to rank 0, which unpacks them into the

@@ -1,4 +1,4 @@
-// dynrt quick start (README "Library API"): a waving grid and a turning panel, updated step by
+// dynrt quick start (docs/library-api.md): a waving grid and a turning panel, updated step by
 // step, rendered into quick_start.png, then probed with a few rays.
 #include <dynrt/dynrt.h>
 

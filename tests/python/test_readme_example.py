@@ -1,5 +1,6 @@
-"""README "Python" shows a complete program; this runs it as a user would, in a fresh
-interpreter in an empty folder, so the README cannot drift from the module."""
+"""docs/python.md shows a complete program; this runs it as a user would, in a fresh
+interpreter in an empty folder, and checks what it prints, so the page cannot drift from the
+module."""
 
 import os
 import pathlib
@@ -9,15 +10,12 @@ import sys
 
 import dynrt
 
-README = pathlib.Path(__file__).resolve().parents[2] / "README.md"
+PAGE = pathlib.Path(__file__).resolve().parents[2] / "docs" / "python.md"
 
 
 def python_example():
-    text = README.read_text()
-    section = text[text.index("\n## Python\n"):]
-    section = section[:section.index("\n## ", 1)]
-    blocks = re.findall(r"^```python\n(.*?)^```$", section, flags=re.S | re.M)
-    assert blocks, 'README "Python" has no ```python block'
+    blocks = re.findall(r"^```python\n(.*?)^```$", PAGE.read_text(), flags=re.S | re.M)
+    assert blocks, "docs/python.md has no ```python block"
     return blocks[0]
 
 

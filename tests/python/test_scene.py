@@ -1,4 +1,4 @@
-"""dynrt.load_scene: procedural specs (README "Procedural scenes") and, when the shared scene
+"""dynrt.load_scene: procedural specs (scenes/README.md "Procedural scenes") and, when the shared scene
 folder is there, animated glTF and BART files, played into an Engine: what the scene reports
 (names, mesh ids, motions, frames, fps), posing by frame and by time, objects that really
 move between frames (hits change), renders of the right shape and type, and meshes of one's

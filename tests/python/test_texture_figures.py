@@ -1,5 +1,5 @@
 """Engine.texture_figures() in Python: the textures the renders hold as a dict with the report's
-keys (README "Report", run.textures), zeros before a render reads one."""
+keys (docs/report.md "Report", run.textures), zeros before a render reads one."""
 
 import numpy as np
 import pytest

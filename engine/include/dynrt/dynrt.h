@@ -1,6 +1,6 @@
 #pragma once
 // The dynrt library API: include this one header. See api/engine.h for how to use it and
-// README "Library API" for a complete example.
+// docs/library-api.md "Library API" for a complete example.
 
 #include "dynrt/api/distribute.h"
 #include "dynrt/api/engine.h"

@@ -19,7 +19,7 @@ documented dtype); anything else raises dynrt.InvalidArgument (a ValueError) nam
 argument, rather than being converted behind your back. Data the engine copies anyway is
 converted when needed (indices, texcoords) or copied (a texture's texels: a uint8 or float32
 array of shape (H, W) or (H, W, C), a strided view too). update, render, intersect and
-occluded release the GIL. README "Python" has the details.
+occluded release the GIL. docs/python.md "Python" has the details.
 """
 
 import math as _math

@@ -1,5 +1,5 @@
 #pragma once
-// dynrt.Engine: the library API's dynrt::Engine for Python (README "Python"). Positions may be
+// dynrt.Engine: the library API's dynrt::Engine for Python (docs/python.md "Python"). Positions may be
 // borrowed (the engine keeps a reference to the numpy array, so it stays alive while the
 // engine may read it), ray batches are read in place (Engine::intersect on RayArrays), results
 // are written into numpy arrays the caller may pass in, and the GIL is released while the
@@ -47,7 +47,7 @@ private:
     Engine engine_;
 };
 
-/// A frame's figures (FrameStats) as the report's dict (README "Report": the keys of a frame).
+/// A frame's figures (FrameStats) as the report's dict (docs/report.md "Report": the keys of a frame).
 py::object report_dict(const FrameStats& stats);
 
 /// The structured dtype of intersect's results: t, mesh, triangle, u, v (dynrt::RayHit's

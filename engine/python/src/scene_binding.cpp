@@ -98,7 +98,7 @@ std::vector<std::size_t> chosen_clips(const std::optional<std::vector<std::strin
 /// A loaded scene, its poser and the engine it plays into.
 class SceneAnimation {
 public:
-    /// `fps` and `clips` as load_scene takes them (README "Python"): None for the defaults.
+    /// `fps` and `clips` as load_scene takes them (docs/python.md "Python"): None for the defaults.
     SceneAnimation(const std::string& source, std::optional<double> fps,
                    const std::optional<std::vector<std::string>>& clips, std::shared_ptr<PyEngine> engine)
         : engine_(std::move(engine)) {

@@ -1,6 +1,6 @@
 #pragma once
 // The library API's small value types as Python classes: dynrt.View, dynrt.Surface and
-// dynrt.Light, built with keywords and holding tuples (README "Python").
+// dynrt.Light, built with keywords and holding tuples (docs/python.md "Python").
 
 #include <pybind11/pybind11.h>
 

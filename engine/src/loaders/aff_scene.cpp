@@ -520,7 +520,7 @@ private:
         scene_.setup = setup;
     }
 
-    // ---- What the model leaves out, for the report (README "BART", "Not modelled") ----
+    // ---- What the model leaves out, for the report (docs/scene-input.md "BART", "Not modelled") ----
     void note_ignored() {
         // Texture coordinates without a texture, or a texture without them, map nothing.
         std::size_t unmapped = 0;

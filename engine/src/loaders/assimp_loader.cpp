@@ -107,7 +107,7 @@ public:
             fail(cat("no triangles: the file has ", ai_.mNumMeshes, " meshes and none of them has a triangle (",
                      skipped_, " skipped)"));
         }
-        // Meshes without normals get area-weighted ones, as glTF's do (README "Shading normals").
+        // Meshes without normals get area-weighted ones, as glTF's do (docs/rendering.md "Shading normals").
         add_missing_normals(scene);
         check_scene(scene);
         return scene;

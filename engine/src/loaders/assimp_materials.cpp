@@ -1,6 +1,6 @@
 // aiMaterial -> Material: a Phong model already (OBJ's Kd/Ks/Ns/d/Ni, Collada's <phong>, FBX's
 // Lambert and Phong), so the mapping is direct; only transparency is turned into dynrt's
-// Whitted transmission (README "Materials").
+// Whitted transmission (docs/scene-input.md "Materials").
 
 #include "assimp_materials.h"
 

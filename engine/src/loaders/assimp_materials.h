@@ -22,7 +22,7 @@ public:
     /// Borrows `scene` for the object's lifetime.
     AssimpMaterials(const aiScene& scene, const std::filesystem::path& scene_file);
 
-    /// Material `index` of the assimp scene (README "Materials", OBJ, PLY, FBX, Collada):
+    /// Material `index` of the assimp scene (docs/scene-input.md "Materials", OBJ, PLY, FBX, Collada):
     ///   diffuse       = COLOR_DIFFUSE * OPACITY (clamped to [0, 1]; default 0.8 grey,
     ///                   opacity 1): what is not opaque is transmitted, not scattered;
     ///   specular      = COLOR_SPECULAR * SHININESS_STRENGTH (clamped; default 0.2 grey);

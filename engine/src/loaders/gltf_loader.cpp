@@ -195,7 +195,7 @@ public:
                      " other primitives skipped)"));
         }
         // Primitives without NORMAL get area-weighted ones. glTF 2.0 section 3.7.2.1 asks for
-        // flat normals there; dynrt smooths shared vertices instead (README "Shading normals"),
+        // flat normals there; dynrt smooths shared vertices instead (docs/rendering.md "Shading normals"),
         // and `--normals flat` gives the specification's flat shading.
         add_missing_normals(scene);
         check_scene(scene);

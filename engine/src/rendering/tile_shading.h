@@ -303,7 +303,7 @@ struct ObjectTexcoords {
     std::span<const glm::uvec3> triangles;
 };
 
-/// What texture lookups need for a frame (README "Textures"): the scene's textures, each
+/// What texture lookups need for a frame (docs/rendering.md "Textures"): the scene's textures, each
 /// object's texture coordinates, and the camera's eye and per-pixel angle for the footprint
 /// (texture_footprint).
 struct SurfaceTextures {

@@ -26,8 +26,8 @@ DYNRT_API std::vector<std::size_t> tile_share_pixels(int width, int height, int 
 /// are usually coherent and go into the same packets. Throws Error (invalid_argument) for a share not
 /// in [0, shares).
 struct RayShare {
-    std::size_t begin = 0;
-    std::size_t end = 0;
+    std::size_t begin = 0;  ///< the share's first ray
+    std::size_t end = 0;    ///< one past its last ray
 };
 DYNRT_API RayShare ray_share(std::size_t count, int share, int shares);
 

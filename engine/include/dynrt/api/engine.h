@@ -1,7 +1,7 @@
 #pragma once
 // dynrt::Engine, the library API for programs that move geometry themselves: a physics or
 // robotics simulation adds its meshes once, changes vertices or transforms every step, calls
-// update(), then renders a view or traces a batch of rays. README "Library API" has a complete
+// update(), then renders a view or traces a batch of rays. docs/library-api.md "Library API" has a complete
 // example; engine/examples/ has two more (a cloth and a lidar).
 //
 // One step:
@@ -13,7 +13,7 @@
 //   engine.intersect(rays, hits);              // closest hits, or occluded(rays, flags)
 //
 // Per mesh, update() picks the cheapest correct action for its motion class, as the renderer
-// does for animated scenes (README "Animation"): static meshes are built once, rigid ones only
+// does for animated scenes (docs/animation.md "Animation"): static meshes are built once, rigid ones only
 // move their instance, deformable ones are refitted (rebuilt when the refit's SAH cost has
 // degraded past EngineOptions::rebuild_threshold), exploding ones are rebuilt. A mesh added
 // with Motion::automatic starts static and is raised to the class its changes show (never
@@ -49,7 +49,7 @@
 
 namespace dynrt {
 
-/// How a mesh moves from step to step (README "Animation" explains the classes).
+/// How a mesh moves from step to step (docs/animation.md "Animation" explains the classes).
 enum class Motion : std::uint8_t {
     /// Inferred from the calls: static until set_transform (then rigid) or set_positions (then
     /// deformable); a deformable mesh whose refits degrade past the threshold on 3 steps in a
@@ -83,6 +83,8 @@ enum class Ownership : std::uint8_t {
     borrow,
 };
 
+/// A mesh as add_mesh takes it: its vertices and triangles, how it moves, who owns its
+/// positions, where it is and what it is made of.
 struct MeshDesc {
     /// For errors and the report; "mesh <id>" when empty.
     std::string name;
@@ -91,14 +93,16 @@ struct MeshDesc {
     /// Three vertex indices per triangle, each less than the vertex count. Always copied.
     std::span<const std::uint32_t> indices;
     /// Optional shading normals, x, y, z per vertex in object space (finite; normalised on
-    /// use; README "Shading normals"). Always copied. Empty: the engine computes area-weighted
+    /// use; docs/rendering.md "Shading normals"). Always copied. Empty: the engine computes area-weighted
     /// vertex normals from the positions, and again whenever they change.
     std::span<const float> normals;
     /// Optional texture coordinates, s, t per vertex (finite; s runs right and t down the image
     /// from its top-left corner, one unit across, glTF's TEXCOORD_0 convention). Always
     /// copied, and fixed for the mesh's life. Needed for a textured Surface.
     std::span<const float> texcoords;
+    /// How the mesh moves, which decides how its tree is updated; automatic: inferred.
     Motion motion = Motion::automatic;
+    /// Whether the engine copies the positions or borrows the caller's buffer.
     Ownership ownership = Ownership::copy;
     /// Object to world; finite and affine.
     Transform transform;
@@ -133,15 +137,16 @@ struct TextureDesc {
     /// texels are usually linear: give them with `srgb` = false. All empty and 0 for a file
     /// or its bytes.
     std::span<const std::uint8_t> texels8{};
-    std::span<const float> texels_float{};
-    int width = 0;
-    int height = 0;
-    int channels = 0;
+    std::span<const float> texels_float{};  ///< the texels as floats (see texels8)
+    int width = 0;                          ///< texels across (see texels8)
+    int height = 0;                         ///< texels down (see texels8)
+    int channels = 0;                       ///< values per texel, 1 to 4 (see texels8)
     /// Texels are sRGB-encoded (8-bit colour images, glTF's base colour): lookups convert them
     /// to linear. False: they are linear already. Taken as given, whatever the source.
     bool srgb = true;
 };
 
+/// How an Engine runs and builds its trees; fixed for its life.
 struct EngineOptions {
     /// Worker threads for update, render and ray batches: 0 runs them on the calling thread's
     /// oneTBB arena (all cores unless the caller limits it); N > 0 gives the engine an arena of
@@ -150,10 +155,10 @@ struct EngineOptions {
     /// Borrowed: run the engine's work in this arena (it must outlive the engine); overrides
     /// `threads`.
     tbb::task_arena* arena = nullptr;
-    /// BVH builds (README "Choosing the cost ratio"): cost of a triangle test per node visit,
+    /// BVH builds (docs/benchmarking.md "Choosing the cost ratio"): cost of a triangle test per node visit,
     /// in (0, 1e6], and the largest leaf, in [1, 64].
     float cost_ratio = 1.0f;
-    int leaf_size = 8;
+    int leaf_size = 8;  ///< the most triangles a leaf holds (see cost_ratio)
     /// Exploding meshes are rebuilt with this cost ratio (shallower trees build faster).
     float cost_ratio_exploding = 0.3f;
     /// A deformable mesh is rebuilt when refitting has raised its tree's SAH cost above
@@ -163,8 +168,8 @@ struct EngineOptions {
 
 /// A caller-owned image the engine renders into. Row-major, y = 0 the top row.
 struct ImageView {
-    int width = 0;
-    int height = 0;
+    int width = 0;   ///< pixels across, >= 1
+    int height = 0;  ///< pixels down, >= 1
     /// Linear RGB, 3 floats per pixel: width * height * 3 floats.
     std::span<float> rgb;
     /// Optional (empty to skip): distance from the eye along the unit ray, +inf on a miss;
@@ -174,24 +179,26 @@ struct ImageView {
     std::span<std::int32_t> mesh = {};
 };
 
+/// What Engine::render draws besides the view: lights, background, reuse, secondary rays,
+/// normals and the share of the image.
 struct RenderSettings {
     /// Empty: one light above and behind the eye's side of the scene (the renderer's default
-    /// light, README "Shading").
+    /// light, docs/rendering.md "Shading").
     std::vector<Light> lights;
-    Vec3 background{0.05f, 0.06f, 0.08f};
+    Vec3 background{0.05f, 0.06f, 0.08f};  ///< the colour of pixels whose ray hits nothing
     /// Ambient term, as a fraction of the diffuse colour.
     float ambient = 0.08f;
-    /// Exact reuse of the previous render's pixels (README "Reusing pixels between frames"):
+    /// Exact reuse of the previous render's pixels (docs/reuse.md "Reusing pixels between frames"):
     /// when the view, image size, lights and settings are those of the previous render, only
     /// the pixels whose rays may meet what changed since (meshes moved, removed, added, or a
     /// surface changed) are traced again; the image is bit-identical to a full render. False
     /// traces every pixel.
     bool reuse_pixels = true;
-    /// Reflection and refraction rays for surfaces with reflectance or transmittance (README
+    /// Reflection and refraction rays for surfaces with reflectance or transmittance (docs/rendering.md
     /// "Reflection and refraction"): the deepest bounce traced, 0 to 64 (0: none), and the
     /// path weight, in [0, 1], below which a secondary ray is not traced.
     int max_depth = 5;
-    float cutoff = 1.0f / 256.0f;
+    float cutoff = 1.0f / 256.0f;  ///< the path weight below which no secondary ray is traced
     /// Shade with the meshes' vertex normals interpolated across each triangle (given in
     /// MeshDesc::normals or computed); false: with each triangle's own normal (flat).
     bool smooth_normals = true;
@@ -200,7 +207,7 @@ struct RenderSettings {
     /// are written, the others left as they are. Exact reuse works per share, the same share
     /// frame after frame. Default: the whole image.
     int tile_share = 0;
-    int tile_shares = 1;
+    int tile_shares = 1;  ///< how many shares the image is split into (see tile_share)
 };
 
 /// A batch of rays held as separate arrays rather than as dynrt::Ray structs: the layout of
@@ -209,12 +216,12 @@ struct RenderSettings {
 /// same rules as dynrt::Ray. `tmin` and `tmax` hold one value per ray, or are empty: then
 /// every ray takes `tmin_all` / `tmax_all`.
 struct RayArrays {
-    std::span<const float> origins;
-    std::span<const float> directions;
-    std::span<const float> tmin = {};
-    std::span<const float> tmax = {};
-    float tmin_all = 0.0f;
-    float tmax_all = std::numeric_limits<float>::infinity();
+    std::span<const float> origins;     ///< x, y, z per ray
+    std::span<const float> directions;  ///< x, y, z per ray, as many as origins
+    std::span<const float> tmin = {};   ///< one per ray, or empty: tmin_all for every ray
+    std::span<const float> tmax = {};   ///< one per ray, or empty: tmax_all for every ray
+    float tmin_all = 0.0f;              ///< every ray's tmin when `tmin` is empty
+    float tmax_all = std::numeric_limits<float>::infinity();  ///< every ray's tmax when `tmax` is empty
 
     /// The number of rays: origins.size() / 3.
     std::size_t size() const { return origins.size() / 3; }
@@ -223,21 +230,25 @@ struct RayArrays {
 /// What a ray batch cost. Packet rays were traced in packets (see Engine::intersect); the
 /// others one by one.
 struct QueryStats {
-    std::size_t rays = 0;
-    std::size_t hits = 0;  ///< rays that hit (closest) or are occluded (any hit)
-    std::size_t packet_rays = 0;
-    std::size_t single_rays = 0;
-    double ms = 0.0;  ///< wall clock of the call
-    double mrays_per_s = 0.0;
+    std::size_t rays = 0;         ///< rays in the batch
+    std::size_t hits = 0;         ///< rays that hit (closest) or are occluded (any hit)
+    std::size_t packet_rays = 0;  ///< rays traced in packets
+    std::size_t single_rays = 0;  ///< rays traced one by one
+    double ms = 0.0;              ///< wall clock of the call
+    double mrays_per_s = 0.0;     ///< rays per microsecond of that wall clock
 };
 
+/// The engine of a simulation loop: the meshes handed to it, their trees, and the calls that
+/// update them, render views of them and trace rays through them (see this header's top).
 class DYNRT_API Engine {
 public:
     /// Throws Error (invalid_argument) for bad options.
     explicit Engine(const EngineOptions& options = {});
     ~Engine();
-    Engine(Engine&&) noexcept;
-    Engine& operator=(Engine&&) noexcept;
+    /// Takes `other`'s meshes, trees and state; `other` may then only be destroyed or assigned.
+    Engine(Engine&& other) noexcept;
+    /// Takes `other`'s meshes, trees and state, after freeing this engine's.
+    Engine& operator=(Engine&& other) noexcept;
     Engine(const Engine&) = delete;
     Engine& operator=(const Engine&) = delete;
 
@@ -342,6 +353,7 @@ public:
     /// (origins not 3 floats per ray, directions not as many, tmin or tmax neither empty nor
     /// one per ray).
     QueryStats intersect(const RayArrays& rays, std::span<RayHit> hits) const;
+    /// occluded() on rays held as arrays (see the RayArrays intersect()).
     QueryStats occluded(const RayArrays& rays, std::span<std::uint8_t> occluded) const;
 
 private:

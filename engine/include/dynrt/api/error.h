@@ -10,8 +10,11 @@
 
 namespace dynrt {
 
+/// What every call of the library API throws when it fails: a code to act on and a one-line
+/// message that names the mesh, the step and the value at fault where there is one.
 class DYNRT_API Error : public std::runtime_error {
 public:
+    /// What kind of failure it is.
     enum class Code {
         /// A bad argument: an unknown or removed mesh id, a span of the wrong size, an index out
         /// of range, a non-finite value, a bad option. Nothing was changed.
@@ -28,7 +31,9 @@ public:
         invalid_state,
     };
 
+    /// An error of kind `code`, saying `message` (what(): one line, no trailing newline).
     Error(Code code, const std::string& message) : std::runtime_error(message), code_(code) {}
+    /// What kind of failure it is.
     Code code() const noexcept { return code_; }
 
 private:

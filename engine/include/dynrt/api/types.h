@@ -11,18 +11,24 @@
 
 namespace dynrt {
 
+/// A point or a direction: three floats.
 struct Vec3 {
-    float x = 0.0f, y = 0.0f, z = 0.0f;
+    float x = 0.0f;  ///< the first coordinate
+    float y = 0.0f;  ///< the second coordinate (up, in the command line's convention)
+    float z = 0.0f;  ///< the third coordinate
 };
 
 /// An affine object-to-world transform. `m[column * 4 + row]`; the last row must be
 /// (0, 0, 0, 1).
 struct DYNRT_API Transform {
+    /// The matrix, column-major: `m[column * 4 + row]`. The identity by default.
     std::array<float, 16> m{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
 
+    /// The identity: object space is world space.
     static Transform identity() { return {}; }
     /// From 16 floats in column-major order (glm::value_ptr of a glm::mat4).
     static Transform from_column_major(const float* values);
+    /// A translation by `offset`.
     static Transform translation(Vec3 offset);
     /// Rotation by `radians` about the unit-length `axis` (right-handed), then `offset`.
     static Transform rotation(Vec3 axis, float radians, Vec3 offset = {});
@@ -30,15 +36,20 @@ struct DYNRT_API Transform {
 
 /// Identifies a mesh within its Engine. Ids are never reused, not even after remove_mesh.
 struct MeshId {
+    /// The id's number; the largest std::uint32_t is no mesh (a ray's miss).
     std::uint32_t value = std::numeric_limits<std::uint32_t>::max();
+    /// Whether two ids name the same mesh.
     bool operator==(const MeshId&) const = default;
 };
 
 /// Identifies a texture within its Engine (Engine::add_texture). Textures are kept for the
 /// engine's life. The default value is no texture.
 struct TextureId {
+    /// The id's number; the largest std::uint32_t is no texture.
     std::uint32_t value = std::numeric_limits<std::uint32_t>::max();
+    /// Whether two ids name the same texture.
     bool operator==(const TextureId&) const = default;
+    /// Whether the id names a texture (false for the default value).
     bool valid() const { return value != std::numeric_limits<std::uint32_t>::max(); }
 };
 
@@ -53,47 +64,51 @@ enum class Wrap : std::uint8_t {
 /// need not be unit length (t is then in its units); it must be finite and non-zero, the
 /// origin finite, 0 <= tmin <= tmax (tmax may be +inf).
 struct Ray {
-    Vec3 origin;
-    Vec3 direction{0.0f, 0.0f, -1.0f};
-    float tmin = 0.0f;
-    float tmax = std::numeric_limits<float>::infinity();
+    Vec3 origin;                                          ///< where the ray starts; finite
+    Vec3 direction{0.0f, 0.0f, -1.0f};                    ///< finite and non-zero
+    float tmin = 0.0f;                                    ///< the nearest t a hit may have, >= 0
+    float tmax = std::numeric_limits<float>::infinity();  ///< the farthest t, >= tmin; may be +inf
 };
 
 /// The closest hit of a ray. On a miss: t = +inf, mesh invalid (hit() false), primitive -1.
 struct RayHit {
+    /// The hit's distance along the ray, in units of its direction; +inf on a miss.
     float t = std::numeric_limits<float>::infinity();
+    /// The mesh hit; no mesh (hit() false) on a miss.
     MeshId mesh;
     /// The triangle's index in the mesh's index buffer (triangle k = indices 3k, 3k+1, 3k+2).
     std::uint32_t primitive = std::numeric_limits<std::uint32_t>::max();
     /// Barycentrics: the hit point is (1 - u - v) p0 + u p1 + v p2 of triangle `primitive`.
-    float u = 0.0f, v = 0.0f;
+    float u = 0.0f;
+    float v = 0.0f;  ///< the second barycentric coordinate (see u)
 
+    /// Whether the ray hit anything.
     bool hit() const { return mesh.value != std::numeric_limits<std::uint32_t>::max(); }
 };
 
-/// A pinhole camera, with the command line's conventions (README "Camera convention").
+/// A pinhole camera, with the command line's conventions (docs/rendering.md "Camera convention").
 struct View {
-    Vec3 eye{0.0f, 0.0f, 5.0f};
-    Vec3 target{0.0f, 0.0f, 0.0f};
-    Vec3 up{0.0f, 1.0f, 0.0f};
+    Vec3 eye{0.0f, 0.0f, 5.0f};     ///< where the camera is
+    Vec3 target{0.0f, 0.0f, 0.0f};  ///< the point at the image's centre
+    Vec3 up{0.0f, 1.0f, 0.0f};      ///< the direction that is up in the image (need not be unit)
     /// Vertical field of view in degrees, in (0, 180).
     float fov_y_deg = 45.0f;
 };
 
 /// A point light; no distance falloff.
 struct Light {
-    Vec3 position;
-    float intensity = 1.0f;
+    Vec3 position;           ///< where the light is, in world space
+    float intensity = 1.0f;  ///< what the light's colour is multiplied by, >= 0
 };
 
-/// A mesh's material: Phong terms plus Whitted's mirror and refraction weights (README
-/// "Shading", "Materials"). Colours and weights are linear RGB, meant to lie in [0, 1]; every
+/// A mesh's material: Phong terms plus Whitted's mirror and refraction weights (docs/rendering.md
+/// "Shading", docs/scene-input.md "Materials"). Colours and weights are linear RGB, meant to lie in [0, 1]; every
 /// value must be finite, colours (a negative one would shade darker than black), shininess,
 /// reflectance and transmittance >= 0, ior > 0.
 struct Surface {
-    Vec3 diffuse{0.8f, 0.8f, 0.8f};
-    Vec3 specular{0.2f, 0.2f, 0.2f};
-    float shininess = 32.0f;
+    Vec3 diffuse{0.8f, 0.8f, 0.8f};   ///< Phong's diffuse colour (and the ambient term's)
+    Vec3 specular{0.2f, 0.2f, 0.2f};  ///< Phong's specular colour
+    float shininess = 32.0f;          ///< Phong's specular exponent
     /// Weight of the mirror-reflected ray's colour; 0 (the default) traces no reflection ray.
     Vec3 reflectance{0.0f, 0.0f, 0.0f};
     /// Weight of the refracted ray's colour before Fresnel; 0 (the default) is opaque.
@@ -103,11 +118,12 @@ struct Surface {
     float ior = 1.0f;
     /// A texture (Engine::add_texture) whose linear colour multiplies `diffuse` at each hit,
     /// looked up at the mesh's texture coordinates (MeshDesc::texcoords, which a mesh must
-    /// have to take a textured surface) and filtered as `dynrt render` filters (README
+    /// have to take a textured surface) and filtered as `dynrt render` filters (docs/rendering.md
     /// "Textures"). Default: none.
     TextureId diffuse_texture{};
-    /// How the texture coordinates s (across) and t (down) wrap outside [0, 1].
+    /// How the texture coordinate s (across) wraps outside [0, 1].
     Wrap wrap_s = Wrap::repeat;
+    /// How the texture coordinate t (down) wraps outside [0, 1].
     Wrap wrap_t = Wrap::repeat;
 };
 

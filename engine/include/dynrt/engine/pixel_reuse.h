@@ -1,5 +1,5 @@
 #pragma once
-// How a frame reuses the pixels of the frame before it (FramePipeline; README "Reusing pixels
+// How a frame reuses the pixels of the frame before it (FramePipeline; docs/reuse.md "Reusing pixels
 // between frames"). Consecutive frames of an animation mostly repeat each other:
 //
 //   exact         (the default) when the camera, the lights and the image settings are

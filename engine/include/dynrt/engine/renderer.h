@@ -7,7 +7,7 @@
 // (kd, ks, shininess), ambient a, where kd is the material's diffuse colour times, when it maps
 // a texture (Material::diffuse_map) that can be read and the object has texture coordinates,
 // the texture's linear colour at the hit's interpolated coordinates over the footprint
-// texture_footprint gives (dynrt/engine/texture_set.h, README "Textures"):
+// texture_footprint gives (dynrt/engine/texture_set.h, docs/rendering.md "Textures"):
 //   color = a * kd + sum over lights L with n.l > 0, s.l > 0 and the light visible from the hit:
 //           intensity_L * (kd * (s.l) + ks * max(0, r.v)^shininess),  r = 2 (s.l) s - l,
 // l the unit vector to the light. No distance falloff. A miss is the background colour.
@@ -127,7 +127,7 @@ struct TraceSettings {
     /// samples agree (all miss, or all hit one object with the same shadows, normals within
     /// 1 - dot <= tolerance and colours within tolerance per channel) and no other object's
     /// box reaches into the cell's view frustum; otherwise the whole tile is traced exactly.
-    /// Larger is faster and less exact. What can still go wrong is in README "Approximate
+    /// Larger is faster and less exact. What can still go wrong is in docs/reuse.md "Approximate
     /// rendering".
     float adaptive_tolerance = 0.0f;
     /// How the frame reuses the previous trace's pixels (pixel_reuse.h): exact by default,

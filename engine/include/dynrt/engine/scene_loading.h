@@ -31,7 +31,7 @@ Scene load_scene(const std::string& source);
 /// along, as from glTF: the node tree (Scene::nodes, parents first), node animations as clips
 /// (Scene::clips), bones as skins with up to 8 influences per vertex (Object::skin),
 /// perspective cameras (Scene::cameras), point and spot lights (Scene::lights), Phong
-/// materials with their diffuse textures (README "Input formats"). Morph targets, mesh
+/// materials with their diffuse textures (docs/scene-input.md "Scene input"). Morph targets, mesh
 /// animations, other lights and other textures are left out with a warning on stderr or a
 /// line in Scene::ignored. Throws SceneError naming the file and the object, with assimp's own
 /// message when its reader fails.
@@ -41,7 +41,7 @@ Scene load_assimp(const std::filesystem::path& path);
 /// primitive of the default scene (or scene 0) becomes one Object in node-tree order, named
 /// "node/mesh" ("node/mesh#k" for the k-th primitive of a multi-primitive mesh), with the
 /// node's world matrix as transform and materials mapped from metallic-roughness,
-/// KHR_materials_transmission and KHR_materials_ior (README "Materials"). Strips and fans are
+/// KHR_materials_transmission and KHR_materials_ior (docs/scene-input.md "Materials"). Strips and fans are
 /// converted to lists; points and lines are skipped with a warning on stderr. What animates
 /// the scene comes along, validated: the default scene's nodes (Scene::nodes, parents first,
 /// Object::node), skins with up to 8 influences per vertex (Object::skin), position morph
@@ -56,7 +56,7 @@ Scene load_gltf(const std::filesystem::path& path);
 /// rate, frame count, background); `x`/`k` transforms become animated nodes (rigid objects),
 /// `tpa` triangles morphing objects (deformable), the rest static objects, one per material;
 /// materials keep their specular colour as reflectance, T and the index of refraction
-/// (README "Materials"); textures are ignored. The conversion rules are in
+/// (docs/scene-input.md "Materials"); textures are ignored. The conversion rules are in
 /// engine/src/loaders/aff_scene.h. Throws SceneError naming the file and line.
 Scene load_aff(const std::filesystem::path& path);
 

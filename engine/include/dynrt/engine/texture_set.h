@@ -77,7 +77,7 @@ private:
 };
 
 /// The footprint of a pixel's ray at a hit, in texture coordinates, as dynrt's shading and
-/// the reference compute it (README "Textures"): the width of the pixel's cone at the hit's
+/// the reference compute it (docs/rendering.md "Textures"): the width of the pixel's cone at the hit's
 /// distance from the eye, `distance` * `pixel_angle` (radians per pixel, 2 tan(fov_y / 2) /
 /// height), scaled from world units to texture units by the hit triangle's
 /// sqrt(texture area / world area). Secondary rays use the straight distance from the eye, not

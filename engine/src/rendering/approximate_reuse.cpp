@@ -455,9 +455,9 @@ Selection choose_blocks(const ApproximateFrame& f, const Ranking& ranking) {
 /// stored in the cache.
 class SelectedTile {
 public:
-    SelectedTile(const ApproximateFrame& f, const Selection& selected, const packet::Tile& tile,
-                 std::vector<bvh::InstanceHit>& hits, RenderedFrame& out)
-        : f_(f), selected_(selected), tile_(tile), hits_(hits), out_(out) {}
+    SelectedTile(const ApproximateFrame& f, const TilePass& pass, const Selection& selected,
+                 const packet::Tile& tile, RenderedFrame& out)
+        : f_(f), pass_(pass), selected_(selected), tile_(tile), out_(out) {}
 
     packet::LaneMask camera_lanes(TileRays&) {
         for (int y = tile_.y0; y < tile_.y1; ++y) {
@@ -468,7 +468,7 @@ public:
                     lanes_.set(lane);
                     continue;
                 }
-                hits_[p] = bvh::InstanceHit{};  // shaded as a miss, then restored
+                pass_.hits[p] = bvh::InstanceHit{};  // shaded as a miss, then restored
                 kept_[std::size_t(lane)] = f_.options.hit_buffers
                                                ? Kept{out_.color[p], out_.normal[p], out_.depth[p],
                                                       out_.object[p], out_.prim[p]}
@@ -481,8 +481,8 @@ public:
     bool shadows(const TileShadowOrigins& origins, const packet::LaneMask&, TileRays&,
                  std::vector<packet::LaneMask>& visible, StageWork& work) {
         packet::RayPacket shadow;
-        work.shadow_rays += trace_tile_shadows(f_.in.tracer, RayCoherence::tile, origins, f_.in.lights,
-                                               shadow, visible, f_.options.count_packet_work ? &work.trace : nullptr);
+        work.shadow_rays += trace_tile_shadows(pass_.in.tracer, RayCoherence::tile, origins, pass_.in.lights,
+                                               shadow, visible, pass_.trace_work(work));
         return true;
     }
     /// What the pixels not traced showed restored, the traced ones' samples stored.
@@ -497,9 +497,9 @@ private:
         std::int32_t object, prim;
     };
     const ApproximateFrame& f_;
+    const TilePass& pass_;
     const Selection& selected_;
     const packet::Tile& tile_;
-    std::vector<bvh::InstanceHit>& hits_;
     RenderedFrame& out_;
     packet::LaneMask lanes_;
     std::array<Kept, packet::kPacketRays> kept_;
@@ -524,7 +524,7 @@ void SelectedTile::written(const TileShadowOrigins& origins, TileRays& rays, Ren
         }
         // The traced sample, for the next frames.
         const bool hit = origins.surface.hit.test(lane);
-        const bvh::InstanceHit& h = hits_[p];
+        const bvh::InstanceHit& h = pass_.hits[p];
         store(f_.cache, p,
               Sample{out.color[p],
                      hit ? glm::vec3(origins.surface.point[0][lane], origins.surface.point[1][lane],
@@ -659,7 +659,7 @@ void trace_frame_approximate(const TraceInputs& in, const Camera& camera,
     const TilePass pass{in, pinhole, shading, nullptr, scratch.hits, width, options.count_packet_work};
     tbb::parallel_for(0, tiling.count(), [&](int t) {
         const packet::Tile tile = tiling.tile(t);
-        SelectedTile choice(f, selected, tile, scratch.hits, out);
+        SelectedTile choice(f, pass, selected, tile, out);
         trace_tile(pass, t, tile, choice, work.local(), out);
     });
     const double trace_ms = trace_clock.elapsed_ms();

@@ -155,29 +155,38 @@ void CpuTracer::closest_group(const RayPacket& rays, const LaneMask& lanes, bool
     }
 }
 
-int CpuTracer::closest(const RayPacket& rays, RayCoherence coherence, HitTarget hits,
-                       TraceWork* work) const {
-    if (coherence == RayCoherence::tile) {
-        // A tile's rays, traced in their pixels' lanes: the packet's beam spans the tile.
-        const bool packed = as_packet(rays, rays.active, coherence);
-        closest_group(rays, rays.active, packed, true, hits, work);
+template <class TraceGroup>
+int CpuTracer::for_each_group(const RayPacket& rays, RayCoherence coherence, bool closest_hits,
+                              TraceGroup&& trace) const {
+    // One group: a tile's rays (the packet's beam spans the tile), a sorted stream's shadow
+    // rays toward one light, or a caller's run that is one coherent group as a whole.
+    const bool whole = coherence == RayCoherence::tile ||
+                       (coherence == RayCoherence::scattered && !closest_hits) ||
+                       (coherence == RayCoherence::unknown && one_coherent_group(rays));
+    if (whole) {
+        // one_coherent_group has already said as_packet's yes for a caller's run.
+        const bool packed = coherence == RayCoherence::unknown || as_packet(rays, rays.active, coherence);
+        trace(rays.active, packed, in_place(rays, rays.active, coherence));
         return packed ? rays.active.count() : 0;
     }
-    if (coherence == RayCoherence::unknown && one_coherent_group(rays)) {
-        closest_group(rays, rays.active, true, true, hits, work);
-        return rays.active.count();
-    }
-    // Scattered rays, and a caller's, by direction octant.
+    // Scattered rays' closest hits, and a caller's other runs, by direction octant.
     int packet_rays = 0;
     LaneMask octant[8];
     split_by_octant(rays, rays.active, octant);
     for (const LaneMask& group : octant) {
         if (!group.any()) continue;
         const bool packed = as_packet(rays, group, coherence);
-        closest_group(rays, group, packed, in_place(rays, group, coherence), hits, work);
+        trace(group, packed, in_place(rays, group, coherence));
         if (packed) packet_rays += group.count();
     }
     return packet_rays;
+}
+
+int CpuTracer::closest(const RayPacket& rays, RayCoherence coherence, HitTarget hits,
+                       TraceWork* work) const {
+    return for_each_group(rays, coherence, true, [&](const LaneMask& group, bool packed, bool traced_in_place) {
+        closest_group(rays, group, packed, traced_in_place, hits, work);
+    });
 }
 
 LaneMask CpuTracer::occluded(const RayPacket& rays, RayCoherence coherence, TraceWork* work) const {
@@ -187,25 +196,10 @@ LaneMask CpuTracer::occluded(const RayPacket& rays, RayCoherence coherence, Trac
 
 LaneMask CpuTracer::occluded(const RayPacket& rays, RayCoherence coherence, TraceWork* work,
                              int& packet_rays) const {
-    packet_rays = 0;
-    if (coherence != RayCoherence::unknown) {
-        // A tile's shadow rays toward one light, or a sorted stream's toward one light.
-        const bool packed = as_packet(rays, rays.active, coherence);
-        if (packed) packet_rays = rays.active.count();
-        return occluded_group(rays, rays.active, packed, in_place(rays, rays.active, coherence), work);
-    }
-    if (one_coherent_group(rays)) {
-        packet_rays = rays.active.count();
-        return occluded_group(rays, rays.active, true, true, work);
-    }
-    LaneMask octant[8], blocked;
-    split_by_octant(rays, rays.active, octant);
-    for (const LaneMask& group : octant) {
-        if (!group.any()) continue;
-        const bool packed = as_packet(rays, group, coherence);
-        blocked |= occluded_group(rays, group, packed, in_place(rays, group, coherence), work);
-        if (packed) packet_rays += group.count();
-    }
+    LaneMask blocked;
+    packet_rays = for_each_group(rays, coherence, false, [&](const LaneMask& group, bool packed, bool traced_in_place) {
+        blocked |= occluded_group(rays, group, packed, traced_in_place, work);
+    });
     return blocked;
 }
 

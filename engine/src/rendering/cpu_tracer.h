@@ -57,6 +57,13 @@ private:
     packet::PacketConfig packet_;
     int min_scattered_;
 
+    /// The one place a batch is cut into the groups traced together, each as one packet or
+    /// ray by ray (as_packet): calls trace(group, as_packet, traced_in_place) per group and
+    /// returns how many rays went as packets. Closest hits of scattered rays are split by
+    /// direction octant; their shadow rays, sorted toward one light, are not.
+    template <class TraceGroup>
+    int for_each_group(const packet::RayPacket& rays, RayCoherence coherence, bool closest_hits,
+                       TraceGroup&& trace) const;
     /// Whether a packet of `lanes` of `rays` is traced in their own lanes rather than packed
     /// into the first ones: a tile's rays (the packet's beam spans the tile), and a caller's
     /// batch when the group is all of it. Lane by lane the hits are the same either way

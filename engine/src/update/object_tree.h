@@ -71,7 +71,7 @@ struct ObjectUpdate {
     /// The builder and its settings for a rebuild (the object's class's, and the method's).
     bvh::BuildConfig config;
     /// Its inputs to the automatic method's choices (CostMemory::trace_cost, from the last
-    /// update, taken before this one changes anything).
+    /// update, taken before this one changes anything); unused by the other methods.
     TraceCost trace;
 };
 

@@ -187,15 +187,17 @@ void SceneAccel::update_object(std::size_t i, const Update& run, UpdateStats& st
     ObjectUpdate update{i, run.scene.objects[i].name, mesh, {}, planned,
                         pose.motion_class == anim::MotionClass::exploding ? run.exploding_build
                                                                           : run.policy.build,
-                        costs_.trace_cost(object_boxes_[i], object.sah, object.built_sah, object.measured)};
+                        TraceCost{}};
     // Builds are binned SAH unless the method says otherwise: the fast method always uses the
     // Morton builder, the automatic one where it predicts a lower cost (object_tree.cpp).
     if (run.policy.method == UpdateMethod::fast) update.config.method = bvh::BuildMethod::morton;
-    // Read only when the triangles are (the library API checks a borrowed buffer as it reads).
-    if (planned.action == TreeAction::rebuild) {
+    if (planned.action == TreeAction::rebuild || planned.action == TreeAction::refit) {
+        // Read only when the triangles are (the library API checks a borrowed buffer as it
+        // reads it). A rigid object's are in object space; the planner never refits one.
         update.positions = rigid ? run.fixed.object_space(i) : pose.world_positions;
-    } else if (planned.action == TreeAction::refit) {
-        update.positions = pose.world_positions;
+        if (run.policy.method == UpdateMethod::automatic) {
+            update.trace = costs_.trace_cost(object_boxes_[i], object.sah, object.built_sah, object.measured);
+        }
     }
     update_tree(object, update, run.policy, costs_, stats);
 }

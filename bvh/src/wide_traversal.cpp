@@ -59,6 +59,21 @@ __attribute__((always_inline)) inline std::uint32_t hit_children(
 
 constexpr int kStackSize = 8 * static_cast<int>(kMaxDepth);
 
+/// Starts fetching what a visit of `ref` reads first: an inner node's four cache lines, or a
+/// leaf's first block (two and a half lines). Issued for every child of a node that the ray
+/// hits when there are several, so that their misses overlap each other and the visit of the
+/// nearest one (Embree's traverser does the same); on a million incoherent rays half of the
+/// time was the first read of a node or block.
+template <int N>
+__attribute__((always_inline)) inline void prefetch_child(const WideNode<N>* nodes,
+                                                          const TriangleBlock* blocks, ChildRef ref) {
+    const char* p = ref.blocks == 0 ? reinterpret_cast<const char*>(nodes + ref.child)
+                                    : reinterpret_cast<const char*>(blocks + ref.child);
+    constexpr int kLines = int(sizeof(WideNode<N>) / 64);
+    static_assert(sizeof(TriangleBlock) <= 3 * 64);
+    for (int k = 0; k < (ref.blocks == 0 ? kLines : 3); ++k) __builtin_prefetch(p + 64 * k);
+}
+
 /// Traverses from `current`: the root node (`from_root`, which first tests the root box), or
 /// a subtree whose box the caller knows the ray meets. Improves on `hit` (closest hit; ray.tmax
 /// is its t while there is one); true when a hit was found below `current`.
@@ -104,6 +119,11 @@ bool traverse(const WideBvhOf<N>& wide, ChildRef current, bool from_root, const 
                 if (mask == 0) {
                     current = ChildRef{node.child[first], node.blocks[first]};
                     continue;
+                }
+                prefetch_child(nodes, blocks, ChildRef{node.child[first], node.blocks[first]});
+                for (std::uint32_t m = mask; m != 0; m &= m - 1) {
+                    const int i = __builtin_ctz(m);
+                    prefetch_child(nodes, blocks, ChildRef{node.child[i], node.blocks[i]});
                 }
                 if constexpr (kAnyHit) {
                     // Any order finds an occluder; push the others as they come.

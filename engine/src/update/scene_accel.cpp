@@ -70,7 +70,7 @@ void SceneAccel::clear() {
     static_group_known_ = false;
     static_first_.clear();
     static_objects_.clear();
-    static_slot_of_.clear();
+    static_bucket_slot_.clear();
     top_ = bvh::TwoLevelBvh{};
     object_boxes_.clear();
     shading_.clear();
@@ -121,7 +121,7 @@ std::size_t SceneAccel::memory_bytes() const {
     };
     std::size_t bytes = held_bytes(objects_) + object_bytes(static_group_);
     for (const ObjectTree& o : objects_) bytes += object_bytes(o);
-    bytes += held_bytes(static_first_) + held_bytes(static_objects_) + held_bytes(static_slot_of_);
+    bytes += held_bytes(static_first_) + held_bytes(static_objects_) + held_bytes(static_bucket_slot_);
     bytes += held_bytes(instance_trees_) + held_bytes(top_.instances) + held_bytes(top_.world_boxes) +
              held_bytes(top_.top.nodes) + held_bytes(top_.top.prim_ids);
     bytes += held_bytes(object_boxes_) + held_bytes(positions_) + held_bytes(history_) +
@@ -276,6 +276,22 @@ void SceneAccel::measure(const bvh::SahCosts& costs, TreeShape& shape) {
     shape.depth = depth + (top_shape.depth > 0 ? top_shape.depth - 1 : 0);
 }
 
+void SceneAccel::index_static_buckets(std::size_t total) {
+    static_bucket_slot_.clear();
+    if (static_objects_.empty()) return;
+    // Entry b: the object holding the bucket's first triangle (the last one starting at or
+    // before it, which skips objects without triangles); the entry past the last bucket
+    // bounds resolve()'s search there.
+    const std::size_t buckets = (total >> kStaticBucketShift) + 1;
+    static_bucket_slot_.resize(buckets + 1);
+    std::size_t k = 0;
+    for (std::size_t b = 0; b <= buckets; ++b) {
+        const std::size_t prim = std::min(b << kStaticBucketShift, total == 0 ? 0 : total - 1);
+        while (k + 1 < static_first_.size() && static_first_[k + 1] <= prim) ++k;
+        static_bucket_slot_[b] = std::uint32_t(k);
+    }
+}
+
 void SceneAccel::build_static_group(const Scene& scene, std::span<const ObjectState> states,
                                     const FixedPositions& fixed, const bvh::BuildConfig& config,
                                     RebuildReason reason, UpdateStats& stats) {
@@ -285,7 +301,7 @@ void SceneAccel::build_static_group(const Scene& scene, std::span<const ObjectSt
     // thus traces exactly the one tree of their concatenated triangles.
     static_objects_.clear();
     static_first_.clear();
-    static_slot_of_.clear();
+    static_bucket_slot_.clear();
     std::size_t total = 0;
     for (std::size_t i = 0; i < scene.objects.size(); ++i) {
         if (states[i].motion_class == anim::MotionClass::static_) total += scene.objects[i].mesh.triangles.size();
@@ -293,7 +309,6 @@ void SceneAccel::build_static_group(const Scene& scene, std::span<const ObjectSt
     // Gathered straight into the group's storage (kept from build to build), boxes on the way.
     std::vector<bvh::Triangle>& all = static_group_.triangles;
     all.resize(total);
-    static_slot_of_.resize(total);
     Stopwatch clock;
     static_group_known_ = true;
     std::size_t first = 0;
@@ -305,15 +320,13 @@ void SceneAccel::build_static_group(const Scene& scene, std::span<const ObjectSt
         shading_.keep_static_normals(i, fixed.world_normals(i, positions_));
         static_objects_.push_back(std::uint32_t(i));
         static_first_.push_back(std::uint32_t(first));
-        std::fill(static_slot_of_.begin() + std::ptrdiff_t(first),
-                  static_slot_of_.begin() + std::ptrdiff_t(first + out.size()),
-                  std::uint32_t(static_objects_.size() - 1));
         objects_[i].group_first = std::uint32_t(first);
         first += out.size();
         stats.rebuilds.push_back(TreeRebuild{i, scene.objects[i].name, reason, 0.0, 0.0});
         ++stats.objects_rebuilt;
         stats.triangles_rebuilt += mesh.triangles.size();
     }
+    index_static_buckets(total);
     stats.update_ms += clock.lap_ms();
     static_group_.motion_class = anim::MotionClass::static_;
     build_tree(static_group_, config, costs_);

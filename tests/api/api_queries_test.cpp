@@ -228,6 +228,48 @@ TEST(ApiQueries, ARayAloneOrInAnyBatchSizeGetsTheSameAnswer) {
     EXPECT_EQ(empty.hits, 0u);
 }
 
+TEST(ApiQueries, ManySmallStaticMeshesEachReportTheirOwnMeshAndTriangle) {
+    // Static meshes share one tree of their concatenated triangles, and a hit on it is traced
+    // back to its mesh and triangle (SceneAccel::resolve): 200 meshes of 1 to 4 triangles,
+    // so that many start within one bucket of its lookup table and others straddle two.
+    Engine engine;
+    struct Placed {
+        MeshId id;
+        std::uint32_t triangle;
+        float x, y;
+    };
+    std::vector<Placed> targets;
+    float x = 0.0f;
+    for (int m = 0; m < 200; ++m) {
+        MeshData mesh;
+        const int count = 1 + (m * 7) % 4;
+        for (int k = 0; k < count; ++k, x += 1.0f) {
+            // A small triangle in the plane z = 0, one unit apart along x.
+            const auto first = std::uint32_t(mesh.vertices());
+            for (const float v : {x, 0.0f, 0.0f, x + 0.5f, 0.0f, 0.0f, x, 0.5f, 0.0f}) mesh.positions.push_back(v);
+            for (std::uint32_t i = 0; i < 3; ++i) mesh.indices.push_back(first + i);
+        }
+        MeshDesc desc;
+        desc.name = "piece" + std::to_string(m);
+        desc.positions = mesh.positions;
+        desc.indices = mesh.indices;
+        desc.motion = Motion::static_;
+        const MeshId id = engine.add_mesh(desc);
+        for (int k = 0; k < count; ++k) {
+            targets.push_back(Placed{id, std::uint32_t(k), x - float(count - k) + 0.15f, 0.15f});
+        }
+    }
+    engine.update();
+    std::vector<Ray> rays;
+    for (const Placed& t : targets) rays.push_back(Ray{{t.x, t.y, 1.0f}, {0.0f, 0.0f, -1.0f}, 0.0f, 2.0f});
+    std::vector<RayHit> hits(rays.size());
+    engine.intersect(rays, hits);
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        ASSERT_EQ(hits[i].mesh.value, targets[i].id.value) << "ray " << i << ": " << describe(hits[i]);
+        ASSERT_EQ(hits[i].primitive, targets[i].triangle) << "ray " << i << ": " << describe(hits[i]);
+    }
+}
+
 TEST(ApiQueries, DirectionLengthOnlyScalesT) {
     Engine engine;
     Mirror mirror;

@@ -14,16 +14,39 @@ cd "$(dirname "$0")/.."
 
 only="${1:-}"
 
-# name | file | text to replace (must occur exactly once) | replacement
-breaks=(
-  "single-ray any-hit exit reports a miss|bvh/src/wide_traversal.cpp|                if constexpr (kAnyHit) {
-                    return true;|                if constexpr (kAnyHit) {
-                    return false;"
-  "packet any-hit ends every live lane of a chunk at one hit|packet/src/range_tracer.h|            hits |= hit;|            hits |= hit != 0 ? live : 0u;"
-  "single-ray octant 1 traced with octant 3's near and far planes|bvh/src/wide_traversal.cpp|        case 1: return traverse<N, kAnyHit, kCount, 1>|        case 1: return traverse<N, kAnyHit, kCount, 3>"
-  "wide refit keeps a leaf's old vertices|bvh/src/wide_refit.cpp|                    block.v0[axis][lane] = t.v0[axis];|                    if (false) block.v0[axis][lane] = t.v0[axis];"
-  "static-group hit attributed within one bucket too few|engine/src/update/scene_accel.h|std::upper_bound(from, to, hit.hit.prim)|std::upper_bound(from, to - 1, hit.hit.prim)"
-)
+# Each break: a name, the file, the text to replace (it must occur exactly once) and the
+# replacement, as a function that sets them (texts may hold any character).
+break_1() {
+  name="single-ray any-hit exit reports a miss"
+  file=bvh/src/wide_traversal.cpp
+  old=$'                if constexpr (kAnyHit) {\n                    return true;'
+  new=$'                if constexpr (kAnyHit) {\n                    return false;'
+}
+break_2() {
+  name="packet any-hit ends every live lane of a chunk at one hit"
+  file=packet/src/range_tracer.h
+  old='            hits |= hit;'
+  new='            hits |= hit != 0 ? live : 0u;'
+}
+break_3() {
+  name="single-ray octant 1 traced with octant 3's near and far planes"
+  file=bvh/src/wide_traversal.cpp
+  old='        case 1: return traverse<N, kAnyHit, kCount, 1>'
+  new='        case 1: return traverse<N, kAnyHit, kCount, 3>'
+}
+break_4() {
+  name="wide refit keeps a leaf's old vertices"
+  file=bvh/src/wide_refit.cpp
+  old='                    block.v0[axis][lane] = t.v0[axis];'
+  new='                    if (false) block.v0[axis][lane] = t.v0[axis];'
+}
+break_5() {
+  name="static-group hit attributed within one bucket too few"
+  file=engine/src/update/scene_accel.h
+  old='std::upper_bound(from, to, hit.hit.prim)'
+  new='std::upper_bound(from, to - 1, hit.hit.prim)'
+}
+kBreaks=5
 
 current_file=""
 restore() {
@@ -41,9 +64,8 @@ fi
 
 missed=0
 ran=0
-for entry in "${breaks[@]}"; do
-  IFS='|' read -r -d '' name file old new <<<"$entry" || true
-  new="${new%$'\n'}"
+for ((k = 1; k <= kBreaks; ++k)); do
+  "break_$k"
   if [[ -n "$only" && "$name" != *"$only"* ]]; then continue; fi
   ran=$((ran + 1))
   current_file="$file"
@@ -61,9 +83,9 @@ PY
     continue
   fi
   if ! bash scripts/build.sh release -DCMAKE_BUILD_TYPE=Release -- dynrt_tests dynrt_stress_tests dynrt_api_tests \
-      >/tmp/break_kernels_build.log 2>&1; then
+      >/tmp/break_kernels_build_$ran.log 2>&1; then
     restore
-    echo "FAIL (does not build; see /tmp/break_kernels_build.log): $name"
+    echo "FAIL (does not build; see /tmp/break_kernels_build_$ran.log): $name"
     missed=$((missed + 1))
     continue
   fi

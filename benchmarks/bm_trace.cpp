@@ -250,12 +250,14 @@ void for_each_tile(const Trace& trace) {
 /// dynrt's 16x16 packets: closest hits of the camera rays (kShadow false) or any hits of the
 /// shadow rays, on the wide tree or the binary one, with the work per ray of a counting pass.
 template <bool kWide, bool kShadow>
-void BM_Packet(benchmark::State& state, const std::string& spec) {
+void BM_Packet(benchmark::State& state, const std::string& spec,
+               int single_ray_max = packet::PacketConfig{}.single_ray_max) {
     const SceneInput& input = scene_input(spec);
     const std::vector<bvh::Ray>& rays = kShadow ? shadow_rays(input) : camera_rays(input);
     const bvh::TriangleBvh& accel = kWide ? accel_for(input) : binary_accel_for(input);
     std::vector<float> t(rays.size());
-    const packet::PacketConfig config;  // the renderer's defaults
+    packet::PacketConfig config;  // the renderer's defaults
+    config.single_ray_max = single_ray_max;
     const auto trace = [&](int x0, int y0, packet::PacketStats* stats) {
         thread_local auto packet = std::make_unique<packet::RayPacket>();
         thread_local auto hits = std::make_unique<packet::PacketHits>();
@@ -292,6 +294,15 @@ void BM_Packet(benchmark::State& state, const std::string& spec) {
     state.counters["nodes_per_ray"] = double(work.nodes_visited) / n;
     state.counters["box_tests_per_ray"] = double(work.ray_box_tests) / n;
     state.counters["tris_per_ray"] = double(work.ray_triangle_tests) / n;
+}
+/// The switch from packet to single-ray traversal (PacketConfig::single_ray_max) swept on the
+/// wide tree: the argument is the most rays, hitting a node within at most two SIMD steps,
+/// that continue below it one by one (0: never switch; the default is 2).
+void BM_PacketSwitchClosest(benchmark::State& state, const std::string& spec) {
+    BM_Packet<true, false>(state, spec, int(state.range(0)));
+}
+void BM_PacketSwitchOccluded(benchmark::State& state, const std::string& spec) {
+    BM_Packet<true, true>(state, spec, int(state.range(0)));
 }
 void BM_PacketClosestWide(benchmark::State& state, const std::string& spec) {
     BM_Packet<true, false>(state, spec);
@@ -419,6 +430,12 @@ DYNRT_TRACE_BOTH_SCENES(BM_PacketClosestWide);
 DYNRT_TRACE_BOTH_SCENES(BM_PacketClosestBinary);
 DYNRT_TRACE_BOTH_SCENES(BM_PacketOccludedWide);
 DYNRT_TRACE_BOTH_SCENES(BM_PacketOccludedBinary);
+#define DYNRT_SWITCH_BENCHMARK(fn, name, spec) \
+    DYNRT_TRACE_BENCHMARK(fn, name, spec)->Arg(0)->Arg(1)->Arg(2)->Arg(4)->Arg(8)->Arg(16)
+DYNRT_SWITCH_BENCHMARK(BM_PacketSwitchClosest, sphere_1M, "sphere:1000000");
+DYNRT_SWITCH_BENCHMARK(BM_PacketSwitchClosest, soup_1M, "soup:1000000");
+DYNRT_SWITCH_BENCHMARK(BM_PacketSwitchOccluded, sphere_1M, "sphere:1000000");
+DYNRT_SWITCH_BENCHMARK(BM_PacketSwitchOccluded, soup_1M, "soup:1000000");
 #if DYNRT_HAVE_EMBREE
 DYNRT_TRACE_BOTH_SCENES(BM_TraceClosestEmbree);
 DYNRT_TRACE_BOTH_SCENES(BM_PacketClosestEmbree16);

@@ -200,11 +200,13 @@ const bvh::TriangleBvh& binary_accel_for(const SceneInput& input) {
 }
 
 /// Shadow rays of the camera rays' closest hits (on the binary tree) toward a point light above
-/// the default camera: from the hit point to the light, t in [1e-4, 1 - 1e-4]. Pixels without a
-/// hit get an empty segment (tmin > tmax), which every tracer reports unoccluded at once.
-const std::vector<bvh::Ray>& shadow_rays(const SceneInput& input) {
-    static std::map<std::string, std::vector<bvh::Ray>> cache;
-    std::vector<bvh::Ray>& rays = cache[input.spec];
+/// the default camera: from the hit point to the light or, `from_light`, from the light to the
+/// hit point (as the renderer casts them: one origin per packet), t in [1e-4, 1 - 1e-4].
+/// Pixels without a hit get an empty segment (tmin > tmax), which every tracer reports
+/// unoccluded at once.
+const std::vector<bvh::Ray>& shadow_rays(const SceneInput& input, bool from_light) {
+    static std::map<std::pair<std::string, bool>, std::vector<bvh::Ray>> cache;
+    std::vector<bvh::Ray>& rays = cache[{input.spec, from_light}];
     if (rays.empty()) {
         const std::vector<bvh::Ray>& primary = camera_rays(input);
         const bvh::TriangleBvh& accel = binary_accel_for(input);
@@ -214,8 +216,9 @@ const std::vector<bvh::Ray>& shadow_rays(const SceneInput& input) {
         tbb::parallel_for(std::size_t{0}, primary.size(), [&](std::size_t i) {
             const bvh::Hit hit = bvh::intersect_closest_binary(accel, primary[i]);
             bvh::Ray r;
-            r.org = hit.is_hit() ? primary[i].org + hit.t * primary[i].dir : primary[i].org;
-            r.dir = light - r.org;
+            const glm::vec3 point = hit.is_hit() ? primary[i].org + hit.t * primary[i].dir : primary[i].org;
+            r.org = from_light ? light : point;
+            r.dir = from_light ? point - light : light - point;
             r.tmin = 1e-4f;
             r.tmax = hit.is_hit() ? 1.0f - 1e-4f : 0.0f;
             rays[i] = r;
@@ -251,9 +254,9 @@ void for_each_tile(const Trace& trace) {
 /// shadow rays, on the wide tree or the binary one, with the work per ray of a counting pass.
 template <bool kWide, bool kShadow>
 void BM_Packet(benchmark::State& state, const std::string& spec,
-               int single_ray_max = packet::PacketConfig{}.single_ray_max) {
+               int single_ray_max = packet::PacketConfig{}.single_ray_max, bool from_light = false) {
     const SceneInput& input = scene_input(spec);
-    const std::vector<bvh::Ray>& rays = kShadow ? shadow_rays(input) : camera_rays(input);
+    const std::vector<bvh::Ray>& rays = kShadow ? shadow_rays(input, from_light) : camera_rays(input);
     const bvh::TriangleBvh& accel = kWide ? accel_for(input) : binary_accel_for(input);
     std::vector<float> t(rays.size());
     packet::PacketConfig config;  // the renderer's defaults
@@ -313,6 +316,9 @@ void BM_PacketClosestBinary(benchmark::State& state, const std::string& spec) {
 void BM_PacketOccludedWide(benchmark::State& state, const std::string& spec) {
     BM_Packet<true, true>(state, spec);
 }
+void BM_PacketOccludedWideFromLight(benchmark::State& state, const std::string& spec) {
+    BM_Packet<true, true>(state, spec, packet::PacketConfig{}.single_ray_max, true);
+}
 void BM_PacketOccludedBinary(benchmark::State& state, const std::string& spec) {
     BM_Packet<false, true>(state, spec);
 }
@@ -321,9 +327,9 @@ void BM_PacketOccludedBinary(benchmark::State& state, const std::string& spec) {
 /// Embree's rtcIntersect16 (kShadow false) or rtcOccluded16 over the tile's 4x4-pixel blocks,
 /// coherent context, denormals flushed as Embree asks, HIGH build quality (its best trace).
 template <bool kShadow>
-void BM_PacketEmbree16(benchmark::State& state, const std::string& spec) {
+void BM_PacketEmbree16(benchmark::State& state, const std::string& spec, bool from_light = false) {
     const SceneInput& input = scene_input(spec);
-    const std::vector<bvh::Ray>& rays = kShadow ? shadow_rays(input) : camera_rays(input);
+    const std::vector<bvh::Ray>& rays = kShadow ? shadow_rays(input, from_light) : camera_rays(input);
     static std::map<std::string, RTCScene> scenes;
     RTCScene& scene = scenes[spec];
     if (scene == nullptr) {
@@ -374,6 +380,9 @@ void BM_PacketClosestEmbree16(benchmark::State& state, const std::string& spec) 
 }
 void BM_PacketOccludedEmbree16(benchmark::State& state, const std::string& spec) {
     BM_PacketEmbree16<true>(state, spec);
+}
+void BM_PacketOccludedEmbree16FromLight(benchmark::State& state, const std::string& spec) {
+    BM_PacketEmbree16<true>(state, spec, true);
 }
 #endif
 
@@ -429,6 +438,7 @@ DYNRT_TRACE_BOTH_SCENES(BM_TraceClosestWide8);
 DYNRT_TRACE_BOTH_SCENES(BM_PacketClosestWide);
 DYNRT_TRACE_BOTH_SCENES(BM_PacketClosestBinary);
 DYNRT_TRACE_BOTH_SCENES(BM_PacketOccludedWide);
+DYNRT_TRACE_BOTH_SCENES(BM_PacketOccludedWideFromLight);
 DYNRT_TRACE_BOTH_SCENES(BM_PacketOccludedBinary);
 #define DYNRT_SWITCH_BENCHMARK(fn, name, spec) \
     DYNRT_TRACE_BENCHMARK(fn, name, spec)->Arg(0)->Arg(1)->Arg(2)->Arg(4)->Arg(8)->Arg(16)
@@ -440,6 +450,7 @@ DYNRT_SWITCH_BENCHMARK(BM_PacketSwitchOccluded, soup_1M, "soup:1000000");
 DYNRT_TRACE_BOTH_SCENES(BM_TraceClosestEmbree);
 DYNRT_TRACE_BOTH_SCENES(BM_PacketClosestEmbree16);
 DYNRT_TRACE_BOTH_SCENES(BM_PacketOccludedEmbree16);
+DYNRT_TRACE_BOTH_SCENES(BM_PacketOccludedEmbree16FromLight);
 #endif
 BENCHMARK(BM_WatertightIntersect);
 

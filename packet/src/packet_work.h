@@ -44,6 +44,14 @@ struct Beam {
     /// Smallest tmin and largest tmax over the active lanes.
     float tnear_lo = kInf;
     float tmax_hi = -kInf;
+    /// The active rays' end points (origin + tmax dir) lie closer together than their origins,
+    /// as shadow rays from surface points toward one light do (the renderer's shadow rays
+    /// start at the light instead). An any-hit traversal visits first the children at the
+    /// end where the rays converge: the free space around the light, where an occluder ends
+    /// a ray early, before the surfaces the rays spread over, which hold the most triangles
+    /// and, at a ray's own surface, none that can occlude it. On soup:1000000's shadow rays
+    /// the other order costs 20-25% more time, whichever way the rays point (bm_trace).
+    bool ends_converge = false;
 };
 
 /// Per-lane state. Inactive (or, for any-hit, occluded) lanes have tnear = +inf and
@@ -107,13 +115,13 @@ void prepare(const RayPacket& packet, Work& w) {
 
     const F inf = L::splat(kInf), minus_inf = L::splat(-kInf), zero = L::splat(0.0f);
     const I abs_mask = L::splat(std::int32_t(0x7fffffff));
-    F org_lo[3], org_hi[3], inv_lo[3], inv_hi[3], dir_sum[3];
+    F org_lo[3], org_hi[3], inv_lo[3], inv_hi[3], dir_sum[3], end_lo[3], end_hi[3];
     // Lane flags accumulated over chunks (-1 where some chunk's lane had the property).
     I negative_any[3], positive_any[3], infinite_any[3];
     I origin_differs = L::splat(0), perm_differs = L::splat(0);
     for (int a = 0; a < 3; ++a) {
-        org_lo[a] = inv_lo[a] = inf;
-        org_hi[a] = inv_hi[a] = minus_inf;
+        org_lo[a] = inv_lo[a] = end_lo[a] = inf;
+        org_hi[a] = inv_hi[a] = end_hi[a] = minus_inf;
         dir_sum[a] = zero;
         negative_any[a] = positive_any[a] = infinite_any[a] = L::splat(0);
     }
@@ -177,6 +185,12 @@ void prepare(const RayPacket& packet, Work& w) {
         }
         const F tmin = L::load(packet.tmin + base), tmax = L::load(packet.tmax + base);
         const F tn = L::select(m, tmin, inf), tf = L::select(m, tmax, minus_inf);
+        for (int a = 0; a < 3; ++a) {
+            // Only an ordering heuristic: an infinite or NaN end makes ends_converge false.
+            const F end = o[a] + tmax * d[a];
+            end_lo[a] = L::min_into(L::select(m, end, inf), end_lo[a]);
+            end_hi[a] = L::max_into(L::select(m, end, minus_inf), end_hi[a]);
+        }
         L::store(w.tnear + base, tn);
         L::store(w.tfar + base, tf);
         L::store(w.hit_u + base, zero);
@@ -213,6 +227,12 @@ void prepare(const RayPacket& packet, Work& w) {
     }
     b.tnear_lo = L::reduce_min(tnear_lo);
     b.tmax_hi = L::reduce_max(tmax_hi);
+    float end_spread = 0.0f, origin_spread = 0.0f;
+    for (int a = 0; a < 3; ++a) {
+        end_spread += L::reduce_max(end_hi[a]) - L::reduce_min(end_lo[a]);
+        origin_spread += b.org_hi[a] - b.org_lo[a];
+    }
+    b.ends_converge = end_spread < origin_spread;
 }
 
 }  // namespace dynrt::packet::detail

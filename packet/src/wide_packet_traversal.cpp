@@ -7,7 +7,8 @@
 //   2. early miss: for the other children, interval arithmetic over all active rays (bounds on
 //      origin and reciprocal direction) rules out those no ray can hit (long ranges only).
 // The children left are pushed farthest first along the packet's mean direction, so the
-// nearest is popped next; a child not decided by the early hit narrows the range to its first
+// nearest is popped next (nearest to the rays' ends for shadow rays that converge there:
+// Beam::ends_converge); a child not decided by the early hit narrows the range to its first
 // and last chunk with a hit when popped (Wald, Boulos and Shirley 2007; Overbeck, Ramamoorthi
 // and Mark 2008), on the rays' current hit distances. When that leaves a handful of rays in at
 // most two chunks, the packet has lost coherence there: those rays continue one by one through
@@ -163,12 +164,14 @@ private:
         const CF key = (C::load(node.lo_x) + C::load(node.hi_x)) * C::splat(mean[0]) +
                        (C::load(node.lo_y) + C::load(node.hi_y)) * C::splat(mean[1]) +
                        (C::load(node.lo_z) + C::load(node.hi_z)) * C::splat(mean[2]);
+        // Any hit for rays that converge at their ends (Beam::ends_converge): the other way.
+        const bool far_first = kAnyHit && w_.beam.ends_converge;
         int slots[N];
         int count = 0;
         for (std::uint32_t m = visit; m != 0; m &= m - 1) {
             const int i = std::countr_zero(m);
             int at = count++;
-            while (at > 0 && key[slots[at - 1]] < key[i]) {
+            while (at > 0 && (far_first ? key[slots[at - 1]] > key[i] : key[slots[at - 1]] < key[i])) {
                 slots[at] = slots[at - 1];
                 --at;
             }

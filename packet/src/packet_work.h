@@ -131,10 +131,22 @@ void prepare(const RayPacket& packet, Work& w) {
         const int base = c * W;
         const std::uint32_t active = packet.active.extract(base, W);
         w.chunk_bits[c] = std::uint16_t(active);
-        if (active != 0) {
-            if (w.first_chunk == kChunks) w.first_chunk = c;
-            w.last_chunk = c;
+        if (active == 0) {
+            // A chunk without active lanes is never tested (every test skips chunks whose
+            // bits are 0, and bits only ever clear): only what is read for all lanes is
+            // written. The packets a two-level trace makes per instance are mostly empty.
+            L::store(w.tnear + base, inf);
+            L::store(w.tfar + base, minus_inf);
+            L::store(w.hit_u + base, zero);
+            L::store(w.hit_v + base, zero);
+            L::store(w.hit_prim + base, L::splat(bvh::kInvalidId));
+            w.chunk_tfar_max[c] = -kInf;
+            // What the heuristic mean direction sums for inactive lanes, (0, 0, 1) each.
+            dir_sum[2] = dir_sum[2] + L::splat(1.0f);
+            continue;
         }
+        if (w.first_chunk == kChunks) w.first_chunk = c;
+        w.last_chunk = c;
         const I m = L::from_bits(active);
         // Inactive lanes get a harmless ray (origin 0, direction +z) so that nothing below
         // reads an arbitrary value; tnear = +inf and tfar = -inf make them miss everything.

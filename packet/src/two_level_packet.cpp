@@ -97,14 +97,22 @@ LaneMask hit_box_lanes(const bvh::Aabb& box, const RayPacket& p, const InverseDi
 
 /// The largest top-level padding over the active lanes' origins (bvh::top_level_pad): one
 /// padded box per node for the whole packet, larger than each lane needs, so still conservative.
+/// The padding grows with the origin's largest |coordinate| alone, so the largest one over the
+/// lanes gives it in one call (a call per lane was a twentieth of a BART robots frame).
+template <int W>
 float packet_pad(const bvh::TwoLevelBvh& tlas, const RayPacket& packet) {
     if (tlas.origin_pad_rel == 0.0f) return 0.0f;
-    float pad = 0.0f;
-    packet.active.for_each([&](int lane) {
-        pad = std::fmax(pad, bvh::top_level_pad(
-                                 tlas, glm::vec3(packet.org_x[lane], packet.org_y[lane], packet.org_z[lane])));
-    });
-    return pad;
+    using L = simd::Lanes<W>;
+    using F = typename L::F;
+    F largest = L::splat(0.0f);
+    for (int first = 0; first < kPacketRays; first += W) {
+        const std::uint32_t active = packet.active.extract(first, W);
+        if (active == 0) continue;
+        const F m = L::max_into(L::abs(L::load(packet.org_x + first)),
+                                L::max_into(L::abs(L::load(packet.org_y + first)), L::abs(L::load(packet.org_z + first))));
+        largest = L::max_into(L::select(L::from_bits(active), m, L::splat(0.0f)), largest);
+    }
+    return bvh::top_level_pad(tlas, glm::vec3(L::reduce_max(largest), 0.0f, 0.0f));
 }
 
 /// Fills `local` with the lanes `lanes` of `packet` in `instance`'s object space (the single-ray
@@ -125,33 +133,40 @@ struct Scratch {
     PacketHits local_hits;
 };
 
-/// Visits the top level front to back: a stack of (node, lanes that reached its parent's test),
-/// every popped node re-tested with the lanes' current tmax (a closer hit found since the push
-/// may rule it out), the child with the nearer entry distance visited first. `visit_leaf`
-/// traces the instances of a leaf for the given lanes. `tmax` is read live (closest hit shrinks
-/// it); `live` returns the lanes still worth tracing (any hit drops occluded lanes).
-template <int W, class Live, class VisitLeaf>
+/// Visits the top level front to back: a stack of (node, lanes that hit its box when it was
+/// pushed), the child with the nearer entry distance visited first. A popped node is tested
+/// again only if a lane's tmax shrank since its push (`hits()`, the number of times a closest
+/// hit shortened a lane, changed): a closer hit may rule it out; otherwise its lanes are the
+/// ones that hit it then. `visit_leaf` traces the instances of a leaf for the given lanes.
+/// `tmax` is read live (closest hit shrinks it); `live` returns the lanes still worth tracing
+/// (any hit drops occluded lanes, and never shortens one).
+template <int W, class Live, class Hits, class VisitLeaf>
 void traverse_top(const bvh::TwoLevelBvh& tlas, const RayPacket& packet, const float* tmax,
-                  Live&& live, VisitLeaf&& visit_leaf) {
+                  Live&& live, Hits&& hits, VisitLeaf&& visit_leaf) {
     const InverseDirs inv(packet);
-    const float pad = packet_pad(tlas, packet);
+    const float pad = packet_pad<W>(tlas, packet);
     const bvh::BvhNode* nodes = tlas.top.nodes.data();
     struct Entry {
         std::uint32_t node;
+        /// hits() when the lanes were tested against the node's box (the root: never).
+        std::uint32_t tested_at;
+        bool tested;
         LaneMask lanes;
     };
     Entry stack[kStackSize];
     int top = 0;
-    stack[top++] = Entry{0, packet.active};
+    stack[top++] = Entry{0, 0, false, packet.active};
     while (top > 0) {
         const Entry e = stack[--top];
         const LaneMask candidates = e.lanes & live();
         if (!candidates.any()) continue;
         const bvh::BvhNode& node = nodes[e.node];
-        float tnear;
-        const LaneMask lanes =
-            hit_box_lanes<W>(bvh::grow_box(node.box, pad), packet, inv, tmax, candidates, tnear);
-        if (!lanes.any()) continue;
+        LaneMask lanes = candidates;
+        if (!e.tested || e.tested_at != hits()) {
+            float tnear;
+            lanes = hit_box_lanes<W>(bvh::grow_box(node.box, pad), packet, inv, tmax, candidates, tnear);
+            if (!lanes.any()) continue;
+        }
         if (node.is_leaf()) {
             for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
                 visit_leaf(tlas.instances[tlas.top.prim_ids[k]], lanes & live());
@@ -165,8 +180,9 @@ void traverse_top(const bvh::TwoLevelBvh& tlas, const RayPacket& packet, const f
                                                 inv, tmax, lanes, t_right);
         // Pushed far first, so the nearer child is popped next.
         const bool right_first = t_right < t_left;
-        const Entry far{right_first ? node.first : node.first + 1, right_first ? left : right};
-        const Entry near{right_first ? node.first + 1 : node.first, right_first ? right : left};
+        const std::uint32_t now = hits();
+        const Entry far{right_first ? node.first : node.first + 1, now, true, right_first ? left : right};
+        const Entry near{right_first ? node.first + 1 : node.first, now, true, right_first ? right : left};
         if (far.lanes.any()) stack[top++] = far;
         if (near.lanes.any()) stack[top++] = near;
     }
@@ -186,6 +202,7 @@ void closest_lanes(const bvh::TwoLevelBvh& tlas, const RayPacket& packet, Instan
     alignas(64) float best_t[kPacketRays];
     for (int i = 0; i < kPacketRays; ++i) best_t[i] = packet.tmax[i];
     bool found_any = false;
+    std::uint32_t shortened = 0;  // lanes whose best_t a hit lowered, for traverse_top
     Scratch scratch;
     auto visit = [&](const bvh::Instance& instance, const LaneMask& lanes) {
         if (!lanes.any()) return;
@@ -214,10 +231,11 @@ void closest_lanes(const bvh::TwoLevelBvh& tlas, const RayPacket& packet, Instan
             out.object[lane] = instance.object;
             best_t[lane] = t;
             found_any = true;
+            ++shortened;
         });
     };
     const LaneMask all = packet.active;
-    traverse_top<W>(tlas, packet, best_t, [&] { return all; }, visit);
+    traverse_top<W>(tlas, packet, best_t, [&] { return all; }, [&] { return shortened; }, visit);
 }
 
 template <int W>
@@ -233,7 +251,7 @@ void any_lanes(const bvh::TwoLevelBvh& tlas, const RayPacket& packet, LaneMask& 
         occluded |= local_occluded;
     };
     traverse_top<W>(tlas, packet, packet.tmax, [&] { return packet.active & ~occluded; },
-                    visit);
+                    [] { return std::uint32_t{0}; }, visit);
 }
 
 }  // namespace

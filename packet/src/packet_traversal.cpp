@@ -175,15 +175,18 @@ public:
                         }
                     }
                 }
-                // Nearer child (along the packet's mean direction) on top of the stack.
+                // Nearer child (along the packet's mean direction) on top of the stack; for
+                // any hit of rays that converge at their ends (Beam::ends_converge), the one
+                // nearer their ends.
                 const bvh::Aabb& l = nodes[node.first].box;
                 const bvh::Aabb& r = nodes[node.first + 1].box;
                 float along = 0.0f;
                 for (int a = 0; a < 3; ++a) {
                     along += ((r.lo[a] + r.hi[a]) - (l.lo[a] + l.hi[a])) * beam.mean_dir[a];
                 }
-                const std::uint32_t near = along < 0.0f ? node.first + 1 : node.first;
-                const std::uint32_t far = along < 0.0f ? node.first : node.first + 1;
+                const bool right_first = kAnyHit && beam.ends_converge ? along > 0.0f : along < 0.0f;
+                const std::uint32_t near = right_first ? node.first + 1 : node.first;
+                const std::uint32_t far = right_first ? node.first : node.first + 1;
                 // What the children will read next (their children's boxes, or a leaf's
                 // triangles) is far apart in memory: start fetching it now.
                 prefetch_below(nodes[far]);
@@ -331,7 +334,7 @@ template <int W>
 void closest_with(const bvh::TriangleBvh& accel, const RayPacket& packet, PacketHits& hits,
                   const PacketConfig& config, PacketStats* stats) {
     Work w;
-    detail::prepare<W>(packet, w);
+    detail::prepare<W, false>(packet, w);
     if (stats) ++stats->packets;
     if (!accel.wide.empty()) {
         wide_closest<W>(accel.wide, packet, w, config, stats);
@@ -355,7 +358,7 @@ template <int W>
 void any_with(const bvh::TriangleBvh& accel, const RayPacket& packet, LaneMask& occluded,
               const PacketConfig& config, PacketStats* stats) {
     Work w;
-    detail::prepare<W>(packet, w);
+    detail::prepare<W, true>(packet, w);
     occluded = LaneMask{};
     if (stats) ++stats->packets;
     if (!accel.wide.empty()) {

@@ -44,10 +44,11 @@ struct Beam {
     /// Smallest tmin and largest tmax over the active lanes.
     float tnear_lo = kInf;
     float tmax_hi = -kInf;
-    /// The active rays' end points (origin + tmax dir) lie closer together than their origins,
-    /// as shadow rays from surface points toward one light do (the renderer's shadow rays
-    /// start at the light instead). An any-hit traversal visits first the children at the
-    /// end where the rays converge: the free space around the light, where an occluder ends
+    /// Any-hit traces only (prepare<W, true>): the active rays' end points (origin + tmax dir)
+    /// lie closer together than their origins, as shadow rays from surface points toward one
+    /// light do (the renderer's shadow rays start at the light instead). The any-hit
+    /// traversals of both trees then visit first the children at the end where the rays
+    /// converge: the free space around the light, where an occluder ends
     /// a ray early, before the surfaces the rays spread over, which hold the most triangles
     /// and, at a ray's own surface, none that can occlude it. On soup:1000000's shadow rays
     /// the other order costs 20-25% more time, whichever way the rays point (bm_trace).
@@ -84,8 +85,10 @@ struct alignas(64) Work {
 
 /// Fills `w` from `packet`, W lanes at a time. The per-lane constants are those of
 /// bvh::WatertightRay and of the single-ray box test (1 / dir), computed with the same
-/// operations lane by lane, so they are bit-identical.
-template <int W>
+/// operations lane by lane, so they are bit-identical. For an any-hit trace (kAnyHit) the beam
+/// also says whether the rays converge at their ends (Beam::ends_converge); closest-hit traces
+/// skip bounding the end points.
+template <int W, bool kAnyHit>
 void prepare(const RayPacket& packet, Work& w) {
     using L = simd::Lanes<W>;
     using F = typename L::F;
@@ -197,11 +200,13 @@ void prepare(const RayPacket& packet, Work& w) {
         }
         const F tmin = L::load(packet.tmin + base), tmax = L::load(packet.tmax + base);
         const F tn = L::select(m, tmin, inf), tf = L::select(m, tmax, minus_inf);
-        for (int a = 0; a < 3; ++a) {
-            // Only an ordering heuristic: an infinite or NaN end makes ends_converge false.
-            const F end = o[a] + tmax * d[a];
-            end_lo[a] = L::min_into(L::select(m, end, inf), end_lo[a]);
-            end_hi[a] = L::max_into(L::select(m, end, minus_inf), end_hi[a]);
+        if constexpr (kAnyHit) {
+            for (int a = 0; a < 3; ++a) {
+                // Only an ordering heuristic: an infinite or NaN end makes ends_converge false.
+                const F end = o[a] + tmax * d[a];
+                end_lo[a] = L::min_into(L::select(m, end, inf), end_lo[a]);
+                end_hi[a] = L::max_into(L::select(m, end, minus_inf), end_hi[a]);
+            }
         }
         L::store(w.tnear + base, tn);
         L::store(w.tfar + base, tf);
@@ -239,12 +244,14 @@ void prepare(const RayPacket& packet, Work& w) {
     }
     b.tnear_lo = L::reduce_min(tnear_lo);
     b.tmax_hi = L::reduce_max(tmax_hi);
-    float end_spread = 0.0f, origin_spread = 0.0f;
-    for (int a = 0; a < 3; ++a) {
-        end_spread += L::reduce_max(end_hi[a]) - L::reduce_min(end_lo[a]);
-        origin_spread += b.org_hi[a] - b.org_lo[a];
+    if constexpr (kAnyHit) {
+        float end_spread = 0.0f, origin_spread = 0.0f;
+        for (int a = 0; a < 3; ++a) {
+            end_spread += L::reduce_max(end_hi[a]) - L::reduce_min(end_lo[a]);
+            origin_spread += b.org_hi[a] - b.org_lo[a];
+        }
+        b.ends_converge = end_spread < origin_spread;
     }
-    b.ends_converge = end_spread < origin_spread;
 }
 
 }  // namespace dynrt::packet::detail

@@ -29,7 +29,10 @@ double seconds_since(Clock::time_point start) {
     return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-void report_tree(benchmark::State& state, const bvh::Bvh& tree, const bvh::BuildConfig& config) {
+/// The shape of `tree`, a Bvh or a TriangleBvh (then of the tree it holds, the wide one by
+/// default: its SAH is on the wide scale, not comparable with a binary tree's).
+template <class Tree>
+void report_tree(benchmark::State& state, const Tree& tree, const bvh::BuildConfig& config) {
     const bvh::BvhStats stats = bvh::compute_stats(tree);
     state.counters["sah"] = bvh::sah_cost(tree, config.sah_costs());
     state.counters["nodes"] = static_cast<double>(stats.nodes);
@@ -57,7 +60,11 @@ void time_builds(benchmark::State& state, const std::string& spec, const bvh::Bu
         }
     }
     state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(input.triangles.size()));
-    report_tree(state, accel.bvh, config);
+    report_tree(state, accel, config);
+    state.counters["bytes_per_tri"] =
+        static_cast<double>(accel.wide.bytes() + accel.bvh.nodes.size() * sizeof(bvh::BvhNode) +
+                            accel.bvh.prim_ids.size() * 4 + accel.tris.size() * sizeof(bvh::Triangle)) /
+        static_cast<double>(input.triangles.size());
 }
 
 bvh::BuildConfig config_of(bvh::BuildMethod method, bool wide = true) {

@@ -67,10 +67,9 @@ const WavedScene& waved(const SceneInput& input) {
     return *slot;
 }
 
-/// `refit` of a TriangleBvh: leaf-order triangle copies and all node boxes. `threads` 0 runs
+/// `refit` of a TriangleBvh: of its wide tree (blocks and node boxes), or with `wide` false of
+/// its binary tree (leaf-order triangle copies and node boxes). `threads` 0 runs
 /// on the default arena (the whole machine), otherwise in an arena of that many threads.
-/// `wide` false refits the binary tree alone (BuildConfig::wide off), so the difference is
-/// what the wide tree's refit adds.
 void BM_RefitTriangleBvh(benchmark::State& state, const std::string& spec, int threads,
                          bool wide = true) {
     const SceneInput& input = scene_input(spec);
@@ -78,7 +77,7 @@ void BM_RefitTriangleBvh(benchmark::State& state, const std::string& spec, int t
     bvh::BuildConfig config;
     config.wide = wide;
     bvh::TriangleBvh accel = bvh::build_triangle_bvh(input.triangles, config);
-    const double built_sah = bvh::sah_cost(accel.bvh, config.sah_costs());
+    const double built_sah = bvh::sah_cost(accel, config.sah_costs());
     tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
     std::size_t frame = 0;
     double waved_sah = 0.0;

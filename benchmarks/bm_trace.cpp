@@ -106,18 +106,30 @@ void BM_TraceClosestDynrt(benchmark::State& state, const std::string& spec) {
     for (const bvh::Ray& ray : rays) bvh::intersect_closest(accel, ray, work);
     state.counters["nodes_per_ray"] = static_cast<double>(work.nodes_visited) / rays.size();
     state.counters["tris_per_ray"] = static_cast<double>(work.triangles_tested) / rays.size();
-    state.counters["sah"] = bvh::sah_cost(accel.bvh, bvh::BuildConfig{}.sah_costs());
+    state.counters["sah"] = bvh::sah_cost(accel, bvh::BuildConfig{}.sah_costs());
+}
+
+/// The binary tree alone (BuildConfig::wide off), so that packets trace it.
+const bvh::TriangleBvh& binary_accel_for(const SceneInput& input) {
+    static std::map<std::string, std::unique_ptr<bvh::TriangleBvh>> cache;
+    auto& slot = cache[input.spec];
+    if (!slot) {
+        bvh::BuildConfig config;
+        config.wide = false;
+        slot = std::make_unique<bvh::TriangleBvh>(bvh::build_triangle_bvh(input.triangles, config));
+    }
+    return *slot;
 }
 
 /// The binary tree's traversal, whatever the engine's default.
 void BM_TraceClosestBinary(benchmark::State& state, const std::string& spec) {
     const SceneInput& input = scene_input(spec);
     const std::vector<bvh::Ray>& rays = camera_rays(input);
-    const bvh::TriangleBvh& accel = accel_for(input);
+    const bvh::TriangleBvh& accel = binary_accel_for(input);
     std::vector<float> t(rays.size());
     for (auto _ : state) {
         for_each_pixel_by_tile(
-            [&](std::size_t i) { t[i] = bvh::intersect_closest_binary(accel, rays[i]).t; });
+            [&](std::size_t i) { t[i] = bvh::intersect_closest(accel, rays[i]).t; });
         benchmark::ClobberMemory();
     }
     state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(rays.size()));
@@ -130,7 +142,7 @@ template <int N>
 void BM_TraceClosestWide(benchmark::State& state, const std::string& spec) {
     const SceneInput& input = scene_input(spec);
     const std::vector<bvh::Ray>& rays = camera_rays(input);
-    const bvh::TriangleBvh& accel = accel_for(input);
+    const bvh::TriangleBvh& accel = binary_accel_for(input);
     static std::map<std::string, std::unique_ptr<bvh::WideBvhOf<N>>> cache;
     auto& wide = cache[spec];
     if (!wide) {
@@ -187,17 +199,6 @@ void BM_TraceClosestEmbree(benchmark::State& state, const std::string& spec) {
 
 // ---- Packets ----------------------------------------------------------------------------
 
-/// The binary tree alone (BuildConfig::wide off), so that packets trace it.
-const bvh::TriangleBvh& binary_accel_for(const SceneInput& input) {
-    static std::map<std::string, std::unique_ptr<bvh::TriangleBvh>> cache;
-    auto& slot = cache[input.spec];
-    if (!slot) {
-        bvh::BuildConfig config;
-        config.wide = false;
-        slot = std::make_unique<bvh::TriangleBvh>(bvh::build_triangle_bvh(input.triangles, config));
-    }
-    return *slot;
-}
 
 /// Shadow rays of the camera rays' closest hits (on the binary tree) toward a point light above
 /// the default camera: from the hit point to the light or, `from_light`, from the light to the
@@ -214,7 +215,7 @@ const std::vector<bvh::Ray>& shadow_rays(const SceneInput& input, bool from_ligh
         const glm::vec3 light = camera.eye + glm::vec3(0.0f, 0.5f * glm::length(input.bounds.extent()), 0.0f);
         rays.resize(primary.size());
         tbb::parallel_for(std::size_t{0}, primary.size(), [&](std::size_t i) {
-            const bvh::Hit hit = bvh::intersect_closest_binary(accel, primary[i]);
+            const bvh::Hit hit = bvh::intersect_closest(accel, primary[i]);
             bvh::Ray r;
             const glm::vec3 point = hit.is_hit() ? primary[i].org + hit.t * primary[i].dir : primary[i].org;
             r.org = from_light ? light : point;

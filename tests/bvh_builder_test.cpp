@@ -24,7 +24,14 @@ using testing::boxes_of;
 using testing::bounds_of;
 using testing::random_soup;
 
-using testing::config_with;
+/// The binary tree's build: these tests check the binary tree itself (a default build keeps
+/// only the wide tree, which wide_bvh_test.cpp checks).
+BuildConfig config_with(std::uint32_t leaf_size_max, float cost_ratio = 1.0f,
+                        std::uint32_t bin_count = 16) {
+    BuildConfig c = testing::config_with(leaf_size_max, cost_ratio, bin_count);
+    c.wide = false;
+    return c;
+}
 
 std::vector<glm::vec3> centers_of(const std::vector<Aabb>& boxes) {
     std::vector<glm::vec3> centers;
@@ -70,7 +77,7 @@ TEST(BvhBuilder, EmptyInputGivesEmptyTree) {
     EXPECT_EQ(stats.nodes, 0u);
     EXPECT_EQ(stats.depth, 0u);
 
-    const TriangleBvh accel = build_triangle_bvh({}, BuildConfig{});
+    const TriangleBvh accel = build_triangle_bvh({}, config_with(8));
     EXPECT_TRUE(accel.bvh.empty());
     EXPECT_TRUE(accel.tris.empty());
     EXPECT_EQ(accel.degenerate_skipped, 0u);
@@ -254,7 +261,7 @@ TEST(BvhBuilder, CollinearAndDegenerateTrianglesAreSkipped) {
     }
     // Only degenerate triangles: nothing to build.
     const std::vector<Triangle> only_degenerate(10, Triangle{glm::vec3(1), glm::vec3(1), glm::vec3(2)});
-    const TriangleBvh empty = build_triangle_bvh(only_degenerate, BuildConfig{});
+    const TriangleBvh empty = build_triangle_bvh(only_degenerate, config_with(8));
     EXPECT_TRUE(empty.bvh.empty());
     EXPECT_EQ(empty.degenerate_skipped, 10u);
     EXPECT_EQ(validate(empty, only_degenerate, 8), "");

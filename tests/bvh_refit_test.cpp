@@ -35,9 +35,17 @@ using testing::random_direction;
 using testing::random_point;
 using testing::random_soup;
 
+/// The binary tree's build: these tests check the binary tree itself (a default build keeps
+/// only the wide tree, which wide_bvh_test.cpp checks).
+BuildConfig config_with(std::uint32_t leaf_size_max, float cost_ratio = 1.0f,
+                        std::uint32_t bin_count = 16) {
+    BuildConfig c = testing::config_with(leaf_size_max, cost_ratio, bin_count);
+    c.wide = false;
+    return c;
+}
+
 using Motion = std::function<glm::vec3(const glm::vec3&)>;
 
-using testing::config_with;
 
 /// Applies `motion` to every vertex. A pure function of the position, so vertices shared by
 /// neighbouring triangles of a closed mesh stay bit-identical (the mesh stays watertight).
@@ -421,7 +429,7 @@ TEST(BvhRefit, ASkippedTriangleGainingAreaNeedsARebuildAndChangesNothing) {
 
 TEST(BvhRefit, TreesOfOnlyDegenerateTriangles) {
     const std::vector<Triangle> points(5, Triangle{glm::vec3(1.0f), glm::vec3(1.0f), glm::vec3(2.0f)});
-    TriangleBvh accel = build_triangle_bvh(points, BuildConfig{});
+    TriangleBvh accel = build_triangle_bvh(points, config_with(8));
     ASSERT_TRUE(accel.bvh.empty());
     EXPECT_EQ(accel.skipped_ids, (std::vector<std::uint32_t>{0, 1, 2, 3, 4}));
     EXPECT_EQ(validate(accel, points, 8), "");
@@ -436,7 +444,7 @@ TEST(BvhRefit, TreesOfOnlyDegenerateTriangles) {
     EXPECT_EQ(result.status, RefitStatus::skipped_triangle_has_area);
     EXPECT_EQ(result.triangle_with_area, 3u);
 
-    TriangleBvh empty = build_triangle_bvh({}, BuildConfig{});
+    TriangleBvh empty = build_triangle_bvh({}, config_with(8));
     EXPECT_EQ(refit(empty, {}, SahCosts{}).status, RefitStatus::refitted);
 }
 

@@ -39,6 +39,20 @@ BuildConfig morton_config(std::uint32_t leaf_size_max = 8, bool wide = true) {
     return config;
 }
 
+/// The two wide trees' nodes hold the same bits (their padding aside).
+bool same_nodes(const WideBvh& a, const WideBvh& b) {
+    if (a.nodes.size() != b.nodes.size()) return false;
+    for (std::size_t i = 0; i < a.nodes.size(); ++i) {
+        const WideNode<kWideWidth>& x = a.nodes[i];
+        const WideNode<kWideWidth>& y = b.nodes[i];
+        const bool same = std::memcmp(x.lo_x, y.lo_x, sizeof x.lo_x * 6) == 0 &&
+                          std::memcmp(x.child, y.child, sizeof x.child) == 0 &&
+                          std::memcmp(x.blocks, y.blocks, sizeof x.blocks) == 0;
+        if (!same) return false;
+    }
+    return true;
+}
+
 std::vector<glm::vec3> centers_of(const std::vector<Aabb>& boxes) {
     std::vector<glm::vec3> centers;
     for (const Aabb& b : boxes) centers.push_back(b.center());
@@ -74,6 +88,8 @@ void expect_same_hits(const std::vector<Triangle>& tris, std::uint32_t leaf_size
                       const std::string& what) {
     const TriangleBvh morton = build_triangle_bvh(tris, morton_config(leaf_size_max));
     ASSERT_EQ(validate(morton, tris, std::min(leaf_size_max, 8u)), "") << what;
+    const TriangleBvh morton_binary = build_triangle_bvh(tris, morton_config(leaf_size_max, false));
+    ASSERT_EQ(validate(morton_binary, tris, std::min(leaf_size_max, 8u)), "") << what;
     BuildConfig sah_config;
     sah_config.leaf_size_max = leaf_size_max;
     const TriangleBvh sah = build_triangle_bvh(tris, sah_config);
@@ -81,7 +97,7 @@ void expect_same_hits(const std::vector<Triangle>& tris, std::uint32_t leaf_size
     for (const Ray& ray : rays_for(tris, 7, 400)) {
         const Hit expected = brute_force_closest(tris, ray);
         const Hit sah_hit = intersect_closest(sah, ray);
-        for (const Hit& got : {intersect_closest(morton, ray), intersect_closest_binary(morton, ray)}) {
+        for (const Hit& got : {intersect_closest(morton, ray), intersect_closest(morton_binary, ray)}) {
             const bool same = got.is_hit() == expected.is_hit() &&
                               (!got.is_hit() || (got.t == expected.t && got.prim == sah_hit.prim &&
                                                  got.u == sah_hit.u && got.v == sah_hit.v));
@@ -136,7 +152,10 @@ TEST(MortonBuilder, TreesAreValidOnEveryShapeOfInput) {
             SCOPED_TRACE(input.name + ", leaf " + std::to_string(leaf));
             const TriangleBvh accel = build_triangle_bvh(input.tris, morton_config(leaf));
             EXPECT_EQ(validate(accel, input.tris, std::min(leaf, 8u)), "");
-            EXPECT_LE(depth_of(accel.bvh), kMaxDepth);
+            EXPECT_LE(compute_stats(accel).depth, kMaxDepth);
+            const TriangleBvh binary = build_triangle_bvh(input.tris, morton_config(leaf, false));
+            EXPECT_EQ(validate(binary, input.tris, std::min(leaf, 8u)), "");
+            EXPECT_LE(depth_of(binary.bvh), kMaxDepth);
             // From boxes and centres too.
             const std::vector<Aabb> boxes = boxes_of(input.tris);
             const Bvh bvh = build_morton(boxes, centers_of(boxes), morton_config(leaf));
@@ -151,7 +170,7 @@ TEST(MortonBuilder, LeafOrderFollowsTheMortonCurve) {
     std::vector<Triangle> tris = random_soup(31, 1000, 1.0f, 0.01f);
     const std::vector<Triangle> far = random_soup(32, 1000, 1.0f, 0.01f, glm::vec3(10.0f));
     tris.insert(tris.end(), far.begin(), far.end());
-    const TriangleBvh accel = build_triangle_bvh(tris, morton_config());
+    const TriangleBvh accel = build_triangle_bvh(tris, morton_config(8, false));
     ASSERT_EQ(accel.bvh.prim_ids.size(), 2000u);
     std::size_t near_first = 0;
     for (std::size_t k = 0; k < 1000; ++k) near_first += accel.bvh.prim_ids[k] < 1000 ? 1 : 0;
@@ -171,9 +190,9 @@ TEST(MortonBuilder, SameTreeWhateverTheThreadCount) {
     TriangleBvh one, two;
     tbb::task_arena(1).execute([&] { one = build_triangle_bvh(tris, morton_config()); });
     tbb::task_arena(2).execute([&] { two = build_triangle_bvh(tris, morton_config()); });
-    EXPECT_EQ(one.bvh.prim_ids, two.bvh.prim_ids);
-    EXPECT_EQ(sah_cost(one.bvh, {}), sah_cost(two.bvh, {}));
+    EXPECT_EQ(sah_cost(one, {}), sah_cost(two, {}));
     ASSERT_EQ(one.wide.nodes.size(), two.wide.nodes.size());
+    EXPECT_TRUE(same_nodes(one.wide, two.wide));
     ASSERT_EQ(one.wide.blocks.size(), two.wide.blocks.size());
     for (std::size_t i = 0; i < one.wide.blocks.size(); ++i) {
         ASSERT_EQ(0, std::memcmp(&one.wide.blocks[i], &two.wide.blocks[i], sizeof(TriangleBlock)));
@@ -187,9 +206,12 @@ TEST(MortonBuilder, RecycledStorageGivesTheSameTree) {
     TriangleBvh recycled = build_triangle_bvh(big, morton_config());
     recycled = build_triangle_bvh(small, morton_config(), std::move(recycled));
     EXPECT_EQ(validate(recycled, small, 8), "");
-    EXPECT_EQ(recycled.bvh.prim_ids, fresh.bvh.prim_ids);
-    EXPECT_EQ(recycled.bvh.nodes.size(), fresh.bvh.nodes.size());
-    EXPECT_EQ(sah_cost(recycled.bvh, {}), sah_cost(fresh.bvh, {}));
+    ASSERT_EQ(recycled.wide.nodes.size(), fresh.wide.nodes.size());
+    ASSERT_EQ(recycled.wide.blocks.size(), fresh.wide.blocks.size());
+    EXPECT_TRUE(same_nodes(recycled.wide, fresh.wide));
+    EXPECT_EQ(0, std::memcmp(recycled.wide.blocks.data(), fresh.wide.blocks.data(),
+                             fresh.wide.blocks.size() * sizeof(TriangleBlock)));
+    EXPECT_EQ(sah_cost(recycled, {}), sah_cost(fresh, {}));
 }
 
 TEST(MortonBuilder, DegenerateTrianglesAreSkippedAsByTheSahBuilder) {
@@ -214,13 +236,17 @@ TEST(MortonBuilder, SahCostStaysNearTheBinnedSahTree) {
         {"soup", random_soup(71, 50000, 1.0f, 0.01f)},
     };
     for (const auto& [name, tris] : inputs) {
-        BuildConfig sah_config;
-        sah_config.leaf_size_max = 4;
-        const double sah = sah_cost(build_triangle_bvh(tris, sah_config).bvh, {});
-        const double morton = sah_cost(build_triangle_bvh(tris, morton_config(4)).bvh, {});
-        EXPECT_LT(morton, 1.6 * sah) << name << ": morton " << morton << ", sah " << sah;
-        std::printf("[ SAH cost ] %s: morton %.2f, binned SAH %.2f (%.2fx)\n", name.c_str(), morton,
-                    sah, morton / sah);
+        for (bool wide : {false, true}) {
+            BuildConfig sah_config;
+            sah_config.leaf_size_max = 4;
+            sah_config.wide = wide;
+            const double sah = sah_cost(build_triangle_bvh(tris, sah_config), {});
+            const double morton = sah_cost(build_triangle_bvh(tris, morton_config(4, wide)), {});
+            EXPECT_GT(sah, 1.0) << name;
+            EXPECT_LT(morton, 1.6 * sah) << name << ": morton " << morton << ", sah " << sah;
+            std::printf("[ SAH cost ] %s %s: morton %.2f, binned SAH %.2f (%.2fx)\n", name.c_str(),
+                        wide ? "wide" : "binary", morton, sah, morton / sah);
+        }
     }
 }
 

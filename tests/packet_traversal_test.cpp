@@ -42,6 +42,9 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 struct Accel {
     std::vector<bvh::Triangle> tris;
     bvh::TriangleBvh bvh;
+    /// The same triangles' binary tree (built without the wide tree): the single-ray tracer
+    /// that checks the packets runs on it, an implementation independent of the wide tree's.
+    bvh::TriangleBvh binary;
     bvh::Aabb bounds;
 };
 
@@ -57,6 +60,8 @@ Accel build_accel(const Scene& scene, bvh::BuildConfig config = {}) {
         }
     }
     a.bvh = bvh::build_triangle_bvh(a.tris, config);
+    config.wide = false;
+    a.binary = bvh::build_triangle_bvh(a.tris, config);
     return a;
 }
 
@@ -98,8 +103,8 @@ std::string describe(const PacketConfig& config) {
 
 using dynrt::test::same_bits;
 
-/// The single-ray tracer's answers on the binary tree for every lane of a packet (misses for
-/// inactive lanes).
+/// The single-ray tracer's answers on `accel` (Accel::binary) for every lane of a packet
+/// (misses for inactive lanes).
 struct SingleRay {
     bvh::Hit closest[kPacketRays];
     bool any[kPacketRays];
@@ -107,8 +112,8 @@ struct SingleRay {
     SingleRay(const bvh::TriangleBvh& accel, const RayPacket& packet) {
         for (int lane = 0; lane < kPacketRays; ++lane) {
             const bool active = packet.active.test(lane);
-            closest[lane] = active ? bvh::intersect_closest_binary(accel, packet.ray(lane)) : bvh::Hit{};
-            any[lane] = active && bvh::intersect_any_binary(accel, packet.ray(lane));
+            closest[lane] = active ? bvh::intersect_closest(accel, packet.ray(lane)) : bvh::Hit{};
+            any[lane] = active && bvh::intersect_any(accel, packet.ray(lane));
         }
     }
 };
@@ -188,7 +193,7 @@ void check_camera(const Accel& a, const Camera& camera, int width, int height, g
         const Tile tile = tiling.tile(i);
         fill_tile(tile, [&](int x, int y) { return rays.ray(x, y); }, *primary);
         totals.rays += std::size_t(primary->active.count());
-        const auto single = std::make_unique<SingleRay>(a.bvh, *primary);
+        const auto single = std::make_unique<SingleRay>(a.binary, *primary);
         // Shadow rays from the single-ray hits (equal to every config's, as checked below).
         for (int lane = 0; lane < kPacketRays; ++lane) {
             const bvh::Hit& h = single->closest[lane];
@@ -200,7 +205,7 @@ void check_camera(const Accel& a, const Camera& camera, int width, int height, g
         }
         make_shadow_packet(a.tris, *primary, *hits, light, *shadow);
         totals.shadow_rays += std::size_t(shadow->active.count());
-        const auto single_shadow = std::make_unique<SingleRay>(a.bvh, *shadow);
+        const auto single_shadow = std::make_unique<SingleRay>(a.binary, *shadow);
         for (const PacketConfig& config : configs) {
             SCOPED_TRACE(describe(config) + ", tile " + std::to_string(i));
             intersect_closest(a.bvh, *primary, *hits, config, &totals.stats);
@@ -371,7 +376,7 @@ TEST(PacketTraversal, EachCullingStageCullsAndResultsStayExact) {
     one_leaf.cost_ratio = 0.01f;
     one_leaf.leaf_size_max = 16;
     const Accel a = build_accel(scene, one_leaf);
-    ASSERT_EQ(bvh::compute_stats(a.bvh.bvh).leaves, 1u);
+    ASSERT_EQ(bvh::compute_stats(a.bvh).leaves, 1u);
 
     Camera camera;
     camera.eye = glm::vec3(0, 0, 4);
@@ -385,7 +390,7 @@ TEST(PacketTraversal, EachCullingStageCullsAndResultsStayExact) {
         r.tmax = 3.5f;
         return r;
     }, *packet);
-    const auto single = std::make_unique<SingleRay>(a.bvh, *packet);
+    const auto single = std::make_unique<SingleRay>(a.binary, *packet);
     int hit_count = 0;
     for (int lane = 0; lane < kPacketRays; ++lane) hit_count += single->closest[lane].is_hit();
     EXPECT_GT(hit_count, 0);
@@ -436,7 +441,7 @@ TEST(PacketTraversal, IncoherentPacketsAgree) {
             r.tmax = round % 3 == 0 ? kInf : 0.3f + u(rng);
             packet->set_ray(lane, r);
         }
-        const auto single = std::make_unique<SingleRay>(a.bvh, *packet);
+        const auto single = std::make_unique<SingleRay>(a.binary, *packet);
         for (const PacketConfig& config : all_configs()) {
             SCOPED_TRACE(describe(config) + ", round " + std::to_string(round));
             intersect_closest(a.bvh, *packet, *hits, config);
@@ -473,7 +478,7 @@ TEST(PacketTraversal, TiesGoToTheLowerPrimitiveInBothTracers) {
     const packet::PinholeRays rays(camera, 40, 40);
     for (int i = 0; i < tiling.count(); ++i) {
         fill_tile(tiling.tile(i), [&](int x, int y) { return rays.ray(x, y); }, *packet);
-        const auto single = std::make_unique<SingleRay>(a.bvh, *packet);
+        const auto single = std::make_unique<SingleRay>(a.binary, *packet);
         for (const PacketConfig& config : all_configs()) {
             intersect_closest(a.bvh, *packet, *hits, config);
             ASSERT_TRUE(closest_agrees(*single, *packet, *hits)) << describe(config);
@@ -515,7 +520,7 @@ TEST(PacketTraversal, ComparisonDetectsADifference) {
     auto hits = std::make_unique<PacketHits>();
     fill_tile(Tile{0, 0, 16, 16}, [&](int x, int y) { return rays.ray(x, y); }, *packet);
     intersect_closest(a.bvh, *packet, *hits);
-    const auto single = std::make_unique<SingleRay>(a.bvh, *packet);
+    const auto single = std::make_unique<SingleRay>(a.binary, *packet);
     ASSERT_TRUE(closest_agrees(*single, *packet, *hits));
     const int lane = 8 * 16 + 8;  // the image centre sees the sphere
     ASSERT_TRUE(hits->hit(lane).is_hit());

@@ -112,7 +112,7 @@ TEST(TwoLevelBvh, TopLevelIsValidAndBoxesContainTheInstances) {
     std::vector<Aabb> boxes;
     std::vector<std::uint32_t> in_tree;
     for (std::size_t i = 0; i < w.tlas.instances.size(); ++i) {
-        const bool empty = w.tlas.instances[i].blas->bvh.empty();
+        const bool empty = w.tlas.instances[i].blas->empty();
         EXPECT_EQ(w.tlas.world_boxes[i].is_empty(), empty) << "instance " << i;
         if (!empty) {
             EXPECT_TRUE(w.tlas.world_boxes[i].contains(bounds_of(w.world_tris[i]))) << "instance " << i;

@@ -425,10 +425,15 @@ TEST(UpdatePlan, ObjectPartsHoldEveryTriangle) {
         accel.object_world_parts(i, 1, one);
         ASSERT_EQ(one.size(), 1u);
         EXPECT_EQ(one[0].lo, accel.object_world_boxes()[i].lo);
-        accel.object_world_parts(i, 8, parts);
-        ASSERT_LE(parts.size(), 8u);
+        // As many parts as exact reuse asks for (ObjectVersions::kPartsPerObject).
+        accel.object_world_parts(i, 16, parts);
+        ASSERT_LE(parts.size(), 16u);
         // Static objects share the static group's tree: their box is all there is.
-        ASSERT_EQ(parts.size(), kClasses[i] == MotionClass::static_ ? 1u : 8u);
+        if (kClasses[i] == MotionClass::static_) {
+            ASSERT_EQ(parts.size(), 1u);
+        } else {
+            ASSERT_GT(parts.size(), 8u);
+        }
         const auto in_box = [](const glm::vec3& v, const bvh::Aabb& p, float pad) {
             return glm::all(glm::greaterThanEqual(v, p.lo - pad)) && glm::all(glm::lessThanEqual(v, p.hi + pad));
         };
@@ -442,7 +447,7 @@ TEST(UpdatePlan, ObjectPartsHoldEveryTriangle) {
                 covered += std::any_of(parts.begin(), parts.end(),
                                        [&](const bvh::Aabb& p) { return in_box(q, p, 0.0f); });
             }
-            EXPECT_LT(covered, 1400);
+            EXPECT_LT(covered, 1400) << parts.size() << " parts";
         }
         const std::size_t triangles = world.scene.objects[i].mesh.triangles.size();
         for (std::uint32_t prim = 0; prim < triangles; ++prim) {

@@ -76,16 +76,17 @@ std::string describe(const Ray& r) {
            std::to_string(r.dir.y) + ", " + std::to_string(r.dir.z) + ")";
 }
 
-/// The wide tree gives the binary tree's answers bit for bit on `rays`; returns the failures.
+/// The wide tree gives the binary tree's answers bit for bit on `rays` (`binary` built without
+/// a wide tree, so it traces its binary tree); returns the failures.
 template <int N>
 int count_disagreements(const WideBvhOf<N>& wide, const TriangleBvh& binary,
                         const std::vector<Ray>& rays, const std::string& what) {
     int failures = 0;
     for (const Ray& ray : rays) {
-        const Hit expected = intersect_closest_binary(binary, ray);
+        const Hit expected = intersect_closest(binary, ray);
         const Hit got = intersect_closest(wide, ray);
         const bool same = std::memcmp(&expected, &got, sizeof(Hit)) == 0;
-        const bool any_same = intersect_any(wide, ray) == intersect_any_binary(binary, ray);
+        const bool any_same = intersect_any(wide, ray) == intersect_any(binary, ray);
         if (!same || !any_same) {
             if (++failures <= 3) {
                 ADD_FAILURE() << what << ": " << describe(ray) << ": binary t " << expected.t
@@ -259,14 +260,13 @@ TYPED_TEST(WideBvhTest, RefitKeepsTheBinaryTreesHitsAndTightBoxes) {
             tris[f] = {moved[mesh.faces[f][0]], moved[mesh.faces[f][1]], moved[mesh.faces[f][2]]};
         }
         ASSERT_FALSE(refit(binary, tris, SahCosts{}).needs_rebuild());
-        // Both refits, from the caller's order and from the leaf order, give the same tree.
-        WideBvhOf<N> streamed = wide;
-        refit_wide(wide, tris);
-        refit_wide_leaf_order(streamed, binary.tris);
-        ASSERT_EQ(std::memcmp(wide.nodes.data(), streamed.nodes.data(),
-                              wide.nodes.size() * sizeof(WideNode<N>)), 0);
-        ASSERT_EQ(std::memcmp(wide.blocks.data(), streamed.blocks.data(),
-                              wide.blocks.size() * sizeof(TriangleBlock)), 0);
+        const SahCosts costs{1.0f, 1.5f};
+        // The refit's SAH cost is sah_cost's, bit for bit, and it changes with the boxes.
+        const double before = sah_cost(wide, costs);
+        const double refitted = refit_wide(wide, tris, costs);
+        EXPECT_EQ(refitted, sah_cost(wide, costs));
+        EXPECT_NE(refitted, before);
+        EXPECT_GT(refitted, costs.traversal);
         const std::string what = "frame " + std::to_string(frame);
         ASSERT_EQ(validate(wide, tris, binary.bvh.prim_ids), "") << what;
         EXPECT_EQ(count_disagreements(wide, binary, random_rays(tris, 58 + frame, 800), what), 0);
@@ -345,24 +345,27 @@ TYPED_TEST(WideBvhTest, ValidateCatchesCorruption) {
         EXPECT_NE(validate(w, tris, binary.bvh.prim_ids), "");
     }
     {
-        WideBvhOf<N> w = good;  // two blocks swapped: the same triangles, not in leaf order
-        std::swap(w.blocks[0], w.blocks[1]);
+        WideBvhOf<N> w = good;  // a triangle count that is not the blocks'
+        w.triangle_count += 1;
         EXPECT_NE(validate(w, tris, binary.bvh.prim_ids), "");
+        EXPECT_THROW(refit_wide(w, tris, SahCosts{}), std::invalid_argument);
     }
     {
-        WideBvhOf<N> w = good;  // an inner child's first position off by one
-        w.nodes[w.nodes[0].child[inner]].first_position += 1;
+        WideBvhOf<N> w = good;  // an unused lane marked used again
+        bool marked = false;
+        for (TriangleBlock& block : w.blocks) {
+            if (!marked && block.prim[kBlockLanes - 1] == kInvalidId) {
+                block.prim[kBlockLanes - 1] = block.prim[0];
+                marked = true;
+            }
+        }
+        ASSERT_TRUE(marked);
         EXPECT_NE(validate(w, tris, binary.bvh.prim_ids), "");
-        EXPECT_THROW(refit_wide_leaf_order(w, binary.tris), std::invalid_argument);
     }
-    // Refits throw on a primitive out of range or too few triangles instead of reading past
-    // them.
+    // A refit throws on a primitive out of range instead of reading past the triangles.
     WideBvhOf<N> w = good;
     w.blocks[0].prim[0] = static_cast<std::uint32_t>(tris.size());
-    EXPECT_THROW(refit_wide(w, tris), std::invalid_argument);
-    WideBvhOf<N> w2 = good;
-    EXPECT_THROW(refit_wide_leaf_order(w2, std::span<const Triangle>(binary.tris).first(10)),
-                 std::invalid_argument);
+    EXPECT_THROW(refit_wide(w, tris, SahCosts{}), std::invalid_argument);
 }
 
 TEST(WideBvh, TriangleBvhTracesItsWideTreeAndCountsTheWork) {
@@ -370,6 +373,10 @@ TEST(WideBvh, TriangleBvhTracesItsWideTreeAndCountsTheWork) {
     BuildConfig config;
     const TriangleBvh accel = build_triangle_bvh(tris, config);
     ASSERT_FALSE(accel.wide.empty());
+    // The binary tree it was collapsed from is not kept.
+    EXPECT_TRUE(accel.bvh.empty());
+    EXPECT_TRUE(accel.tris.empty());
+    EXPECT_EQ(accel.triangle_count(), tris.size());
     ASSERT_EQ(validate(accel, tris, config.leaf_size_max), "");
     config.wide = false;
     const TriangleBvh binary_only = build_triangle_bvh(tris, config);
@@ -397,8 +404,50 @@ TEST(WideBvh, TriangleBvhTracesItsWideTreeAndCountsTheWork) {
         t.v2.y += 0.01f;
     }
     TriangleBvh refitted = accel;
-    ASSERT_FALSE(refit(refitted, moved, config.sah_costs()).needs_rebuild());
+    const RefitResult result = refit(refitted, moved, config.sah_costs());
+    ASSERT_FALSE(result.needs_rebuild());
+    EXPECT_EQ(result.sah_cost, sah_cost(refitted, config.sah_costs()));
     EXPECT_EQ(validate(refitted, moved, config.leaf_size_max), "");
+    // A stale tree (the triangles moved, no refit) fails validation.
+    EXPECT_NE(validate(accel, moved, config.leaf_size_max), "");
+    // A refit with the wrong number of triangles is refused before anything changes.
+    moved.pop_back();
+    EXPECT_THROW(refit(refitted, moved, config.sah_costs()), std::invalid_argument);
+}
+
+/// cover_boxes: at most the parts asked for, together holding every triangle, the largest of
+/// them smaller as more are allowed; the same for the binary tree.
+TEST(WideBvh, CoverBoxesHoldEveryTriangleInAtMostTheAskedParts) {
+    const std::vector<Triangle> tris = random_soup(63, 4000, 1.0f, 0.02f);
+    for (bool wide : {true, false}) {
+        BuildConfig config;
+        config.wide = wide;
+        const TriangleBvh accel = build_triangle_bvh(tris, config);
+        double previous_area = 0.0;
+        for (std::size_t parts : {1u, 8u, 16u, 64u}) {
+            std::vector<Aabb> boxes;
+            cover_boxes(accel, parts, boxes);
+            ASSERT_FALSE(boxes.empty());
+            EXPECT_LE(boxes.size(), parts) << wide;
+            for (const Triangle& t : tris) {
+                bool held = false;
+                for (const Aabb& b : boxes) held = held || b.contains(t.bounds());
+                ASSERT_TRUE(held) << "wide " << wide << " parts " << parts;
+            }
+            double largest = 0.0;
+            for (const Aabb& b : boxes) largest = std::max(largest, static_cast<double>(b.half_area()));
+            if (parts == 1) {
+                EXPECT_EQ(boxes.size(), 1u);
+            } else {
+                EXPECT_GT(boxes.size(), parts / 2) << "wide " << wide << " parts " << parts;
+                EXPECT_LT(largest, previous_area) << "wide " << wide << " parts " << parts;
+            }
+            previous_area = largest;
+        }
+    }
+    std::vector<Aabb> none;
+    cover_boxes(build_triangle_bvh(std::vector<Triangle>{}, BuildConfig{}), 8, none);
+    EXPECT_TRUE(none.empty());
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 // Tree-wide figures and invariant checks. SAH cost after MacDonald and Booth 1990, "Heuristics
 // for ray tracing using space subdivision".
 
+#include "sah_terms.h"
 #include "tree_checks.h"
 
 #include <oneapi/tbb/parallel_invoke.h>
@@ -14,14 +15,7 @@
 namespace dynrt::bvh {
 namespace {
 
-/// Half area in double, so summing a million small nodes loses nothing to float rounding.
-double half_area_d(const Aabb& b) {
-    if (b.is_empty()) return 0.0;
-    const double x = static_cast<double>(b.hi.x) - b.lo.x;
-    const double y = static_cast<double>(b.hi.y) - b.lo.y;
-    const double z = static_cast<double>(b.hi.z) - b.lo.z;
-    return x * y + y * z + z * x;
-}
+using detail::half_area_d;
 
 std::string box_text(const Aabb& b) {
     return "[(" + std::to_string(b.lo.x) + ", " + std::to_string(b.lo.y) + ", " +

@@ -6,12 +6,14 @@
 #include "prim_ref.h"
 
 #include "dynrt/bvh/binned_sah_builder.h"
+#include "dynrt/bvh/triangle.h"
 
 #include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <memory>
 #include <span>
+#include <vector>
 
 namespace dynrt::bvh::detail {
 
@@ -62,9 +64,12 @@ Bvh build_morton_from_prim_refs(const Ref* refs, std::size_t count,
                                 MortonBuffers<Ref>& buffers, Bvh&& recycled = {});
 
 /// The Morton builder's storage kept with a TriangleBvh (TriangleBvh::morton_scratch): its
-/// buffers and build_triangle_bvh's own refs.
+/// buffers, build_triangle_bvh's own refs, and the binary tree and leaf-ordered triangles that
+/// the wide tree is collapsed from.
 struct MortonScratch {
     MortonBuffers<BoxCenterRef> buffers;
+    Bvh binary;
+    std::vector<Triangle> leaf_tris;
     std::unique_ptr<BoxCenterRef[]> refs;
     std::size_t refs_capacity = 0;
 

@@ -9,7 +9,7 @@
 
 #include "dynrt/bvh/refit.h"
 
-#include <glm/vec3.hpp>
+#include "sah_terms.h"
 
 #include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/parallel_invoke.h>
@@ -35,12 +35,7 @@ constexpr std::size_t kSkippedGrain = 16 * 1024;
 /// leaves are visited in prim_ids order, so the addresses needed next are known ahead.
 constexpr std::uint32_t kPrefetchAhead = 24;
 
-/// Half area in double, so a sum over millions of small nodes loses nothing to float rounding
-/// (the same formula as sah_cost's). Refitted boxes are never empty.
-double half_area_d(const Aabb& b) {
-    const glm::dvec3 e = glm::dvec3(b.hi) - glm::dvec3(b.lo);
-    return e.x * e.y + e.y * e.z + e.z * e.x;
-}
+using detail::half_area_d;
 
 [[noreturn]] void malformed(std::uint32_t index, const char* what) {
     throw std::invalid_argument("refit: malformed tree: node " + std::to_string(index) + " " +
@@ -228,7 +223,7 @@ std::uint32_t first_with_area(std::span<const std::uint32_t> ids, std::span<cons
 }  // namespace
 
 RefitResult refit(TriangleBvh& accel, std::span<const Triangle> tris, const SahCosts& costs) {
-    const std::size_t built_count = accel.bvh.prim_ids.size() + accel.degenerate_skipped;
+    const std::size_t built_count = accel.triangle_count() + accel.degenerate_skipped;
     if (tris.size() != built_count) {
         throw std::invalid_argument("refit: " + std::to_string(tris.size()) +
                                     " triangles for a tree built over " +
@@ -240,7 +235,7 @@ RefitResult refit(TriangleBvh& accel, std::span<const Triangle> tris, const SahC
                                     std::to_string(accel.degenerate_skipped) +
                                     " (not a tree from build_triangle_bvh)");
     }
-    if (accel.tris.size() != accel.bvh.prim_ids.size()) {
+    if (accel.wide.empty() && accel.tris.size() != accel.bvh.prim_ids.size()) {
         throw std::invalid_argument("refit: " + std::to_string(accel.tris.size()) +
                                     " triangles in leaf order for " +
                                     std::to_string(accel.bvh.prim_ids.size()) + " primitive ids");
@@ -254,9 +249,12 @@ RefitResult refit(TriangleBvh& accel, std::span<const Triangle> tris, const SahC
         result.status = RefitStatus::skipped_triangle_has_area;
         return result;
     }
+    if (!accel.wide.empty()) {
+        result.sah_cost = refit_wide(accel.wide, tris, costs);
+        return result;
+    }
     const TriangleLeaves leaves{tris, accel.bvh.prim_ids, accel.tris.data()};
     result.sah_cost = Refitter<TriangleLeaves>(accel.bvh, leaves, costs).run();
-    if (!accel.wide.empty()) refit_wide_leaf_order(accel.wide, accel.tris);
     return result;
 }
 

@@ -278,38 +278,71 @@ TriangleBvh build_triangle_bvh(std::span<const Triangle> tris, const BuildConfig
         root_centers.extend(b.centers);
     }
 
-    // Copy the triangles in leaf order while the builder fills its own output vectors: three
-    // serial fills (triangles, nodes, ids) of fresh memory share the threads.
-    // The triangles in leaf order, gathered while the builder makes its hierarchy.
+    // The binary tree with its triangles in leaf order: the result itself without the wide
+    // tree, else the collapse's input, kept only for Morton rebuilds (in their scratch, whose
+    // storage the next frame's build reuses).
+    const bool wide = config.wide && config.leaf_size_max <= kWideLeafSizeMax;
+    Bvh binary_storage;
+    std::vector<Triangle> leaf_tris_storage;
+    Bvh& binary = !wide ? accel.bvh : morton ? accel.morton_scratch->binary : binary_storage;
+    std::vector<Triangle>& leaf_tris =
+        !wide ? accel.tris : morton ? accel.morton_scratch->leaf_tris : leaf_tris_storage;
+    if (!wide) binary = std::move(recycled_tree);
+    leaf_tris.clear();
+    // Copy the triangles in leaf order while the builder makes its hierarchy: three serial
+    // fills (triangles, nodes, ids) of fresh memory share the threads.
     const auto gather_leaf_order = [&](auto id_of) {
-        detail::resize_with_huge_pages(accel.tris, count);
+        detail::resize_with_huge_pages(leaf_tris, count);
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kBlock),
                           [&](const tbb::blocked_range<std::size_t>& r) {
                               for (std::size_t i = r.begin(); i < r.end(); ++i) {
-                                  accel.tris[i] = tris[id_of(i)];
+                                  leaf_tris[i] = tris[id_of(i)];
                               }
                           });
     };
     if (morton) {
-        accel.bvh = detail::build_morton_from_prim_refs(
+        binary = detail::build_morton_from_prim_refs(
             refs, count, root_centers, config,
             [&](std::span<const std::uint32_t> ids) {
                 gather_leaf_order([ids](std::size_t i) { return ids[i]; });
             },
-            accel.morton_scratch->buffers, std::move(recycled_tree));
+            accel.morton_scratch->buffers, std::move(binary));
     } else {
         const detail::BoxCenterRef* leaf_order = refs;
-        accel.bvh = detail::build_from_prim_refs(
+        binary = detail::build_from_prim_refs(
             refs, count, root_box, root_centers, config,
             [&] { gather_leaf_order([leaf_order](std::size_t i) { return leaf_order[i].id; }); },
-            std::move(recycled_tree));
+            std::move(binary));
     }
-    if (config.wide && config.leaf_size_max <= kWideLeafSizeMax) {
-        accel.wide = collapse_to_wide<kWideWidth>(accel.bvh, accel.tris, WideCosts{},
+    if (wide) {
+        accel.wide = collapse_to_wide<kWideWidth>(binary, leaf_tris, WideCosts{},
                                                   std::move(recycled_wide));
     }
     return accel;
 }
+
+Aabb TriangleBvh::root_box() const {
+    if (!wide.empty()) return wide.root_box;
+    return bvh.empty() ? Aabb{} : bvh.nodes[0].box;
+}
+
+double sah_cost(const TriangleBvh& accel, const SahCosts& costs) {
+    return accel.wide.empty() ? sah_cost(accel.bvh, costs) : sah_cost(accel.wide, costs);
+}
+
+BvhStats compute_stats(const TriangleBvh& accel) {
+    if (accel.wide.empty()) return compute_stats(accel.bvh);
+    const WideStats wide = compute_stats(accel.wide);
+    BvhStats stats;
+    stats.nodes = wide.nodes;
+    stats.leaves = wide.leaves;
+    stats.leaf_prims_mean = wide.leaf_prims_mean;
+    stats.leaf_prims_max = wide.leaf_prims_max;
+    stats.depth = wide.depth;
+    return stats;
+}
+
+namespace {
 
 Hit intersect_closest_binary(const TriangleBvh& accel, const Ray& ray) {
     Hit hit;
@@ -321,6 +354,8 @@ bool intersect_any_binary(const TriangleBvh& accel, const Ray& ray) {
     Hit unused;
     return traverse_octant<true, false>(accel, ray, unused, nullptr);
 }
+
+}  // namespace
 
 Hit intersect_closest(const TriangleBvh& accel, const Ray& ray) {
     if (!accel.wide.empty()) return intersect_closest(accel.wide, ray);
@@ -362,8 +397,43 @@ bool intersect_any(const TriangleBvh& accel, const Ray& ray, TraversalStats& sta
     return traverse_octant<true, true>(accel, ray, unused, &stats);
 }
 
+namespace {
+
+/// validate for a TriangleBvh that holds the wide tree.
+std::string validate_wide(const TriangleBvh& accel, std::span<const Triangle> tris) {
+    if (accel.skipped_ids.size() != accel.degenerate_skipped) {
+        return std::to_string(accel.skipped_ids.size()) + " skipped ids for degenerate_skipped " +
+               std::to_string(accel.degenerate_skipped);
+    }
+    std::vector<std::uint8_t> skipped(tris.size(), 0);
+    for (std::size_t k = 0; k < accel.skipped_ids.size(); ++k) {
+        const std::uint32_t id = accel.skipped_ids[k];
+        if (id >= tris.size()) return "skipped id " + std::to_string(id) + " is out of range";
+        if (k > 0 && id <= accel.skipped_ids[k - 1]) return "skipped ids are not ascending";
+        if (!is_degenerate(tris[id])) {
+            return "triangle " + std::to_string(id) + " is not degenerate but not in the tree";
+        }
+        skipped[id] = 1;
+    }
+    std::vector<std::uint32_t> in_tree;
+    in_tree.reserve(tris.size() - accel.skipped_ids.size());
+    for (std::size_t i = 0; i < tris.size(); ++i) {
+        if (!skipped[i]) in_tree.push_back(static_cast<std::uint32_t>(i));
+    }
+    const std::string error = validate(accel.wide, tris, in_tree);
+    return error.empty() ? error : "wide tree: " + error;
+}
+
+}  // namespace
+
 std::string validate(const TriangleBvh& accel, std::span<const Triangle> tris,
                      std::uint32_t leaf_size_max) {
+    if (!accel.wide.empty()) {
+        if (!accel.bvh.empty() || !accel.tris.empty()) {
+            return "holds both the wide and the binary tree";
+        }
+        return validate_wide(accel, tris);
+    }
     std::vector<Aabb> boxes(tris.size());
     for (std::size_t i = 0; i < tris.size(); ++i) boxes[i] = tris[i].bounds();
     std::vector<std::uint8_t> in_tree;
@@ -399,10 +469,6 @@ std::string validate(const TriangleBvh& accel, std::span<const Triangle> tris,
             return "tris[" + std::to_string(k) + "] is not a copy of triangle " +
                    std::to_string(accel.bvh.prim_ids[k]);
         }
-    }
-    if (!accel.wide.empty()) {
-        error = validate(accel.wide, tris, accel.bvh.prim_ids);
-        if (!error.empty()) return "wide tree: " + error;
     }
     return {};
 }

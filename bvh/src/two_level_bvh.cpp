@@ -273,8 +273,7 @@ void build_top_level(TwoLevelBvh& tlas, std::vector<Instance> instances) {
     instance_of.reserve(n);
     for (std::size_t i = 0; i < n; ++i) {
         const Instance& instance = tlas.instances[i];
-        if (instance.blas->bvh.empty()) continue;
-        const Aabb& root = instance.blas->bvh.nodes[0].box;
+        const Aabb root = instance.blas->root_box();
         if (root.is_empty()) continue;
         Aabb box = root;
         if (!instance.identity) {

@@ -1,7 +1,10 @@
-// validate and compute_stats for the wide tree.
+// validate, compute_stats and sah_cost for the wide tree.
 
 #include "dynrt/bvh/wide_bvh.h"
 
+#include "sah_terms.h"
+
+#include <algorithm>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -9,54 +12,67 @@
 namespace dynrt::bvh {
 namespace {
 
-/// The used lanes under `index` in depth-first slot order against `expected` (leaf order) from
-/// `position` on, and each node's first_position. Called on a tree whose structure is valid.
+/// The used lanes of a leaf.
 template <int N>
-std::string check_leaf_order(const WideBvhOf<N>& wide, std::uint32_t index,
-                             std::span<const std::uint32_t> expected, std::size_t& position) {
+std::uint32_t leaf_prims(const WideBvhOf<N>& wide, const WideNode<N>& node, int slot) {
+    // Only the last block of a leaf may have unused lanes.
+    const TriangleBlock& last = wide.blocks[node.child[slot] + node.blocks[slot] - 1];
+    std::uint32_t used = 0;
+    for (std::uint32_t prim : last.prim) used += prim != kInvalidId ? 1 : 0;
+    return (node.blocks[slot] - 1u) * kBlockLanes + used;
+}
+
+/// Figures of the subtree below node `index`, summed in slot order.
+struct WideFigures {
+    detail::WideSahSum sah;
+    std::size_t leaves = 0;
+    std::size_t leaf_prims = 0;
+    std::uint32_t leaf_prims_max = 0;
+    std::uint32_t depth = 0;
+};
+
+/// Walks a valid tree (as built or refitted) below node `index` at `depth`.
+template <int N>
+WideFigures walk(const WideBvhOf<N>& wide, std::uint32_t index, std::uint32_t depth,
+                 const SahCosts& costs) {
     const WideNode<N>& node = wide.nodes[index];
-    if (node.first_position != position) {
-        return "node " + std::to_string(index) + " has first_position " +
-               std::to_string(node.first_position) + ", its triangles start at " +
-               std::to_string(position);
-    }
+    WideFigures f;
+    f.depth = depth;
     for (int i = 0; i < N; ++i) {
         if (node.is_empty(i)) continue;
-        if (!node.is_leaf(i)) {
-            std::string error = check_leaf_order(wide, node.child[i], expected, position);
-            if (!error.empty()) return error;
+        if (node.is_leaf(i)) {
+            const std::uint32_t prims = leaf_prims(wide, node, i);
+            detail::add_wide_slot(f.sah, node.box(i), true, prims, {}, costs);
+            ++f.leaves;
+            f.leaf_prims += prims;
+            f.leaf_prims_max = std::max(f.leaf_prims_max, prims);
             continue;
         }
-        for (std::uint32_t b = node.child[i]; b < node.child[i] + node.blocks[i]; ++b) {
-            for (int lane = 0; lane < kBlockLanes; ++lane) {
-                const std::uint32_t prim = wide.blocks[b].prim[lane];
-                if (prim == kInvalidId) continue;
-                if (position >= expected.size() || expected[position] != prim) {
-                    return "block " + std::to_string(b) + " lane " + std::to_string(lane) +
-                           " is not the triangle at leaf position " + std::to_string(position);
-                }
-                ++position;
-            }
-        }
+        const WideFigures below = walk(wide, node.child[i], depth + 1, costs);
+        detail::add_wide_slot(f.sah, node.box(i), false, 0, below.sah, costs);
+        f.leaves += below.leaves;
+        f.leaf_prims += below.leaf_prims;
+        f.leaf_prims_max = std::max(f.leaf_prims_max, below.leaf_prims_max);
+        f.depth = std::max(f.depth, below.depth);
     }
-    return {};
+    return f;
 }
 
 }  // namespace
 
 template <int N>
 std::string validate(const WideBvhOf<N>& wide, std::span<const Triangle> tris,
-                     std::span<const std::uint32_t> expected_prims) {
+                     std::span<const std::uint32_t> prims) {
     if (wide.empty()) {
         if (!wide.blocks.empty()) return "empty tree but " + std::to_string(wide.blocks.size()) + " blocks";
-        if (!expected_prims.empty()) {
-            return "empty tree for " + std::to_string(expected_prims.size()) + " primitives";
-        }
+        if (!prims.empty()) return "empty tree for " + std::to_string(prims.size()) + " primitives";
+        if (wide.triangle_count != 0) return "empty tree of triangle_count " + std::to_string(wide.triangle_count);
         return {};
     }
     std::vector<std::uint8_t> expected(tris.size(), 0);
-    for (std::uint32_t id : expected_prims) {
+    for (std::uint32_t id : prims) {
         if (id >= tris.size()) return "expected primitive " + std::to_string(id) + " is out of range";
+        if (expected[id]) return "expected primitive " + std::to_string(id) + " is listed twice";
         expected[id] = 1;
     }
     std::vector<std::uint8_t> seen_prim(tris.size(), 0);
@@ -141,8 +157,11 @@ std::string validate(const WideBvhOf<N>& wide, std::span<const Triangle> tris,
         return std::to_string(prims_found) + " primitives in the blocks, " +
                std::to_string(expected_count) + " expected";
     }
-    std::size_t position = 0;
-    return check_leaf_order(wide, 0, expected_prims, position);
+    if (wide.triangle_count != prims_found) {
+        return "triangle_count is " + std::to_string(wide.triangle_count) + " for " +
+               std::to_string(prims_found) + " triangles in the blocks";
+    }
+    return {};
 }
 
 template <int N>
@@ -165,12 +184,26 @@ WideStats compute_stats(const WideBvhOf<N>& wide) {
     }
     s.block_fill = s.blocks ? static_cast<double>(lanes) / static_cast<double>(s.blocks * kBlockLanes) : 0.0;
     s.children_mean = s.nodes ? static_cast<double>(slots) / static_cast<double>(s.nodes) : 0.0;
+    if (!wide.empty()) {
+        const WideFigures f = walk(wide, 0, 1, SahCosts{});
+        s.leaf_prims_max = f.leaf_prims_max;
+        s.leaf_prims_mean = f.leaves ? static_cast<double>(f.leaf_prims) / static_cast<double>(f.leaves) : 0.0;
+        s.depth = f.depth;
+    }
     return s;
+}
+
+template <int N>
+double sah_cost(const WideBvhOf<N>& wide, const SahCosts& costs) {
+    if (wide.empty()) return 0.0;
+    return detail::wide_sah_total(walk(wide, 0, 1, costs).sah, wide.root_box, costs);
 }
 
 template std::string validate<4>(const WideBvhOf<4>&, std::span<const Triangle>, std::span<const std::uint32_t>);
 template std::string validate<8>(const WideBvhOf<8>&, std::span<const Triangle>, std::span<const std::uint32_t>);
 template WideStats compute_stats<4>(const WideBvhOf<4>&);
 template WideStats compute_stats<8>(const WideBvhOf<8>&);
+template double sah_cost<4>(const WideBvhOf<4>&, const SahCosts&);
+template double sah_cost<8>(const WideBvhOf<8>&, const SahCosts&);
 
 }  // namespace dynrt::bvh

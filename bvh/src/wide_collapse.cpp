@@ -69,6 +69,7 @@ public:
         wide.nodes.clear();
         wide.blocks.clear();
         wide.root_box = Aabb{};
+        wide.triangle_count = 0;
         if (bvh_.nodes.empty()) return wide;
         const Result root = cost(0, 1);
         // The root is a wide node: over one leaf when the whole tree is best as one leaf (or
@@ -81,13 +82,13 @@ public:
         blocks_ = wide.blocks.data();
         if (root_leaf) {
             nodes_[0] = empty_node();
-            nodes_[0].first_position = 0;
             std::uint32_t next_node = 1, next_block = 0;
             fill_slot(nodes_[0], 0, 0, next_node, next_block, nullptr);
         } else {
             emit_node(0, 0, 0, 1);
         }
         wide.root_box = bvh_.nodes[0].box;
+        wide.triangle_count = leaf_tris_.size();
         return wide;
     }
 
@@ -212,7 +213,6 @@ private:
                    std::uint32_t depth) {
         WideNode<N>& wide_node = nodes_[at];
         wide_node = empty_node();
-        wide_node.first_position = leftmost_position(index);
         // The node's children share its N slots by the best split of C_dist(n, N).
         const BvhNode& node = bvh_.nodes[index];
         const int k = choice_[index][N];
@@ -266,26 +266,12 @@ private:
         return true;
     }
 
-    /// The leaf-order position of the first triangle of the binary subtree at `index`.
-    std::uint32_t leftmost_position(std::uint32_t index) const {
-        while (!bvh_.nodes[index].is_leaf()) index = bvh_.nodes[index].first;
-        return bvh_.nodes[index].first;
-    }
-
     /// Copies the triangles of the binary subtree at `index` into consecutive blocks; returns
-    /// how many it filled. The builder's subtrees cover contiguous leaf-order ranges, left
-    /// child first, which is what lets a refit stream the triangles (WideNode::first_position);
-    /// a tree without that property is refused rather than collapsed into one that refits wrong.
+    /// how many it filled.
     std::uint32_t fill_leaf(TriangleBlock* blocks, std::uint32_t index) const {
         int lane = 0;
         TriangleBlock* block = blocks;
-        std::uint32_t expected = leftmost_position(index);
         visit_leaves(index, [&](std::uint32_t k) {
-            if (k != expected++) {
-                throw std::invalid_argument(
-                    "collapse_to_wide: a subtree's leaves are not one contiguous range of "
-                    "prim_ids in order (not a tree from build_binned_sah)");
-            }
             const Triangle& t = leaf_tris_[k];
             for (int axis = 0; axis < 3; ++axis) {
                 block->v0[axis][lane] = t.v0[axis];

@@ -1,12 +1,14 @@
-// Refitting the wide tree in place (Wald, Boulos and Shirley 2007, as refit.cpp does for the
-// binary tree): every block re-reads its triangles, every slot box is recomputed bottom-up, the
-// topology stays. A node's inner children are refitted first (as parallel tasks near the
-// root), then its leaves, whose leaf-order positions follow from the triangle counts of the
-// slots before them; every box is one expression over its children's, so the schedule changes
-// no bit. The triangles come either from the caller's array by index (refit_wide) or from the
-// leaf-ordered copy, read front to back (refit_wide_leaf_order).
+// Refitting the wide tree in place (Wald, Boulos and Shirley 2007, "Ray Tracing Deformable
+// Scenes Using Dynamic Bounding Volume Hierarchies"): every block re-reads its triangles from
+// the caller's array, every slot box is recomputed bottom-up, the topology stays. A node's
+// slots are refitted in slot order (as parallel tasks near the root), then its boxes and sums
+// are made in slot order; every box and every partial SAH sum is one expression over its
+// children's, so the schedule changes no bit. The tree's SAH cost is summed on the way (sah_terms.h), as sah_cost sums it.
 
+#include "dynrt/bvh/prefetch.h"
 #include "dynrt/bvh/wide_bvh.h"
+
+#include "sah_terms.h"
 
 #include <oneapi/tbb/parallel_for.h>
 
@@ -21,125 +23,90 @@ namespace {
 template <int N>
 constexpr std::uint32_t kParallelLevels = N == 8 ? 2 : 3;
 
-/// How many blocks ahead a leaf prefetches the caller's triangles it will read.
-constexpr std::uint32_t kPrefetchBlocks = 6;
+/// How many blocks ahead a leaf prefetches the caller's triangles it will read. Blocks are in
+/// leaf order and the leaves are refitted in block order, so the triangles a later block reads
+/// are known ahead: the caller's order is usually another, and without the prefetch nearly
+/// every triangle is a cache miss.
+constexpr std::uint32_t kPrefetchBlocks = 8;
 
-/// The caller's triangles by index. Blocks are in leaf order, and the leaves are refitted in
-/// block order, so the triangles a later block reads are known ahead: the caller's order is
-/// usually another, and without the prefetch nearly every triangle is a cache miss.
-struct CallerOrder {
-    static constexpr const char* kName = "refit_wide";
-    std::span<const Triangle> tris;
-    std::span<const TriangleBlock> blocks;
-
-    const Triangle& operator()(std::uint32_t prim, std::uint32_t) const {
-        if (prim >= tris.size()) {
-            throw std::invalid_argument("refit_wide: primitive " + std::to_string(prim) +
-                                        " is out of range (" + std::to_string(tris.size()) +
-                                        " triangles)");
-        }
-        return tris[prim];
-    }
-
-    void prefetch(std::uint32_t block) const {
-        if (block + kPrefetchBlocks >= blocks.size()) return;
-        for (std::uint32_t prim : blocks[block + kPrefetchBlocks].prim) {
-            if (prim < tris.size()) {
-                const char* p = reinterpret_cast<const char*>(tris.data() + prim);
-                __builtin_prefetch(p);
-                __builtin_prefetch(p + sizeof(Triangle) - 1);
-            }
-        }
-    }
-};
-
-/// The triangles in leaf order, by position: a sequential read.
-struct LeafOrder {
-    static constexpr const char* kName = "refit_wide_leaf_order";
-    std::span<const Triangle> leaf_tris;
-
-    const Triangle& operator()(std::uint32_t, std::uint32_t position) const {
-        if (position >= leaf_tris.size()) {
-            throw std::invalid_argument("refit_wide_leaf_order: the tree has more than the " +
-                                        std::to_string(leaf_tris.size()) + " triangles given");
-        }
-        return leaf_tris[position];
-    }
-
-    void prefetch(std::uint32_t) const {}
-};
-
-template <int N, class Source>
+template <int N>
 class WideRefitter {
 public:
-    WideRefitter(WideBvhOf<N>& wide, const Source& source) : wide_(wide), source_(source) {}
+    WideRefitter(WideBvhOf<N>& wide, std::span<const Triangle> tris, const SahCosts& costs)
+        : wide_(wide), tris_(tris), costs_(costs) {}
 
-    /// Refits the tree; returns the number of triangles in it.
-    std::size_t run() {
-        if (wide_.nodes.empty()) return 0;
-        if (wide_.nodes[0].first_position != 0) malformed(0, "does not start at position 0");
+    /// Refits the tree; returns its SAH cost.
+    double run() {
+        if (wide_.nodes.empty()) return 0.0;
         const Subtree root = refit_node(0, 1);
+        if (root.prims != wide_.triangle_count) {
+            throw std::invalid_argument("refit_wide: the blocks hold " +
+                                        std::to_string(root.prims) + " triangles, the tree " +
+                                        std::to_string(wide_.triangle_count));
+        }
         wide_.root_box = root.box;
-        return root.prims;
+        return detail::wide_sah_total(root.sah, root.box, costs_);
     }
 
 private:
     struct Subtree {
         Aabb box;
         std::uint32_t prims = 0;
+        detail::WideSahSum sah;
     };
 
     [[noreturn]] static void malformed(std::uint32_t index, const std::string& what) {
-        throw std::invalid_argument(std::string(Source::kName) + ": malformed tree: node " +
-                                    std::to_string(index) + " " + what);
+        throw std::invalid_argument("refit_wide: malformed tree: node " + std::to_string(index) +
+                                    " " + what);
     }
 
     Subtree refit_node(std::uint32_t index, std::uint32_t depth) {
         if (depth > kMaxDepth) malformed(index, "is deeper than kMaxDepth");
         WideNode<N>& node = wide_.nodes[index];
         std::array<Subtree, N> below;
-        auto refit_inner = [&](int i) {
-            if (node.is_empty(i) || node.is_leaf(i)) return;
+        auto refit_slot = [&](int i) {
+            if (node.is_empty(i)) return;
+            if (node.is_leaf(i)) {
+                below[i] = refit_leaf(index, node.child[i], node.blocks[i]);
+                return;
+            }
             if (node.child[i] <= index || node.child[i] >= wide_.nodes.size()) {
                 malformed(index, "has a child index out of range");
             }
             below[i] = refit_node(node.child[i], depth + 1);
         };
+        // Slot order is block order (the blocks of a subtree follow those of the slots before
+        // it), so the prefetch a few blocks ahead fetches what is read next.
         if (depth <= kParallelLevels<N>) {
-            tbb::parallel_for(0, N, refit_inner);
+            tbb::parallel_for(0, N, refit_slot);
         } else {
-            for (int i = 0; i < N; ++i) refit_inner(i);
+            for (int i = 0; i < N; ++i) refit_slot(i);
         }
-        std::uint32_t position = node.first_position;
         Subtree total;
         for (int i = 0; i < N; ++i) {
             if (node.is_empty(i)) continue;
-            if (node.is_leaf(i)) {
-                below[i] = refit_leaf(index, node.child[i], node.blocks[i], position);
-            } else if (wide_.nodes[node.child[i]].first_position != position) {
-                malformed(index, "has a child whose triangles do not follow its earlier slots'");
-            }
-            position += below[i].prims;
+            const bool leaf = node.is_leaf(i);
             node.set_box(i, below[i].box);
             total.box.extend(below[i].box);
             total.prims += below[i].prims;
+            detail::add_wide_slot(total.sah, below[i].box, leaf, below[i].prims, below[i].sah,
+                                  costs_);
         }
         return total;
     }
 
-    Subtree refit_leaf(std::uint32_t index, std::uint32_t first, std::uint32_t count,
-                       std::uint32_t position) {
+    Subtree refit_leaf(std::uint32_t index, std::uint32_t first, std::uint32_t count) {
         if (first > wide_.blocks.size() || count > wide_.blocks.size() - first) {
             malformed(index, "has a leaf range outside the blocks");
         }
         Subtree leaf;
         for (std::uint32_t b = first; b < first + count; ++b) {
-            source_.prefetch(b);
+            prefetch(b + kPrefetchBlocks);
             TriangleBlock& block = wide_.blocks[b];
             for (int lane = 0; lane < kBlockLanes; ++lane) {
                 const std::uint32_t prim = block.prim[lane];
                 // Unused lanes repeat lane 0, which comes before them.
-                const Triangle t = prim == kInvalidId ? block.triangle(0) : source_(prim, position++);
+                const Triangle t = prim == kInvalidId ? block.triangle(0) : triangle(prim);
                 for (int axis = 0; axis < 3; ++axis) {
                     block.v0[axis][lane] = t.v0[axis];
                     block.v1[axis][lane] = t.v1[axis];
@@ -155,30 +122,39 @@ private:
         return leaf;
     }
 
+    const Triangle& triangle(std::uint32_t prim) const {
+        if (prim >= tris_.size()) {
+            throw std::invalid_argument("refit_wide: primitive " + std::to_string(prim) +
+                                        " is out of range (" + std::to_string(tris_.size()) +
+                                        " triangles)");
+        }
+        return tris_[prim];
+    }
+
+    void prefetch(std::uint32_t block) const {
+        if (block >= wide_.blocks.size()) return;
+        for (std::uint32_t prim : wide_.blocks[block].prim) {
+            if (prim < tris_.size()) {
+                const char* p = reinterpret_cast<const char*>(tris_.data() + prim);
+                prefetch_line(p);
+                prefetch_line(p + sizeof(Triangle) - 1);
+            }
+        }
+    }
+
     WideBvhOf<N>& wide_;
-    Source source_;
+    std::span<const Triangle> tris_;
+    SahCosts costs_;
 };
 
 }  // namespace
 
 template <int N>
-void refit_wide(WideBvhOf<N>& wide, std::span<const Triangle> tris) {
-    WideRefitter<N, CallerOrder>(wide, CallerOrder{tris, wide.blocks}).run();
+double refit_wide(WideBvhOf<N>& wide, std::span<const Triangle> tris, const SahCosts& costs) {
+    return WideRefitter<N>(wide, tris, costs).run();
 }
 
-template <int N>
-void refit_wide_leaf_order(WideBvhOf<N>& wide, std::span<const Triangle> leaf_tris) {
-    const std::size_t count = WideRefitter<N, LeafOrder>(wide, LeafOrder{leaf_tris}).run();
-    if (count != leaf_tris.size()) {
-        throw std::invalid_argument("refit_wide_leaf_order: the tree holds " +
-                                    std::to_string(count) + " triangles, " +
-                                    std::to_string(leaf_tris.size()) + " given");
-    }
-}
-
-template void refit_wide<4>(WideBvhOf<4>&, std::span<const Triangle>);
-template void refit_wide<8>(WideBvhOf<8>&, std::span<const Triangle>);
-template void refit_wide_leaf_order<4>(WideBvhOf<4>&, std::span<const Triangle>);
-template void refit_wide_leaf_order<8>(WideBvhOf<8>&, std::span<const Triangle>);
+template double refit_wide<4>(WideBvhOf<4>&, std::span<const Triangle>, const SahCosts&);
+template double refit_wide<8>(WideBvhOf<8>&, std::span<const Triangle>, const SahCosts&);
 
 }  // namespace dynrt::bvh

@@ -170,8 +170,8 @@ void build_tree(ObjectTree& object, const bvh::BuildConfig& config, CostMemory& 
 
 void measure_tree(ObjectTree& object, const bvh::SahCosts& costs) {
     if (object.measured) return;
-    object.built_sah = object.sah = bvh::sah_cost(object.tree.bvh, costs);
-    object.shape = bvh::compute_stats(object.tree.bvh);
+    object.built_sah = object.sah = bvh::sah_cost(object.tree, costs);
+    object.shape = bvh::compute_stats(object.tree);
     object.measured = true;
     // How much poorer the Morton tree is than the binned-SAH tree, for the cost model:
     // measured against this object's last binned-SAH tree.

@@ -355,37 +355,16 @@ void SceneAccel::object_world_parts(std::size_t i, std::size_t max_parts,
     if (i >= object_boxes_.size() || object_boxes_[i].is_empty()) return;
     const bool own_tree = i < objects_.size() && objects_[i].built &&
                           objects_[i].motion_class != anim::MotionClass::static_ &&
-                          !objects_[i].tree.bvh.empty();
+                          !objects_[i].tree.empty();
     if (!own_tree || max_parts <= 1) {
         out.push_back(object_boxes_[i]);
         return;
     }
     const ObjectTree& o = objects_[i];
-    const std::vector<bvh::BvhNode>& nodes = o.tree.bvh.nodes;
-    // Best first: split the inner node of largest surface area until the cut has max_parts
-    // nodes or only leaves. The cut is small (max_parts), so a linear search picks the node.
-    std::vector<std::uint32_t> cut{0};
-    while (cut.size() < max_parts) {
-        std::size_t best = cut.size();
-        float best_area = -1.0f;
-        for (std::size_t k = 0; k < cut.size(); ++k) {
-            const bvh::BvhNode& node = nodes[cut[k]];
-            if (node.is_leaf()) continue;
-            const float area = node.box.half_area();
-            if (area > best_area) {
-                best_area = area;
-                best = k;
-            }
-        }
-        if (best == cut.size()) break;
-        const std::uint32_t left = nodes[cut[best]].first;
-        cut[best] = left;
-        cut.push_back(left + 1);
-    }
+    std::vector<bvh::Aabb> parts;
+    bvh::cover_boxes(o.tree, max_parts, parts);
     const bool rigid = o.motion_class == anim::MotionClass::rigid;
-    for (const std::uint32_t n : cut) {
-        const bvh::Aabb& box = nodes[n].box;
-        if (box.is_empty()) continue;
+    for (const bvh::Aabb& box : parts) {
         if (!rigid) {
             out.push_back(box);
             continue;

@@ -45,12 +45,13 @@ struct RefitResult {
 /// Refits `accel` to `tris`, the object's triangles after the move in the caller's order (the
 /// order given to build_triangle_bvh; borrowed for the call). First checks that every
 /// triangle left out at build (`accel.skipped_ids`) is still degenerate; if one is not,
-/// returns skipped_triangle_has_area and changes nothing. Otherwise rewrites `accel.tris` in
-/// leaf order through `accel.bvh.prim_ids`, then recomputes every node box bottom-up: a leaf's
-/// box is the union of its triangles' boxes, an inner node's the union of its two children's.
-/// The wide tree, when present, is refitted in place the same way (refit_wide). The topology,
-/// prim_ids and skipped_ids stay as they were, so hits still report the caller's indices. A triangle that became degenerate stays in the tree (validate accepts
-/// that): the watertight test never hits it when two vertices coincide, but may when they
+/// returns skipped_triangle_has_area and changes nothing. Otherwise refits the tree `accel`
+/// holds: the wide tree with refit_wide, or the binary tree by rewriting `accel.tris` in leaf
+/// order through `accel.bvh.prim_ids`, then recomputing every node box bottom-up (a leaf's box
+/// the union of its triangles' boxes, an inner node's the union of its two children's). The
+/// topology and skipped_ids stay as they were, so hits still report the caller's indices. The
+/// result's sah_cost is that of the tree held (sah_cost(const TriangleBvh&)). A triangle that
+/// became degenerate stays in the tree (validate accepts that): the watertight test never hits it when two vertices coincide, but may when they
 /// are only collinear (see is_degenerate), where a rebuild would leave it out; motion makes
 /// exactly collinear vertices rarely, and the hit point then lies on the segment anyway.
 ///
@@ -58,7 +59,7 @@ struct RefitResult {
 /// triangle is finite (check with is_finite first, as for build_triangle_bvh: the engine
 /// reports non-finite input as an error before it gets here). Throws std::invalid_argument,
 /// before changing anything, when `tris.size()` differs from the triangle count at build
-/// (`accel.bvh.prim_ids.size() + accel.degenerate_skipped`) or `accel.skipped_ids` does not
+/// (`accel.triangle_count() + accel.degenerate_skipped`) or `accel.skipped_ids` does not
 /// hold `degenerate_skipped` ids. Throws std::invalid_argument, possibly after updating some
 /// boxes, for a malformed tree (an index out of range or a path deeper than kMaxDepth).
 ///

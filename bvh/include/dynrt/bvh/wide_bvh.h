@@ -67,11 +67,6 @@ struct alignas(64) WideNode {
     float hi_x[N], hi_y[N], hi_z[N];
     std::uint32_t child[N];
     std::uint16_t blocks[N];
-    /// The leaf-order position (index into TriangleBvh::tris and Bvh::prim_ids) of the first
-    /// triangle below the node. The used lanes of the blocks, read in depth-first slot order,
-    /// are the triangles in leaf order, so a refit can stream the leaf-ordered triangles
-    /// instead of gathering the caller's (refit_wide_leaf_order).
-    std::uint32_t first_position;
 
     bool is_empty(int i) const { return blocks[i] == 0 && child[i] == kInvalidId; }
     bool is_leaf(int i) const { return blocks[i] != 0; }
@@ -119,6 +114,8 @@ struct WideBvhOf {
     std::vector<TriangleBlock, UninitializedAllocator<TriangleBlock>> blocks;
     /// The root's box (the union of its children's), for callers that cull whole trees.
     Aabb root_box;
+    /// Triangles in the tree (the used lanes of the blocks).
+    std::size_t triangle_count = 0;
 
     bool empty() const { return nodes.empty(); }
     std::size_t bytes() const {
@@ -155,18 +152,22 @@ WideBvhOf<N> collapse_to_wide(const Bvh& bvh, std::span<const Triangle> leaf_tri
 /// Refits the wide tree in place to `tris`, the caller's triangles after a move (indexed as
 /// TriangleBlock::prim): every block's vertices are re-read, every child box recomputed
 /// bottom-up (a leaf's as the union of its triangles' boxes, an inner node's as the union of
-/// its children's). The topology stays. Boxes equal those of the binary tree refitted to the
-/// same triangles, up to the sign of zero coordinates. Parallel and deterministic. Throws
-/// std::invalid_argument for a prim index out of range or a malformed tree.
+/// its children's). The topology stays. Returns the refitted tree's SAH cost, as sah_cost
+/// computes it (bit for bit: the same sums in the same order), gathered during the refit.
+/// Parallel and deterministic. Throws std::invalid_argument for a prim index out of range or a
+/// malformed tree.
 template <int N>
-void refit_wide(WideBvhOf<N>& wide, std::span<const Triangle> tris);
+double refit_wide(WideBvhOf<N>& wide, std::span<const Triangle> tris, const SahCosts& costs);
 
-/// The same refit from `leaf_tris`, the triangles in leaf order (TriangleBvh::tris after the
-/// binary refit wrote them): read sequentially instead of gathered by the caller's index,
-/// which made the refit several times faster on a triangle soup. Throws
-/// std::invalid_argument when the tree's positions do not match `leaf_tris`.
+/// The SAH cost of the wide tree (MacDonald and Booth 1990, over wide nodes): the sum over
+/// inner nodes of A(n)/A(root) * traversal plus over leaves of A(leaf)/A(root) * triangles *
+/// intersection, where a node's box is its parent's slot box (the root's, root_box). A wide
+/// node costs one traversal step whatever its number of children, so the figure is lower than
+/// the binary tree's; compare it only with other wide trees' (the refit judge compares a
+/// tree's cost after a refit with the same tree's at its build). A point-like or flat root
+/// (zero area) weighs every node 1. 0 for an empty tree.
 template <int N>
-void refit_wide_leaf_order(WideBvhOf<N>& wide, std::span<const Triangle> leaf_tris);
+double sah_cost(const WideBvhOf<N>& wide, const SahCosts& costs);
 
 /// Work done by a traversal, for benchmarks (counted only by the overloads that take it).
 struct WideTraversalStats {
@@ -220,6 +221,12 @@ struct WideStats {
     double block_fill = 0.0;
     /// Mean used child slots per node.
     double children_mean = 0.0;
+    /// Mean and largest triangle count of a leaf.
+    double leaf_prims_mean = 0.0;
+    std::uint32_t leaf_prims_max = 0;
+    /// Wide nodes on the longest path from the root, the leaf not counted (a root over leaves
+    /// only has depth 1).
+    std::uint32_t depth = 0;
     std::size_t bytes = 0;
 };
 template <int N>
@@ -229,11 +236,11 @@ WideStats compute_stats(const WideBvhOf<N>& wide);
 /// TriangleBlock::prim): every node reached once from the root, depth within kMaxDepth, used
 /// slots before empty ones, every child box inside its parent's slot box, every block's used
 /// lanes inside their leaf's box and bit-equal to `tris[prim]`, unused lanes marked, and the
-/// used lanes in depth-first slot order exactly `expected_prims` (the binary tree's prim_ids,
-/// in leaf order), each node's first_position where its lanes start. Returns "" when valid, else the
-/// first violation. For tests and debug checks after every build and refit.
+/// tree holding exactly the caller indices `prims` (in any order; each once), triangle_count
+/// their number. Returns "" when valid, else the first violation. For tests and
+/// debug checks after every build and refit.
 template <int N>
 std::string validate(const WideBvhOf<N>& wide, std::span<const Triangle> tris,
-                     std::span<const std::uint32_t> expected_prims);
+                     std::span<const std::uint32_t> prims);
 
 }  // namespace dynrt::bvh

@@ -23,6 +23,7 @@
 
 #include "dynrt/bvh/morton_builder.h"
 #include "dynrt/bvh/morton_code.h"
+#include "dynrt/bvh/prefetch.h"
 #include "dynrt/bvh/radix_sort.h"
 
 #include "binned_sah_core.h"
@@ -204,7 +205,7 @@ Bvh build_morton_from_prim_refs(const Ref* refs, std::size_t count,
                           for (std::size_t i = r.begin(); i < r.end(); ++i) {
                               constexpr std::size_t kAhead = 16;
                               if (i + kAhead < r.end()) {
-                                  __builtin_prefetch(
+                                  prefetch_line(
                                       refs + static_cast<std::uint32_t>(sorted[i + kAhead]));
                               }
                               const Ref& ref = refs[static_cast<std::uint32_t>(sorted[i])];

@@ -8,6 +8,7 @@
 // result.
 
 #include "dynrt/bvh/refit.h"
+#include "dynrt/bvh/prefetch.h"
 
 #include "sah_terms.h"
 
@@ -51,8 +52,8 @@ inline void for_each_leaf_prim(std::span<const T> prims, std::span<const std::ui
         if (k + kPrefetchAhead < ids.size() && ids[k + kPrefetchAhead] < prims.size()) {
             // A triangle (36 bytes) or box (24) may straddle two cache lines.
             const char* p = reinterpret_cast<const char*>(prims.data() + ids[k + kPrefetchAhead]);
-            __builtin_prefetch(p);
-            __builtin_prefetch(p + sizeof(T) - 1);
+            prefetch_line(p);
+            prefetch_line(p + sizeof(T) - 1);
         }
         const std::uint32_t id = ids[k];
         if (id >= prims.size()) {

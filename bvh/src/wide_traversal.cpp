@@ -6,6 +6,7 @@
 // closest-hit query pops only those that can still hold a hit at or before the current one.
 
 #include "dynrt/bvh/wide_bvh.h"
+#include "dynrt/bvh/prefetch.h"
 
 #include "robust_box_test.h"
 #include "watertight_block.h"
@@ -71,7 +72,7 @@ __attribute__((always_inline)) inline void prefetch_child(const WideNode<N>* nod
                                     : reinterpret_cast<const char*>(blocks + ref.child);
     constexpr int kLines = int(sizeof(WideNode<N>) / 64);
     static_assert(sizeof(TriangleBlock) <= 3 * 64);
-    for (int k = 0; k < (ref.blocks == 0 ? kLines : 3); ++k) __builtin_prefetch(p + 64 * k);
+    for (int k = 0; k < (ref.blocks == 0 ? kLines : 3); ++k) prefetch_line(p + 64 * k);
 }
 
 /// Traverses from `current`: the root node (`from_root`, which first tests the root box), or

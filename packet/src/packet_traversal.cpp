@@ -19,6 +19,8 @@
 
 #include "dynrt/packet/packet_traversal.h"
 
+#include "dynrt/bvh/prefetch.h"
+
 #include "packet_kernels.h"
 #include "packet_work.h"
 #include "range_tracer.h"
@@ -317,13 +319,13 @@ private:
         if (node.is_leaf()) {
             const char* first = reinterpret_cast<const char*>(accel_.tris.data() + node.first);
             const char* end = reinterpret_cast<const char*>(accel_.tris.data() + node.first + node.count);
-            for (const char* p = first; p < end; p += 64) __builtin_prefetch(p);
-            __builtin_prefetch(end - 1);
-            __builtin_prefetch(accel_.bvh.prim_ids.data() + node.first);
+            for (const char* p = first; p < end; p += 64) bvh::prefetch_line(p);
+            bvh::prefetch_line(end - 1);
+            bvh::prefetch_line(accel_.bvh.prim_ids.data() + node.first);
         } else {
             // A child pair is 64 bytes but need not start on a cache line.
-            __builtin_prefetch(accel_.bvh.nodes.data() + node.first);
-            __builtin_prefetch(accel_.bvh.nodes.data() + node.first + 1);
+            bvh::prefetch_line(accel_.bvh.nodes.data() + node.first);
+            bvh::prefetch_line(accel_.bvh.nodes.data() + node.first + 1);
         }
     }
 

@@ -27,6 +27,8 @@
 
 #include "wide_packet_traversal.h"
 
+#include "dynrt/bvh/prefetch.h"
+
 #include "packet_kernels.h"
 #include "range_tracer.h"
 
@@ -262,7 +264,7 @@ private:
             p = reinterpret_cast<const char*>(wide_.nodes.data() + node.child[i]);
             lines = int(sizeof(Node) / 64);
         }
-        for (int k = 0; k < lines; ++k) __builtin_prefetch(p + 64 * k);
+        for (int k = 0; k < lines; ++k) bvh::prefetch_line(p + 64 * k);
     }
 
     const bvh::WideBvh& wide_;

@@ -6,6 +6,7 @@
 // texture colours of its hits (tint_lanes) and the Phong shading and output writes of a whole
 // tile.
 
+#include "dynrt/bvh/prefetch.h"
 #include "dynrt/bvh/triangle.h"
 #include "dynrt/bvh/two_level_bvh.h"
 #include "dynrt/engine/renderer.h"
@@ -112,8 +113,8 @@ struct TileShadowOrigins {
                 const bvh::InstanceHit& h = hits[std::size_t(y) * width + x];
                 if (!h.is_hit()) continue;
                 const char* t = reinterpret_cast<const char*>(accel.triangle_address(h.object, h.hit.prim));
-                __builtin_prefetch(t);
-                __builtin_prefetch(t + sizeof(bvh::Triangle) - 1);
+                bvh::prefetch_line(t);
+                bvh::prefetch_line(t + sizeof(bvh::Triangle) - 1);
             }
         }
         compute_lanes(

@@ -54,7 +54,8 @@ TEST(CliWarnings, MissingTexturesAreOneLineWithCountsAndTheFirstNames) {
 }
 
 TEST(CliWarnings, VerboseListsEveryMaterialAndQuietPrintsNothing) {
-    const fs::path image = fs::path(testing::TempDir()) / "dynrt_cli_warnings.png";
+    // Not the other test's image: ctest may run the two at once.
+    const fs::path image = fs::path(testing::TempDir()) / "dynrt_cli_warnings_verbose.png";
     const dynrt::test::ShellRun verbose = render_with("--verbose", image);
     ASSERT_EQ(verbose.exit_code, 0) << verbose.output;
     EXPECT_EQ(count_of(verbose.output, "warning:"), 12u) << verbose.output;

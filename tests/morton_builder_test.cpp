@@ -228,9 +228,10 @@ TEST(MortonBuilder, DegenerateTrianglesAreSkippedAsByTheSahBuilder) {
 }
 
 TEST(MortonBuilder, SahCostStaysNearTheBinnedSahTree) {
-    // Measured: about 1.1-1.3x on these inputs. A bound of 1.6x still catches a builder whose
-    // splits stop following space (a reversed comparison in the split search, codes with
-    // the axes not interleaved gave 90-120x, a middle split everywhere 2.6x).
+    // Measured: about 1.1-1.3x on these inputs for the binary trees, 1.1-1.7x for the wide
+    // ones. Bounds of 1.6x and 2x still catch a builder whose splits stop following space (a
+    // reversed comparison in the split search, codes with the axes not interleaved gave
+    // 90-120x, a middle split everywhere 2.6x for the binary trees and 2.7-3.6x for the wide).
     const std::vector<std::pair<std::string, std::vector<Triangle>>> inputs = {
         {"icosphere", testing::icosphere_mesh(5).triangles()},
         {"soup", random_soup(71, 50000, 1.0f, 0.01f)},
@@ -243,7 +244,8 @@ TEST(MortonBuilder, SahCostStaysNearTheBinnedSahTree) {
             const double sah = sah_cost(build_triangle_bvh(tris, sah_config), {});
             const double morton = sah_cost(build_triangle_bvh(tris, morton_config(4, wide)), {});
             EXPECT_GT(sah, 1.0) << name;
-            EXPECT_LT(morton, 1.6 * sah) << name << ": morton " << morton << ", sah " << sah;
+            const double bound = wide ? 2.0 : 1.6;
+            EXPECT_LT(morton, bound * sah) << name << ": morton " << morton << ", sah " << sah;
             std::printf("[ SAH cost ] %s %s: morton %.2f, binned SAH %.2f (%.2fx)\n", name.c_str(),
                         wide ? "wide" : "binary", morton, sah, morton / sah);
         }

@@ -48,10 +48,7 @@
 namespace dynrt::bvh::detail {
 namespace {
 
-constexpr int kBitsPerAxis = 10;
-constexpr int kCodeBits = 3 * kBitsPerAxis;
-/// Keys per task of the builder's parallel loops over primitives.
-constexpr std::size_t kSortBlock = 32 * 1024;
+constexpr std::size_t kSortBlock = kMortonBlock;
 /// A range of at most this many primitives (or BuildConfig::leaf_size_max, if smaller) is a
 /// leaf: two triangle blocks. On sphere:1000000 at 1024x1024, leaves of up to 4 gave a tree of
 /// lower SAH cost (56 against 61) that traced about 15% slower (3.4 triangles but 0.46 packet
@@ -60,11 +57,6 @@ constexpr std::size_t kSortBlock = 32 * 1024;
 constexpr std::uint32_t kLeafPrims = 8;
 /// Ranges above this many primitives are split into two tasks.
 constexpr std::uint32_t kTaskMinPrims = 4 * 1024;
-
-template <class Ref>
-glm::vec3 center_of(const Ref& r) {
-    return glm::vec3(r.center(0), r.center(1), r.center(2));
-}
 
 /// Makes the hierarchy over refs in Morton order (`refs[k]` has code `codes[k]`).
 template <class Ref>
@@ -144,24 +136,7 @@ private:
 
     /// The first position of the right child of [begin, end) (more than one primitive).
     std::uint32_t split_of(std::uint32_t begin, std::uint32_t end) const {
-        const std::uint32_t first_code = codes_[begin];
-        const std::uint32_t last_code = codes_[end - 1];
-        if (first_code == last_code) return begin + (end - begin) / 2;
-        // The highest bit where the range's codes differ: sorted, so the codes with it clear
-        // come first; binary search for the first with it set.
-        const std::uint32_t bit = 1u << (31 - std::countl_zero(first_code ^ last_code));
-        const std::uint32_t prefix_mask = ~(bit - 1) & ~bit;
-        const std::uint32_t right_start = (first_code & prefix_mask) | bit;
-        std::uint32_t lo = begin + 1, hi = end - 1;  // the answer lies in [lo, hi]
-        while (lo < hi) {
-            const std::uint32_t mid = lo + (hi - lo) / 2;
-            if (codes_[mid] >= right_start) {
-                hi = mid;
-            } else {
-                lo = mid + 1;
-            }
-        }
-        return lo;
+        return morton_split(codes_, begin, end);
     }
 
     const Ref* refs_;
@@ -179,17 +154,11 @@ Bvh build_morton_from_prim_refs(const Ref* refs, std::size_t count,
                                 const std::function<void(std::span<const std::uint32_t>)>&
                                     alongside_output,
                                 MortonBuffers<Ref>& buffers, Bvh&& recycled) {
-    const MortonGrid grid(root_center_box);
     buffers.reserve(count);
-    std::uint64_t* const keys = buffers.keys.get();
-    std::uint64_t* const scratch = buffers.other.get();
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kSortBlock),
-                      [&](const tbb::blocked_range<std::size_t>& r) {
-                          for (std::size_t i = r.begin(); i < r.end(); ++i) {
-                              keys[i] = std::uint64_t{grid.code(center_of(refs[i]))} << 32 | i;
-                          }
-                      });
-    const std::uint64_t* sorted = radix_sort_bits(keys, scratch, count, 32, kCodeBits);
+    std::uint64_t* const keys = buffers.keys.keys.get();
+    std::uint64_t* const scratch = buffers.keys.other.get();
+    const std::uint64_t* sorted = morton_sorted_keys(refs, count, root_center_box, buffers.keys,
+                                                     [](std::size_t i) { return i; });
 
     // The refs and codes in Morton order, so the hierarchy reads them sequentially (gathered
     // by the hierarchy itself, the refs' cache misses were the largest part of its time; a

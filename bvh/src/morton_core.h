@@ -1,25 +1,101 @@
 #pragma once
-// The Morton-order builder's core (morton_builder.cpp), shared by build_morton (caller's boxes
-// and centres) and build_triangle_bvh with BuildMethod::morton (boxes from triangles).
+// The Morton-order builders' core: the sort of primitives by the Morton codes of their centres
+// and the split rule, shared by the binary builder (morton_builder.cpp: build_morton from the
+// caller's boxes and centres, build_triangle_bvh without the wide tree) and the wide one
+// (wide_morton_builder.cpp: build_triangle_bvh's fast rebuild).
 
 #include "huge_pages.h"
 #include "prim_ref.h"
 
 #include "dynrt/bvh/binned_sah_builder.h"
+#include "dynrt/bvh/morton_code.h"
+#include "dynrt/bvh/radix_sort.h"
 #include "dynrt/bvh/triangle.h"
+#include "dynrt/bvh/wide_bvh.h"
 
+#include <oneapi/tbb/blocked_range.h>
+#include <oneapi/tbb/parallel_for.h>
+
+#include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <memory>
 #include <span>
-#include <vector>
 
 namespace dynrt::bvh::detail {
 
-/// The builder's working arrays for up to `capacity` primitives: the sort's keys and its
-/// second buffer, and the refs in Morton order. Kept from build to build where a tree is
-/// rebuilt every frame, so the builds write memory that is already faulted in.
+/// Bits of a Morton code: 10 per axis.
+inline constexpr int kMortonCodeBits = 3 * MortonGrid::kBitsPerAxis;
+/// Keys per task of the builders' parallel loops over primitives.
+inline constexpr std::size_t kMortonBlock = 32 * 1024;
+
+/// The first position of the right half of the Morton-sorted range [begin, end) (more than
+/// one primitive) of `codes`: the first code with the range's highest differing bit set
+/// (Karras 2012, section 4), or the middle when all codes are equal. Each split by a bit leaves
+/// both halves with a longer common prefix, which bounds the depth.
+inline std::uint32_t morton_split(const std::uint32_t* codes, std::uint32_t begin,
+                                  std::uint32_t end) {
+    const std::uint32_t first_code = codes[begin];
+    const std::uint32_t last_code = codes[end - 1];
+    if (first_code == last_code) return begin + (end - begin) / 2;
+    const std::uint32_t bit = 1u << (31 - std::countl_zero(first_code ^ last_code));
+    const std::uint32_t prefix_mask = ~(bit - 1) & ~bit;
+    const std::uint32_t right_start = (first_code & prefix_mask) | bit;
+    // Sorted, so the codes below right_start come first. A short range (most splits are near
+    // the leaves) counts them without branches, which vectorises; a long one is searched.
+    constexpr std::uint32_t kCountMax = 64;
+    if (end - begin <= kCountMax) {
+        std::uint32_t below = 0;
+        for (std::uint32_t k = begin; k < end; ++k) below += codes[k] < right_start ? 1u : 0u;
+        return begin + below;
+    }
+    std::uint32_t lo = begin + 1, hi = end - 1;  // the answer lies in [lo, hi]
+    while (lo < hi) {
+        const std::uint32_t mid = lo + (hi - lo) / 2;
+        if (codes[mid] >= right_start) {
+            hi = mid;
+        } else {
+            lo = mid + 1;
+        }
+    }
+    return lo;
+}
+
+/// The sort's keys and its second buffer for up to `capacity` primitives.
+struct MortonKeys {
+    std::unique_ptr<std::uint64_t[]> keys, other;
+    std::size_t capacity = 0;
+
+    void reserve(std::size_t count) {
+        if (count <= capacity) return;
+        keys = make_uninitialized_buffer<std::uint64_t>(count);
+        other = make_uninitialized_buffer<std::uint64_t>(count);
+        capacity = count;
+    }
+};
+
+/// Sorts refs[0, count) by the Morton codes of their centres in the grid over `center_box`
+/// (which must bound them): returns the sorted keys, `code << 32 | low(i)` for ref i, in
+/// `storage.keys` or `storage.other`. The sort is stable, so equal codes keep the refs' order
+/// (whatever the thread timing), when low(i) increases with i.
+template <class Ref, class Low>
+const std::uint64_t* morton_sorted_keys(const Ref* refs, std::size_t count, const Aabb& center_box,
+                                        MortonKeys& storage, const Low& low) {
+    const MortonGrid grid(center_box);
+    storage.reserve(count);
+    std::uint64_t* const keys = storage.keys.get();
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kMortonBlock),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                          for (std::size_t i = r.begin(); i < r.end(); ++i) {
+                              const glm::vec3 c(refs[i].center(0), refs[i].center(1),
+                                                refs[i].center(2));
+                              keys[i] = std::uint64_t{grid.code(c)} << 32 | low(i);
+                          }
+                      });
+    return radix_sort_bits(keys, storage.other.get(), count, 32, kMortonCodeBits);
+}
+
 /// A BvhNode without default member initialisers, so millions of them can be allocated
 /// without being written: the hierarchy is made in these (up to 2n - 1 of them, most never
 /// used), then the used ones are copied into the tree.
@@ -30,17 +106,19 @@ struct RawBvhNode {
 };
 static_assert(sizeof(RawBvhNode) == sizeof(BvhNode));
 
+/// The binary builder's working arrays for up to `capacity` primitives: the sort's keys, the
+/// refs in Morton order and the nodes. Kept from build to build where a tree is rebuilt every
+/// frame, so the builds write memory that is already faulted in.
 template <class Ref>
 struct MortonBuffers {
-    std::unique_ptr<std::uint64_t[]> keys, other;
+    MortonKeys keys;
     std::unique_ptr<Ref[]> sorted;
     std::unique_ptr<RawBvhNode[]> nodes;  ///< room for 2 * capacity - 1
     std::size_t capacity = 0;
 
     void reserve(std::size_t count) {
+        keys.reserve(count);
         if (count <= capacity) return;
-        keys = make_uninitialized_buffer<std::uint64_t>(count);
-        other = make_uninitialized_buffer<std::uint64_t>(count);
         sorted = make_uninitialized_buffer<Ref>(count);
         nodes = make_uninitialized_buffer<RawBvhNode>(2 * count);
         capacity = count;
@@ -63,13 +141,21 @@ Bvh build_morton_from_prim_refs(const Ref* refs, std::size_t count,
                                     alongside_output,
                                 MortonBuffers<Ref>& buffers, Bvh&& recycled = {});
 
-/// The Morton builder's storage kept with a TriangleBvh (TriangleBvh::morton_scratch): its
-/// buffers, build_triangle_bvh's own refs, and the binary tree and leaf-ordered triangles that
-/// the wide tree is collapsed from.
+/// Builds the wide tree over the triangles of `refs[0, count)` (build_triangle_bvh's refs:
+/// each a non-degenerate triangle's box and its index into `tris`, in increasing index order)
+/// directly in the Morton order of their centres, with no binary tree: a node's children are
+/// made by splitting its range (morton_split), the child of most triangles first, until it has
+/// N children or every child is a leaf of at most `leaf_prims` triangles. `center_box` bounds
+/// the refs' centres; `count` >= 1 and < 2^31. The result does not depend on the thread count.
+/// Storage of `keys` and `recycled` is reused where large enough.
+WideBvh build_wide_morton(std::span<const Triangle> tris, const BoxCenterRef* refs,
+                          std::size_t count, const Aabb& center_box, std::uint32_t leaf_prims,
+                          MortonKeys& keys, WideBvh&& recycled);
+
+/// The Morton builders' storage kept with a TriangleBvh (TriangleBvh::morton_scratch): the
+/// binary builder's buffers (the wide builder uses their keys) and build_triangle_bvh's refs.
 struct MortonScratch {
     MortonBuffers<BoxCenterRef> buffers;
-    Bvh binary;
-    std::vector<Triangle> leaf_tris;
     std::unique_ptr<BoxCenterRef[]> refs;
     std::size_t refs_capacity = 0;
 

@@ -34,6 +34,11 @@ using detail::octant_of;
 
 /// Triangles per block of the parallel passes that filter degenerates and fill references.
 constexpr std::size_t kBlock = 16 * 1024;
+/// Largest leaf of the wide Morton build (BuildMethod::morton with the wide tree), in
+/// triangles: two blocks. Against leaves of one block, on sphere:1000000 and soup:1000000: the
+/// build 30% faster (21 and 23 ms against 31 and 35), 64 and 60 bytes per triangle against 83
+/// and 88, and the frame's rays 1-2% slower (benchmarks/README.md, "Morton builds").
+constexpr std::uint32_t kWideMortonLeafPrims = 8;
 
 // The robust box test (BoxRay, octant_of, hit_box, kFarScale) lives in robust_box_test.h,
 // shared with the two-level BVH's top level.
@@ -278,15 +283,19 @@ TriangleBvh build_triangle_bvh(std::span<const Triangle> tris, const BuildConfig
         root_centers.extend(b.centers);
     }
 
-    // The binary tree with its triangles in leaf order: the result itself without the wide
-    // tree, else the collapse's input, kept only for Morton rebuilds (in their scratch, whose
-    // storage the next frame's build reuses).
     const bool wide = config.wide && config.leaf_size_max <= kWideLeafSizeMax;
+    if (morton && wide) {
+        accel.wide = detail::build_wide_morton(
+            tris, refs, count, root_centers, std::min(kWideMortonLeafPrims, config.leaf_size_max),
+            accel.morton_scratch->buffers.keys, std::move(recycled_wide));
+        return accel;
+    }
+    // The binary tree with its triangles in leaf order: the result itself without the wide
+    // tree, else the collapse's input, dropped after it.
     Bvh binary_storage;
     std::vector<Triangle> leaf_tris_storage;
-    Bvh& binary = !wide ? accel.bvh : morton ? accel.morton_scratch->binary : binary_storage;
-    std::vector<Triangle>& leaf_tris =
-        !wide ? accel.tris : morton ? accel.morton_scratch->leaf_tris : leaf_tris_storage;
+    Bvh& binary = wide ? binary_storage : accel.bvh;
+    std::vector<Triangle>& leaf_tris = wide ? leaf_tris_storage : accel.tris;
     if (!wide) binary = std::move(recycled_tree);
     leaf_tris.clear();
     // Copy the triangles in leaf order while the builder makes its hierarchy: three serial

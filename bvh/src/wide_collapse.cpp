@@ -19,6 +19,7 @@
 
 #include "dynrt/bvh/wide_bvh.h"
 
+#include "block_writer.h"
 #include "huge_pages.h"
 
 #include <oneapi/tbb/parallel_for.h>
@@ -81,7 +82,7 @@ public:
         nodes_ = wide.nodes.data();
         blocks_ = wide.blocks.data();
         if (root_leaf) {
-            nodes_[0] = empty_node();
+            nodes_[0] = WideNode<N>::empty();
             std::uint32_t next_node = 1, next_block = 0;
             fill_slot(nodes_[0], 0, 0, next_node, next_block, nullptr);
         } else {
@@ -179,16 +180,6 @@ private:
         return r;
     }
 
-    static WideNode<N> empty_node() {
-        WideNode<N> node;
-        for (int i = 0; i < N; ++i) {
-            node.set_box(i, Aabb{});
-            node.child[i] = kInvalidId;
-            node.blocks[i] = 0;
-        }
-        return node;
-    }
-
     /// The binary nodes that fill the slots of a wide node made from `index`, in order.
     void slots_of(std::uint32_t index, int slots, std::array<std::uint32_t, N>& out, int& used) const {
         const BvhNode& node = bvh_.nodes[index];
@@ -212,7 +203,7 @@ private:
     void emit_node(std::uint32_t index, std::uint32_t at, std::uint32_t first_block,
                    std::uint32_t depth) {
         WideNode<N>& wide_node = nodes_[at];
-        wide_node = empty_node();
+        wide_node = WideNode<N>::empty();
         // The node's children share its N slots by the best split of C_dist(n, N).
         const BvhNode& node = bvh_.nodes[index];
         const int k = choice_[index][N];
@@ -269,33 +260,9 @@ private:
     /// Copies the triangles of the binary subtree at `index` into consecutive blocks; returns
     /// how many it filled.
     std::uint32_t fill_leaf(TriangleBlock* blocks, std::uint32_t index) const {
-        int lane = 0;
-        TriangleBlock* block = blocks;
-        visit_leaves(index, [&](std::uint32_t k) {
-            const Triangle& t = leaf_tris_[k];
-            for (int axis = 0; axis < 3; ++axis) {
-                block->v0[axis][lane] = t.v0[axis];
-                block->v1[axis][lane] = t.v1[axis];
-                block->v2[axis][lane] = t.v2[axis];
-            }
-            block->prim[lane] = bvh_.prim_ids[k];
-            if (++lane == kBlockLanes) {
-                lane = 0;
-                ++block;
-            }
-        });
-        if (lane != 0) {
-            for (; lane < kBlockLanes; ++lane) {
-                for (int axis = 0; axis < 3; ++axis) {
-                    block->v0[axis][lane] = block->v0[axis][0];
-                    block->v1[axis][lane] = block->v1[axis][0];
-                    block->v2[axis][lane] = block->v2[axis][0];
-                }
-                block->prim[lane] = kInvalidId;
-            }
-            ++block;
-        }
-        return static_cast<std::uint32_t>(block - blocks);
+        detail::BlockWriter writer(blocks);
+        visit_leaves(index, [&](std::uint32_t k) { writer.add(leaf_tris_[k], bvh_.prim_ids[k]); });
+        return writer.finish();
     }
 
     template <class Visit>

@@ -48,7 +48,8 @@ constexpr int kWidth = 96, kHeight = 72;
 constexpr auto kArgument = Error::Code::invalid_argument;
 
 /// A 4x4 image of distinct colours (so that a wrong coordinate or wrap shows), written as a
-/// PNG into the test's temporary folder; returns its path.
+/// PNG into the test's temporary folder, under a name of the running test's (ctest runs the
+/// tests as parallel processes, which shared one file before); returns its path.
 std::string write_texture(const std::string& name) {
     std::vector<float> rgb;
     for (int y = 0; y < 4; ++y) {
@@ -56,7 +57,9 @@ std::string write_texture(const std::string& name) {
             rgb.insert(rgb.end(), {0.15f + 0.25f * float(x), 0.9f - 0.2f * float(y), float((x + y) % 2)});
         }
     }
-    const std::string path = (std::filesystem::path(testing::TempDir()) / name).string();
+    const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
+    const std::string own = std::string(test->test_suite_name()) + "." + test->name() + "." + name;
+    const std::string path = (std::filesystem::path(testing::TempDir()) / own).string();
     save_image(path, 4, 4, rgb);
     return path;
 }

@@ -22,6 +22,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <memory>
 #include <new>
 #include <span>
@@ -67,6 +68,18 @@ struct alignas(64) WideNode {
     float hi_x[N], hi_y[N], hi_z[N];
     std::uint32_t child[N];
     std::uint16_t blocks[N];
+
+    /// A node with every slot empty (its padding zeroed, so equal trees are equal bytes).
+    static WideNode empty() {
+        WideNode node;
+        std::memset(static_cast<void*>(&node), 0, sizeof node);
+        for (int i = 0; i < N; ++i) {
+            node.set_box(i, Aabb{});
+            node.child[i] = kInvalidId;
+            node.blocks[i] = 0;
+        }
+        return node;
+    }
 
     bool is_empty(int i) const { return blocks[i] == 0 && child[i] == kInvalidId; }
     bool is_leaf(int i) const { return blocks[i] != 0; }

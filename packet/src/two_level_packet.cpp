@@ -115,16 +115,83 @@ float packet_pad(const bvh::TwoLevelBvh& tlas, const RayPacket& packet) {
     return bvh::top_level_pad(tlas, glm::vec3(L::reduce_max(largest), 0.0f, 0.0f));
 }
 
-/// Fills `local` with the lanes `lanes` of `packet` in `instance`'s object space (the single-ray
-/// tracer's to_object_space, lane by lane), tmax[lane] taken from `tmax`.
+/// Fills `local` with the lanes `lanes` of `packet` in `instance`'s object space, tmax[lane]
+/// taken from `tmax`: bvh::to_object_space's arithmetic, term for term and in its order, W lanes
+/// at a time (the same bits: no fused multiply-adds in this module). Lanes of a chunk outside
+/// `lanes` are transformed too and left inactive, as a cleared packet's are left as they were
+/// (lane by lane, this was a twentieth of a BART robots frame).
+template <int W>
 void make_local_packet(const bvh::Instance& instance, const RayPacket& packet, const LaneMask& lanes,
                        const float* tmax, RayPacket& local) {
-    local.clear();
-    lanes.for_each([&](int lane) {
-        bvh::Ray ray = bvh::to_object_space(instance, packet.ray(lane));
-        ray.tmax = tmax[lane];
-        local.set_ray(lane, ray);
-    });
+    using L = simd::Lanes<W>;
+    using F = typename L::F;
+    local.active = lanes;
+    const glm::mat4& m = instance.world_to_object;
+    for (int first = 0; first < kPacketRays; first += W) {
+        if (lanes.extract(first, W) == 0) continue;
+        const F ox = L::load(packet.org_x + first), oy = L::load(packet.org_y + first),
+                oz = L::load(packet.org_z + first);
+        const F dx = L::load(packet.dir_x + first), dy = L::load(packet.dir_y + first),
+                dz = L::load(packet.dir_z + first);
+        if (instance.identity) {
+            L::store(local.org_x + first, ox);
+            L::store(local.org_y + first, oy);
+            L::store(local.org_z + first, oz);
+            L::store(local.dir_x + first, dx);
+            L::store(local.dir_y + first, dy);
+            L::store(local.dir_z + first, dz);
+        } else {
+            const auto row = [&](int r, F x, F y, F z) {
+                return L::splat(m[0][r]) * x + L::splat(m[1][r]) * y + L::splat(m[2][r]) * z;
+            };
+            L::store(local.org_x + first, row(0, ox, oy, oz) + L::splat(m[3][0]));
+            L::store(local.org_y + first, row(1, ox, oy, oz) + L::splat(m[3][1]));
+            L::store(local.org_z + first, row(2, ox, oy, oz) + L::splat(m[3][2]));
+            L::store(local.dir_x + first, row(0, dx, dy, dz));
+            L::store(local.dir_y + first, row(1, dx, dy, dz));
+            L::store(local.dir_z + first, row(2, dx, dy, dz));
+        }
+        L::store(local.tmin + first, L::load(packet.tmin + first));
+        L::store(local.tmax + first, L::load(tmax + first));
+    }
+}
+
+/// Merges an instance's hits `h` on `lanes` into `out` by the single-ray tracer's tie rule, W
+/// lanes at a time: the smallest (t, object, prim) wins; before a lane's first hit its object is
+/// kInvalidId and best_t its tmax. A winning lane's best_t becomes its t; `found_any` is set and
+/// `shortened` counts the lanes shortened (traverse_top's hits()).
+template <int W>
+void merge_closest(const PacketHits& h, std::uint32_t object, const LaneMask& lanes, float* best_t,
+                   InstanceHits& out, bool& found_any, std::uint32_t& shortened) {
+    using L = simd::Lanes<W>;
+    using F = typename L::F;
+    using I = typename L::I;
+    using U = typename L::U;
+    const U instance_object = L::splat(object);
+    for (int first = 0; first < kPacketRays; first += W) {
+        const std::uint32_t wanted = lanes.extract(first, W);
+        if (wanted == 0) continue;
+        const F t = L::load(h.t + first);
+        const F best = L::load(best_t + first);
+        const U prim = L::load(h.prim + first);
+        const U out_prim = L::load(out.hits.prim + first);
+        const U out_object = L::load(out.object + first);
+        const I wins_tie = L::select(I(instance_object != out_object), I(instance_object < out_object),
+                                     I(prim < out_prim));
+        const I wins = I(prim != L::splat(bvh::kInvalidId)) &
+                       L::select(I(t != best), I(t < best), wins_tie);
+        const std::uint32_t won = L::bits(wins) & wanted;
+        if (won == 0) continue;
+        const I take = L::from_bits(won);
+        L::store(out.hits.t + first, L::select(take, t, L::load(out.hits.t + first)));
+        L::store(out.hits.u + first, L::select(take, L::load(h.u + first), L::load(out.hits.u + first)));
+        L::store(out.hits.v + first, L::select(take, L::load(h.v + first), L::load(out.hits.v + first)));
+        L::store(out.hits.prim + first, L::select(take, prim, out_prim));
+        L::store(out.object + first, L::select(take, instance_object, out_object));
+        L::store(best_t + first, L::select(take, t, best));
+        found_any = true;
+        shortened += static_cast<std::uint32_t>(std::popcount(won));
+    }
 }
 
 /// Scratch of one trace: the bottom-level packets (kept off the caller's hot data).
@@ -209,30 +276,10 @@ void closest_lanes(const bvh::TwoLevelBvh& tlas, const RayPacket& packet, Instan
         // A packet no instance has shortened yet, reaching an identity instance whole, is traced
         // as it is: the common case of one static object, where copying would be pure cost.
         const bool as_is = instance.identity && !found_any && lanes == packet.active;
-        if (!as_is) make_local_packet(instance, packet, lanes, best_t, scratch.local);
+        if (!as_is) make_local_packet<W>(instance, packet, lanes, best_t, scratch.local);
         intersect_closest(*instance.blas, as_is ? packet : scratch.local, scratch.local_hits, config,
                           stats);
-        const PacketHits& h = scratch.local_hits;
-        lanes.for_each([&](int lane) {
-            if (h.prim[lane] == bvh::kInvalidId) return;
-            // The tie rule of the single-ray tracer: smallest (t, object, prim) wins; before the
-            // first hit object is kInvalidId and best_t the ray's tmax.
-            const float t = h.t[lane];
-            const bool wins =
-                t != best_t[lane]
-                    ? t < best_t[lane]
-                    : (instance.object != out.object[lane] ? instance.object < out.object[lane]
-                                                           : h.prim[lane] < out.hits.prim[lane]);
-            if (!wins) return;
-            out.hits.t[lane] = t;
-            out.hits.u[lane] = h.u[lane];
-            out.hits.v[lane] = h.v[lane];
-            out.hits.prim[lane] = h.prim[lane];
-            out.object[lane] = instance.object;
-            best_t[lane] = t;
-            found_any = true;
-            ++shortened;
-        });
+        merge_closest<W>(scratch.local_hits, instance.object, lanes, best_t, out, found_any, shortened);
     };
     const LaneMask all = packet.active;
     traverse_top<W>(tlas, packet, best_t, [&] { return all; }, [&] { return shortened; }, visit);
@@ -246,7 +293,7 @@ void any_lanes(const bvh::TwoLevelBvh& tlas, const RayPacket& packet, LaneMask& 
     auto visit = [&](const bvh::Instance& instance, const LaneMask& lanes) {
         if (!lanes.any()) return;
         const bool as_is = instance.identity && lanes == packet.active;
-        if (!as_is) make_local_packet(instance, packet, lanes, packet.tmax, scratch.local);
+        if (!as_is) make_local_packet<W>(instance, packet, lanes, packet.tmax, scratch.local);
         intersect_any(*instance.blas, as_is ? packet : scratch.local, local_occluded, config, stats);
         occluded |= local_occluded;
     };

@@ -48,7 +48,6 @@
 namespace dynrt::bvh::detail {
 namespace {
 
-constexpr std::size_t kSortBlock = kMortonBlock;
 /// A range of at most this many primitives (or BuildConfig::leaf_size_max, if smaller) is a
 /// leaf: two triangle blocks. On sphere:1000000 at 1024x1024, leaves of up to 4 gave a tree of
 /// lower SAH cost (56 against 61) that traced about 15% slower (3.4 triangles but 0.46 packet
@@ -169,7 +168,7 @@ Bvh build_morton_from_prim_refs(const Ref* refs, std::size_t count,
     Bvh bvh = std::move(recycled);
     bvh.prim_ids.clear();
     resize_with_huge_pages(bvh.prim_ids, count);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kSortBlock),
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kMortonBlock),
                       [&](const tbb::blocked_range<std::size_t>& r) {
                           for (std::size_t i = r.begin(); i < r.end(); ++i) {
                               constexpr std::size_t kAhead = 16;
@@ -194,7 +193,7 @@ Bvh build_morton_from_prim_refs(const Ref* refs, std::size_t count,
             bvh.nodes.clear();
             resize_with_huge_pages(bvh.nodes, used);
             static_assert(std::is_trivially_copyable_v<BvhNode>);
-            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, used, kSortBlock),
+            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, used, kMortonBlock),
                               [&](const tbb::blocked_range<std::size_t>& r) {
                                   std::memcpy(static_cast<void*>(bvh.nodes.data() + r.begin()),
                                               raw + r.begin(), r.size() * sizeof(BvhNode));

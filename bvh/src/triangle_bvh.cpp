@@ -37,7 +37,7 @@ constexpr std::size_t kBlock = 16 * 1024;
 /// Largest leaf of the wide Morton build (BuildMethod::morton with the wide tree), in
 /// triangles: two blocks. Against leaves of one block, on sphere:1000000 and soup:1000000: the
 /// build 30% faster (21 and 23 ms against 31 and 35), 64 and 60 bytes per triangle against 83
-/// and 88, and the frame's rays 1-2% slower (benchmarks/README.md, "Morton builds").
+/// and 88, and the frame's rays 1-2% slower (benchmarks/README.md, issue 38's section).
 constexpr std::uint32_t kWideMortonLeafPrims = 8;
 
 // The robust box test (BoxRay, octant_of, hit_box, kFarScale) lives in robust_box_test.h,

@@ -51,6 +51,12 @@ struct Range {
 /// Nodes and blocks of a subtree.
 struct Size {
     std::uint32_t nodes = 0, blocks = 0;
+
+    Size& operator+=(const Size& other) {
+        nodes += other.nodes;
+        blocks += other.blocks;
+        return *this;
+    }
 };
 
 /// A node's children: ranges in Morton order.
@@ -80,28 +86,19 @@ public:
         const Range all{0, count_};
         // The root is a node even over a single leaf.
         const bool root_leaf = is_leaf(all);
-        std::unique_ptr<Planned> root;
-        Size total{1, 0};
-        if (root_leaf) {
-            total.blocks = blocks_of(all);
-        } else {
-            root = plan(all, 1);
-            for (int i = 0; i < root->children.count; ++i) {
-                total.nodes += root->sizes[i].nodes;
-                total.blocks += root->sizes[i].blocks;
-            }
-        }
+        const std::unique_ptr<Planned> root = root_leaf ? nullptr : plan(all, 1);
+        const Size total = root_leaf ? Size{1, blocks_of(all)} : size_of(*root);
         resize_with_huge_pages(wide.nodes, total.nodes);
         resize_with_huge_pages(wide.blocks, total.blocks);
         nodes_ = wide.nodes.data();
         blocks_ = wide.blocks.data();
         if (root_leaf) {
-            nodes_[0] = Node::empty();
-            const Aabb box = fill_leaf(all, 0);
-            nodes_[0].set_box(0, box);
-            nodes_[0].child[0] = 0;
-            nodes_[0].blocks[0] = static_cast<std::uint16_t>(total.blocks);
-            wide.root_box = box;
+            Children one;
+            one.range[0] = all;
+            one.count = 1;
+            std::array<Aabb, N> boxes;
+            boxes[0] = fill_leaf(all, 0);
+            wide.root_box = write_node(one, 0, {}, {}, boxes);
         } else {
             wide.root_box = make_planned(*root, 0, 0);
         }
@@ -148,11 +145,7 @@ private:
         const Children c = split(r);
         record.push_back(c);
         Size s{1, 0};
-        for (int i = 0; i < c.count; ++i) {
-            const Size below = count(c.range[i], record);
-            s.nodes += below.nodes;
-            s.blocks += below.blocks;
-        }
+        for (int i = 0; i < c.count; ++i) s += count(c.range[i], record);
         return s;
     }
 
@@ -166,6 +159,13 @@ private:
         std::array<std::vector<Children>, N> recorded;
     };
 
+    /// The nodes and blocks of a planned node's subtree, the node included.
+    static Size size_of(const Planned& p) {
+        Size s{1, 0};
+        for (int i = 0; i < p.children.count; ++i) s += p.sizes[i];
+        return s;
+    }
+
     /// Plans the inner node over `r` at `depth` and its top-level descendants, the children
     /// as parallel tasks.
     std::unique_ptr<Planned> plan(Range r, std::uint32_t depth) const {
@@ -178,12 +178,7 @@ private:
                 return;
             }
             node->below[i] = plan(child, depth + 1);
-            Size s{1, 0};
-            for (int j = 0; j < node->below[i]->children.count; ++j) {
-                s.nodes += node->below[i]->sizes[j].nodes;
-                s.blocks += node->below[i]->sizes[j].blocks;
-            }
-            node->sizes[i] = s;
+            node->sizes[i] = size_of(*node->below[i]);
         });
         return node;
     }

@@ -119,7 +119,7 @@ float packet_pad(const bvh::TwoLevelBvh& tlas, const RayPacket& packet) {
 /// taken from `tmax`: bvh::to_object_space's arithmetic, term for term and in its order, W lanes
 /// at a time (the same bits: no fused multiply-adds in this module). Lanes of a chunk outside
 /// `lanes` are transformed too and left inactive, as a cleared packet's are left as they were
-/// (lane by lane, this was a twentieth of a BART robots frame).
+/// (lane by lane, with the merge below, this was a fifth of BART robots' camera rays).
 template <int W>
 void make_local_packet(const bvh::Instance& instance, const RayPacket& packet, const LaneMask& lanes,
                        const float* tmax, RayPacket& local) {

@@ -51,9 +51,10 @@ struct RefitResult {
 /// the union of its triangles' boxes, an inner node's the union of its two children's). The
 /// topology and skipped_ids stay as they were, so hits still report the caller's indices. The
 /// result's sah_cost is that of the tree held (sah_cost(const TriangleBvh&)). A triangle that
-/// became degenerate stays in the tree (validate accepts that): the watertight test never hits it when two vertices coincide, but may when they
-/// are only collinear (see is_degenerate), where a rebuild would leave it out; motion makes
-/// exactly collinear vertices rarely, and the hit point then lies on the segment anyway.
+/// became degenerate stays in the tree (validate accepts that): the watertight test never hits
+/// it when two vertices coincide, but may when they are only collinear (see is_degenerate),
+/// where a rebuild would leave it out; motion makes exactly collinear vertices rarely, and the
+/// hit point then lies on the segment anyway.
 ///
 /// Preconditions: `accel` was made by build_triangle_bvh (possibly refitted since) and every
 /// triangle is finite (check with is_finite first, as for build_triangle_bvh: the engine

@@ -1,8 +1,10 @@
 #pragma once
-// The wide BVH: a 4- or 8-ary tree collapsed from the binary binned-SAH tree, with child boxes
-// in SoA layout (one SIMD pass tests a ray against every child) and triangles pre-gathered per
-// leaf into SoA blocks of four (one SIMD pass runs the watertight test on four triangles).
-// Single rays trace it nearest child first (closest hit) or stop at the first hit (any hit).
+// The wide BVH: a 4- or 8-ary tree collapsed from the binary binned-SAH tree (or, for the
+// fast rebuild, made directly from Morton-sorted triangles: bvh/src/wide_morton_builder.cpp),
+// with child boxes in SoA layout (one SIMD pass tests a ray against every child) and
+// triangles pre-gathered per leaf into SoA blocks of four (one SIMD pass runs the watertight
+// test on four triangles). Single rays trace it nearest child first (closest hit) or stop at
+// the first hit (any hit).
 //
 // The collapse follows Ylitie, Karras and Laine 2017, "Efficient Incoherent Ray Traversal on
 // GPUs Through Compressed Wide BVHs" (section 4.1): a dynamic program over the binary tree picks,

@@ -167,6 +167,90 @@ TEST(TwoLevelPacket, IncoherentAndShadowPacketsEqualSingleRays) {
     EXPECT_GT(hits, 1000);
 }
 
+/// Shadow packets from one light, outside the scene's bounds, toward random points of `w`.
+std::vector<RayPacket> light_packets(const TwoLevelWorld& w, std::uint32_t seed, int count) {
+    const bvh::Aabb bounds = w.world_bounds();
+    std::mt19937 rng(seed);
+    const glm::vec3 light = bounds.hi + 0.25f * bounds.extent();
+    std::vector<RayPacket> out;
+    out.resize(static_cast<std::size_t>(count));
+    for (RayPacket& packet : out) {
+        packet.clear();
+        const glm::vec3 focus = bvh::testing::random_point(rng, bounds.lo, bounds.hi);
+        for (int lane = 0; lane < kPacketRays; ++lane) {
+            const glm::vec3 end = focus + 0.2f * bounds.extent() * (bvh::testing::random_point(rng, glm::vec3(-1.0f), glm::vec3(1.0f)));
+            packet.set_ray(lane, bvh::Ray{light, end - light, 0.0f, 1.0f});
+        }
+    }
+    return out;
+}
+
+/// Whether triangle `prim` of instance `instance` blocks `ray` (in its object space, as the
+/// tracers carry it).
+bool blocks(const TwoLevelWorld& w, std::uint32_t instance, std::uint32_t prim, const bvh::Ray& ray) {
+    const bvh::Instance& inst = w.tlas.instances[instance];
+    const bvh::Triangle& tri = w.meshes[w.objects[inst.object].mesh][prim];
+    const bvh::Ray local = bvh::to_object_space(inst, ray);
+    bvh::Hit hit;
+    return bvh::intersect_watertight(bvh::WatertightRay(local), tri, local.tmin, local.tmax, hit);
+}
+
+// The occluder search (an occluder cache's questions): the occluders a trace reports block
+// their rays; their triangles, tested first by later packets, answer rays without changing any
+// verdict; and a triangle that is not the tree's would change verdicts, so the check can fail.
+TEST(TwoLevelPacket, OccluderSearchKeepsEveryVerdictAndNamesRealOccluders) {
+    TwoLevelWorld w = bvh::testing::mixed_world();
+    w.build();
+    const std::vector<RayPacket> packets = light_packets(w, 11, 32);
+    std::vector<InstanceTriangle> guesses;  // learnt from the packets traced so far
+    int answered_first = 0, named = 0;
+    for (const PacketConfig& config : configs()) {
+        for (const RayPacket& packet : packets) {
+            InstanceOccluderSearch search;
+            search.test_first = guesses;
+            alignas(64) std::uint32_t instance[kPacketRays], prim[kPacketRays];
+            search.occluder_instance = instance;
+            search.occluder_prim = prim;
+            LaneMask occluded;
+            intersect_any(w.tlas, packet, occluded, config, nullptr, &search);
+            answered_first += search.blocked_first.count();
+            EXPECT_EQ(search.blocked_first & ~occluded, LaneMask{});
+            for (int lane = 0; lane < kPacketRays; ++lane) {
+                const bvh::Ray ray = packet.ray(lane);
+                ASSERT_EQ(occluded.test(lane), bvh::intersect_any(w.tlas, ray)) << describe(config) << " lane " << lane;
+                if (!occluded.test(lane) || prim[lane] == bvh::kInvalidId) continue;
+                ASSERT_LT(instance[lane], w.tlas.instances.size());
+                ASSERT_TRUE(blocks(w, instance[lane], prim[lane], ray)) << describe(config) << " lane " << lane;
+                ++named;
+                if (guesses.size() < 6 && lane % 64 == 0) {
+                    const bvh::Instance& inst = w.tlas.instances[instance[lane]];
+                    guesses.push_back({instance[lane], {w.meshes[w.objects[inst.object].mesh][prim[lane]], prim[lane]}});
+                }
+            }
+        }
+    }
+    EXPECT_GT(named, 1000);
+    EXPECT_GT(answered_first, 100);  // the triangles tested first did answer rays
+
+    // A triangle that is not the tree's, huge and through the light (in instance 0's object
+    // space, where the rays start on it): intersect_first believes it blocks every ray that
+    // leaves its plane, and the verdicts then differ from the single-ray tracer's.
+    const bvh::Ray from_light = bvh::to_object_space(w.tlas.instances[0], packets[0].ray(0));
+    const glm::vec3 o = from_light.org;
+    const float r = 100.0f * glm::length(w.world_bounds().extent());
+    const std::vector<InstanceTriangle> foreign{
+        {0, {bvh::Triangle{o + glm::vec3(-r, -r, 0.0f), o + glm::vec3(3.0f * r, -r, 0.0f), o + glm::vec3(-r, 3.0f * r, 0.0f)}, 0}}};
+    int differ = 0;
+    for (const RayPacket& packet : packets) {
+        InstanceOccluderSearch search;
+        search.test_first = foreign;
+        LaneMask occluded;
+        intersect_any(w.tlas, packet, occluded, PacketConfig{}, nullptr, &search);
+        for (int lane = 0; lane < kPacketRays; ++lane) differ += occluded.test(lane) != bvh::intersect_any(w.tlas, packet.ray(lane));
+    }
+    EXPECT_GT(differ, 0);
+}
+
 TEST(TwoLevelPacket, CoincidentInstancesTieToTheLowestObjectAsSingleRays) {
     // One closed mesh placed three times at the same spot (identity, identity, and transformed
     // by the identity matrix, so the same bits): every hit is a three-way tie in t that the

@@ -107,6 +107,7 @@ dynrt::RenderOptions render_options(const FrameArgs& args) {
     options.packet.culling = dynrt::packet::PacketCulling::parse(args.packet_culling);
     options.adaptive_tolerance = args.adaptive;
     options.smooth_normals = args.normals != "flat";
+    options.occluder_cache = args.occluder_cache != "off";
     options.secondary.max_depth = args.depth;
     options.secondary.cutoff = args.cutoff;
     options.secondary.min_packet_rays = args.secondary_packet_min;

@@ -34,6 +34,8 @@ struct FrameArgs {
     float adaptive = 0.0f;
     /// Shading normals (TraceSettings::smooth_normals): smooth (the vertex normals) or flat.
     std::string normals = "smooth";
+    /// TraceSettings::occluder_cache: on or off.
+    std::string occluder_cache = "off";
     /// Whitted secondary rays (TraceSettings::secondary): deepest bounce and path-weight cut-off.
     int depth = dynrt::SecondaryRays{}.max_depth;
     float cutoff = dynrt::SecondaryRays{}.cutoff;

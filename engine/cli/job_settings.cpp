@@ -22,7 +22,7 @@ namespace dynrt::cli {
 // A field added to FrameArgs or RenderArgs must be classified in job_settings() below (part of
 // the job, or not) before this compiles again; then update these counts. RenderArgs counts
 // its FrameArgs base as one field.
-static_assert(field_count<FrameArgs>() == 27,
+static_assert(field_count<FrameArgs>() == 28,
               "a FrameArgs field was added or removed: classify it in job_settings()");
 static_assert(field_count<RenderArgs>() == 1 + 6,
               "a RenderArgs field was added or removed: classify it in job_settings()");
@@ -84,6 +84,7 @@ std::vector<JobSetting> job_settings(const RenderArgs& args, const dynrt::Render
     job("--packet-culling", dynrt::packet::PacketCulling::parse(args.packet_culling).to_string());
     job("--adaptive", number_text(args.adaptive));
     job("--normals", args.normals);
+    job("--occluder-cache", args.occluder_cache);  // the same image either way
     job("--depth", std::to_string(args.depth));
     job("--cutoff", number_text(args.cutoff));
     job("--secondary-packet-min", std::to_string(args.secondary_packet_min));

@@ -141,6 +141,10 @@ int main(int argc, char** argv) {
                         "Shading normals: smooth (the file's vertex normals interpolated, or "
                         "area-weighted ones where it has none) or flat (each triangle's own)")
             ->check(CLI::IsMember({"smooth", "flat"}))->capture_default_str();
+        cmd->add_option("--occluder-cache", args.occluder_cache,
+                        "Test each packet of shadow rays first against the triangles that last "
+                        "blocked its light's rays in those directions (the same image either way)")
+            ->check(CLI::IsMember({"on", "off"}))->capture_default_str();
         cmd->add_option("--depth", args.depth,
                         "Deepest reflection or refraction bounce traced (Whitted; 0: camera and "
                         "shadow rays only). Frames with secondary rays trace every pixel")

@@ -110,8 +110,8 @@ class Traversal : RangeTracer<W, kAnyHit, kCount> {
 
 public:
     Traversal(const bvh::TriangleBvh& accel, Work& w, const PacketConfig& config,
-              PacketStats* stats, LaneMask* occluded)
-        : Base(w, config, stats, occluded), accel_(accel) {}
+              PacketStats* stats, LaneMask* occluded, std::span<const PrimTriangle> first = {})
+        : Base(w, config, stats, occluded), accel_(accel), first_(first) {}
 
     void run() {
         if (accel_.bvh.nodes.empty() || w_.first_chunk > w_.last_chunk) return;
@@ -130,6 +130,9 @@ public:
     void traverse() {
         const bvh::BvhNode* nodes = accel_.bvh.nodes.data();
         const Beam& beam = w_.beam;
+        if constexpr (kAnyHit) {
+            if (!first_.empty() && this->template intersect_first<TM>(first_)) return;
+        }
         Entry stack[kStackSize];
         int top = 0;
         stack[top++] = Entry{0, std::uint16_t(w_.first_chunk), std::uint16_t(w_.last_chunk)};
@@ -330,6 +333,7 @@ private:
     }
 
     const bvh::TriangleBvh& accel_;
+    std::span<const PrimTriangle> first_;  ///< any hit: triangles tested before the traversal
 };
 
 template <int W>
@@ -358,18 +362,34 @@ void closest_with(const bvh::TriangleBvh& accel, const RayPacket& packet, Packet
 
 template <int W>
 void any_with(const bvh::TriangleBvh& accel, const RayPacket& packet, LaneMask& occluded,
-              const PacketConfig& config, PacketStats* stats) {
+              const PacketConfig& config, PacketStats* stats, OccluderSearch* search) {
     Work w;
     detail::prepare<W, true>(packet, w);
     occluded = LaneMask{};
     if (stats) ++stats->packets;
+    const std::span<const PrimTriangle> first = search ? search->test_first : std::span<const PrimTriangle>{};
     if (!accel.wide.empty()) {
-        wide_any<W>(accel.wide, packet, w, config, stats, occluded);
+        wide_any<W>(accel.wide, packet, w, config, stats, occluded, first);
     } else if (stats) {
-        Traversal<W, true, true>(accel, w, config, stats, &occluded).run();
+        Traversal<W, true, true>(accel, w, config, stats, &occluded, first).run();
     } else {
-        Traversal<W, true, false>(accel, w, config, nullptr, &occluded).run();
+        Traversal<W, true, false>(accel, w, config, nullptr, &occluded, first).run();
     }
+    if (search == nullptr) return;
+    // The first triangles' lanes: those whose occluder is one of them (a lane blocked there
+    // is never tested again).
+    search->blocked_first = LaneMask{};
+    if (search->occluder != nullptr) std::memcpy(search->occluder, w.hit_prim, sizeof w.hit_prim);
+    if (first.empty()) return;
+    occluded.for_each([&](int lane) {
+        const std::uint32_t prim = w.hit_prim[lane];
+        for (const PrimTriangle& t : first) {
+            if (t.prim == prim) {
+                search->blocked_first.set(lane);
+                break;
+            }
+        }
+    });
 }
 
 void check_lanes(int lanes) {
@@ -393,12 +413,12 @@ void intersect_closest(const bvh::TriangleBvh& accel, const RayPacket& packet, P
 }
 
 void intersect_any(const bvh::TriangleBvh& accel, const RayPacket& packet, LaneMask& occluded,
-                   const PacketConfig& config, PacketStats* stats) {
+                   const PacketConfig& config, PacketStats* stats, OccluderSearch* search) {
     check_lanes(config.lanes);
     if (config.lanes == 1) {
-        any_with<1>(accel, packet, occluded, config, stats);
+        any_with<1>(accel, packet, occluded, config, stats, search);
     } else {
-        any_with<simd::kNativeLanes>(accel, packet, occluded, config, stats);
+        any_with<simd::kNativeLanes>(accel, packet, occluded, config, stats, search);
     }
 }
 

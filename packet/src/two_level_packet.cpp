@@ -285,17 +285,85 @@ void closest_lanes(const bvh::TwoLevelBvh& tlas, const RayPacket& packet, Instan
     traverse_top<W>(tlas, packet, best_t, [&] { return all; }, [&] { return shortened; }, visit);
 }
 
+/// Most instances whose triangles an any-hit trace tests first (InstanceOccluderSearch); the
+/// triangles of any others are left out, which only forgoes their head start.
+constexpr int kFirstInstancesMax = 4;
+/// Most triangles tested first in one instance.
+constexpr int kFirstTrianglesMax = 16;
+
+/// The triangles of `search` grouped by instance, at most kFirstInstancesMax instances of at
+/// most kFirstTrianglesMax triangles, in order of first appearance.
+struct FirstByInstance {
+    std::uint32_t instance[kFirstInstancesMax];
+    PrimTriangle tris[kFirstInstancesMax][kFirstTrianglesMax];
+    int count[kFirstInstancesMax] = {};
+    int instances = 0;
+
+    FirstByInstance(std::span<const InstanceTriangle> first, std::size_t instance_count) {
+        for (const InstanceTriangle& t : first) {
+            if (t.instance >= instance_count) continue;
+            int i = 0;
+            while (i < instances && instance[i] != t.instance) ++i;
+            if (i == instances) {
+                if (instances == kFirstInstancesMax) continue;
+                instance[instances++] = t.instance;
+            }
+            if (count[i] < kFirstTrianglesMax) tris[i][count[i]++] = t.tri;
+        }
+    }
+    std::span<const PrimTriangle> of(int i) const { return {tris[i], std::size_t(count[i])}; }
+    bool holds(std::uint32_t index) const {
+        for (int i = 0; i < instances; ++i) {
+            if (instance[i] == index) return true;
+        }
+        return false;
+    }
+};
+
 template <int W>
 void any_lanes(const bvh::TwoLevelBvh& tlas, const RayPacket& packet, LaneMask& occluded,
-               const PacketConfig& config, PacketStats* stats) {
+               const PacketConfig& config, PacketStats* stats, InstanceOccluderSearch* search) {
     Scratch scratch;
     LaneMask local_occluded;
-    auto visit = [&](const bvh::Instance& instance, const LaneMask& lanes) {
-        if (!lanes.any()) return;
+    alignas(64) std::uint32_t local_occluder[kPacketRays];
+    const auto index_of = [&](const bvh::Instance& instance) {
+        return std::uint32_t(&instance - tlas.instances.data());
+    };
+    // Traces `lanes` through `instance`'s tree, its triangles `first` first.
+    auto trace = [&](const bvh::Instance& instance, const LaneMask& lanes, std::span<const PrimTriangle> first) {
         const bool as_is = instance.identity && lanes == packet.active;
         if (!as_is) make_local_packet<W>(instance, packet, lanes, packet.tmax, scratch.local);
-        intersect_any(*instance.blas, as_is ? packet : scratch.local, local_occluded, config, stats);
+        OccluderSearch blas_search{first, local_occluder, {}};
+        intersect_any(*instance.blas, as_is ? packet : scratch.local, local_occluded, config, stats,
+                      search ? &blas_search : nullptr);
         occluded |= local_occluded;
+        if (search == nullptr) return;
+        search->blocked_first |= blas_search.blocked_first;
+        if (search->occluder_instance == nullptr) return;
+        const std::uint32_t index = index_of(instance);
+        local_occluded.for_each([&](int lane) {
+            const bool known = local_occluder[lane] != bvh::kInvalidId;
+            search->occluder_instance[lane] = known ? index : bvh::kInvalidId;
+            search->occluder_prim[lane] = local_occluder[lane];
+        });
+    };
+    // The instances of the triangles to test first go first, each traced whole for the lanes
+    // not yet occluded (which is the answer the top level would have had from it), and are
+    // then passed over by the top level.
+    const FirstByInstance first(search ? search->test_first : std::span<const InstanceTriangle>{},
+                                tlas.instances.size());
+    if (const bvh::Instance* sole = bvh::sole_identity_instance(tlas)) {
+        // No top level to walk and no lanes to copy (see sole_identity_instance).
+        trace(*sole, packet.active, first.instances > 0 ? first.of(0) : std::span<const PrimTriangle>{});
+        return;
+    }
+    for (int i = 0; i < first.instances; ++i) {
+        const LaneMask lanes = packet.active & ~occluded;
+        if (lanes.any()) trace(tlas.instances[first.instance[i]], lanes, first.of(i));
+    }
+    auto visit = [&](const bvh::Instance& instance, const LaneMask& lanes) {
+        if (!lanes.any() || (first.instances > 0 && first.holds(index_of(instance)))) return;
+        trace(instance, lanes, {});
     };
     traverse_top<W>(tlas, packet, packet.tmax, [&] { return packet.active & ~occluded; },
                     [] { return std::uint32_t{0}; }, visit);
@@ -330,18 +398,15 @@ void intersect_closest(const bvh::TwoLevelBvh& tlas, const RayPacket& packet, In
 }
 
 void intersect_any(const bvh::TwoLevelBvh& tlas, const RayPacket& packet, LaneMask& occluded,
-                   const PacketConfig& config, PacketStats* stats) {
+                   const PacketConfig& config, PacketStats* stats, InstanceOccluderSearch* search) {
     check_lanes(config.lanes);
-    if (const bvh::Instance* sole = bvh::sole_identity_instance(tlas)) {
-        intersect_any(*sole->blas, packet, occluded, config, stats);
-        return;
-    }
+    if (search != nullptr) search->blocked_first = LaneMask{};
     occluded = LaneMask{};
     if (tlas.top.empty() || !packet.active.any()) return;
     if (config.lanes == 1) {
-        any_lanes<1>(tlas, packet, occluded, config, stats);
+        any_lanes<1>(tlas, packet, occluded, config, stats, search);
     } else {
-        any_lanes<simd::kNativeLanes>(tlas, packet, occluded, config, stats);
+        any_lanes<simd::kNativeLanes>(tlas, packet, occluded, config, stats, search);
     }
 }
 

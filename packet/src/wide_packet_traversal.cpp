@@ -54,8 +54,9 @@ class WideTraversal : RangeTracer<W, kAnyHit, kCount> {
 
 public:
     WideTraversal(const bvh::WideBvh& wide, const RayPacket& packet, Work& w,
-                  const PacketConfig& config, PacketStats* stats, LaneMask* occluded)
-        : Base(w, config, stats, occluded), wide_(wide), packet_(packet) {}
+                  const PacketConfig& config, PacketStats* stats, LaneMask* occluded,
+                  std::span<const PrimTriangle> first = {})
+        : Base(w, config, stats, occluded), wide_(wide), packet_(packet), first_(first) {}
 
     void run() {
         if (wide_.nodes.empty() || w_.first_chunk > w_.last_chunk) return;
@@ -78,6 +79,9 @@ public:
     void traverse() {
         const Node* nodes = wide_.nodes.data();
         const Beam& beam = w_.beam;
+        if constexpr (kAnyHit) {
+            if (!first_.empty() && this->template intersect_first<TM>(first_)) return;
+        }
         top_ = 0;
         push_children(0, w_.first_chunk, w_.last_chunk);
         while (top_ > 0) {
@@ -269,6 +273,7 @@ private:
 
     const bvh::WideBvh& wide_;
     const RayPacket& packet_;
+    std::span<const PrimTriangle> first_;  ///< any hit: triangles tested before the traversal
     Entry stack_[kStackSize];
     int top_ = 0;
 };
@@ -287,24 +292,26 @@ void wide_closest(const bvh::WideBvh& wide, const RayPacket& packet, Work& w,
 
 template <int W>
 void wide_any(const bvh::WideBvh& wide, const RayPacket& packet, Work& w,
-              const PacketConfig& config, PacketStats* stats, LaneMask& occluded) {
+              const PacketConfig& config, PacketStats* stats, LaneMask& occluded,
+              std::span<const PrimTriangle> first) {
     if (stats) {
-        WideTraversal<W, true, true>(wide, packet, w, config, stats, &occluded).run();
+        WideTraversal<W, true, true>(wide, packet, w, config, stats, &occluded, first).run();
     } else {
-        WideTraversal<W, true, false>(wide, packet, w, config, nullptr, &occluded).run();
+        WideTraversal<W, true, false>(wide, packet, w, config, nullptr, &occluded, first).run();
     }
 }
 
 template void wide_closest<1>(const bvh::WideBvh&, const RayPacket&, Work&, const PacketConfig&,
                               PacketStats*);
 template void wide_any<1>(const bvh::WideBvh&, const RayPacket&, Work&, const PacketConfig&,
-                          PacketStats*, LaneMask&);
+                          PacketStats*, LaneMask&, std::span<const PrimTriangle>);
 #if defined(__AVX512F__) || defined(__AVX2__) || defined(__SSE2__) || defined(__ARM_NEON)
 // The native width, when it is not 1 (simd.h).
 template void wide_closest<simd::kNativeLanes>(const bvh::WideBvh&, const RayPacket&, Work&,
                                                const PacketConfig&, PacketStats*);
 template void wide_any<simd::kNativeLanes>(const bvh::WideBvh&, const RayPacket&, Work&,
-                                           const PacketConfig&, PacketStats*, LaneMask&);
+                                           const PacketConfig&, PacketStats*, LaneMask&,
+                                           std::span<const PrimTriangle>);
 #endif
 
 }  // namespace dynrt::packet::detail

@@ -8,6 +8,8 @@
 #include "dynrt/packet/packet_traversal.h"
 #include "dynrt/packet/ray_packet.h"
 
+#include <span>
+
 namespace dynrt::packet::detail {
 
 /// Closest hits of the prepared packet `w` (made from `packet`) through `wide`, left in w's
@@ -17,9 +19,11 @@ void wide_closest(const bvh::WideBvh& wide, const RayPacket& packet, Work& w,
                   const PacketConfig& config, PacketStats* stats);
 
 /// Any hits of the prepared packet `w`: the occluded lanes are set in `occluded` (cleared by
-/// the caller).
+/// the caller), each with its blocking primitive in w.hit_prim where known; `first` is tested
+/// before the traversal (OccluderSearch::test_first).
 template <int W>
 void wide_any(const bvh::WideBvh& wide, const RayPacket& packet, Work& w,
-              const PacketConfig& config, PacketStats* stats, LaneMask& occluded);
+              const PacketConfig& config, PacketStats* stats, LaneMask& occluded,
+              std::span<const PrimTriangle> first = {});
 
 }  // namespace dynrt::packet::detail

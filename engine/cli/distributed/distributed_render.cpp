@@ -325,6 +325,7 @@ void print_results(const RenderArgs& args, const Scene& scene, const FramesLeft&
     }
     print_summary(std::cout, frames);
     print_secondary_summary(std::cout, frames);
+    print_shadow_summary(std::cout, frames);
     print_rebuild_summary(std::cout, frames);
     print_update_choices(std::cout, frames);
     if (ranks > 0) print_ranks(std::cout, frames, ranks, tiles);

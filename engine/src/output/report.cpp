@@ -47,6 +47,10 @@ void for_each_field(Stats& s, Visit&& visit) {
     visit("secondary_shadow_rays", s.secondary_shadow_rays);
     visit("secondary_packet_rays", s.secondary_packet_rays);
     visit("secondary_single_rays", s.secondary_single_rays);
+    visit("shadow_rays_back_side", s.shadow_rays_back_side);
+    visit("shadow_rays_dark_light", s.shadow_rays_dark_light);
+    visit("shadow_rays_cache_tested", s.shadow_rays_cache_tested);
+    visit("shadow_rays_cache_answered", s.shadow_rays_cache_answered);
     visit("sah_cost", s.sah_cost);
     visit("nodes", s.nodes);
     visit("leaves", s.leaves);
@@ -80,6 +84,7 @@ nlohmann::ordered_json frame_json(const FrameStats& s) {
     // Reflection and refraction rays per depth (index 0: depth 1); empty without any.
     j["secondary_rays_per_depth"] = s.secondary_rays_per_depth;
     j["secondary_packet_rays_per_depth"] = s.secondary_packet_rays_per_depth;
+    j["secondary_mrays_per_s_per_depth"] = s.secondary_mrays_per_s_per_depth;
     if (s.backend != "dynrt") {  // a frame traced by another backend (Renderer::use_backend)
         j["backend"] = s.backend;
         j["backend_load_ms"] = s.backend_load_ms;
@@ -123,6 +128,7 @@ FrameStats frame_from_json(const nlohmann::json& j) {
     });
     j.at("secondary_rays_per_depth").get_to(s.secondary_rays_per_depth);
     j.at("secondary_packet_rays_per_depth").get_to(s.secondary_packet_rays_per_depth);
+    j.at("secondary_mrays_per_s_per_depth").get_to(s.secondary_mrays_per_s_per_depth);
     j.at("reuse_mode").get_to(s.reuse_mode);
     j.at("reuse_reason").get_to(s.reuse_reason);
     for (const nlohmann::json& event : j.at("rebuilds")) {
@@ -336,10 +342,35 @@ void print_secondary_summary(std::ostream& out, const std::vector<FrameStats>& f
         const double packed = median([&](const FrameStats& f) {
             return k < f.secondary_packet_rays_per_depth.size() ? f.secondary_packet_rays_per_depth[k] : 0;
         });
+        const double rate = median([&](const FrameStats& f) {
+            return k < f.secondary_mrays_per_s_per_depth.size() ? f.secondary_mrays_per_s_per_depth[k] : 0.0;
+        });
         out << ' ' << (k + 1) << ": " << std::setprecision(0) << rays << " ("
-            << 100.0 * packed / std::max(1.0, rays) << "% in packets)";
+            << 100.0 * packed / std::max(1.0, rays) << "% in packets, " << std::setprecision(2) << rate
+            << " Mrays/s)";
     }
     out << '\n';
+}
+
+void print_shadow_summary(std::ostream& out, const std::vector<FrameStats>& frames) {
+    if (frames.empty()) return;
+    const auto median = [&](auto field) {
+        std::vector<double> values;
+        for (const FrameStats& f : frames) values.push_back(double(field(f)));
+        return spread_of(std::move(values)).median;
+    };
+    const double camera = median([](const FrameStats& f) { return f.shadow_rays; });
+    const double secondary = median([](const FrameStats& f) { return f.secondary_shadow_rays; });
+    const double back = median([](const FrameStats& f) { return f.shadow_rays_back_side; });
+    const double dark = median([](const FrameStats& f) { return f.shadow_rays_dark_light; });
+    if (camera + secondary + back + dark == 0.0) return;
+    const double tested = median([](const FrameStats& f) { return f.shadow_rays_cache_tested; });
+    const double answered = median([](const FrameStats& f) { return f.shadow_rays_cache_answered; });
+    out << std::fixed << std::setprecision(0) << "shadow rays (median per frame): cast " << camera
+        << " at camera hits, " << secondary << " at secondary hits; not cast: " << back
+        << " facing away from their light, " << dark << " toward lights of intensity 0; occluder cache: "
+        << answered << " of " << tested << " answered (" << std::setprecision(1)
+        << 100.0 * answered / std::max(1.0, tested) << "%)\n";
 }
 
 }  // namespace dynrt

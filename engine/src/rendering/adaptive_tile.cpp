@@ -184,8 +184,8 @@ private:
         work_.primary_rays += std::size_t(lanes.count());
     }
     void trace_shadows() {
-        work_.shadow_rays += trace_tile_shadows(f_.in.tracer, RayCoherence::tile, origins_, f_.in.lights,
-                                                shadow_, visible_, trace_work_);
+        work_.add_shadows(trace_tile_shadows(f_.in.tracer, RayCoherence::tile, origins_, f_.in.lights,
+                                             shadow_, visible_, trace_work_));
     }
     /// The exact path for the whole tile: the full frame's tile pass.
     void trace_whole_tile() {

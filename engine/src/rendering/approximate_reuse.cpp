@@ -481,8 +481,8 @@ public:
     bool shadows(const TileShadowOrigins& origins, const packet::LaneMask&, TileRays&,
                  std::vector<packet::LaneMask>& visible, StageWork& work) {
         packet::RayPacket shadow;
-        work.shadow_rays += trace_tile_shadows(pass_.in.tracer, RayCoherence::tile, origins, pass_.in.lights,
-                                               shadow, visible, pass_.trace_work(work));
+        work.add_shadows(trace_tile_shadows(pass_.in.tracer, RayCoherence::tile, origins, pass_.in.lights,
+                                            shadow, visible, pass_.trace_work(work)));
         return true;
     }
     /// What the pixels not traced showed restored, the traced ones' samples stored.
@@ -688,6 +688,8 @@ void trace_frame_approximate(const TraceInputs& in, const Camera& camera,
     stats.shade_ms = wall_ms - stats.primary_ms - stats.shadow_ms;
     stats.primary_rays = sum.primary_rays;
     stats.shadow_rays = sum.shadow_rays;
+    stats.shadow_rays_back_side = sum.shadow_back_side;
+    stats.shadow_rays_dark_light = sum.shadow_dark_light;
     stats.pixels_traced = sum.primary_rays;
     stats.pixels_shadows_retraced = 0;
     stats.pixels_filled = fill.filled;

@@ -2,7 +2,10 @@
 
 #include "dynrt/packet/two_level_packet.h"
 
+#include <glm/vec3.hpp>
+
 #include <bit>
+#include <vector>
 
 namespace dynrt::detail {
 
@@ -40,11 +43,36 @@ struct Scratch {
     RayPacket dense;
     packet::InstanceHits hits;
     int lane_of[kPacketRays];
+    // The occluder cache's questions and answers.
+    std::vector<packet::InstanceTriangle> guesses;
+    alignas(64) std::uint32_t occluder_instance[kPacketRays];
+    alignas(64) std::uint32_t occluder_prim[kPacketRays];
 };
 
 Scratch& thread_scratch() {
     thread_local Scratch scratch;
     return scratch;
+}
+
+/// Whether every active lane of `rays` starts at the same point (bit for bit), which is then
+/// `origin`: a light's shadow rays.
+bool one_origin(const RayPacket& rays, glm::vec3& origin) {
+    int first = -1;
+    for (int w = 0; w < kPacketRays / 64 && first < 0; ++w) {
+        if (rays.active.words[w] != 0) first = w * 64 + std::countr_zero(rays.active.words[w]);
+    }
+    if (first < 0) return false;
+    const auto bits = [](float x) { return std::bit_cast<std::uint32_t>(x); };
+    const std::uint32_t x = bits(rays.org_x[first]), y = bits(rays.org_y[first]), z = bits(rays.org_z[first]);
+    bool same = true;
+    // Every lane, inactive ones passing: branch-free, so it vectorises.
+    for (int lane = 0; lane < kPacketRays; ++lane) {
+        const bool inactive = ((rays.active.words[lane >> 6] >> (lane & 63)) & 1u) == 0;
+        same &= inactive | ((bits(rays.org_x[lane]) == x) & (bits(rays.org_y[lane]) == y) &
+                            (bits(rays.org_z[lane]) == z));
+    }
+    origin = glm::vec3(rays.org_x[first], rays.org_y[first], rays.org_z[first]);
+    return same;
 }
 
 /// `lanes` of `rays` by the octant of their directions.
@@ -215,17 +243,32 @@ LaneMask CpuTracer::occluded_group(const RayPacket& rays, const LaneMask& lanes,
         });
         return blocked;
     }
-    if (traced_in_place) {
-        packet::intersect_any(tlas, rays, blocked, packet_, work ? &work->packet : nullptr);
-        return blocked;
-    }
+    if (traced_in_place) return occluded_packet(rays, work);
     Scratch& s = thread_scratch();
     const int n = pack(rays, lanes, s.dense, s.lane_of);
-    LaneMask dense_blocked;
-    packet::intersect_any(tlas, s.dense, dense_blocked, packet_, work ? &work->packet : nullptr);
+    const LaneMask dense_blocked = occluded_packet(s.dense, work);
     for (int k = 0; k < n; ++k) {
         if (dense_blocked.test(k)) blocked.set(s.lane_of[k]);
     }
+    return blocked;
+}
+
+LaneMask CpuTracer::occluded_packet(const RayPacket& rays, TraceWork* work) const {
+    const bvh::TwoLevelBvh& tlas = accel_.top_level();
+    packet::PacketStats* stats = work ? &work->packet : nullptr;
+    LaneMask blocked;
+    glm::vec3 origin;
+    OccluderCache::Light* light = cache_ && one_origin(rays, origin) ? cache_->light_at(origin) : nullptr;
+    if (light == nullptr) {
+        packet::intersect_any(tlas, rays, blocked, packet_, stats);
+        return blocked;
+    }
+    Scratch& s = thread_scratch();
+    cache_->guesses(*light, rays, accel_, s.guesses);
+    packet::InstanceOccluderSearch search{s.guesses, s.occluder_instance, s.occluder_prim, {}};
+    packet::intersect_any(tlas, rays, blocked, packet_, stats, &search);
+    cache_->learn(*light, rays, blocked & ~search.blocked_first, s.occluder_instance, s.occluder_prim);
+    cache_->count(std::size_t(rays.active.count()), std::size_t(search.blocked_first.count()));
     return blocked;
 }
 

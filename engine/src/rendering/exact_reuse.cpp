@@ -246,6 +246,11 @@ packet::LaneMask retrace_shadows(const ReuseFrame& f, int t, const TileShadowOri
         const std::size_t slot = std::size_t(t) * lights.size() + l;
         origins.rays_to(lights[l], shadow);
         const packet::LaneMask lit = shadow.active;
+        // The fresh hits' rays not cast, for the report.
+        ShadowCounts fresh;
+        fresh.add(lights[l], std::size_t((origins.surface.hit & primary).count()), std::size_t((lit & primary).count()));
+        tw.shadow_back_side += fresh.back_side;
+        tw.shadow_dark_light += fresh.dark_light;
         packet::LaneMask retrace = lit & primary;
         if (f.space.select_hull(lights[l].position, f.memory.shadow_ends[slot], near)) {
             // Shadow rays run from the light over t in [0, 1].

@@ -199,6 +199,10 @@ void FramePipeline::trace(const Scene& scene, const Camera& camera, const TraceS
         out.stats.pixels_reused = 0;
         out.stats.pixels_filled = 0;
     }
+    if (backend_ == nullptr) {
+        out.stats.shadow_rays_cache_tested = cpu.cached_shadow_rays();
+        out.stats.shadow_rays_cache_answered = cpu.cache_answered_shadow_rays();
+    }
     if (!exact) camera_moving_ = false;
     last_camera_ = camera;
     out.stats.total_ms = update_wall_ms_ + trace_clock.elapsed_ms();

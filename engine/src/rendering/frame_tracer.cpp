@@ -82,6 +82,7 @@ void trace_frame(const TraceInputs& in, const Camera& camera, const TraceSetting
     stats.secondary_shadow_rays = stats.secondary_packet_rays = stats.secondary_single_rays = 0;
     stats.secondary_rays_per_depth.clear();
     stats.secondary_packet_rays_per_depth.clear();
+    stats.secondary_mrays_per_s_per_depth.clear();
     const detail::TileShading shading = frame_shading(in, options, scratch);
     size_frame(options, scratch, out);
     const bool count = options.count_packet_work;

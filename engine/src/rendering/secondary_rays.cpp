@@ -27,6 +27,8 @@ SecondaryWork& SecondaryWork::operator+=(const SecondaryWork& o) {
     reflection_rays += o.reflection_rays;
     refraction_rays += o.refraction_rays;
     shadow_rays += o.shadow_rays;
+    shadow_back_side += o.shadow_back_side;
+    shadow_dark_light += o.shadow_dark_light;
     packet_rays += o.packet_rays;
     single_rays += o.single_rays;
     if (rays_per_depth.size() < o.rays_per_depth.size()) rays_per_depth.resize(o.rays_per_depth.size(), 0);
@@ -37,6 +39,8 @@ SecondaryWork& SecondaryWork::operator+=(const SecondaryWork& o) {
     for (std::size_t k = 0; k < o.packet_rays_per_depth.size(); ++k) {
         packet_rays_per_depth[k] += o.packet_rays_per_depth[k];
     }
+    if (ms_per_depth.size() < o.ms_per_depth.size()) ms_per_depth.resize(o.ms_per_depth.size(), 0.0);
+    for (std::size_t k = 0; k < o.ms_per_depth.size(); ++k) ms_per_depth[k] += o.ms_per_depth[k];
     reflection_ms += o.reflection_ms;
     refraction_ms += o.refraction_ms;
     shadow_ms += o.shadow_ms;
@@ -399,6 +403,7 @@ void SecondaryStage::trace_closest(int depth, std::size_t begin, std::size_t end
     if (work.rays_per_depth.size() <= d) {
         work.rays_per_depth.resize(d + 1, 0);
         work.packet_rays_per_depth.resize(d + 1, 0);
+        work.ms_per_depth.resize(d + 1, 0.0);
     }
     Stopwatch clock;
     const int count = int(end - begin);
@@ -415,7 +420,9 @@ void SecondaryStage::trace_closest(int depth, std::size_t begin, std::size_t end
     work.single_rays += std::size_t(count) - packed;
     work.packet_rays_per_depth[d] += packed;
     for (int k = 0; k < count; ++k) wave.hit[p.index[k]] = p.hits[k];
-    (reflection ? work.reflection_ms : work.refraction_ms) += clock.lap_ms();
+    const double traced_ms = clock.lap_ms();
+    (reflection ? work.reflection_ms : work.refraction_ms) += traced_ms;
+    work.ms_per_depth[d] += traced_ms;
 }
 
 void SecondaryStage::shade_packet(int depth, std::size_t packet_index) {
@@ -437,8 +444,11 @@ void SecondaryStage::shade_packet(int depth, std::size_t packet_index) {
         p.rays, f.object_material);
     work.other_ms += clock.lap_ms();
     TraceWork* trace_work = f.tracing.count ? &work.trace : nullptr;
-    work.shadow_rays += trace_tile_shadows(f.tracing.tracer, RayCoherence::scattered, p.origins,
-                                           f.lights, p.shadow, p.visible, trace_work);
+    const ShadowCounts shadows = trace_tile_shadows(f.tracing.tracer, RayCoherence::scattered, p.origins,
+                                                    f.lights, p.shadow, p.visible, trace_work);
+    work.shadow_rays += shadows.cast;
+    work.shadow_back_side += shadows.back_side;
+    work.shadow_dark_light += shadows.dark_light;
     work.shadow_ms += clock.lap_ms();
 
     shade_lanes(f.shading, p.origins, p.visible, p.colors);
@@ -538,6 +548,8 @@ void SecondaryStage::trace(RenderedFrame& out, TraceStats& stats) {
     stats.reflection_rays = sum.reflection_rays;
     stats.refraction_rays = sum.refraction_rays;
     stats.secondary_shadow_rays = sum.shadow_rays;
+    stats.shadow_rays_back_side += sum.shadow_back_side;
+    stats.shadow_rays_dark_light += sum.shadow_dark_light;
     stats.secondary_packet_rays = sum.packet_rays;
     stats.secondary_single_rays = sum.single_rays;
     // A depth per entry once any tile had hits to spawn from, as the per-tile recursion reported.
@@ -548,6 +560,11 @@ void SecondaryStage::trace(RenderedFrame& out, TraceStats& stats) {
         sum.packet_rays_per_depth.resize(std::size_t(max_depth), 0);
     }
     stats.secondary_rays_per_depth = sum.rays_per_depth;
+    stats.secondary_mrays_per_s_per_depth.clear();
+    for (std::size_t k = 0; k < sum.rays_per_depth.size(); ++k) {
+        const double ms = k < sum.ms_per_depth.size() ? sum.ms_per_depth[k] * scale : 0.0;
+        stats.secondary_mrays_per_s_per_depth.push_back(mrays_per_s(sum.rays_per_depth[k], ms));
+    }
     stats.secondary_packet_rays_per_depth = sum.packet_rays_per_depth;
     stats.reflection_mrays_per_s = mrays_per_s(sum.reflection_rays, sum.reflection_ms * scale);
     stats.refraction_mrays_per_s = mrays_per_s(sum.refraction_rays, sum.refraction_ms * scale);

@@ -66,12 +66,15 @@ struct SecondaryWork {
     std::size_t reflection_rays = 0;
     std::size_t refraction_rays = 0;
     std::size_t shadow_rays = 0;      ///< shadow rays cast at secondary hits
+    std::size_t shadow_back_side = 0, shadow_dark_light = 0;  ///< ... and not cast (ShadowCounts)
     std::size_t packet_rays = 0;      ///< reflection and refraction rays traced in packets
     std::size_t single_rays = 0;      ///< ... and one at a time
     /// rays_per_depth[k]: reflection and refraction rays of depth k + 1.
     std::vector<std::size_t> rays_per_depth;
     /// packet_rays_per_depth[k]: those of them traced in packets.
     std::vector<std::size_t> packet_rays_per_depth;
+    /// ms_per_depth[k]: thread time tracing them (closest hits only).
+    std::vector<double> ms_per_depth;
     /// Thread time tracing reflection rays, refraction rays (closest hits only), the
     /// secondary hits' shadow rays, and everything else (making rays, shading, bookkeeping).
     double reflection_ms = 0, refraction_ms = 0, shadow_ms = 0, other_ms = 0;

@@ -16,6 +16,8 @@ namespace dynrt::detail {
 struct StageWork {
     double primary_ms = 0.0, shadow_ms = 0.0, shade_ms = 0.0;
     std::size_t primary_rays = 0, shadow_rays = 0;
+    /// Shadow rays not cast (tile_shading.h's ShadowCounts).
+    std::size_t shadow_back_side = 0, shadow_dark_light = 0;
     /// Pixels interpolated rather than traced (adaptive sampling).
     std::size_t interpolated = 0;
     /// Pixels whose shadow rays or secondary rays alone were traced again (exact reuse).
@@ -23,12 +25,22 @@ struct StageWork {
     /// Traversal counters, when the trace counts them.
     TraceWork trace;
 
+    /// Adds a batch's shadow rays, cast and not.
+    template <class Counts>
+    void add_shadows(const Counts& c) {
+        shadow_rays += c.cast;
+        shadow_back_side += c.back_side;
+        shadow_dark_light += c.dark_light;
+    }
+
     StageWork& operator+=(const StageWork& o) {
         primary_ms += o.primary_ms;
         shadow_ms += o.shadow_ms;
         shade_ms += o.shade_ms;
         primary_rays += o.primary_rays;
         shadow_rays += o.shadow_rays;
+        shadow_back_side += o.shadow_back_side;
+        shadow_dark_light += o.shadow_dark_light;
         interpolated += o.interpolated;
         shadows_only += o.shadows_only;
         trace += o.trace;
@@ -49,6 +61,8 @@ inline void report_stages(const StageWork& sum, double wall_ms, TraceStats& stat
     stats.shade_ms = std::max(0.0, wall_ms - stats.primary_ms - stats.shadow_ms);
     stats.primary_rays = sum.primary_rays;
     stats.shadow_rays = sum.shadow_rays;
+    stats.shadow_rays_back_side = sum.shadow_back_side;
+    stats.shadow_rays_dark_light = sum.shadow_dark_light;
     stats.primary_mrays_per_s = mrays_per_s(stats.primary_rays, stats.primary_ms);
     stats.shadow_mrays_per_s = mrays_per_s(stats.shadow_rays, stats.shadow_ms);
 }

@@ -128,8 +128,8 @@ struct EveryRay {
     bool shadows(const TileShadowOrigins& origins, const packet::LaneMask&, TileRays& rays,
                  std::vector<packet::LaneMask>& visible, StageWork& work) {
         packet::RayPacket& shadow = rays.get();  // the camera rays are done with
-        work.shadow_rays += trace_tile_shadows(f.in.tracer, RayCoherence::tile, origins, f.in.lights, shadow,
-                                               visible, f.trace_work(work));
+        work.add_shadows(trace_tile_shadows(f.in.tracer, RayCoherence::tile, origins, f.in.lights, shadow,
+                                            visible, f.trace_work(work)));
         return true;
     }
     void written(const TileShadowOrigins&, TileRays&, RenderedFrame&) {}

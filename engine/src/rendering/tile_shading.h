@@ -243,12 +243,17 @@ struct TileShadowOrigins {
     }
 
     /// Fills `out` with the shadow rays toward `light` of the hit lanes on its lit side
-    /// (ShadowOrigin::faces and ray_to, lane by lane).
+    /// (ShadowOrigin::faces and ray_to, lane by lane); none toward a light of intensity 0.
+    /// The rays left out are exactly those whose light adds nothing to the hit's colour:
+    /// packet::shade adds a light's term only on lanes its geometric normal faces (and whose
+    /// shading normal faces it too), and a term of intensity 0 is +0 (its factors are finite
+    /// and the lit lanes' N.L positive), which leaves every colour's bits as they are.
     void rays_to(const PointLight& light, packet::RayPacket& out) const {
         using L = packet::simd::Lanes<packet::simd::kNativeLanes>;
         using F = L::F;
         constexpr int W = packet::simd::kNativeLanes;
         out.clear();
+        if (light.intensity == 0.0f) return;
         const F lx = L::splat(light.position.x), ly = L::splat(light.position.y),
                 lz = L::splat(light.position.z);
         for (int base = 0; base < packet::kPacketRays; base += W) {
@@ -438,6 +443,28 @@ inline void write_miss(RenderedFrame& out, std::size_t p) {
     out.prim[p] = -1;
     out.normal[p] = glm::vec3(0.0f);
 }
+
+/// Shadow rays of a batch of hits: those cast, and those left out (TileShadowOrigins::rays_to)
+/// because the hit faces away from the light or the light is dark.
+struct ShadowCounts {
+    std::size_t cast = 0, back_side = 0, dark_light = 0;
+
+    /// Adds light `light`'s rays for `hits` hit lanes, of which rays_to cast `cast`.
+    void add(const PointLight& light, std::size_t hits, std::size_t cast_rays) {
+        cast += cast_rays;
+        if (light.intensity == 0.0f) {
+            dark_light += hits;
+        } else {
+            back_side += hits - cast_rays;
+        }
+    }
+    ShadowCounts& operator+=(const ShadowCounts& o) {
+        cast += o.cast;
+        back_side += o.back_side;
+        dark_light += o.dark_light;
+        return *this;
+    }
+};
 
 /// Shades one tile's hit lanes into `colors` (packet::shade, textured by tint_lanes;
 /// `visible[l]`: the lanes light l reaches); other lanes are left as they are.

@@ -29,20 +29,22 @@ inline void trace_tile_hits(const TraceBackend& tracer, const packet::Tile& tile
 
 /// visible[l]: the hit lanes of `origins` that light l reaches (the lit side of their surface
 /// and nothing in between), one shadow batch per light of `coherence` (`shadow` holds the
-/// last). Returns the number of shadow rays traced.
-inline std::size_t trace_tile_shadows(const TraceBackend& tracer, RayCoherence coherence,
-                                      const TileShadowOrigins& origins,
-                                      std::span<const PointLight> lights, packet::RayPacket& shadow,
-                                      std::vector<packet::LaneMask>& visible, TraceWork* work) {
+/// last). Returns the shadow rays traced and those not cast (TileShadowOrigins::rays_to).
+inline ShadowCounts trace_tile_shadows(const TraceBackend& tracer, RayCoherence coherence,
+                                       const TileShadowOrigins& origins,
+                                       std::span<const PointLight> lights, packet::RayPacket& shadow,
+                                       std::vector<packet::LaneMask>& visible, TraceWork* work) {
     visible.assign(lights.size(), packet::LaneMask{});
-    std::size_t traced = 0;
-    for (std::size_t l = 0; l < lights.size() && origins.surface.hit.any(); ++l) {
+    ShadowCounts counts;
+    const auto hits = std::size_t(origins.surface.hit.count());
+    for (std::size_t l = 0; l < lights.size() && hits > 0; ++l) {
         origins.rays_to(lights[l], shadow);
-        if (!shadow.active.any()) continue;
-        traced += std::size_t(shadow.active.count());
+        const auto cast = std::size_t(shadow.active.count());
+        counts.add(lights[l], hits, cast);
+        if (cast == 0) continue;
         visible[l] = shadow.active & ~tracer.occluded(shadow, coherence, work);
     }
-    return traced;
+    return counts;
 }
 
 }  // namespace dynrt::detail

@@ -341,6 +341,16 @@ const bvh::Triangle* SceneAccel::triangle_address(std::size_t object, std::uint3
     return &o.triangles[prim];
 }
 
+const bvh::Triangle* SceneAccel::tree_triangle(std::uint32_t object, std::uint32_t prim) const {
+    if (object == static_group_id()) {
+        return prim < static_group_.triangles.size() ? &static_group_.triangles[prim] : nullptr;
+    }
+    if (object >= objects_.size()) return nullptr;
+    const ObjectTree& o = objects_[object];
+    if (o.motion_class == anim::MotionClass::static_ || prim >= o.triangles.size()) return nullptr;
+    return &o.triangles[prim];
+}
+
 bvh::Triangle SceneAccel::world_triangle(std::size_t object, std::uint32_t prim) const {
     const ObjectTree& o = objects_[object];
     const bvh::Triangle& t = *triangle_address(object, prim);

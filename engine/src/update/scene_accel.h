@@ -123,6 +123,11 @@ public:
         hit.hit.prim -= static_first_[k];
     }
 
+    /// Triangle `prim` of the tree that instances named `object` carry in top_level() (the
+    /// static group's id included), exactly as that tree stores it; null when the tree has no
+    /// such triangle. Hits before resolve() name their tree so.
+    const bvh::Triangle* tree_triangle(std::uint32_t object, std::uint32_t prim) const;
+
     /// Where triangle `prim` of `object` is stored (in the space of its tree), to prefetch it.
     const bvh::Triangle* triangle_address(std::size_t object, std::uint32_t prim) const;
 

@@ -154,6 +154,17 @@ struct TraceStats {
     std::vector<std::size_t> secondary_rays_per_depth;
     /// Of those, the rays traced in packets, per depth.
     std::vector<std::size_t> secondary_packet_rays_per_depth;
+    /// Their closest-hit rate per depth (as reflection_mrays_per_s).
+    std::vector<double> secondary_mrays_per_s_per_depth;
+    /// Shadow rays (at camera and secondary hits) left out because their contribution is
+    /// exactly zero: the hit faces away from the light (the geometric normal's side), or the
+    /// light's intensity is 0. Not counted in shadow_rays or secondary_shadow_rays.
+    std::size_t shadow_rays_back_side = 0;
+    std::size_t shadow_rays_dark_light = 0;
+    /// Shadow rays traced with the occluder cache (TraceSettings::occluder_cache), and those
+    /// answered by its triangles before any traversal.
+    std::size_t shadow_rays_cache_tested = 0;
+    std::size_t shadow_rays_cache_answered = 0;
     /// Pixel reuse (TraceSettings::reuse, pixel_reuse.h): the mode that ran ("off", "exact",
     /// "cache", "frameless"), and why the frame was traced in full or what it re-traced (e.g.
     /// "first frame", "camera moved", "2 objects changed").

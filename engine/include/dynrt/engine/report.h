@@ -77,4 +77,9 @@ void print_summary(std::ostream& out, const std::vector<FrameStats>& frames);
 /// at their hits and the stage's ms. Nothing when no frame traced any.
 void print_secondary_summary(std::ostream& out, const std::vector<FrameStats>& frames);
 
+/// Prints the shadow rays' line (medians over `frames`): rays cast at camera and secondary
+/// hits, rays not cast by reason, and the occluder cache's answers; nothing without shadow
+/// rays.
+void print_shadow_summary(std::ostream& out, const std::vector<FrameStats>& frames);
+
 }  // namespace dynrt

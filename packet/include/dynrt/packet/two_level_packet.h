@@ -10,6 +10,7 @@
 #include "dynrt/packet/ray_packet.h"
 
 #include <cstdint>
+#include <span>
 
 namespace dynrt::packet {
 
@@ -32,10 +33,33 @@ struct alignas(64) InstanceHits {
 void intersect_closest(const bvh::TwoLevelBvh& tlas, const RayPacket& packet, InstanceHits& hits,
                        const PacketConfig& config = {}, PacketStats* stats = nullptr);
 
+/// A triangle of instance `instance` (index into tlas.instances), as its tree stores it.
+struct InstanceTriangle {
+    std::uint32_t instance;
+    PrimTriangle tri;
+};
+
+/// OccluderSearch across instances.
+struct InstanceOccluderSearch {
+    /// Triangles to test every ray against first, each in its instance's object space with
+    /// the ray carried there as the traversal carries it; exactly triangles of the instances'
+    /// trees (OccluderSearch::test_first), so the answer is the same, only sooner.
+    std::span<const InstanceTriangle> test_first;
+    /// If not null, kPacketRays entries each: per occluded lane, the instance and primitive
+    /// found blocking it, or kInvalidId in both where the trace does not say.
+    std::uint32_t* occluder_instance = nullptr;
+    std::uint32_t* occluder_prim = nullptr;
+    /// Set to the lanes that test_first's triangles blocked.
+    LaneMask blocked_first;
+};
+
 /// For every active lane of `packet`, whether any instance is hit within [tmin, tmax] (shadow
 /// rays): `occluded` gets exactly the active lanes for which bvh::intersect_any(tlas, ray) is
-/// true. Thread-safety, `config` and `stats` as above.
+/// true. Thread-safety, `config` and `stats` as above. With `search`, the instances of its
+/// triangles are traced first, each testing its triangles before its tree, and the occluders
+/// found are reported.
 void intersect_any(const bvh::TwoLevelBvh& tlas, const RayPacket& packet, LaneMask& occluded,
-                   const PacketConfig& config = {}, PacketStats* stats = nullptr);
+                   const PacketConfig& config = {}, PacketStats* stats = nullptr,
+                   InstanceOccluderSearch* search = nullptr);
 
 }  // namespace dynrt::packet

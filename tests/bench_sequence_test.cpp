@@ -30,6 +30,8 @@ public:
         t.build_ms = 2.0 * frame;
         t.primary_ms = 3.0;
         t.shadow_ms = 4.0;
+        t.shade_ms = 0.5;
+        t.secondary_ms = 5.0;
         t.vs_dynrt.prim_only_differs = 1;
         return t;
     }
@@ -58,6 +60,9 @@ TEST(BenchSequence, EveryFrameOfEveryRunIsOneSample) {
     EXPECT_EQ(bench.rows[1].tracer, "fake");
     // Fake frames cost 1 + 2f + 3 + 4: over f = 2, 3, 4, 5 twice the lower median is f = 3.
     EXPECT_EQ(bench.rows[1].frame_ms.median, 14.0);
+    // The whole frame adds shading and the secondary rays.
+    EXPECT_EQ(bench.rows[1].secondary_ms.median, 5.0);
+    EXPECT_EQ(bench.rows[1].total_ms.median, 19.5);
     EXPECT_EQ(bench.rows[1].frame_ms.min, 12.0);
     EXPECT_EQ(bench.rows[1].frame_ms.max, 18.0);
     EXPECT_EQ(bench.rows[1].vs_dynrt.prim_only_differs, 8u);

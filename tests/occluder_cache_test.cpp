@@ -122,7 +122,7 @@ TEST(ShadowRayCuts, ADarkLightCastsNoRayAndChangesNoBit) {
         EXPECT_EQ(a.stats.shadow_rays_back_side, b.stats.shadow_rays_back_side);
         // Three lights, one of them low among the objects: many hits face away from one.
         EXPECT_GT(a.stats.shadow_rays_back_side, 0u);
-        EXPECT_EQ(a.stats.shadow_rays + a.stats.shadow_rays_back_side, 3 * hits);
+        EXPECT_EQ(a.stats.shadow_rays + a.stats.shadow_rays_back_side + a.stats.shadow_rays_shading_side, 3 * hits);
     }
 }
 

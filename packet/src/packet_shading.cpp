@@ -1,5 +1,6 @@
 #include "dynrt/packet/packet_shading.h"
 
+#include "dynrt/packet/light_cosine.h"
 #include "dynrt/packet/simd_pow.h"
 
 #include <bit>
@@ -74,14 +75,9 @@ void shade_lanes(const SurfacePacket& surface, std::span<const PhongMaterial> ma
             for (std::size_t l = 0; l < lights.size(); ++l) {
                 const std::uint32_t lit = visible[l].extract(base, W) & mine;
                 if (lit == 0) continue;
-                // l = normalize(P_L - point), as glm: v * (1 / sqrt((x*x + y*y) + z*z)).
-                F to[3] = {L::splat(lights[l].position.x) - p[0],
-                           L::splat(lights[l].position.y) - p[1],
-                           L::splat(lights[l].position.z) - p[2]};
-                const F inv_len =
-                    L::splat(1.0f) / L::sqrt(to[0] * to[0] + to[1] * to[1] + to[2] * to[2]);
-                for (F& c : to) c = c * inv_len;
-                const F n_dot_l = n[0] * to[0] + n[1] * to[1] + n[2] * to[2];
+                // l = normalize(P_L - point) and s.l, as the renderer's shadow rays see them.
+                F to[3];
+                const F n_dot_l = light_cosine<W>(p, n, lights[l].position, to);
                 const F twice = L::splat(2.0f) * n_dot_l;
                 const F r_dot_v = (twice * n[0] - to[0]) * v[0] + (twice * n[1] - to[1]) * v[1] +
                                   (twice * n[2] - to[2]) * v[2];

@@ -17,7 +17,7 @@ namespace {
 
 /// Per-frame samples of one tracer.
 struct Samples {
-    std::vector<double> update, build, primary, shadow, trace, frame, shade, total;
+    std::vector<double> update, build, primary, shadow, trace, frame, shade, secondary, total;
     HitAgreement agreement;
 
     void add(const SequenceFrameTimes& t) {
@@ -28,7 +28,8 @@ struct Samples {
         trace.push_back(t.primary_ms + t.shadow_ms);
         frame.push_back(t.update_ms + t.build_ms + t.primary_ms + t.shadow_ms);
         shade.push_back(t.shade_ms);
-        total.push_back(frame.back() + t.shade_ms);
+        secondary.push_back(t.secondary_ms);
+        total.push_back(frame.back() + t.shade_ms + t.secondary_ms);
         agreement.object_differs += t.vs_dynrt.object_differs;
         agreement.prim_only_differs += t.vs_dynrt.prim_only_differs;
     }
@@ -43,6 +44,7 @@ struct Samples {
         r.shadow_ms = spread_of(shadow);
         r.frame_ms = spread_of(frame);
         r.shade_ms = spread_of(shade);
+        r.secondary_ms = spread_of(secondary);
         r.total_ms = spread_of(total);
         r.vs_dynrt = agreement;
         return r;
@@ -61,6 +63,7 @@ struct ForEachSequenceColumn {
         visit("shadow_ms", r.shadow_ms);
         visit("frame_ms", r.frame_ms);
         visit("shade_ms", r.shade_ms);
+        visit("secondary_ms", r.secondary_ms);
         visit("total_ms", r.total_ms);
         visit("hit_object_differs", r.vs_dynrt.object_differs);
         visit("hit_prim_only_differs", r.vs_dynrt.prim_only_differs);
@@ -102,7 +105,8 @@ SequenceBench bench_sequence(const Scene& scene, const CameraSource& view,
         for (int f = range.first; f <= range.last; ++f) {
             const Camera c = render(f);
             const FrameStats& s = frame.stats;
-            dynrt.add(SequenceFrameTimes{s.update_ms, s.build_ms, s.primary_ms, s.shadow_ms, s.shade_ms, {}});
+            dynrt.add(SequenceFrameTimes{s.update_ms, s.build_ms, s.primary_ms, s.shadow_ms, s.shade_ms, {},
+                                         s.secondary_ms});
             bench.frames.push_back(s);
             for (std::size_t k = 0; k < others.size(); ++k) other[k].add(others[k]->frame(f, c, frame));
         }
@@ -118,7 +122,8 @@ void print_sequence_table(std::ostream& out, const SequenceBench& bench) {
     out << std::left << std::setw(14) << "tracer" << std::right << std::setw(24) << "update ms"
         << std::setw(24) << "build/refit ms" << std::setw(24) << "primary ms" << std::setw(24)
         << "shadow ms" << std::setw(26) << "frame ms (no shading)" << std::setw(12)
-        << "dynrt/this" << std::setw(24) << "shade ms" << std::setw(24) << "total ms" << '\n';
+        << "dynrt/this" << std::setw(24) << "shade ms" << std::setw(24) << "secondary ms" << std::setw(24)
+        << "total ms" << std::setw(8) << "fps" << '\n';
     const double dynrt_frame = bench.rows.empty() ? 0.0 : bench.rows.front().frame_ms.median;
     for (const SequenceRow& r : bench.rows) {
         out << std::left << std::setw(14) << r.tracer << std::right << std::setw(24)
@@ -128,9 +133,13 @@ void print_sequence_table(std::ostream& out, const SequenceBench& bench) {
             << format_spread(r.frame_ms) << std::setw(12) << format_ratio(dynrt_frame, r.frame_ms.median);
         // A tracer that does not shade (Embree's rows time rays only) shows no shading figures.
         if (r.shade_ms.max > 0.0) {
-            out << std::setw(24) << format_spread(r.shade_ms) << std::setw(24) << format_spread(r.total_ms);
+            // fps: of the median whole frame.
+            std::ostringstream fps;
+            fps << std::fixed << std::setprecision(2) << (r.total_ms.median > 0.0 ? 1000.0 / r.total_ms.median : 0.0);
+            out << std::setw(24) << format_spread(r.shade_ms) << std::setw(24) << format_spread(r.secondary_ms)
+                << std::setw(24) << format_spread(r.total_ms) << std::setw(8) << fps.str();
         } else {
-            out << std::setw(24) << "-" << std::setw(24) << "-";
+            out << std::setw(24) << "-" << std::setw(24) << "-" << std::setw(24) << "-" << std::setw(8) << "-";
         }
         out << '\n';
     }

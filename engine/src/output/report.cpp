@@ -45,9 +45,11 @@ void for_each_field(Stats& s, Visit&& visit) {
     visit("reflection_mrays_per_s", s.reflection_mrays_per_s);
     visit("refraction_mrays_per_s", s.refraction_mrays_per_s);
     visit("secondary_shadow_rays", s.secondary_shadow_rays);
+    visit("secondary_shadow_mrays_per_s", s.secondary_shadow_mrays_per_s);
     visit("secondary_packet_rays", s.secondary_packet_rays);
     visit("secondary_single_rays", s.secondary_single_rays);
     visit("shadow_rays_back_side", s.shadow_rays_back_side);
+    visit("shadow_rays_shading_side", s.shadow_rays_shading_side);
     visit("shadow_rays_dark_light", s.shadow_rays_dark_light);
     visit("shadow_rays_cache_tested", s.shadow_rays_cache_tested);
     visit("shadow_rays_cache_answered", s.shadow_rays_cache_answered);
@@ -330,7 +332,8 @@ void print_secondary_summary(std::ostream& out, const std::vector<FrameStats>& f
         << median([](const FrameStats& f) { return f.primary_mrays_per_s; }) << "); "
         << std::setprecision(0) << 100.0 * in_packets / std::max(1.0, in_packets + one_by_one)
         << "% in packets; shadow rays at their hits "
-        << median([](const FrameStats& f) { return f.secondary_shadow_rays; }) << "; "
+        << median([](const FrameStats& f) { return f.secondary_shadow_rays; }) << " at " << std::setprecision(2)
+        << median([](const FrameStats& f) { return f.secondary_shadow_mrays_per_s; }) << " Mrays/s; "
         << std::setprecision(2) << median([](const FrameStats& f) { return f.secondary_ms; })
         << " ms\n  rays per depth:";
     std::size_t depths = 0;
@@ -362,13 +365,15 @@ void print_shadow_summary(std::ostream& out, const std::vector<FrameStats>& fram
     const double camera = median([](const FrameStats& f) { return f.shadow_rays; });
     const double secondary = median([](const FrameStats& f) { return f.secondary_shadow_rays; });
     const double back = median([](const FrameStats& f) { return f.shadow_rays_back_side; });
+    const double shading = median([](const FrameStats& f) { return f.shadow_rays_shading_side; });
     const double dark = median([](const FrameStats& f) { return f.shadow_rays_dark_light; });
-    if (camera + secondary + back + dark == 0.0) return;
+    if (camera + secondary + back + shading + dark == 0.0) return;
     const double tested = median([](const FrameStats& f) { return f.shadow_rays_cache_tested; });
     const double answered = median([](const FrameStats& f) { return f.shadow_rays_cache_answered; });
     out << std::fixed << std::setprecision(0) << "shadow rays (median per frame): cast " << camera
         << " at camera hits, " << secondary << " at secondary hits; not cast: " << back
-        << " facing away from their light, " << dark << " toward lights of intensity 0; occluder cache: "
+        << " facing away from their light, " << shading << " whose shading normal does, " << dark
+        << " toward lights of intensity 0; occluder cache: "
         << answered << " of " << tested << " answered (" << std::setprecision(1)
         << 100.0 * answered / std::max(1.0, tested) << "%)\n";
 }

@@ -689,6 +689,7 @@ void trace_frame_approximate(const TraceInputs& in, const Camera& camera,
     stats.primary_rays = sum.primary_rays;
     stats.shadow_rays = sum.shadow_rays;
     stats.shadow_rays_back_side = sum.shadow_back_side;
+    stats.shadow_rays_shading_side = sum.shadow_shading_side;
     stats.shadow_rays_dark_light = sum.shadow_dark_light;
     stats.pixels_traced = sum.primary_rays;
     stats.pixels_shadows_retraced = 0;

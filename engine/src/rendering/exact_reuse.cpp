@@ -244,13 +244,16 @@ packet::LaneMask retrace_shadows(const ReuseFrame& f, int t, const TileShadowOri
     packet::RayPacket shadow;
     for (std::size_t l = 0; l < lights.size(); ++l) {
         const std::size_t slot = std::size_t(t) * lights.size() + l;
-        origins.rays_to(lights[l], shadow);
+        const int shading_away = origins.rays_to(lights[l], shadow);
         const packet::LaneMask lit = shadow.active;
-        // The fresh hits' rays not cast, for the report.
-        ShadowCounts fresh;
-        fresh.add(lights[l], std::size_t((origins.surface.hit & primary).count()), std::size_t((lit & primary).count()));
-        tw.shadow_back_side += fresh.back_side;
-        tw.shadow_dark_light += fresh.dark_light;
+        if (!(origins.surface.hit & ~primary).any()) {
+            // Every hit traced afresh: the rays not cast, for the report (a tile's kept hits
+            // would be counted again each frame they are kept).
+            ShadowCounts fresh;
+            fresh.add(lights[l], std::size_t(origins.surface.hit.count()), std::size_t(lit.count()),
+                      std::size_t(shading_away));
+            tw.add_skipped_shadows(fresh);
+        }
         packet::LaneMask retrace = lit & primary;
         if (f.space.select_hull(lights[l].position, f.memory.shadow_ends[slot], near)) {
             // Shadow rays run from the light over t in [0, 1].

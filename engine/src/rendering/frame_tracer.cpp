@@ -78,7 +78,7 @@ void trace_frame(const TraceInputs& in, const Camera& camera, const TraceSetting
     TraceStats& stats = out.stats;  // the trace stage fills its part only
     stats.secondary_ms = 0.0;
     stats.reflection_rays = stats.refraction_rays = 0;
-    stats.reflection_mrays_per_s = stats.refraction_mrays_per_s = 0.0;
+    stats.reflection_mrays_per_s = stats.refraction_mrays_per_s = stats.secondary_shadow_mrays_per_s = 0.0;
     stats.secondary_shadow_rays = stats.secondary_packet_rays = stats.secondary_single_rays = 0;
     stats.secondary_rays_per_depth.clear();
     stats.secondary_packet_rays_per_depth.clear();

@@ -28,6 +28,7 @@ SecondaryWork& SecondaryWork::operator+=(const SecondaryWork& o) {
     refraction_rays += o.refraction_rays;
     shadow_rays += o.shadow_rays;
     shadow_back_side += o.shadow_back_side;
+    shadow_shading_side += o.shadow_shading_side;
     shadow_dark_light += o.shadow_dark_light;
     packet_rays += o.packet_rays;
     single_rays += o.single_rays;
@@ -448,6 +449,7 @@ void SecondaryStage::shade_packet(int depth, std::size_t packet_index) {
                                                     f.lights, p.shadow, p.visible, trace_work);
     work.shadow_rays += shadows.cast;
     work.shadow_back_side += shadows.back_side;
+    work.shadow_shading_side += shadows.shading_side;
     work.shadow_dark_light += shadows.dark_light;
     work.shadow_ms += clock.lap_ms();
 
@@ -549,6 +551,7 @@ void SecondaryStage::trace(RenderedFrame& out, TraceStats& stats) {
     stats.refraction_rays = sum.refraction_rays;
     stats.secondary_shadow_rays = sum.shadow_rays;
     stats.shadow_rays_back_side += sum.shadow_back_side;
+    stats.shadow_rays_shading_side += sum.shadow_shading_side;
     stats.shadow_rays_dark_light += sum.shadow_dark_light;
     stats.secondary_packet_rays = sum.packet_rays;
     stats.secondary_single_rays = sum.single_rays;
@@ -568,6 +571,7 @@ void SecondaryStage::trace(RenderedFrame& out, TraceStats& stats) {
     stats.secondary_packet_rays_per_depth = sum.packet_rays_per_depth;
     stats.reflection_mrays_per_s = mrays_per_s(sum.reflection_rays, sum.reflection_ms * scale);
     stats.refraction_mrays_per_s = mrays_per_s(sum.refraction_rays, sum.refraction_ms * scale);
+    stats.secondary_shadow_mrays_per_s = mrays_per_s(sum.shadow_rays, sum.shadow_ms * scale);
 }
 
 }  // namespace dynrt::detail

@@ -17,7 +17,7 @@ struct StageWork {
     double primary_ms = 0.0, shadow_ms = 0.0, shade_ms = 0.0;
     std::size_t primary_rays = 0, shadow_rays = 0;
     /// Shadow rays not cast (tile_shading.h's ShadowCounts).
-    std::size_t shadow_back_side = 0, shadow_dark_light = 0;
+    std::size_t shadow_back_side = 0, shadow_shading_side = 0, shadow_dark_light = 0;
     /// Pixels interpolated rather than traced (adaptive sampling).
     std::size_t interpolated = 0;
     /// Pixels whose shadow rays or secondary rays alone were traced again (exact reuse).
@@ -29,7 +29,13 @@ struct StageWork {
     template <class Counts>
     void add_shadows(const Counts& c) {
         shadow_rays += c.cast;
+        add_skipped_shadows(c);
+    }
+    /// Adds a batch's shadow rays not cast.
+    template <class Counts>
+    void add_skipped_shadows(const Counts& c) {
         shadow_back_side += c.back_side;
+        shadow_shading_side += c.shading_side;
         shadow_dark_light += c.dark_light;
     }
 
@@ -40,6 +46,7 @@ struct StageWork {
         primary_rays += o.primary_rays;
         shadow_rays += o.shadow_rays;
         shadow_back_side += o.shadow_back_side;
+        shadow_shading_side += o.shadow_shading_side;
         shadow_dark_light += o.shadow_dark_light;
         interpolated += o.interpolated;
         shadows_only += o.shadows_only;
@@ -62,6 +69,7 @@ inline void report_stages(const StageWork& sum, double wall_ms, TraceStats& stat
     stats.primary_rays = sum.primary_rays;
     stats.shadow_rays = sum.shadow_rays;
     stats.shadow_rays_back_side = sum.shadow_back_side;
+    stats.shadow_rays_shading_side = sum.shadow_shading_side;
     stats.shadow_rays_dark_light = sum.shadow_dark_light;
     stats.primary_mrays_per_s = mrays_per_s(stats.primary_rays, stats.primary_ms);
     stats.shadow_mrays_per_s = mrays_per_s(stats.shadow_rays, stats.shadow_ms);

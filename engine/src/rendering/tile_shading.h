@@ -11,6 +11,7 @@
 #include "dynrt/bvh/two_level_bvh.h"
 #include "dynrt/engine/renderer.h"
 #include "dynrt/engine/texture_set.h"
+#include "dynrt/packet/light_cosine.h"
 #include "dynrt/packet/packet_shading.h"
 #include "dynrt/packet/simd.h"
 #include "dynrt/packet/ray_packet.h"
@@ -243,17 +244,20 @@ struct TileShadowOrigins {
     }
 
     /// Fills `out` with the shadow rays toward `light` of the hit lanes on its lit side
-    /// (ShadowOrigin::faces and ray_to, lane by lane); none toward a light of intensity 0.
+    /// (ShadowOrigin::faces and ray_to, lane by lane) whose shading normal faces it too; none
+    /// toward a light of intensity 0. Returns how many lanes the shading normal left out.
     /// The rays left out are exactly those whose light adds nothing to the hit's colour:
-    /// packet::shade adds a light's term only on lanes its geometric normal faces (and whose
-    /// shading normal faces it too), and a term of intensity 0 is +0 (its factors are finite
-    /// and the lit lanes' N.L positive), which leaves every colour's bits as they are.
-    void rays_to(const PointLight& light, packet::RayPacket& out) const {
+    /// packet::shade adds a light's term only on lanes its geometric normal faces and whose
+    /// shading normal faces it by the very cosine computed here (packet::light_cosine), and a
+    /// term of intensity 0 is +0 (its factors are finite and the lit lanes' cosine positive),
+    /// which leaves every colour's bits as they are.
+    int rays_to(const PointLight& light, packet::RayPacket& out) const {
         using L = packet::simd::Lanes<packet::simd::kNativeLanes>;
         using F = L::F;
         constexpr int W = packet::simd::kNativeLanes;
         out.clear();
-        if (light.intensity == 0.0f) return;
+        if (light.intensity == 0.0f) return 0;
+        int shading_away = 0;
         const F lx = L::splat(light.position.x), ly = L::splat(light.position.y),
                 lz = L::splat(light.position.z);
         for (int base = 0; base < packet::kPacketRays; base += W) {
@@ -264,8 +268,18 @@ struct TileShadowOrigins {
                     to_z = lz - L::load(surface.point[2] + base);
             const F nx = L::load(surface.normal[0] + base), ny = L::load(surface.normal[1] + base),
                     nz = L::load(surface.normal[2] + base);
-            const std::uint32_t lit =
+            const std::uint32_t faces =
                 L::bits((nx * to_x + ny * to_y + nz * to_z) > L::splat(0.0f)) & lanes;
+            if (faces == 0) continue;
+            const F p[3] = {L::load(surface.point[0] + base), L::load(surface.point[1] + base),
+                            L::load(surface.point[2] + base)};
+            const F s[3] = {L::load(surface.shading_normal[0] + base),
+                            L::load(surface.shading_normal[1] + base),
+                            L::load(surface.shading_normal[2] + base)};
+            F unit[3];
+            const std::uint32_t lit =
+                L::bits(packet::light_cosine<W>(p, s, light.position, unit) > L::splat(0.0f)) & faces;
+            shading_away += std::popcount(faces & ~lit);
             if (lit == 0) continue;
             const F ox = L::load(origin[0] + base), oy = L::load(origin[1] + base),
                     oz = L::load(origin[2] + base);
@@ -286,6 +300,7 @@ struct TileShadowOrigins {
             L::store(out.tmax + base, L::splat(1.0f));
             out.active.words[base >> 6] |= std::uint64_t(lit) << (base & 63);
         }
+        return shading_away;
     }
 };
 
@@ -445,24 +460,21 @@ inline void write_miss(RenderedFrame& out, std::size_t p) {
 }
 
 /// Shadow rays of a batch of hits: those cast, and those left out (TileShadowOrigins::rays_to)
-/// because the hit faces away from the light or the light is dark.
+/// because the hit's geometric normal or its shading normal faces away from the light, or the
+/// light is dark.
 struct ShadowCounts {
-    std::size_t cast = 0, back_side = 0, dark_light = 0;
+    std::size_t cast = 0, back_side = 0, shading_side = 0, dark_light = 0;
 
-    /// Adds light `light`'s rays for `hits` hit lanes, of which rays_to cast `cast`.
-    void add(const PointLight& light, std::size_t hits, std::size_t cast_rays) {
+    /// Adds light `light`'s rays for `hits` hit lanes, of which rays_to cast `cast_rays` and
+    /// left `shading_away` out for their shading normal.
+    void add(const PointLight& light, std::size_t hits, std::size_t cast_rays, std::size_t shading_away) {
         cast += cast_rays;
         if (light.intensity == 0.0f) {
             dark_light += hits;
         } else {
-            back_side += hits - cast_rays;
+            shading_side += shading_away;
+            back_side += hits - cast_rays - shading_away;
         }
-    }
-    ShadowCounts& operator+=(const ShadowCounts& o) {
-        cast += o.cast;
-        back_side += o.back_side;
-        dark_light += o.dark_light;
-        return *this;
     }
 };
 

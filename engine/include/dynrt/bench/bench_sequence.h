@@ -29,6 +29,9 @@ struct SequenceFrameTimes {
     double shade_ms = 0;    ///< hits to colours; 0 for a tracer that does not shade (Embree's)
     /// Its hits against dynrt's for this frame.
     HitAgreement vs_dynrt;
+    /// Reflection and refraction rays with their shadow rays and shading (0 without them, and
+    /// for a tracer that does not shade).
+    double secondary_ms = 0;
 };
 
 /// Another tracer stepping through the same sequence (see the Embree backend).
@@ -54,7 +57,9 @@ struct SequenceRow {
     /// update + build + trace: what a frame costs before shading, the figure compared.
     Spread frame_ms;
     Spread shade_ms;
-    /// frame + shade: the whole frame (as frame_ms for a tracer that does not shade).
+    Spread secondary_ms;
+    /// frame + shade + secondary: the whole frame (as frame_ms for a tracer that does not
+    /// shade).
     Spread total_ms;
     /// Summed over the frames (other tracers only).
     HitAgreement vs_dynrt;

@@ -149,6 +149,8 @@ struct TraceStats {
     double reflection_mrays_per_s = 0;
     double refraction_mrays_per_s = 0;
     std::size_t secondary_shadow_rays = 0;
+    /// Their rate: the stage's wall time split by the workers' time spent tracing them.
+    double secondary_shadow_mrays_per_s = 0;
     std::size_t secondary_packet_rays = 0;
     std::size_t secondary_single_rays = 0;
     std::vector<std::size_t> secondary_rays_per_depth;
@@ -157,9 +159,11 @@ struct TraceStats {
     /// Their closest-hit rate per depth (as reflection_mrays_per_s).
     std::vector<double> secondary_mrays_per_s_per_depth;
     /// Shadow rays (at camera and secondary hits) left out because their contribution is
-    /// exactly zero: the hit faces away from the light (the geometric normal's side), or the
-    /// light's intensity is 0. Not counted in shadow_rays or secondary_shadow_rays.
+    /// exactly zero: the hit faces away from the light (its geometric normal, or else its
+    /// shading normal), or the light's intensity is 0. Not counted in shadow_rays or
+    /// secondary_shadow_rays. Exact reuse counts those of the tiles it traces afresh.
     std::size_t shadow_rays_back_side = 0;
+    std::size_t shadow_rays_shading_side = 0;
     std::size_t shadow_rays_dark_light = 0;
     /// Shadow rays traced with the occluder cache (TraceSettings::occluder_cache), and those
     /// answered by its triangles before any traversal.

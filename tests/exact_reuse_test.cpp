@@ -6,6 +6,7 @@
 // the decisions (what forces a full trace) and the changed-space tests on their own. The
 // library API's steps are in tests/api/api_reuse_test.cpp.
 
+#include "moving_scene.h"
 #include "same_bits.h"
 #include "dynrt/anim/procedural_motion.h"
 #include "dynrt/engine/camera.h"
@@ -27,17 +28,11 @@
 namespace dynrt {
 namespace {
 
-const std::string kPlane = "plane:8@0,-1,0,4#808080";
-const std::string kRigid = "sphere:600@-0.8,-0.4,0.3,0.6#e04020";
-const std::string kWave = "sphere:300@1.2,-0.5,-0.6,0.5#2050e0";
-const std::string kExplode = "soup:600@-0.6,-1,-2,1.4#40c060";
-
-Scene moving_scene() {
-    Scene scene = load_scene(kPlane + "+" + kRigid + "+" + kWave + "+" + kExplode);
-    const std::vector<std::string> motions{"rigid:" + kRigid, "wave:" + kWave, "explode:" + kExplode};
-    anim::add_procedural_motions(scene, motions);
-    return scene;
-}
+using test::kExplode;
+using test::kPlane;
+using test::kRigid;
+using test::kWave;
+using test::moving_scene;
 
 using dynrt::test::same_bits;
 

@@ -3,6 +3,7 @@
 // between frames and through it, and answers rays; lights of intensity 0 and hits facing away
 // from a light cast no shadow ray, leave the image as it is, and are counted by reason.
 
+#include "moving_scene.h"
 #include "same_bits.h"
 #include "dynrt/anim/procedural_motion.h"
 #include "dynrt/engine/camera.h"
@@ -23,18 +24,7 @@ namespace {
 
 using dynrt::test::same_bits;
 
-const std::string kPlane = "plane:8@0,-1,0,4#808080";
-const std::string kRigid = "sphere:600@-0.8,-0.4,0.3,0.6#e04020";
-const std::string kWave = "sphere:300@1.2,-0.5,-0.6,0.5#2050e0";
-const std::string kExplode = "soup:600@-0.6,-1,-2,1.4#40c060";
-
-/// Occluders that move rigidly, deform and explode over a floor.
-Scene moving_scene() {
-    Scene scene = load_scene(kPlane + "+" + kRigid + "+" + kWave + "+" + kExplode);
-    const std::vector<std::string> motions{"rigid:" + kRigid, "wave:" + kWave, "explode:" + kExplode};
-    anim::add_procedural_motions(scene, motions);
-    return scene;
-}
+using test::moving_scene;  // the occluders: rigid, deforming and exploding over a floor
 
 RenderOptions options_with_lights() {
     RenderOptions options;

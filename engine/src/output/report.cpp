@@ -310,13 +310,21 @@ void print_summary(std::ostream& out, const std::vector<FrameStats>& frames) {
     }
 }
 
+namespace {
+
+/// The median over `frames` of field(frame).
+template <class Field>
+double median_over(const std::vector<FrameStats>& frames, Field&& field) {
+    std::vector<double> values;
+    for (const FrameStats& f : frames) values.push_back(double(field(f)));
+    return spread_of(std::move(values)).median;
+}
+
+}  // namespace
+
 void print_secondary_summary(std::ostream& out, const std::vector<FrameStats>& frames) {
     if (frames.empty()) return;
-    const auto median = [&](auto field) {
-        std::vector<double> values;
-        for (const FrameStats& f : frames) values.push_back(double(field(f)));
-        return spread_of(std::move(values)).median;
-    };
+    const auto median = [&](auto field) { return median_over(frames, field); };
     if (median([](const FrameStats& f) { return f.reflection_rays + f.refraction_rays; }) == 0.0) {
         return;
     }
@@ -357,11 +365,7 @@ void print_secondary_summary(std::ostream& out, const std::vector<FrameStats>& f
 
 void print_shadow_summary(std::ostream& out, const std::vector<FrameStats>& frames) {
     if (frames.empty()) return;
-    const auto median = [&](auto field) {
-        std::vector<double> values;
-        for (const FrameStats& f : frames) values.push_back(double(field(f)));
-        return spread_of(std::move(values)).median;
-    };
+    const auto median = [&](auto field) { return median_over(frames, field); };
     const double camera = median([](const FrameStats& f) { return f.shadow_rays; });
     const double secondary = median([](const FrameStats& f) { return f.secondary_shadow_rays; });
     const double back = median([](const FrameStats& f) { return f.shadow_rays_back_side; });

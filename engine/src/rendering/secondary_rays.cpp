@@ -1,6 +1,7 @@
 #include "rendering/secondary_rays.h"
 
 #include "dynrt/bvh/morton_code.h"
+#include "dynrt/bvh/prefetch.h"
 #include "dynrt/bvh/radix_sort.h"
 #include "dynrt/bvh/two_level_bvh.h"
 #include "dynrt/engine/shadow_ray_offset.h"
@@ -225,12 +226,27 @@ struct PacketScratch {
     packet::ShadedColors colors;
 };
 
+/// Rays fill_packet fetches ahead of the one it copies.
+constexpr std::size_t kGatherAhead = 8;
+
 /// Rays [begin, end) of a wave in the order of `keys` (a ray's index in each key's low 32 bits)
-/// as one packet, and their indices, into `p`.
+/// as one packet, and their indices, into `p`. The rays are scattered over the wave (sorted
+/// anew), so each is fetched kGatherAhead rays ahead, with its hit when `with_hits` (the
+/// shading pass reads them next): one cache miss a ray otherwise, a twentieth of BART robots'
+/// frame.
 void fill_packet(const std::uint64_t* keys, std::size_t begin, std::size_t end,
-                 const Wave& wave, PacketScratch& p) {
+                 const Wave& wave, PacketScratch& p, bool with_hits) {
     p.rays.clear();
-    for (std::size_t k = 0; k < end - begin; ++k) {
+    const std::size_t count = end - begin;
+    const auto fetch = [&](std::size_t k) {
+        const auto i = std::uint32_t(keys[begin + k]);
+        bvh::prefetch_line(&wave.rays[i]);
+        bvh::prefetch_line(reinterpret_cast<const char*>(&wave.rays[i]) + sizeof(PathRay) - 1);
+        if (with_hits) bvh::prefetch_line(&wave.hit[i]);
+    };
+    for (std::size_t k = 0; k < kGatherAhead && k < count; ++k) fetch(k);
+    for (std::size_t k = 0; k < count; ++k) {
+        if (k + kGatherAhead < count) fetch(k + kGatherAhead);
         const auto i = std::uint32_t(keys[begin + k]);
         p.index[k] = i;
         const PathRay& ray = wave.rays[i];
@@ -408,7 +424,7 @@ void SecondaryStage::trace_closest(int depth, std::size_t begin, std::size_t end
     }
     Stopwatch clock;
     const int count = int(end - begin);
-    fill_packet(s.sorted, begin, end, wave, p);
+    fill_packet(s.sorted, begin, end, wave, p, false);
     const bool reflection = wave.kind[p.index[0]] == kReflection;
     (reflection ? work.reflection_rays : work.refraction_rays) += std::size_t(count);
     work.rays_per_depth[d] += std::size_t(count);
@@ -435,7 +451,7 @@ void SecondaryStage::shade_packet(int depth, std::size_t packet_index) {
     SecondaryWork& work = s.work.local();
     Stopwatch clock;
     const int count = int(end - begin);
-    fill_packet(s.sorted, begin, end, wave, p);
+    fill_packet(s.sorted, begin, end, wave, p, true);
     p.origins.compute_lanes(
         f.tracing.accel,
         [&](int lane) -> const bvh::InstanceHit* {

@@ -1,8 +1,8 @@
 #pragma once
-// An occluder cache per light, for one frame's shadow rays (Haines and Greenberg 1986, "The
-// Light Buffer: A Shadow-Testing Accelerator", whose cells around a light list the objects
-// seen through them; here each cell keeps only the last triangle found blocking a ray through
-// it, the "shadow cache" of Haines' later notes and of Pharr and Humphreys' survey).
+// An occluder cache per light, for one frame's shadow rays (after Haines and Greenberg 1986,
+// "The Light Buffer: A Shadow-Testing Accelerator", whose cells around a light list the
+// objects seen through them; here each cell keeps only the last triangle found blocking a ray
+// through it, a "shadow cache").
 //
 // A light's shadow rays leave its position (TileShadowOrigins::rays_to), so the direction of a
 // ray picks a cell of a cube around the light: 6 faces of kCellsPerSide^2 cells. A packet of

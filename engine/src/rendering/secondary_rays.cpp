@@ -27,10 +27,7 @@ namespace dynrt::detail {
 SecondaryWork& SecondaryWork::operator+=(const SecondaryWork& o) {
     reflection_rays += o.reflection_rays;
     refraction_rays += o.refraction_rays;
-    shadow_rays += o.shadow_rays;
-    shadow_back_side += o.shadow_back_side;
-    shadow_shading_side += o.shadow_shading_side;
-    shadow_dark_light += o.shadow_dark_light;
+    shadows += o.shadows;
     packet_rays += o.packet_rays;
     single_rays += o.single_rays;
     if (rays_per_depth.size() < o.rays_per_depth.size()) rays_per_depth.resize(o.rays_per_depth.size(), 0);
@@ -461,12 +458,8 @@ void SecondaryStage::shade_packet(int depth, std::size_t packet_index) {
         p.rays, f.object_material);
     work.other_ms += clock.lap_ms();
     TraceWork* trace_work = f.tracing.count ? &work.trace : nullptr;
-    const ShadowCounts shadows = trace_tile_shadows(f.tracing.tracer, RayCoherence::scattered, p.origins,
-                                                    f.lights, p.shadow, p.visible, trace_work);
-    work.shadow_rays += shadows.cast;
-    work.shadow_back_side += shadows.back_side;
-    work.shadow_shading_side += shadows.shading_side;
-    work.shadow_dark_light += shadows.dark_light;
+    work.shadows += trace_tile_shadows(f.tracing.tracer, RayCoherence::scattered, p.origins, f.lights,
+                                       p.shadow, p.visible, trace_work);
     work.shadow_ms += clock.lap_ms();
 
     shade_lanes(f.shading, p.origins, p.visible, p.colors);
@@ -565,10 +558,10 @@ void SecondaryStage::trace(RenderedFrame& out, TraceStats& stats) {
     stats.secondary_ms = wall_ms;
     stats.reflection_rays = sum.reflection_rays;
     stats.refraction_rays = sum.refraction_rays;
-    stats.secondary_shadow_rays = sum.shadow_rays;
-    stats.shadow_rays_back_side += sum.shadow_back_side;
-    stats.shadow_rays_shading_side += sum.shadow_shading_side;
-    stats.shadow_rays_dark_light += sum.shadow_dark_light;
+    stats.secondary_shadow_rays = sum.shadows.cast;
+    stats.shadow_rays_back_side += sum.shadows.back_side;
+    stats.shadow_rays_shading_side += sum.shadows.shading_side;
+    stats.shadow_rays_dark_light += sum.shadows.dark_light;
     stats.secondary_packet_rays = sum.packet_rays;
     stats.secondary_single_rays = sum.single_rays;
     // A depth per entry once any tile had hits to spawn from, as the per-tile recursion reported.
@@ -587,7 +580,7 @@ void SecondaryStage::trace(RenderedFrame& out, TraceStats& stats) {
     stats.secondary_packet_rays_per_depth = sum.packet_rays_per_depth;
     stats.reflection_mrays_per_s = mrays_per_s(sum.reflection_rays, sum.reflection_ms * scale);
     stats.refraction_mrays_per_s = mrays_per_s(sum.refraction_rays, sum.refraction_ms * scale);
-    stats.secondary_shadow_mrays_per_s = mrays_per_s(sum.shadow_rays, sum.shadow_ms * scale);
+    stats.secondary_shadow_mrays_per_s = mrays_per_s(sum.shadows.cast, sum.shadow_ms * scale);
 }
 
 }  // namespace dynrt::detail

@@ -65,9 +65,8 @@ struct SecondaryFrame {
 struct SecondaryWork {
     std::size_t reflection_rays = 0;
     std::size_t refraction_rays = 0;
-    std::size_t shadow_rays = 0;      ///< shadow rays cast at secondary hits
-    /// ... and not cast (ShadowCounts).
-    std::size_t shadow_back_side = 0, shadow_shading_side = 0, shadow_dark_light = 0;
+    /// Shadow rays at secondary hits: cast, and not cast by reason.
+    ShadowCounts shadows;
     std::size_t packet_rays = 0;      ///< reflection and refraction rays traced in packets
     std::size_t single_rays = 0;      ///< ... and one at a time
     /// rays_per_depth[k]: reflection and refraction rays of depth k + 1.

@@ -263,16 +263,14 @@ struct TileShadowOrigins {
         for (int base = 0; base < packet::kPacketRays; base += W) {
             const std::uint32_t lanes = surface.hit.extract(base, W);
             if (lanes == 0) continue;
-            const F to_x = lx - L::load(surface.point[0] + base),
-                    to_y = ly - L::load(surface.point[1] + base),
-                    to_z = lz - L::load(surface.point[2] + base);
+            const F p[3] = {L::load(surface.point[0] + base), L::load(surface.point[1] + base),
+                            L::load(surface.point[2] + base)};
+            const F to_x = lx - p[0], to_y = ly - p[1], to_z = lz - p[2];
             const F nx = L::load(surface.normal[0] + base), ny = L::load(surface.normal[1] + base),
                     nz = L::load(surface.normal[2] + base);
             const std::uint32_t faces =
                 L::bits((nx * to_x + ny * to_y + nz * to_z) > L::splat(0.0f)) & lanes;
             if (faces == 0) continue;
-            const F p[3] = {L::load(surface.point[0] + base), L::load(surface.point[1] + base),
-                            L::load(surface.point[2] + base)};
             const F s[3] = {L::load(surface.shading_normal[0] + base),
                             L::load(surface.shading_normal[1] + base),
                             L::load(surface.shading_normal[2] + base)};
@@ -475,6 +473,13 @@ struct ShadowCounts {
             shading_side += shading_away;
             back_side += hits - cast_rays - shading_away;
         }
+    }
+    ShadowCounts& operator+=(const ShadowCounts& o) {
+        cast += o.cast;
+        back_side += o.back_side;
+        shading_side += o.shading_side;
+        dark_light += o.dark_light;
+        return *this;
     }
 };
 

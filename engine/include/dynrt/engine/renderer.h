@@ -26,9 +26,9 @@
 // kMinShadingNormalLength2 (opposed vertex normals), or the object has none, or smooth normals
 // are off, s = n (flat shading, the model as it was before vertex normals). s lights the
 // Phong terms and takes the reflection and refraction directions below; n alone decides where
-// shadow and secondary rays start (their offsets) and which lights cast a shadow ray, so a
-// smooth normal never lets a ray start inside its own surface. A light with n.l > 0 but
-// s.l <= 0 adds nothing (the shading normal faces away from it).
+// shadow and secondary rays start (their offsets), so a smooth normal never lets a ray start
+// inside its own surface. A light with n.l > 0 but s.l <= 0 adds nothing (the shading normal
+// faces away from it), and casts no shadow ray.
 // Shading runs per 16x16 tile in SIMD for both tracers (packet::shade, packet/), in float, with
 // max(0, r.v)^shininess from packet/include/dynrt/packet/simd_pow.h (absolute error below
 // 6 * 2^-24 per light): the reference renderer's double-precision colours are matched within

@@ -73,8 +73,9 @@ void print_frame_row(std::ostream& out, const FrameStats& stats);
 /// (The report file's summary covers every frame.)
 void print_summary(std::ostream& out, const std::vector<FrameStats>& frames);
 /// The reflection and refraction rays, medians over the frames: rays and Mrays/s of each kind
-/// beside the camera rays' rate, rays per depth, the share traced in packets, the shadow rays
-/// at their hits and the stage's ms. Nothing when no frame traced any.
+/// beside the camera rays' rate, the share traced in packets, the shadow rays at their hits and
+/// their Mrays/s, the stage's ms, and per depth the rays, their share in packets and their
+/// Mrays/s. Nothing when no frame traced any.
 void print_secondary_summary(std::ostream& out, const std::vector<FrameStats>& frames);
 
 /// Prints the shadow rays' line (medians over `frames`): rays cast at camera and secondary

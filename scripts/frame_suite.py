@@ -7,7 +7,7 @@ it there). Every case renders a few frames at a small size with both binaries in
 folders, then compares
   - each frame's image (binary PPM, so the bytes are the pixels) byte for byte,
   - each AOV (float EXR) byte for byte, but for the second it was written (its capDate),
-  - each report's numbers (and its frames' .jsonl stream), leaving out what measures time (keys ending in _ms or _per_s, the
+  - each report's numbers (and its frames' .jsonl stream), leaving out what measures time (keys ending in _ms, _per_s or _per_s_per_depth, the
     summary of medians, the update planner's measured choices) and the thread count.
 
     /usr/bin/python3 scripts/frame_suite.py --reference ../ref/build/release/engine/dynrt \\
@@ -62,7 +62,7 @@ CASES = [
     ("museum", "shared:bart/museum/museum5.aff", ["--frames", "0-1"]),
 ]
 
-TIMING_SUFFIXES = ("_ms", "_per_s")
+TIMING_SUFFIXES = ("_ms", "_per_s", "_per_s_per_depth")
 # Where each side writes (the journal's settings name it) differs by design.
 UNCOMPARED_KEYS = {"--out", "--report", "summary", "threads", "rebuilds", "objects_refitted", "objects_rebuilt",
                    "triangles_refitted", "triangles_rebuilt", "sah_cost", "nodes", "leaves",

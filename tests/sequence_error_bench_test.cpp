@@ -147,7 +147,7 @@ TEST(SequenceErrorBench, TableJsonAndCsvHaveTheDocumentedFields) {
     EXPECT_EQ(doc["rows"][0]["mean_ssim"], 1.0);
     EXPECT_TRUE(doc["rows"][1]["psnr_db"].is_number());
     const std::string csv = sequence_error_csv(bench);
-    EXPECT_EQ(csv.rfind("label,reuse,adaptive_tolerance,total_ms_median,", 0), 0u) << csv;
+    EXPECT_EQ(csv.rfind("label,reuse,adaptive_tolerance,spp,aa_contrast,total_ms_median,", 0), 0u) << csv;
     EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 4);  // header, full render, 2 rows
 }
 

@@ -212,9 +212,11 @@ int run_bench_sequence_error(const BenchArgs& args) {
     std::vector<std::string> sweeps = args.sweeps;
     std::vector<dynrt::ReuseSettings> reuses = dynrt::take_reuse_sweep(sweeps);
     std::vector<float> adaptives = dynrt::take_adaptive_sweep(sweeps);
+    std::vector<int> spps = dynrt::take_spp_sweep(sweeps);
+    std::vector<float> aas = dynrt::take_aa_sweep(sweeps);
     if (!sweeps.empty()) {
         throw std::invalid_argument("--sweep '" + sweeps.front() + "': with --frames --error "
-                                    "only reuse=... and adaptive=... are swept");
+                                    "only reuse=..., adaptive=..., spp=... and aa=... are swept");
     }
     dynrt::RenderOptions base = render_options(args);
     const dynrt::FrameRange range = dynrt::parse_frame_range(args.frames);
@@ -226,6 +228,10 @@ int run_bench_sequence_error(const BenchArgs& args) {
     const dynrt::CameraSource view = camera_source(scene, args, base.pose, range);
     if (reuses.empty()) reuses.push_back(base.reuse);
     if (adaptives.empty()) adaptives.push_back(base.adaptive_tolerance);
+    // Sampling sweeps: the full render keeps --spp (a converged reference, e.g. 256), the rows
+    // take the swept values.
+    if (spps.empty()) spps.push_back(base.sampling.spp);
+    if (aas.empty()) aas.push_back(base.sampling.adaptive_contrast);
     std::vector<dynrt::RenderOptions> configs;
     for (const dynrt::ReuseSettings& reuse : reuses) {
         for (float adaptive : adaptives) {
@@ -234,11 +240,23 @@ int run_bench_sequence_error(const BenchArgs& args) {
                                             "adaptive=...) is the packet tracer's; drop "
                                             "--tracer single");
             }
-            dynrt::RenderOptions config = base;
-            config.reuse = reuse;
-            config.adaptive_tolerance = adaptive;
-            configs.push_back(config);
+            for (const int spp : spps) {
+                for (const float aa : aas) {
+                    // Nothing to refine at one sample; interpolation takes one sample.
+                    if ((aa > 0.0f && spp == 1) || (adaptive > 0.0f && spp > 1)) continue;
+                    dynrt::RenderOptions config = base;
+                    config.reuse = reuse;
+                    config.adaptive_tolerance = adaptive;
+                    config.sampling.spp = spp;
+                    config.sampling.adaptive_contrast = aa;
+                    configs.push_back(config);
+                }
+            }
         }
+    }
+    if (configs.empty()) {
+        throw std::invalid_argument("bench --frames --error: no configuration left to measure (aa=... needs "
+                                    "spp above 1, adaptive=... one sample per pixel)");
     }
     std::cout << "dynrt bench --error: " << source << ", " << scene.triangle_count()
               << " triangles, " << base.width << "x" << base.height << ", frames "

@@ -14,6 +14,8 @@
 #include "dynrt/anim/procedural_motion.h"
 #include "dynrt/engine/scene_loading.h"
 
+#include <glm/geometric.hpp>
+
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -67,15 +69,38 @@ void parse_resolution(const std::string& text, int& width, int& height) {
 }
 
 dynrt::PointLight parse_light(const std::string& text) {
-    const std::vector<float> v = parse_floats(text, "--light");
+    const std::size_t colon = text.find(':');
+    const std::string point = text.substr(0, colon);
+    const std::vector<float> v = parse_floats(point, "--light");
+    const auto bad = [&](const std::string& why) {
+        throw std::invalid_argument("--light '" + text + "': " + why);
+    };
     if (v.size() != 3 && v.size() != 4) {
-        throw std::invalid_argument("--light '" + text + "': expected x,y,z or x,y,z,intensity");
+        bad("expected x,y,z[,intensity][:sphere=RADIUS|:quad=UX,UY,UZ,VX,VY,VZ]");
     }
-    if (v.size() == 4 && !(v[3] >= 0.0f)) {
-        throw std::invalid_argument("--light '" + text + "': the intensity must be >= 0");
+    if (v.size() == 4 && !(v[3] >= 0.0f)) bad("the intensity must be >= 0");
+    dynrt::PointLight light{glm::vec3(v[0], v[1], v[2]), v.size() == 4 ? v[3] : 1.0f};
+    if (colon == std::string::npos) return light;
+    const std::string area = text.substr(colon + 1);
+    if (area.rfind("sphere=", 0) == 0) {
+        const std::vector<float> r = parse_floats(area.substr(7), "--light");
+        if (r.size() != 1 || !(r[0] > 0.0f) || !std::isfinite(r[0])) bad("a sphere light's radius must be one number > 0");
+        light.shape = dynrt::PointLight::Shape::sphere;
+        light.radius = r[0];
+    } else if (area.rfind("quad=", 0) == 0) {
+        const std::vector<float> e = parse_floats(area.substr(5), "--light");
+        if (e.size() != 6) bad("a quad light takes its two edges, UX,UY,UZ,VX,VY,VZ");
+        light.shape = dynrt::PointLight::Shape::quad;
+        light.edge_u = glm::vec3(e[0], e[1], e[2]);
+        light.edge_v = glm::vec3(e[3], e[4], e[5]);
+        const glm::vec3 n = glm::cross(light.edge_u, light.edge_v);
+        if (!(glm::dot(n, n) > 0.0f) || !std::isfinite(glm::dot(n, n))) bad("a quad light's edges must not be parallel");
+    } else {
+        bad("the area after ':' is sphere=RADIUS or quad=UX,UY,UZ,VX,VY,VZ");
     }
-    return dynrt::PointLight{glm::vec3(v[0], v[1], v[2]), v.size() == 4 ? v[3] : 1.0f};
+    return light;
 }
+
 
 /// The factory of the backend `name` names (--backend), or a clear error.
 std::function<std::shared_ptr<dynrt::FrameBackend>()> backend_factory(const std::string& name) {
@@ -108,6 +133,10 @@ dynrt::RenderOptions render_options(const FrameArgs& args) {
     options.adaptive_tolerance = args.adaptive;
     options.smooth_normals = args.normals != "flat";
     options.occluder_cache = args.occluder_cache != "off";
+    options.sampling.spp = args.spp;
+    options.sampling.filter = dynrt::parse_pixel_filter(args.filter);
+    options.sampling.adaptive_contrast = args.aa_contrast;
+    dynrt::check_sampling(options.sampling);
     options.secondary.max_depth = args.depth;
     options.secondary.cutoff = args.cutoff;
     options.secondary.min_packet_rays = args.secondary_packet_min;

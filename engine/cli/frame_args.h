@@ -36,6 +36,11 @@ struct FrameArgs {
     std::string normals = "smooth";
     /// TraceSettings::occluder_cache: on or off.
     std::string occluder_cache = "off";
+    /// TraceSettings::sampling: samples per pixel, the reconstruction filter and adaptive
+    /// anti-aliasing's contrast (0: every pixel takes every sample).
+    int spp = 1;
+    std::string filter = dynrt::pixel_filter_name(dynrt::PixelSampling{}.filter);
+    float aa_contrast = 0.0f;
     /// Whitted secondary rays (TraceSettings::secondary): deepest bounce and path-weight cut-off.
     int depth = dynrt::SecondaryRays{}.max_depth;
     float cutoff = dynrt::SecondaryRays{}.cutoff;
@@ -94,7 +99,8 @@ std::vector<float> parse_floats(const std::string& text, const std::string& what
 /// Parses --res WIDTHxHEIGHT (each 1..16384).
 void parse_resolution(const std::string& text, int& width, int& height);
 
-/// Parses --light x,y,z[,intensity].
+/// Parses --light x,y,z[,intensity][:sphere=RADIUS|:quad=UX,UY,UZ,VX,VY,VZ] (a point light, or
+/// an area light centred there).
 dynrt::PointLight parse_light(const std::string& text);
 
 /// The options the flags give. The image size and frame rate are left 0 when not given:

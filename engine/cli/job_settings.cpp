@@ -22,7 +22,7 @@ namespace dynrt::cli {
 // A field added to FrameArgs or RenderArgs must be classified in job_settings() below (part of
 // the job, or not) before this compiles again; then update these counts. RenderArgs counts
 // its FrameArgs base as one field.
-static_assert(field_count<FrameArgs>() == 28,
+static_assert(field_count<FrameArgs>() == 31,
               "a FrameArgs field was added or removed: classify it in job_settings()");
 static_assert(field_count<RenderArgs>() == 1 + 6,
               "a RenderArgs field was added or removed: classify it in job_settings()");
@@ -37,6 +37,18 @@ std::string number_text(Number value) {
     char text[64];
     const auto [end, ec] = std::to_chars(text, text + sizeof text, value);
     return ec == std::errc() ? std::string(text, end) : std::string("?");
+}
+
+/// A light as --light reads it.
+std::string light_text(const dynrt::PointLight& light) {
+    std::string text = number_text(light.position.x) + "," + number_text(light.position.y) + "," +
+                       number_text(light.position.z) + "," + number_text(light.intensity);
+    const auto vec = [](const glm::vec3& v) {
+        return number_text(v.x) + "," + number_text(v.y) + "," + number_text(v.z);
+    };
+    if (light.shape == dynrt::PointLight::Shape::sphere) text += ":sphere=" + number_text(light.radius);
+    if (light.shape == dynrt::PointLight::Shape::quad) text += ":quad=" + vec(light.edge_u) + "," + vec(light.edge_v);
+    return text;
 }
 
 std::string joined(const std::vector<std::string>& values) {
@@ -58,10 +70,7 @@ std::vector<JobSetting> job_settings(const RenderArgs& args, const dynrt::Render
         list.push_back({flag, std::move(value), false});
     };
     std::vector<std::string> lights;
-    for (const dynrt::PointLight& l : options.lights) {
-        lights.push_back(number_text(l.position.x) + "," + number_text(l.position.y) + "," +
-                         number_text(l.position.z) + "," + number_text(l.intensity));
-    }
+    for (const dynrt::PointLight& l : options.lights) lights.push_back(light_text(l));
     std::vector<std::string> clips;
     for (const std::size_t c : options.pose.clips.value_or(std::vector<std::size_t>{})) {
         clips.push_back(scene.clips[c].name);
@@ -85,6 +94,9 @@ std::vector<JobSetting> job_settings(const RenderArgs& args, const dynrt::Render
     job("--adaptive", number_text(args.adaptive));
     job("--normals", args.normals);
     job("--occluder-cache", args.occluder_cache);  // the same image either way
+    job("--spp", std::to_string(args.spp));
+    job("--filter", args.filter);
+    job("--aa-contrast", number_text(args.aa_contrast));
     job("--depth", std::to_string(args.depth));
     job("--cutoff", number_text(args.cutoff));
     job("--secondary-packet-min", std::to_string(args.secondary_packet_min));

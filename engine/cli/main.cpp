@@ -107,7 +107,9 @@ int main(int argc, char** argv) {
                         "camera, animated; the default for a BART (.aff) scene; or still: the "
                         "scene's camera at the first frame, held still");
         cmd->add_option("--light", args.lights,
-                        "Point light x,y,z[,intensity]; repeatable (default: one light above)")
+                        "Light x,y,z[,intensity], a point, or an area light centred there with "
+                        ":sphere=RADIUS or :quad=UX,UY,UZ,VX,VY,VZ (its two edges), sampled once "
+                        "per pixel sample (soft shadows); repeatable (default: one point light above)")
             ->allow_extra_args(false);
         cmd->add_option("--cost-ratio", args.cost_ratio,
                         "SAH intersection:traversal cost (0.1 big shallow leaves, 1 small deep)")
@@ -141,6 +143,19 @@ int main(int argc, char** argv) {
                         "Shading normals: smooth (the file's vertex normals interpolated, or "
                         "area-weighted ones where it has none) or flat (each triangle's own)")
             ->check(CLI::IsMember({"smooth", "flat"}))->capture_default_str();
+        cmd->add_option("--spp", args.spp,
+                        "Samples per pixel, stratified and the same on any number of threads; "
+                        "1 (the default) is each pixel's centre")
+            ->check(CLI::Range(1, dynrt::PixelSampling::kMaxSamplesPerPixel))->capture_default_str();
+        cmd->add_option("--filter", args.filter,
+                        "Reconstruction filter of several samples per pixel: box, tent or "
+                        "blackman-harris (1.5 pixels wide)")
+            ->check(CLI::IsMember({"box", "tent", "blackman-harris"}))->capture_default_str();
+        cmd->add_option("--aa-contrast", args.aa_contrast,
+                        "Adaptive anti-aliasing: every pixel takes one sample, and only those "
+                        "differing from a neighbour by more than this (per channel, or showing "
+                        "another object) take --spp (0: every pixel takes --spp)")
+            ->check(CLI::NonNegativeNumber)->capture_default_str();
         cmd->add_option("--occluder-cache", args.occluder_cache,
                         "Test each packet of shadow rays first against the triangles that last "
                         "blocked its light's rays in those directions (the same image either way)")

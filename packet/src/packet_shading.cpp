@@ -77,7 +77,14 @@ void shade_lanes(const SurfacePacket& surface, std::span<const PhongMaterial> ma
                 if (lit == 0) continue;
                 // l = normalize(P_L - point) and s.l, as the renderer's shadow rays see them.
                 F to[3];
-                const F n_dot_l = light_cosine<W>(p, n, lights[l].position, to);
+                F n_dot_l;
+                if (const float* at = lights[l].lane_position; at == nullptr) {
+                    n_dot_l = light_cosine<W>(p, n, lights[l].position, to);
+                } else {
+                    const F lane_light[3] = {L::load(at + base), L::load(at + kPacketRays + base),
+                                             L::load(at + 2 * kPacketRays + base)};
+                    n_dot_l = light_cosine<W>(p, n, lane_light, to);
+                }
                 const F twice = L::splat(2.0f) * n_dot_l;
                 const F r_dot_v = (twice * n[0] - to[0]) * v[0] + (twice * n[1] - to[1]) * v[1] +
                                   (twice * n[2] - to[2]) * v[2];

@@ -49,6 +49,15 @@ PinholeRays::PinholeRays(const PinholeCamera& camera, int width, int height)
     aspect_ = float(width) / float(height);
 }
 
+bvh::Ray PinholeRays::ray_at(float x, float y) const {
+    const float sx = (2.0f * (x + 0.5f) / float(width_) - 1.0f) * tan_half_fov_ * aspect_;
+    const float sy = (1.0f - 2.0f * (y + 0.5f) / float(height_)) * tan_half_fov_;
+    bvh::Ray ray;
+    ray.org = eye_;
+    ray.dir = glm::normalize(fwd_ + sx * right_ + sy * up_);
+    return ray;
+}
+
 bvh::Ray PinholeRays::ray(int x, int y) const {
     const float sx = (2.0f * (float(x) + 0.5f) / float(width_) - 1.0f) * tan_half_fov_ * aspect_;
     const float sy = (1.0f - 2.0f * (float(y) + 0.5f) / float(height_)) * tan_half_fov_;
@@ -63,12 +72,49 @@ namespace {
 template <int W>
 void fill_rows(const PinholeRays& camera, const glm::vec3& eye, const glm::vec3& fwd,
                const glm::vec3& right, const glm::vec3& up, float tan_half_fov, float aspect,
-               int width, int height, const Tile& tile, RayPacket& packet) {
+               int width, int height, const Tile& tile, const PixelOffsets* offsets, RayPacket& packet) {
     using L = simd::Lanes<W>;
     using F = typename L::F;
     static_assert(kTileSize % W == 0 || W > kTileSize);
     if constexpr (W > kTileSize) {
-        fill_tile(tile, [&](int x, int y) { return camera.ray(x, y); }, packet);
+        fill_tile(tile, [&](int x, int y) {
+            if (offsets == nullptr) return camera.ray(x, y);
+            const int lane = tile_lane(tile, x, y);
+            return camera.ray_at(float(x) + offsets->dx[lane], float(y) + offsets->dy[lane]);
+        }, packet);
+    } else if (offsets != nullptr) {
+        // Each lane's ray through its own point (ray_at's operations, lane by lane).
+        packet.clear();
+        F lane_x;
+        for (int i = 0; i < W; ++i) lane_x[i] = float(i);
+        const float inf = std::numeric_limits<float>::infinity();
+        for (int y = tile.y0; y < tile.y1; ++y) {
+            for (int x0 = tile.x0; x0 < tile.x0 + kTileSize; x0 += W) {
+                const int lane = tile_lane(tile, x0, y);
+                const F x = (L::splat(float(x0)) + lane_x) + L::load(offsets->dx + lane);
+                const F yy = L::splat(float(y)) + L::load(offsets->dy + lane);
+                const F sx = (L::splat(2.0f) * (x + L::splat(0.5f)) / L::splat(float(width)) -
+                              L::splat(1.0f)) *
+                             L::splat(tan_half_fov) * L::splat(aspect);
+                const F sy = (L::splat(1.0f) - L::splat(2.0f) * (yy + L::splat(0.5f)) / L::splat(float(height))) *
+                             L::splat(tan_half_fov);
+                const F dx = L::splat(fwd.x) + sx * L::splat(right.x) + sy * L::splat(up.x);
+                const F dy = L::splat(fwd.y) + sx * L::splat(right.y) + sy * L::splat(up.y);
+                const F dz = L::splat(fwd.z) + sx * L::splat(right.z) + sy * L::splat(up.z);
+                const F inv_len = L::splat(1.0f) / L::sqrt(dx * dx + dy * dy + dz * dz);
+                L::store(packet.org_x + lane, L::splat(eye.x));
+                L::store(packet.org_y + lane, L::splat(eye.y));
+                L::store(packet.org_z + lane, L::splat(eye.z));
+                L::store(packet.dir_x + lane, dx * inv_len);
+                L::store(packet.dir_y + lane, dy * inv_len);
+                L::store(packet.dir_z + lane, dz * inv_len);
+                L::store(packet.tmin + lane, L::splat(0.0f));
+                L::store(packet.tmax + lane, L::splat(inf));
+            }
+            const int row_lane = tile_lane(tile, tile.x0, y);
+            packet.active.words[row_lane >> 6] |= ((std::uint64_t{1} << (tile.x1 - tile.x0)) - 1)
+                                                 << (row_lane & 63);
+        }
     } else {
         packet.clear();
         F lane_x;
@@ -108,7 +154,12 @@ void fill_rows(const PinholeRays& camera, const glm::vec3& eye, const glm::vec3&
 
 void PinholeRays::fill_tile(const Tile& tile, RayPacket& packet) const {
     fill_rows<simd::kNativeLanes>(*this, eye_, fwd_, right_, up_, tan_half_fov_, aspect_, width_,
-                                  height_, tile, packet);
+                                  height_, tile, nullptr, packet);
+}
+
+void PinholeRays::fill_tile(const Tile& tile, const PixelOffsets& offsets, RayPacket& packet) const {
+    fill_rows<simd::kNativeLanes>(*this, eye_, fwd_, right_, up_, tan_half_fov_, aspect_, width_,
+                                  height_, tile, &offsets, packet);
 }
 
 }  // namespace dynrt::packet

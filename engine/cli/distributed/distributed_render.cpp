@@ -101,7 +101,8 @@ std::vector<double> share_figures(const FrameStats& s) {
     return {s.primary_ms + s.shadow_ms + s.shade_ms + s.secondary_ms,
             double(s.primary_rays), double(s.shadow_rays), double(s.interpolated_pixels),
             double(s.pixels_traced), double(s.pixels_shadows_retraced), double(s.pixels_reused),
-            double(s.reflection_rays), double(s.refraction_rays), double(s.secondary_shadow_rays)};
+            double(s.reflection_rays), double(s.refraction_rays), double(s.secondary_shadow_rays),
+            double(s.pixels_refined)};
 }
 
 void add_share_figures(const std::vector<double>& all, int ranks, FrameStats& s) {
@@ -110,6 +111,7 @@ void add_share_figures(const std::vector<double>& all, int ranks, FrameStats& s)
     s.primary_rays = s.shadow_rays = s.interpolated_pixels = 0;
     s.pixels_traced = s.pixels_shadows_retraced = s.pixels_reused = 0;
     s.reflection_rays = s.refraction_rays = s.secondary_shadow_rays = 0;
+    s.pixels_refined = 0;
     for (int r = 0; r < ranks; ++r) {
         const double* f = all.data() + std::size_t(r) * n;
         s.rank_trace_ms.push_back(f[0]);
@@ -122,6 +124,7 @@ void add_share_figures(const std::vector<double>& all, int ranks, FrameStats& s)
         s.reflection_rays += std::size_t(f[7]);
         s.refraction_rays += std::size_t(f[8]);
         s.secondary_shadow_rays += std::size_t(f[9]);
+        s.pixels_refined += std::size_t(f[10]);
     }
 }
 
@@ -326,6 +329,7 @@ void print_results(const RenderArgs& args, const Scene& scene, const FramesLeft&
     print_summary(std::cout, frames);
     print_secondary_summary(std::cout, frames);
     print_shadow_summary(std::cout, frames);
+    print_sampling_summary(std::cout, frames);
     print_rebuild_summary(std::cout, frames);
     print_update_choices(std::cout, frames);
     if (ranks > 0) print_ranks(std::cout, frames, ranks, tiles);

@@ -869,13 +869,29 @@ FrameStats Engine::render(const View& view, const ImageView& image,
     options.smooth_normals = settings.smooth_normals;
     // A bad share is refused by the trace (FramePipeline::trace), before it changes anything.
     options.tiles = packet::TileShare{settings.tile_share, settings.tile_shares};
+    options.sampling.spp = settings.samples_per_pixel;
+    options.sampling.adaptive_contrast = settings.aa_contrast;
+    try {
+        options.sampling.filter = parse_pixel_filter(settings.filter);
+        check_sampling(options.sampling);
+    } catch (const std::invalid_argument& e) {
+        throw invalid(std::string("render: ") + e.what());
+    }
     std::vector<PointLight> lights;
     for (const Light& light : settings.lights) {
         const glm::vec3 position = to_glm(light.position);
         if (!finite(position) || !std::isfinite(light.intensity)) {
             throw invalid("render: light position and intensity must be finite");
         }
-        lights.push_back(PointLight{position, light.intensity});
+        // Area lights are checked by the trace, which names the light.
+        PointLight engine_light{position, light.intensity};
+        engine_light.shape = light.shape == LightShape::sphere ? PointLight::Shape::sphere
+                             : light.shape == LightShape::quad ? PointLight::Shape::quad
+                                                               : PointLight::Shape::point;
+        engine_light.radius = light.radius;
+        engine_light.edge_u = to_glm(light.edge_u);
+        engine_light.edge_v = to_glm(light.edge_v);
+        lights.push_back(engine_light);
     }
     if (lights.empty()) {
         const bvh::Aabb bounds = s.pipeline.accel().world_bounds();

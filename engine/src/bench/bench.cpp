@@ -165,6 +165,32 @@ std::vector<float> take_adaptive_sweep(std::vector<std::string>& sweeps) {
     return values;
 }
 
+std::vector<int> take_spp_sweep(std::vector<std::string>& sweeps) {
+    std::vector<int> values;
+    for (const std::string& item : take_sweep(sweeps, "spp")) {
+        const double value = parse_number(item, "spp=" + item);
+        if (!(value >= 1.0 && value <= PixelSampling::kMaxSamplesPerPixel) || value != std::floor(value)) {
+            throw std::invalid_argument("--sweep 'spp=" + item + "': samples per pixel are whole numbers from 1 to " +
+                                        std::to_string(PixelSampling::kMaxSamplesPerPixel));
+        }
+        values.push_back(int(value));
+    }
+    return values;
+}
+
+std::vector<float> take_aa_sweep(std::vector<std::string>& sweeps) {
+    std::vector<float> values;
+    for (const std::string& item : take_sweep(sweeps, "aa")) {
+        const double value = parse_number(item, "aa=" + item);
+        if (!(value >= 0.0) || !std::isfinite(float(value))) {
+            throw std::invalid_argument("--sweep 'aa=" + item + "': adaptive anti-aliasing contrasts are "
+                                        "finite numbers >= 0");
+        }
+        values.push_back(float(value));
+    }
+    return values;
+}
+
 std::vector<ReuseSettings> take_reuse_sweep(std::vector<std::string>& sweeps) {
     std::vector<ReuseSettings> values;
     for (const std::string& item : take_sweep(sweeps, "reuse")) {

@@ -31,6 +31,10 @@ std::string label_of(const RenderOptions& options) {
     if (options.adaptive_tolerance > 0.0f) {
         label += " + adaptive " + shortest(options.adaptive_tolerance);
     }
+    if (options.sampling.spp > 1) label += " + " + std::to_string(options.sampling.spp) + " spp";
+    if (options.sampling.spp > 1 && options.sampling.adaptive_contrast > 0.0f) {
+        label += " aa " + shortest(options.sampling.adaptive_contrast);
+    }
     return label;
 }
 
@@ -102,6 +106,8 @@ struct ForEachSequenceErrorColumn {
         visit("label", r.label);
         visit("reuse", to_string(r.reuse));
         visit("adaptive_tolerance", r.adaptive_tolerance);
+        visit("spp", r.sampling.spp);
+        visit("aa_contrast", r.sampling.adaptive_contrast);
         visit("total_ms", r.total_ms);
         visit("mean_ms", r.mean_ms);
         visit("speedup", r.speedup);
@@ -162,6 +168,7 @@ RenderOptions full_render_options(const RenderOptions& base) {
     RenderOptions options = base;
     options.reuse.mode = PixelReuse::off;
     options.adaptive_tolerance = 0.0f;
+    options.sampling.adaptive_contrast = 0.0f;
     return options;
 }
 
@@ -206,12 +213,15 @@ SequenceErrorBench bench_sequence_error(const Scene& scene, const CameraSource& 
     bench.width = base.width;
     bench.height = base.height;
     bench.reference.label = "off (full render)";
+    if (full.sampling.spp > 1) bench.reference.label = "off (full render, " + std::to_string(full.sampling.spp) + " spp)";
     bench.reference.reuse = full.reuse;
+    bench.reference.sampling = full.sampling;
     bench.rows.resize(configs.size());
     for (std::size_t k = 0; k < configs.size(); ++k) {
         bench.rows[k].label = label_of(configs[k]);
         bench.rows[k].reuse = configs[k].reuse;
         bench.rows[k].adaptive_tolerance = configs[k].adaptive_tolerance;
+        bench.rows[k].sampling = configs[k].sampling;
     }
     std::vector<Lane> lanes(configs.size());
     for (int run = 0; run < runs; ++run) {

@@ -37,6 +37,8 @@ void for_each_field(Stats& s, Visit&& visit) {
     visit("pixels_shadows_retraced", s.pixels_shadows_retraced);
     visit("pixels_reused", s.pixels_reused);
     visit("pixels_filled", s.pixels_filled);
+    visit("samples_per_pixel", s.samples_per_pixel);
+    visit("pixels_refined", s.pixels_refined);
     visit("primary_mrays_per_s", s.primary_mrays_per_s);
     visit("shadow_mrays_per_s", s.shadow_mrays_per_s);
     visit("secondary_ms", s.secondary_ms);
@@ -380,6 +382,20 @@ void print_shadow_summary(std::ostream& out, const std::vector<FrameStats>& fram
         << " toward lights of intensity 0; occluder cache: "
         << answered << " of " << tested << " answered (" << std::setprecision(1)
         << 100.0 * answered / std::max(1.0, tested) << "%)\n";
+}
+
+void print_sampling_summary(std::ostream& out, const std::vector<FrameStats>& frames) {
+    if (frames.empty()) return;
+    const auto median = [&](auto field) { return median_over(frames, field); };
+    const double spp = median([](const FrameStats& f) { return f.samples_per_pixel; });
+    if (spp <= 1.0) return;
+    const double refined = median([](const FrameStats& f) { return f.pixels_refined; });
+    const double traced = median([](const FrameStats& f) { return f.pixels_traced; });
+    const double rays = median([](const FrameStats& f) { return f.primary_rays; });
+    out << std::fixed << std::setprecision(0) << "samples (median per frame): " << spp
+        << " per pixel, taken by " << refined << " of " << traced << " pixels (" << std::setprecision(1)
+        << 100.0 * refined / std::max(1.0, traced) << "%; the others took one); camera rays "
+        << std::setprecision(2) << rays / std::max(1.0, traced) << " per pixel\n";
 }
 
 }  // namespace dynrt

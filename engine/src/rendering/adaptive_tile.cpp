@@ -125,6 +125,7 @@ public:
         }
         // The samples' shadows and colours.
         origins_.compute(f_.in.accel, hits_, f_.width, tile_, rays_, f_.in.object_material);
+        f_.sample_lights(tile_, origins_);
         trace_shadows();
         work_.shadow_ms += clock_.lap_ms();
         shade_lanes(f_.shading, origins_, visible_, colors_);

@@ -244,7 +244,7 @@ packet::LaneMask retrace_shadows(const ReuseFrame& f, int t, const TileShadowOri
     packet::RayPacket shadow;
     for (std::size_t l = 0; l < lights.size(); ++l) {
         const std::size_t slot = std::size_t(t) * lights.size() + l;
-        const int shading_away = origins.rays_to(lights[l], shadow);
+        const int shading_away = origins.rays_to(lights[l], l, shadow);
         const packet::LaneMask lit = shadow.active;
         if (!(origins.surface.hit & ~primary).any()) {
             // Every hit traced afresh: the rays not cast, for the report (a tile's kept hits

@@ -2,12 +2,16 @@
 
 #include "rendering/cpu_tracer.h"
 #include "rendering/same_view.h"
+#include "rendering/sampled_frame.h"
 #include "update/held_bytes.h"
 
 #include <glm/mat4x4.hpp>
 #include <glm/vec4.hpp>
 
+#include <glm/geometric.hpp>
+
 #include <algorithm>
+#include <cmath>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -15,6 +19,32 @@
 namespace dynrt {
 
 namespace {
+
+/// Throws std::invalid_argument naming the first light that cannot be traced: a position or
+/// intensity not finite, a negative intensity, a sphere light's radius not finite and
+/// positive, a quad light's edges not finite or parallel (no area).
+void check_lights(std::span<const PointLight> lights) {
+    const auto finite = [](const glm::vec3& v) {
+        return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+    };
+    for (std::size_t i = 0; i < lights.size(); ++i) {
+        const PointLight& light = lights[i];
+        const auto bad = [&](const std::string& why) {
+            throw std::invalid_argument("light " + std::to_string(i) + ": " + why);
+        };
+        if (!finite(light.position)) bad("its position is not finite");
+        if (!(light.intensity >= 0.0f) || !std::isfinite(light.intensity)) bad("its intensity must be finite and >= 0");
+        if (light.shape == PointLight::Shape::sphere && !(light.radius > 0.0f && std::isfinite(light.radius))) {
+            bad("a sphere light's radius must be finite and > 0 (a point light has none)");
+        }
+        if (light.shape == PointLight::Shape::quad) {
+            const glm::vec3 normal = glm::cross(light.edge_u, light.edge_v);
+            if (!finite(light.edge_u) || !finite(light.edge_v) || !finite(normal) || !(glm::dot(normal, normal) > 0.0f)) {
+                bad("a quad light's edges must be finite and not parallel (it has no area)");
+            }
+        }
+    }
+}
 
 /// The frame an update received, as another backend loads it: world positions per object.
 class PipelineGeometry final : public FrameGeometry {
@@ -127,6 +157,18 @@ void FramePipeline::trace(const Scene& scene, const Camera& camera, const TraceS
                                     "' needs the whole image: a frame split into tile shares "
                                     "can use exact reuse or none");
     }
+    check_sampling(options.sampling);
+    const bool sampled = options.sampling.spp > 1;
+    if (sampled && options.adaptive_tolerance > 0.0f) {
+        throw std::invalid_argument("adaptive sampling (interpolation) takes one sample per pixel: with " +
+                                    std::to_string(options.sampling.spp) +
+                                    " samples per pixel use adaptive anti-aliasing instead");
+    }
+    if (sampled && options.sampling.adaptive_contrast > 0.0f && !options.tiles.whole()) {
+        throw std::invalid_argument("adaptive anti-aliasing compares neighbouring pixels and needs the whole "
+                                    "image: a frame split into tile shares can take every sample in every pixel");
+    }
+    check_lights(lights);
     const Stopwatch trace_clock;
     // The shading kernel's view of the materials (bookkeeping, outside the stage clocks).
     materials_.clear();
@@ -152,9 +194,10 @@ void FramePipeline::trace(const Scene& scene, const Camera& camera, const TraceS
     // approximate modes' ranking and adaptive sampling's interpolation cannot account for it,
     // so a frame with secondary rays traces every pixel instead of them.
     const bool secondary = detail::any_secondary(scene.materials, options.secondary);
+    // Several samples per pixel: every pixel traced (the reuse modes keep one sample's record).
     const bool approximate = options.reuse.approximate() && options.adaptive_tolerance == 0.0f &&
-                             !secondary;
-    const bool exact = options.reuse.mode == PixelReuse::exact && options.adaptive_tolerance == 0.0f;
+                             !secondary && !sampled;
+    const bool exact = options.reuse.mode == PixelReuse::exact && options.adaptive_tolerance == 0.0f && !sampled;
     // The camera moved at the last trace and moves again: a full trace either way, and
     // recording what exact reuse needs per tile cost 9% of it over BART kitchen's path. Traced
     // plainly; once the camera holds still for a frame, that frame records again.
@@ -181,7 +224,9 @@ void FramePipeline::trace(const Scene& scene, const Camera& camera, const TraceS
         reuse_.valid = false;
         pixel_cache_.valid = false;
         out.reuse_stamp = 0;
-        if (secondary && options.adaptive_tolerance > 0.0f) {
+        if (sampled) {
+            detail::trace_sampled_frame(inputs, camera, options, scratch_, out);
+        } else if (secondary && options.adaptive_tolerance > 0.0f) {
             TraceSettings every_pixel = options;
             every_pixel.adaptive_tolerance = 0.0f;
             trace_frame(inputs, camera, every_pixel, scratch_, out);
@@ -191,10 +236,12 @@ void FramePipeline::trace(const Scene& scene, const Camera& camera, const TraceS
         const bool reuse_asked = options.reuse.mode != PixelReuse::off || options.adaptive_tolerance > 0.0f;
         out.stats.reuse_mode = pixel_reuse_name(camera_moving ? PixelReuse::exact : PixelReuse::off);
         out.stats.reuse_reason = camera_moving                       ? "camera moving"
+                                 : sampled && reuse_asked             ? "samples per pixel"
                                  : secondary && reuse_asked           ? "secondary rays"
                                  : options.adaptive_tolerance > 0.0f ? "adaptive sampling"
                                                                      : "reuse off";
-        out.stats.pixels_traced = out.stats.primary_rays;
+        out.stats.pixels_traced = sampled ? packet::Tiling(options.width, options.height, options.tiles).pixel_count()
+                                          : out.stats.primary_rays;
         out.stats.pixels_shadows_retraced = 0;
         out.stats.pixels_reused = 0;
         out.stats.pixels_filled = 0;

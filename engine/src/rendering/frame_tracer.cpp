@@ -38,11 +38,12 @@ void trace_adaptive(const detail::AdaptiveFrame& frame, const packet::Tiling& ti
 }  // namespace
 
 FrameSecondary::FrameSecondary(const TraceInputs& in, const TraceSettings& options,
-                               const detail::TileShading& shading, TraceScratch& scratch) {
+                               const detail::TileShading& shading, TraceScratch& scratch, int sample,
+                               int spp) {
     if (!detail::any_secondary(in.scene_materials, options.secondary)) return;
     const detail::SecondaryTracing tracing{in.accel, in.tracer, options.secondary, options.count_packet_work};
     frame_.emplace(detail::SecondaryFrame{tracing, in.lights, shading, in.scene_materials,
-                                          in.object_material, options.secondary_log});
+                                          in.object_material, options.secondary_log, sample, spp});
     stage_.emplace(*frame_, scratch.secondary);
 }
 
@@ -70,7 +71,7 @@ detail::TileShading frame_shading(const TraceInputs& in, const TraceSettings& op
 }
 
 void trace_frame(const TraceInputs& in, const Camera& camera, const TraceSettings& options,
-                 TraceScratch& scratch, RenderedFrame& out) {
+                 TraceScratch& scratch, RenderedFrame& out, const detail::SamplePass& sample) {
     const int width = options.width, height = options.height;
     const packet::PinholeRays rays(camera, width, height);
     // The tiles this trace renders: every one, or a process's share of them.
@@ -88,18 +89,24 @@ void trace_frame(const TraceInputs& in, const Camera& camera, const TraceSetting
     const bool count = options.count_packet_work;
 
     if (options.adaptive_tolerance > 0.0f) {
-        const detail::TilePass pass{in, rays, shading, nullptr, scratch.hits, width, count};
+        const detail::TilePass pass{in, rays, shading, nullptr, scratch.hits, width, count, sample};
         trace_adaptive(detail::AdaptiveFrame{pass, options.adaptive_tolerance}, tiling, out);
         return;
     }
 
-    FrameSecondary secondary(in, options, shading, scratch);
-    const detail::TilePass pass{in, rays, shading, secondary.stage(), scratch.hits, width, count};
+    FrameSecondary secondary(in, options, shading, scratch, sample.index, sample.sampling.spp);
+    const detail::TilePass pass{in, rays, shading, secondary.stage(), scratch.hits, width, count, sample};
     tbb::combinable<StageWork> work;
     const Stopwatch clock;
     tbb::parallel_for(0, tiling.count(), [&](int i) {
-        detail::EveryRay every{pass};
-        detail::trace_tile(pass, i, tiling.tile(i), every, work.local(), out);
+        const packet::Tile tile = tiling.tile(i);
+        if (sample.pixels != nullptr) {
+            detail::SomePixels some{pass, *sample.pixels, tile};
+            detail::trace_tile(pass, i, tile, some, work.local(), out);
+        } else {
+            detail::EveryRay every{pass};
+            detail::trace_tile(pass, i, tile, every, work.local(), out);
+        }
     });
     const StageWork sum = work.combine([](StageWork a, const StageWork& b) { return a += b; });
     detail::report_stages(sum, clock.elapsed_ms(), stats);

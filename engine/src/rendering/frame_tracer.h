@@ -7,6 +7,7 @@
 #include "dynrt/engine/camera.h"
 #include "dynrt/engine/renderer.h"
 #include "dynrt/packet/packet_shading.h"
+#include "rendering/pixel_samples.h"
 #include "rendering/secondary_rays.h"
 #include "dynrt/engine/trace_backend.h"
 #include "update/scene_accel.h"
@@ -42,6 +43,11 @@ struct TraceScratch {
     std::vector<bvh::InstanceHit> hits;
     std::vector<packet::ShadingLight> shading_lights;
     detail::SecondaryBuffers secondary;
+    /// Frames of several samples per pixel (sampled_frame.h): one sample pass's image, the
+    /// pixels' sums, and the pixels that take every sample.
+    RenderedFrame sample_pass;
+    std::vector<glm::vec3> sample_sum;
+    std::vector<std::uint8_t> refined;
 };
 
 /// Sizes `out` for options.width x options.height: the colour, and the hit buffers (depth,
@@ -57,8 +63,9 @@ detail::TileShading frame_shading(const TraceInputs& in, const TraceSettings& op
 /// reflection or refraction rays, else none; the frame it reads is kept beside it.
 class FrameSecondary {
 public:
+    /// `sample`: the pixel sample the frame's rays belong to, of `spp`.
     FrameSecondary(const TraceInputs& in, const TraceSettings& options,
-                   const detail::TileShading& shading, TraceScratch& scratch);
+                   const detail::TileShading& shading, TraceScratch& scratch, int sample = 0, int spp = 1);
     FrameSecondary(const FrameSecondary&) = delete;
     FrameSecondary& operator=(const FrameSecondary&) = delete;
 
@@ -76,7 +83,10 @@ private:
 /// a frame has some (FramePipeline::trace does). Sets the trace's fields of
 /// out.stats (primary, shadow and shade ms and rays, rays/s, interpolated pixels, packet work)
 /// and leaves the others as they are. Throws std::invalid_argument for a degenerate camera.
+/// `sample` says which sample of its pixels the frame traces (pixel_samples.h; by default each
+/// pixel's centre, options.sampling aside: sampled_frame.h makes frames of several): with
+/// sample.pixels, only those pixels' rays are traced, the others are written as misses.
 void trace_frame(const TraceInputs& in, const Camera& camera, const TraceSettings& options,
-                 TraceScratch& scratch, RenderedFrame& out);
+                 TraceScratch& scratch, RenderedFrame& out, const detail::SamplePass& sample = {});
 
 }  // namespace dynrt

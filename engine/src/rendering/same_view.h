@@ -17,7 +17,7 @@ inline bool same_camera(const Camera& a, const Camera& b) {
 
 inline bool same_lights(std::span<const PointLight> a, std::span<const PointLight> b) {
     return std::equal(a.begin(), a.end(), b.begin(), b.end(), [](const auto& x, const auto& y) {
-        return x.position == y.position && x.intensity == y.intensity;
+        return x == y;
     });
 }
 

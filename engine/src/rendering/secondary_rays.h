@@ -59,6 +59,9 @@ struct SecondaryFrame {
     std::span<const Material> materials;  ///< the scene's, same indices as shading.materials
     const std::vector<std::int32_t>& object_material;
     SecondaryRayLog* log = nullptr;  ///< TraceSettings::secondary_log
+    /// The pixel sample the frame's rays belong to (which point of an area light they see).
+    int sample = 0;
+    int spp = 1;
 };
 
 /// One thread's secondary work over a frame.

@@ -22,6 +22,7 @@
 #include "dynrt/packet/tiling.h"
 #include "dynrt/engine/stopwatch.h"
 #include "rendering/frame_tracer.h"
+#include "rendering/pixel_samples.h"
 #include "rendering/secondary_rays.h"
 #include "rendering/stage_work.h"
 #include "rendering/tile_shading.h"
@@ -36,17 +37,37 @@ namespace dynrt::detail {
 /// most of the cost of such a frame.
 class TileRays {
 public:
-    TileRays(const packet::PinholeRays& pinhole, const packet::Tile& tile) : pinhole_(pinhole), tile_(tile) {}
+    /// The rays of `sample`'s pass through the tile's pixels of an image `width` wide.
+    TileRays(const packet::PinholeRays& pinhole, const packet::Tile& tile, const SamplePass& sample, int width)
+        : pinhole_(pinhole), tile_(tile), sample_(sample), width_(width) {}
 
     packet::RayPacket& get() {
-        if (!filled_) pinhole_.fill_tile(tile_, rays_);
+        if (!filled_) fill();
         filled_ = true;
         return rays_;
     }
 
 private:
+    void fill() {
+        if (sample_.sampling.spp <= 1) {
+            pinhole_.fill_tile(tile_, rays_);
+            return;
+        }
+        thread_local packet::PixelOffsets offsets;
+        for (int lane = 0; lane < packet::kPacketRays; ++lane) {
+            const packet::LanePixel px = packet::tile_pixel(tile_, lane);
+            const glm::vec2 d = px.inside ? pixel_sample_offset(sample_.sampling, pixel_index(px, width_), sample_.index)
+                                          : glm::vec2(0.0f);
+            offsets.dx[lane] = d.x;
+            offsets.dy[lane] = d.y;
+        }
+        pinhole_.fill_tile(tile_, offsets, rays_);
+    }
+
     const packet::PinholeRays& pinhole_;
     const packet::Tile& tile_;
+    const SamplePass& sample_;
+    int width_;
     packet::RayPacket rays_;
     bool filled_ = false;
 };
@@ -61,8 +82,17 @@ struct TilePass {
     std::vector<bvh::InstanceHit>& hits;
     int width;
     bool count;  ///< traversal counters (TraceSettings::count_packet_work)
+    /// Which sample of its pixels the pass traces (pixel_samples.h): by default their centres.
+    SamplePass sample = {};
 
     TraceWork* trace_work(StageWork& work) const { return count ? &work.trace : nullptr; }
+
+    /// Makes `origins`' area-light points for its tile's hits (TileShadowOrigins::sample_lights).
+    void sample_lights(const packet::Tile& tile, TileShadowOrigins& origins) const {
+        origins.sample_lights(
+            in.lights, [&](int lane) { return pixel_index(packet::tile_pixel(tile, lane), width); }, sample.index,
+            sample.sampling.spp);
+    }
 };
 
 /// Tile number `index` of a frame: `choice` says, in this order, once each,
@@ -84,7 +114,7 @@ template <class Choice>
 void trace_tile(const TilePass& f, int index, const packet::Tile& tile, Choice& choice,
                 StageWork& work, RenderedFrame& out) {
     Stopwatch clock;
-    TileRays rays(f.pinhole, tile);
+    TileRays rays(f.pinhole, tile, f.sample, f.width);
     const packet::LaneMask traced = choice.camera_lanes(rays);
     if (traced.any()) {
         packet::RayPacket& camera = rays.get();
@@ -103,6 +133,7 @@ void trace_tile(const TilePass& f, int index, const packet::Tile& tile, Choice& 
     // The shadow rays start from the hit points, made from the camera rays' directions.
     TileShadowOrigins origins;
     origins.compute(f.in.accel, f.hits, f.width, tile, rays.get(), f.in.object_material);
+    f.sample_lights(tile, origins);
     thread_local std::vector<packet::LaneMask> visible;
     const bool shade = choice.shadows(origins, traced, rays, visible, work);
     work.shadow_ms += clock.lap_ms();
@@ -131,6 +162,36 @@ struct EveryRay {
         work.add_shadows(trace_tile_shadows(f.in.tracer, RayCoherence::tile, origins, f.in.lights, shadow,
                                             visible, f.trace_work(work)));
         return true;
+    }
+    void written(const TileShadowOrigins&, TileRays&, RenderedFrame&) {}
+    bool gathers_secondary() const { return true; }
+};
+
+/// A sample pass's choice of rays when it traces only some pixels (SamplePass::pixels: those
+/// adaptive anti-aliasing refines): their camera rays and shadow rays; the tile's other pixels
+/// are made misses, so that nothing is traced or gathered for them (their colours in this
+/// pass's frame are the background's, and unused).
+struct SomePixels {
+    const TilePass& f;
+    const std::vector<std::uint8_t>& pixels;
+    const packet::Tile& tile;
+
+    packet::LaneMask camera_lanes(TileRays& rays) {
+        packet::LaneMask chosen;
+        rays.get().active.for_each([&](int lane) {
+            const std::size_t p = pixel_index(packet::tile_pixel(tile, lane), f.width);
+            if (pixels[p] != 0) {
+                chosen.set(lane);
+            } else {
+                f.hits[p] = bvh::InstanceHit{};
+            }
+        });
+        return chosen;
+    }
+    bool may_change(const packet::LaneMask& traced) { return traced.any(); }
+    bool shadows(const TileShadowOrigins& origins, const packet::LaneMask& traced, TileRays& rays,
+                 std::vector<packet::LaneMask>& visible, StageWork& work) {
+        return EveryRay{f}.shadows(origins, traced, rays, visible, work);
     }
     void written(const TileShadowOrigins&, TileRays&, RenderedFrame&) {}
     bool gathers_secondary() const { return true; }

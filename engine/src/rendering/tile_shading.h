@@ -16,6 +16,7 @@
 #include "dynrt/packet/simd.h"
 #include "dynrt/packet/ray_packet.h"
 #include "dynrt/packet/tiling.h"
+#include "rendering/pixel_samples.h"
 #include "update/scene_accel.h"
 #include "dynrt/engine/shadow_ray_offset.h"
 
@@ -101,6 +102,40 @@ struct TileShadowOrigins {
     alignas(64) std::uint32_t prim[packet::kPacketRays];
     alignas(64) float bary[2][packet::kPacketRays];
     alignas(64) float twice_area[packet::kPacketRays];
+
+    /// Per light, the point of it each hit lane's shadow ray and shading use: one sample of an
+    /// area light per pixel sample (sample_lights). Empty when every light is a point.
+    struct LightLanes {
+        alignas(64) float point[3][packet::kPacketRays];
+        bool sampled = false;  ///< an area light's (a point light's entry is unused)
+    };
+    std::vector<LightLanes> light_lanes;
+
+    /// Fills light_lanes for `lights` (light_sample_point): hit lane k takes the point of
+    /// sample `sample` of `spp` of pixel `pixel_of(k)`. Nothing when every light is a point.
+    template <typename PixelOf>
+    void sample_lights(std::span<const PointLight> lights, PixelOf&& pixel_of, int sample, int spp) {
+        light_lanes.clear();
+        if (std::none_of(lights.begin(), lights.end(),
+                         [](const PointLight& l) { return l.shape != PointLight::Shape::point; })) {
+            return;
+        }
+        light_lanes.resize(lights.size());
+        for (std::size_t l = 0; l < lights.size(); ++l) {
+            if (lights[l].shape == PointLight::Shape::point) continue;
+            LightLanes& lanes = light_lanes[l];
+            lanes.sampled = true;
+            surface.hit.for_each([&](int lane) {
+                const glm::vec3 at = light_sample_point(lights[l], std::uint32_t(l), pixel_of(lane), sample, spp);
+                for (int a = 0; a < 3; ++a) lanes.point[a][lane] = at[a];
+            });
+        }
+    }
+
+    /// Light l's points per lane (x, y, z arrays), or null when it is a point light.
+    const float* light_points(std::size_t l) const {
+        return l < light_lanes.size() && light_lanes[l].sampled ? &light_lanes[l].point[0][0] : nullptr;
+    }
 
     /// `primary` holds the tile's camera rays (lane tile_lane(tile, x, y)); object i has
     /// material object_material[i].
@@ -251,18 +286,25 @@ struct TileShadowOrigins {
     /// shading normal faces it by the very cosine computed here (packet::light_cosine), and a
     /// term of intensity 0 is +0 (its factors are finite and the lit lanes' cosine positive),
     /// which leaves every colour's bits as they are.
-    int rays_to(const PointLight& light, packet::RayPacket& out) const {
+    /// An area light's rays leave each lane's own point of it (light_lanes).
+    int rays_to(const PointLight& light, std::size_t l, packet::RayPacket& out) const {
         using L = packet::simd::Lanes<packet::simd::kNativeLanes>;
         using F = L::F;
         constexpr int W = packet::simd::kNativeLanes;
         out.clear();
         if (light.intensity == 0.0f) return 0;
         int shading_away = 0;
-        const F lx = L::splat(light.position.x), ly = L::splat(light.position.y),
-                lz = L::splat(light.position.z);
+        const float* points = light_points(l);
+        F lx = L::splat(light.position.x), ly = L::splat(light.position.y), lz = L::splat(light.position.z);
         for (int base = 0; base < packet::kPacketRays; base += W) {
             const std::uint32_t lanes = surface.hit.extract(base, W);
             if (lanes == 0) continue;
+            if (points != nullptr) {
+                lx = L::load(points + base);
+                ly = L::load(points + packet::kPacketRays + base);
+                lz = L::load(points + 2 * packet::kPacketRays + base);
+            }
+            const F light_at[3] = {lx, ly, lz};
             const F p[3] = {L::load(surface.point[0] + base), L::load(surface.point[1] + base),
                             L::load(surface.point[2] + base)};
             const F to_x = lx - p[0], to_y = ly - p[1], to_z = lz - p[2];
@@ -276,7 +318,7 @@ struct TileShadowOrigins {
                             L::load(surface.shading_normal[2] + base)};
             F unit[3];
             const std::uint32_t lit =
-                L::bits(packet::light_cosine<W>(p, s, light.position, unit) > L::splat(0.0f)) & faces;
+                L::bits(packet::light_cosine<W>(p, s, light_at, unit) > L::splat(0.0f)) & faces;
             shading_away += std::popcount(faces & ~lit);
             if (lit == 0) continue;
             const F ox = L::load(origin[0] + base), oy = L::load(origin[1] + base),
@@ -490,7 +532,15 @@ inline void shade_lanes(const TileShading& shading, const TileShadowOrigins& ori
     const packet::SurfacePacket& surface = origins.surface;
     if (surface.hit.any()) {
         const packet::DiffuseTint* tint = shading.textures ? tint_lanes(*shading.textures, origins) : nullptr;
-        packet::shade(surface, shading.materials, shading.lights, visible, shading.ambient, colors,
+        std::span<const packet::ShadingLight> lights = shading.lights;
+        if (!origins.light_lanes.empty()) {
+            // Area lights: each lane lit from its own sample of the light.
+            thread_local std::vector<packet::ShadingLight> sampled;
+            sampled.assign(lights.begin(), lights.end());
+            for (std::size_t l = 0; l < sampled.size(); ++l) sampled[l].lane_position = origins.light_points(l);
+            lights = sampled;
+        }
+        packet::shade(surface, shading.materials, lights, visible, shading.ambient, colors,
                       shading.lanes, tint);
     }
 }

@@ -38,7 +38,7 @@ inline ShadowCounts trace_tile_shadows(const TraceBackend& tracer, RayCoherence 
     ShadowCounts counts;
     const auto hits = std::size_t(origins.surface.hit.count());
     for (std::size_t l = 0; l < lights.size() && hits > 0; ++l) {
-        const auto shading_away = std::size_t(origins.rays_to(lights[l], shadow));
+        const auto shading_away = std::size_t(origins.rays_to(lights[l], l, shadow));
         const auto cast = std::size_t(shadow.active.count());
         counts.add(lights[l], hits, cast, shading_away);
         if (cast == 0) continue;

@@ -208,6 +208,17 @@ struct RenderSettings {
     /// frame after frame. Default: the whole image.
     int tile_share = 0;
     int tile_shares = 1;  ///< how many shares the image is split into (see tile_share)
+    /// Samples per pixel, 1 to 4096 (docs/rendering.md "Samples per pixel and area lights"):
+    /// stratified per pixel, the same bits on any number of threads; 1 is each pixel's
+    /// centre. Above 1 every pixel is traced (no pixel reuse), depth and mesh come from each
+    /// pixel's first sample, and area lights take one point per sample.
+    int samples_per_pixel = 1;
+    /// The reconstruction filter of several samples: "box", "tent" or "blackman-harris".
+    std::string filter = "blackman-harris";
+    /// Adaptive anti-aliasing: above 0, every pixel takes one sample and only those differing
+    /// from a neighbour by more than this (per channel, colours clamped to [0, 1]) or showing
+    /// another mesh take samples_per_pixel. Needs the whole image (tile_shares 1).
+    float aa_contrast = 0.0f;
 };
 
 /// A batch of rays held as separate arrays rather than as dynrt::Ray structs: the layout of

@@ -95,10 +95,25 @@ struct View {
     float fov_y_deg = 45.0f;
 };
 
-/// A point light; no distance falloff.
+/// What a light is sampled over: a point (hard shadows), a sphere's surface or a parallelogram
+/// (area lights: soft shadows, one point of the light per pixel sample; RenderSettings::samples_per_pixel).
+enum class LightShape : std::uint8_t {
+    point,   ///< a point at Light::position
+    sphere,  ///< a sphere's surface, centre Light::position, radius Light::radius
+    quad,    ///< a parallelogram centred on Light::position, spanned by Light::edge_u and Light::edge_v
+};
+
+/// A light; no distance falloff. An area light lights a point as the mean of point lights of
+/// its intensity over its surface.
 struct Light {
-    Vec3 position;           ///< where the light is, in world space
+    Vec3 position;           ///< where the light is (an area light's centre), in world space
     float intensity = 1.0f;  ///< what the light's colour is multiplied by, >= 0
+    LightShape shape = LightShape::point;  ///< a point, or the area it is sampled over
+    float radius = 0.0f;     ///< a sphere light's radius, > 0
+    /// A quad light's edges: its points are position + a edge_u + b edge_v, a and b in
+    /// [-1/2, 1/2]; not parallel.
+    Vec3 edge_u{0.0f, 0.0f, 0.0f};
+    Vec3 edge_v{0.0f, 0.0f, 0.0f};  ///< a quad light's second edge (see edge_u)
 };
 
 /// A mesh's material: Phong terms plus Whitted's mirror and refraction weights (docs/rendering.md

@@ -85,6 +85,16 @@ packet::PacketCulling parse_culling_item(const std::string& item);
 /// adaptive swept twice.
 std::vector<float> take_adaptive_sweep(std::vector<std::string>& sweeps);
 
+/// Takes the samples-per-pixel sweep, if any, out of `sweeps`: "spp=1,4,16" gives
+/// PixelSampling::spp values in order; none gives {}. Throws std::invalid_argument for an empty
+/// list, a value that is not a whole number from 1 to 4096, or spp swept twice.
+std::vector<int> take_spp_sweep(std::vector<std::string>& sweeps);
+
+/// Takes the adaptive anti-aliasing sweep, if any: "aa=0,0.05" gives
+/// PixelSampling::adaptive_contrast values in order (0: every pixel takes every sample); none
+/// gives {}. Throws as take_adaptive_sweep.
+std::vector<float> take_aa_sweep(std::vector<std::string>& sweeps);
+
 /// Takes the pixel reuse sweep, if any, out of `sweeps`: "reuse=off,exact,cache:0.25,
 /// frameless:8ms" gives the TraceSettings::reuse values in order, each read by parse_reuse.
 /// No reuse sweep gives {}. Throws std::invalid_argument for an empty list, an item

@@ -41,6 +41,8 @@ struct SequenceErrorRow {
     std::string label;
     ReuseSettings reuse;
     float adaptive_tolerance = 0.0f;
+    /// Samples per pixel and adaptive anti-aliasing (label: " + 16 spp", " + 16 spp aa 0.05").
+    PixelSampling sampling;
     Spread total_ms;  ///< ms per frame, median (min-max)
     double mean_ms = 0.0;
     /// The full render's median ms per frame over this one's (1 for the full render itself).
@@ -71,7 +73,9 @@ struct SequenceErrorBench {
     int height = 0;
 };
 
-/// `base` as the exact full render: reuse off, adaptive tolerance 0.
+/// `base` as the exact full render: reuse off, adaptive tolerance 0, base's own samples per
+/// pixel without adaptive anti-aliasing (`--spp 256` makes it a converged reference for the
+/// sampling settings the rows sweep).
 RenderOptions full_render_options(const RenderOptions& base);
 
 /// Renders frames `range` of `scene` `runs` times (each run from empty trees and a new

@@ -182,6 +182,11 @@ struct TraceStats {
     std::size_t pixels_shadows_retraced = 0;
     std::size_t pixels_reused = 0;
     std::size_t pixels_filled = 0;
+    /// Samples per pixel (TraceSettings::sampling.spp; primary_rays counts the camera rays of
+    /// every sample), and with adaptive anti-aliasing the pixels that took all of them (the
+    /// others took one); with every pixel sampled alike, all the traced pixels.
+    int samples_per_pixel = 1;
+    std::size_t pixels_refined = 0;
 };
 
 /// Where a frame of a render across processes (`mpirun dynrt render`) was made, and what the

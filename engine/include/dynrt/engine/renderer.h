@@ -75,6 +75,7 @@
 #include "dynrt/engine/camera.h"
 #include "dynrt/engine/frame_stats.h"
 #include "dynrt/engine/pixel_reuse.h"
+#include "dynrt/engine/pixel_sampling.h"
 #include "dynrt/engine/secondary_ray_log.h"
 #include "dynrt/engine/trace_backend.h"
 #include "dynrt/engine/texture_figures.h"
@@ -132,6 +133,13 @@ struct TraceSettings {
     /// Larger is faster and less exact. What can still go wrong is in docs/reuse.md "Approximate
     /// rendering".
     float adaptive_tolerance = 0.0f;
+    /// Samples per pixel, their reconstruction filter and adaptive anti-aliasing
+    /// (pixel_sampling.h): one sample at each pixel's centre by default. Above one, each sample
+    /// is a pass of the whole pipeline and area lights are sampled once per pixel sample;
+    /// pixel reuse then traces every pixel (the reason "samples per pixel"); interpolating
+    /// adaptive sampling (adaptive_tolerance) is refused, and so is adaptive anti-aliasing
+    /// over a tile share (it compares pixels with their neighbours).
+    PixelSampling sampling;
     /// How the frame reuses the previous trace's pixels (pixel_reuse.h): exact by default,
     /// which re-traces only the rays that may meet what changed and gives the same bits as a
     /// full render. Exact reuse needs the same RenderedFrame as the previous trace, unchanged

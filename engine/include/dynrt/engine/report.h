@@ -83,4 +83,9 @@ void print_secondary_summary(std::ostream& out, const std::vector<FrameStats>& f
 /// rays.
 void print_shadow_summary(std::ostream& out, const std::vector<FrameStats>& frames);
 
+/// Prints the samples' line (medians over `frames`) of frames with several samples per pixel:
+/// samples per pixel, the pixels that took them all (adaptive anti-aliasing refines some),
+/// camera rays per pixel; nothing at one sample per pixel.
+void print_sampling_summary(std::ostream& out, const std::vector<FrameStats>& frames);
+
 }  // namespace dynrt

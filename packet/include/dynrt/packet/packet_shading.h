@@ -50,6 +50,9 @@ struct PhongMaterial {
 struct ShadingLight {
     glm::vec3 position{0.0f};
     float intensity = 1.0f;
+    /// When not null, each lane's own position instead of `position` (an area light's point
+    /// for that lane's sample): x, y, z arrays of kPacketRays floats, one after the other.
+    const float* lane_position = nullptr;
 };
 
 /// Per-lane factors of the material's diffuse colour (a texture's colour at each hit): lanes in

@@ -23,6 +23,13 @@ struct PinholeCamera {
     float fov_y_deg = 45.0f;
 };
 
+/// Per lane of a tile packet (lane tile_lane(tile, x, y)), how far its ray's point lies from
+/// the pixel's centre, in pixels: a pixel's sample (dynrt/engine/pixel_sampling.h).
+struct alignas(64) PixelOffsets {
+    alignas(64) float dx[kPacketRays];
+    alignas(64) float dy[kPacketRays];
+};
+
 /// A camera's precomputed basis for one image size.
 class PinholeRays {
 public:
@@ -33,9 +40,15 @@ public:
     /// The ray of pixel (x, y), y = 0 the top row, one at a time.
     bvh::Ray ray(int x, int y) const;
 
+    /// The ray through image point (x + 1/2, y + 1/2) in pixels: ray(x, y) at whole x and y.
+    bvh::Ray ray_at(float x, float y) const;
+
     /// Fills `packet` with the rays of `tile`, pixel (x, y) in lane tile_lane(tile, x, y), like
     /// fill_tile(tile, ray, packet) but in SIMD. Thread-safe.
     void fill_tile(const Tile& tile, RayPacket& packet) const;
+    /// The same through each pixel's point moved by `offsets`: lane k's ray is
+    /// ray_at(x + dx[k], y + dy[k]), by the same operations in the same order.
+    void fill_tile(const Tile& tile, const PixelOffsets& offsets, RayPacket& packet) const;
 
 private:
     glm::vec3 eye_, fwd_, right_, up_;

@@ -140,9 +140,26 @@ struct Object {
     std::optional<MorphTargets> morph;
 };
 
+/// A light of dynrt's shading model (no distance falloff): a point, or an area light around
+/// `position` (`shape`).
 struct PointLight {
+    /// What a light is sampled over: a point, which casts hard shadows, or an area (a sphere's
+    /// surface or a parallelogram), which casts soft ones. An area light lights a hit as the
+    /// mean of point lights of the same intensity over its surface, estimated with one point
+    /// per pixel sample (TraceSettings::sampling; docs/rendering.md "Samples per pixel and
+    /// area lights").
+    enum class Shape : std::uint8_t { point, sphere, quad };
+
     glm::vec3 position{0.0f};
     float intensity = 1.0f;
+    Shape shape = Shape::point;
+    /// A sphere light's radius (> 0).
+    float radius = 0.0f;
+    /// A quad light's two edges: its points are position + a edge_u + b edge_v for a, b in
+    /// [-1/2, 1/2] (so `position` is its centre); not parallel.
+    glm::vec3 edge_u{0.0f}, edge_v{0.0f};
+
+    bool operator==(const PointLight&) const = default;
 };
 
 struct Scene {

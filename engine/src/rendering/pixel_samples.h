@@ -1,0 +1,72 @@
+#pragma once
+// Where a pixel's samples go and which point of an area light each of them sees
+// (dynrt/engine/pixel_sampling.h has the model and its papers): a (0,2)-sequence scrambled per
+// pixel, moved by the reconstruction filter's distribution, and the same sequence for the
+// lights' points, scrambled and ordered otherwise.
+
+#include "dynrt/engine/pixel_sampling.h"
+#include "dynrt/packet/ray_packet.h"
+#include "dynrt/scene/scene.h"
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+#include <cstdint>
+#include <vector>
+
+namespace dynrt::detail {
+
+/// One pass of a frame's samples: sample `index` of `sampling.spp` for each pixel it traces.
+/// The default is a frame of one sample per pixel, at the pixels' centres.
+struct SamplePass {
+    PixelSampling sampling;
+    int index = 0;
+    /// Per pixel (y * width + x), non-zero where this pass traces it; null: every pixel.
+    const std::vector<std::uint8_t>* pixels = nullptr;
+};
+
+/// Pixel `px`'s index in an image `width` wide: y * width + x, what its samples are hashed by.
+inline std::uint32_t pixel_index(const packet::LanePixel& px, int width) {
+    return std::uint32_t(px.y) * std::uint32_t(width) + std::uint32_t(px.x);
+}
+
+/// A 32-bit hash of `value` under `salt` (a murmur3-style finaliser): the per-pixel scrambles.
+constexpr std::uint32_t sample_hash(std::uint32_t value, std::uint32_t salt) {
+    std::uint32_t h = value * 0x9e3779b9u ^ salt;
+    h ^= h >> 16;
+    h *= 0x85ebca6bu;
+    h ^= h >> 13;
+    h *= 0xc2b2ae35u;
+    h ^= h >> 16;
+    return h;
+}
+
+/// Point `index` of the (0,2)-sequence in base 2 (the van der Corput sequence and Sobol's
+/// second dimension), its digits XOR-scrambled by `scramble_x` and `scramble_y`; in [0, 1)^2.
+glm::vec2 scrambled_point(std::uint32_t index, std::uint32_t scramble_x, std::uint32_t scramble_y);
+
+/// The offset from a pixel's centre, in pixels, of the sample at `u` (in [0, 1)^2) under
+/// `filter`: each axis through the inverse of the filter's cumulative distribution. Within
+/// [-1/2, 1/2] for the box, [-1, 1] for the tent, [-0.75, 0.75] for Blackman-Harris.
+glm::vec2 filter_offset(PixelFilter filter, glm::vec2 u);
+
+/// The filter's normalised weight at offset `x` (pixels) along one axis: its distribution's
+/// density, which filter_offset inverts (for the tests: it integrates to one).
+float filter_density(PixelFilter filter, float x);
+
+/// The offset from pixel `pixel`'s centre (its index y * width + x) of its sample `sample` of
+/// `spp`: the centre itself at one sample per pixel.
+inline glm::vec2 pixel_sample_offset(const PixelSampling& sampling, std::uint32_t pixel, int sample) {
+    if (sampling.spp <= 1) return glm::vec2(0.0f);
+    return filter_offset(sampling.filter, scrambled_point(std::uint32_t(sample), sample_hash(pixel, 0x51ed27u),
+                                                          sample_hash(pixel, 0x2c1b3c6du)));
+}
+
+/// The point of area light `light` (light number `index` of the frame) that sample `sample`
+/// of `spp` of pixel `pixel` sees: a point of the light's own scramble of the sequence,
+/// taken in an order rotated per pixel so that it is not tied to where the sample lies in the
+/// pixel; uniform over a sphere's surface or the quad. A point light's position otherwise.
+glm::vec3 light_sample_point(const PointLight& light, std::uint32_t index, std::uint32_t pixel,
+                             int sample, int spp);
+
+}  // namespace dynrt::detail

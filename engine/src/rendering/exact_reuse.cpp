@@ -28,7 +28,19 @@ bool same_image_settings(const TraceSettings& a, const TraceSettings& b) {
            a.hit_buffers == b.hit_buffers && a.background == b.background &&
            a.ambient == b.ambient && a.packet.lanes == b.packet.lanes &&
            a.secondary.max_depth == b.secondary.max_depth && a.secondary.cutoff == b.secondary.cutoff &&
-           a.smooth_normals == b.smooth_normals && a.tiles == b.tiles;
+           a.smooth_normals == b.smooth_normals && a.tiles == b.tiles && a.sampling == b.sampling;
+}
+
+/// Whether the shadow rays of `light` toward end points in `ends` may meet `space`'s boxes
+/// (select_hull into `near` when `near` is not null): they lie in the hull of the light's
+/// position and `ends` for a point light; an area light's leave anywhere on it, so they lie in
+/// the box of the light's bounds and `ends` (the hull of its centre and that box).
+bool shadows_may_meet(const ChangedSpace& space, const PointLight& light, const bvh::Aabb& ends,
+                      ChangedSpace* near) {
+    bvh::Aabb points = ends;
+    if (light.shape != PointLight::Shape::point) points.extend(light_bounds(light));
+    return near != nullptr ? space.select_hull(light.position, points, *near)
+                           : space.meets_hull(light.position, points);
 }
 
 /// The terms of a material that the shading kernel's PhongMaterial leaves out.
@@ -209,11 +221,14 @@ struct ReuseFrame {
 packet::LaneMask changed_primary(const ReuseFrame& f, int t, const packet::Tile& tile,
                                  TileRays& rays, ChangedSpace& near) {
     if (f.all) return rays.get().active;
-    // The corner pixels' rays (padding covers their rounding against fill_tile's).
+    // The corner pixels' rays (padding covers their rounding against fill_tile's), moved out
+    // by the reconstruction filter's reach when the pixels take jittered samples.
     const packet::PinholeRays& pinhole = f.pass.pinhole;
-    const glm::vec3 corners[4] = {pinhole.ray(tile.x0, tile.y0).dir, pinhole.ray(tile.x1 - 1, tile.y0).dir,
-                                  pinhole.ray(tile.x0, tile.y1 - 1).dir,
-                                  pinhole.ray(tile.x1 - 1, tile.y1 - 1).dir};
+    const float r = f.pass.sample.sampling.spp > 1 ? filter_radius(f.pass.sample.sampling.filter) : 0.0f;
+    const float x0 = float(tile.x0) - r, x1 = float(tile.x1 - 1) + r;
+    const float y0 = float(tile.y0) - r, y1 = float(tile.y1 - 1) + r;
+    const glm::vec3 corners[4] = {pinhole.ray_at(x0, y0).dir, pinhole.ray_at(x1, y0).dir,
+                                  pinhole.ray_at(x0, y1).dir, pinhole.ray_at(x1, y1).dir};
     // Only the boxes the tile's pyramid may meet are tested further.
     if (!f.space.select_pyramid(f.camera.eye, corners, near) ||
         (f.memory.all_hit[t] && !near.meets_hull(f.camera.eye, f.memory.hit_points[t]))) {
@@ -255,7 +270,7 @@ packet::LaneMask retrace_shadows(const ReuseFrame& f, int t, const TileShadowOri
             tw.add_skipped_shadows(fresh);
         }
         packet::LaneMask retrace = lit & primary;
-        if (f.space.select_hull(lights[l].position, f.memory.shadow_ends[slot], near)) {
+        if (shadows_may_meet(f.space, lights[l], f.memory.shadow_ends[slot], &near)) {
             // Shadow rays run from the light over t in [0, 1].
             const packet::LaneMask meets = near.meets_rays(shadow, shadow.tmax, lit & ~primary);
             retrace |= meets;
@@ -297,8 +312,8 @@ public:
         const std::span<const PointLight> lights = f_.pass.in.lights;
         bool shadows_may_change = false;
         for (std::size_t l = 0; l < lights.size() && !shadows_may_change; ++l) {
-            shadows_may_change = f_.space.meets_hull(lights[l].position,
-                                                     f_.memory.shadow_ends[std::size_t(t_) * lights.size() + l]);
+            shadows_may_change = shadows_may_meet(
+                f_.space, lights[l], f_.memory.shadow_ends[std::size_t(t_) * lights.size() + l], nullptr);
         }
         secondary_here_ = f_.pass.secondary &&
                           tile_spawns_secondary(f_.pass.in, tile_, f_.pass.width, f_.pass.hits);
@@ -343,7 +358,7 @@ private:
 
 void trace_frame_reusing(const TraceInputs& in, const Camera& camera, const TraceSettings& options,
                          const ReusePlan& plan, ReuseMemory& memory, TraceScratch& scratch,
-                         RenderedFrame& out) {
+                         RenderedFrame& out, const SamplePass& sample) {
     const int width = options.width, height = options.height;
     const std::size_t pixels = std::size_t(width) * std::size_t(height);
     const packet::PinholeRays pinhole(camera, width, height);
@@ -386,8 +401,8 @@ void trace_frame_reusing(const TraceInputs& in, const Camera& camera, const Trac
     const ChangedSpace space(plan.changed, scale);
 
     const bool count = options.count_packet_work;
-    FrameSecondary secondary(in, options, shading, scratch);
-    const TilePass pass{in, pinhole, shading, secondary.stage(), scratch.hits, width, count};
+    FrameSecondary secondary(in, options, shading, scratch, sample);
+    const TilePass pass{in, pinhole, shading, secondary.stage(), scratch.hits, width, count, sample};
     const ReuseFrame frame{pass, camera, space, memory, plan.full};
     tbb::combinable<StageWork> work;
     // Per thread, the changed boxes near the tile at hand (storage reused across tiles).

@@ -93,10 +93,11 @@ ReusePlan plan_exact_reuse(const ReuseMemory& memory, const ReuseInputs& now);
 
 /// Traces the frame as `plan` says into `out` (its pixels kept where nothing changed), sets
 /// out.stats' trace fields and the reuse fields, and records `memory`'s per-tile part
-/// (the caller records the rest with remember_inputs).
+/// (the caller records the rest with remember_inputs). `sample`: which sample of its pixels
+/// the frame is (a pass of several samples per pixel keeps a memory of its own; sampled_frame.h).
 void trace_frame_reusing(const TraceInputs& in, const Camera& camera, const TraceSettings& options,
                          const ReusePlan& plan, ReuseMemory& memory, TraceScratch& scratch,
-                         RenderedFrame& out);
+                         RenderedFrame& out, const SamplePass& sample = {});
 
 /// Records `now` in `memory` after a trace with exact reuse and stamps `out` and it.
 void remember_inputs(const ReuseInputs& now, ReuseMemory& memory, RenderedFrame& out);

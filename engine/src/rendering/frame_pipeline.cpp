@@ -92,6 +92,7 @@ void FramePipeline::clear_trees() {
     if (backend_) backend_->forget();
     updated_ = false;
     reuse_.valid = false;
+    sampled_reuse_.clear();
     pixel_cache_.valid = false;
     camera_moving_ = false;
     versions_.clear();
@@ -197,13 +198,17 @@ void FramePipeline::trace(const Scene& scene, const Camera& camera, const TraceS
     // Several samples per pixel: every pixel traced (the reuse modes keep one sample's record).
     const bool approximate = options.reuse.approximate() && options.adaptive_tolerance == 0.0f &&
                              !secondary && !sampled;
-    const bool exact = options.reuse.mode == PixelReuse::exact && options.adaptive_tolerance == 0.0f && !sampled;
+    // Exact reuse takes several samples per pixel too (a memory per sample), unless adaptive
+    // anti-aliasing picks other pixels for them from frame to frame.
+    const bool adaptive_aa = sampled && options.sampling.adaptive_contrast > 0.0f;
+    const bool exact = options.reuse.mode == PixelReuse::exact && options.adaptive_tolerance == 0.0f && !adaptive_aa;
     // The camera moved at the last trace and moves again: a full trace either way, and
     // recording what exact reuse needs per tile cost 9% of it over BART kitchen's path. Traced
     // plainly; once the camera holds still for a frame, that frame records again.
     const bool camera_moving = exact && camera_moving_ && !detail::same_camera(camera, last_camera_);
     if (approximate) {
         reuse_.valid = false;
+        sampled_reuse_.clear();
         out.reuse_stamp = 0;
         detail::trace_frame_approximate(inputs, camera, options, accel_.object_world_boxes(),
                                         versions_.versions(), pixel_cache_, scratch_, out);
@@ -215,13 +220,21 @@ void FramePipeline::trace(const Scene& scene, const Camera& camera, const TraceS
                                       accel_.object_world_boxes(),
                                       versions_.versions(), out.reuse_stamp,
                                       versions_.parts(accel_)};
-        const detail::ReusePlan plan = detail::plan_exact_reuse(reuse_, now);
-        detail::trace_frame_reusing(inputs, camera, options, plan, reuse_, scratch_, out);
-        detail::remember_inputs(now, reuse_, out);
-        camera_moving_ = plan.full && plan.reason == detail::kCameraMoved;
+        if (sampled) {
+            reuse_.valid = false;
+            const detail::ReusePlan plan = sampled_reuse_.trace(inputs, now, options, out);
+            camera_moving_ = plan.full && plan.reason == detail::kCameraMoved;
+        } else {
+            sampled_reuse_.clear();
+            const detail::ReusePlan plan = detail::plan_exact_reuse(reuse_, now);
+            detail::trace_frame_reusing(inputs, camera, options, plan, reuse_, scratch_, out);
+            detail::remember_inputs(now, reuse_, out);
+            camera_moving_ = plan.full && plan.reason == detail::kCameraMoved;
+        }
     } else {
         // Every pixel traced (or sampled, adaptively): nothing is kept for the next frame.
         reuse_.valid = false;
+        sampled_reuse_.clear();
         pixel_cache_.valid = false;
         out.reuse_stamp = 0;
         if (sampled) {
@@ -236,7 +249,7 @@ void FramePipeline::trace(const Scene& scene, const Camera& camera, const TraceS
         const bool reuse_asked = options.reuse.mode != PixelReuse::off || options.adaptive_tolerance > 0.0f;
         out.stats.reuse_mode = pixel_reuse_name(camera_moving ? PixelReuse::exact : PixelReuse::off);
         out.stats.reuse_reason = camera_moving                       ? "camera moving"
-                                 : sampled && reuse_asked             ? "samples per pixel"
+                                 : adaptive_aa && reuse_asked         ? "adaptive anti-aliasing"
                                  : secondary && reuse_asked           ? "secondary rays"
                                  : options.adaptive_tolerance > 0.0f ? "adaptive sampling"
                                                                      : "reuse off";

@@ -20,6 +20,7 @@
 #include "rendering/exact_reuse.h"
 #include "rendering/frame_tracer.h"
 #include "rendering/object_versions.h"
+#include "rendering/sampled_frame.h"
 #include "rendering/scene_textures.h"
 #include "update/scene_accel.h"
 
@@ -111,8 +112,10 @@ private:
     detail::SceneTextures textures_;
     /// What pixel reuse compares between traces: each object's geometry version, and its parts.
     ObjectVersions versions_;
-    /// Exact reuse's memory of the last trace with it.
+    /// Exact reuse's memory of the last trace with it; with several samples per pixel, one
+    /// per sample.
     detail::ReuseMemory reuse_;
+    detail::SampledReuse sampled_reuse_;
     /// Exact reuse: the last trace was a full one because the camera had moved, and its
     /// camera (a camera that keeps moving is traced without recording reuse memory).
     bool camera_moving_ = false;

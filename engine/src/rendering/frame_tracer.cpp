@@ -38,12 +38,12 @@ void trace_adaptive(const detail::AdaptiveFrame& frame, const packet::Tiling& ti
 }  // namespace
 
 FrameSecondary::FrameSecondary(const TraceInputs& in, const TraceSettings& options,
-                               const detail::TileShading& shading, TraceScratch& scratch, int sample,
-                               int spp) {
+                               const detail::TileShading& shading, TraceScratch& scratch,
+                               const detail::SamplePass& sample) {
     if (!detail::any_secondary(in.scene_materials, options.secondary)) return;
     const detail::SecondaryTracing tracing{in.accel, in.tracer, options.secondary, options.count_packet_work};
     frame_.emplace(detail::SecondaryFrame{tracing, in.lights, shading, in.scene_materials,
-                                          in.object_material, options.secondary_log, sample, spp});
+                                          in.object_material, options.secondary_log, sample});
     stage_.emplace(*frame_, scratch.secondary);
 }
 
@@ -73,7 +73,9 @@ detail::TileShading frame_shading(const TraceInputs& in, const TraceSettings& op
 void trace_frame(const TraceInputs& in, const Camera& camera, const TraceSettings& options,
                  TraceScratch& scratch, RenderedFrame& out, const detail::SamplePass& sample) {
     const int width = options.width, height = options.height;
-    const packet::PinholeRays rays(camera, width, height);
+    // The image's camera: a pass over a list of samples has a frame of its own shape.
+    const packet::PinholeRays rays(camera, sample.samples ? sample.image_width : width,
+                                   sample.samples ? sample.image_height : height);
     // The tiles this trace renders: every one, or a process's share of them.
     const packet::Tiling tiling(width, height, options.tiles);
     TraceStats& stats = out.stats;  // the trace stage fills its part only
@@ -94,7 +96,7 @@ void trace_frame(const TraceInputs& in, const Camera& camera, const TraceSetting
         return;
     }
 
-    FrameSecondary secondary(in, options, shading, scratch, sample.index, sample.sampling.spp);
+    FrameSecondary secondary(in, options, shading, scratch, sample);
     const detail::TilePass pass{in, rays, shading, secondary.stage(), scratch.hits, width, count, sample};
     tbb::combinable<StageWork> work;
     const Stopwatch clock;

@@ -48,6 +48,9 @@ struct TraceScratch {
     RenderedFrame sample_pass;
     std::vector<glm::vec3> sample_sum;
     std::vector<std::uint8_t> refined;
+    /// Adaptive anti-aliasing's pass: the refined pixels' other samples, and its frame's mask.
+    std::vector<detail::PixelSample> refined_samples;
+    std::vector<std::uint8_t> listed;
 };
 
 /// Sizes `out` for options.width x options.height: the colour, and the hit buffers (depth,
@@ -63,9 +66,9 @@ detail::TileShading frame_shading(const TraceInputs& in, const TraceSettings& op
 /// reflection or refraction rays, else none; the frame it reads is kept beside it.
 class FrameSecondary {
 public:
-    /// `sample`: the pixel sample the frame's rays belong to, of `spp`.
+    /// `sample`: the pixel samples the frame's rays belong to.
     FrameSecondary(const TraceInputs& in, const TraceSettings& options,
-                   const detail::TileShading& shading, TraceScratch& scratch, int sample = 0, int spp = 1);
+                   const detail::TileShading& shading, TraceScratch& scratch, const detail::SamplePass& sample = {});
     FrameSecondary(const FrameSecondary&) = delete;
     FrameSecondary& operator=(const FrameSecondary&) = delete;
 

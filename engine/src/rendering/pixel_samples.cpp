@@ -127,16 +127,16 @@ private:
     std::array<float, kSteps + 1> inverse_{};
 };
 
+/// Made once, at start-up (no guard on every lookup).
+const BlackmanHarrisTable kBlackmanHarrisTable;
+
 float filter_axis(PixelFilter filter, float u) {
     switch (filter) {
         case PixelFilter::box: return u - 0.5f;
         case PixelFilter::tent:
             // The triangle 1 - |x| on [-1, 1]: its cumulative distribution inverted per half.
             return u < 0.5f ? -1.0f + std::sqrt(2.0f * u) : 1.0f - std::sqrt(2.0f * (1.0f - u));
-        case PixelFilter::blackman_harris: {
-            static const BlackmanHarrisTable table;
-            return table.offset(u);
-        }
+        case PixelFilter::blackman_harris: return kBlackmanHarrisTable.offset(u);
     }
     return 0.0f;
 }

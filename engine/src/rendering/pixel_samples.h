@@ -5,9 +5,11 @@
 // lights' points, scrambled and ordered otherwise.
 
 #include "dynrt/engine/pixel_sampling.h"
+#include "dynrt/bvh/aabb.h"
 #include "dynrt/packet/ray_packet.h"
 #include "dynrt/scene/scene.h"
 
+#include <glm/common.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
@@ -16,13 +18,31 @@
 
 namespace dynrt::detail {
 
-/// One pass of a frame's samples: sample `index` of `sampling.spp` for each pixel it traces.
-/// The default is a frame of one sample per pixel, at the pixels' centres.
+/// A pixel's sample: the pixel's index (y * width + x) and the sample's.
+struct PixelSample {
+    std::uint32_t pixel = 0;
+    std::uint32_t sample = 0;
+};
+
+/// One pass of a frame's samples. The default is a frame of one sample per pixel, at the
+/// pixels' centres. Two kinds:
+///   - sample `index` of `sampling.spp` for each pixel of the image (`samples` null);
+///   - a list of samples (`samples`): the pass's frame is then not the image but one tile
+///     wide, its pixel v standing for (*samples)[v] of the image_width x image_height image,
+///     so that a tile's packet holds 256 samples of a few neighbouring pixels (adaptive
+///     anti-aliasing's refinement, whose pixels are too sparse for the image's own tiles).
 struct SamplePass {
     PixelSampling sampling;
     int index = 0;
-    /// Per pixel (y * width + x), non-zero where this pass traces it; null: every pixel.
+    /// Per pixel of the pass's frame, non-zero where this pass traces it; null: every pixel.
     const std::vector<std::uint8_t>* pixels = nullptr;
+    const std::vector<PixelSample>* samples = nullptr;
+    int image_width = 0, image_height = 0;  ///< the image's, when `samples` is set
+
+    /// What pixel v of the pass's frame is a sample of.
+    PixelSample at(std::uint32_t v) const {
+        return samples != nullptr ? (*samples)[v] : PixelSample{v, std::uint32_t(index)};
+    }
 };
 
 /// Pixel `px`'s index in an image `width` wide: y * width + x, what its samples are hashed by.
@@ -53,6 +73,22 @@ glm::vec2 filter_offset(PixelFilter filter, glm::vec2 u);
 /// The filter's normalised weight at offset `x` (pixels) along one axis: its distribution's
 /// density, which filter_offset inverts (for the tests: it integrates to one).
 float filter_density(PixelFilter filter, float x);
+
+/// How far from a pixel's centre `filter` moves a sample at most, on each axis, in pixels.
+constexpr float filter_radius(PixelFilter filter) {
+    return filter == PixelFilter::box ? 0.5f : filter == PixelFilter::tent ? 1.0f : 0.75f;
+}
+
+/// The box that holds every point of `light` (its position for a point light).
+inline bvh::Aabb light_bounds(const PointLight& light) {
+    glm::vec3 half(0.0f);
+    if (light.shape == PointLight::Shape::sphere) half = glm::vec3(light.radius);
+    if (light.shape == PointLight::Shape::quad) half = 0.5f * (glm::abs(light.edge_u) + glm::abs(light.edge_v));
+    bvh::Aabb box;
+    box.extend(light.position - half);
+    box.extend(light.position + half);
+    return box;
+}
 
 /// The offset from pixel `pixel`'s centre (its index y * width + x) of its sample `sample` of
 /// `spp`: the centre itself at one sample per pixel.

@@ -112,27 +112,49 @@ void for_each_covered_pixel(const packet::Tiling& tiling, int width, Visit&& vis
     });
 }
 
+/// `in` for the samples of a pixel taking `spp`: each sample's texture footprint is a pixel's
+/// over sqrt(spp), as its samples lie that much closer together (`textures` holds the
+/// footprint's copy of in.textures).
+TraceInputs sample_inputs(const TraceInputs& in, int spp, std::optional<SurfaceTextures>& textures) {
+    TraceInputs sample_in = in;
+    if (in.textures != nullptr) {
+        textures.emplace(*in.textures);
+        textures->pixel_angle = in.textures->pixel_angle / std::sqrt(float(spp));
+        sample_in.textures = &*textures;
+    }
+    return sample_in;
+}
+
 }  // namespace
 
 std::size_t refine_pixels(const RenderedFrame& first, const std::vector<bvh::InstanceHit>& hits, float contrast,
                           std::vector<std::uint8_t>& refined) {
     const int width = first.width, height = first.height;
-    refined.assign(std::size_t(width) * std::size_t(height), 0);
-    std::size_t count = 0;
+    const auto w = std::size_t(width);
+    refined.assign(w * std::size_t(height), 0);
+    // Whether pixels a and b differ: another object, or a channel of their clamped colours.
     const auto differ = [&](std::size_t a, std::size_t b) {
         if (hits[a].object != hits[b].object) return true;
-        const glm::vec3 ca = glm::clamp(first.color[a], 0.0f, 1.0f), cb = glm::clamp(first.color[b], 0.0f, 1.0f);
-        const glm::vec3 d = glm::abs(ca - cb);
-        return std::max({d.x, d.y, d.z}) > contrast;
-    };
-    for (int y = 0; y < height; ++y) {
-        for (int x = 0; x < width; ++x) {
-            const std::size_t p = std::size_t(y) * std::size_t(width) + std::size_t(x);
-            // Each neighbour pair once: the pixel and its right and lower neighbours.
-            if (x + 1 < width && differ(p, p + 1)) refined[p] = refined[p + 1] = 1;
-            if (y + 1 < height && differ(p, p + std::size_t(width))) refined[p] = refined[p + std::size_t(width)] = 1;
+        for (int c = 0; c < 3; ++c) {
+            const float ca = std::clamp(first.color[a][c], 0.0f, 1.0f), cb = std::clamp(first.color[b][c], 0.0f, 1.0f);
+            if (std::abs(ca - cb) > contrast) return true;
         }
+        return false;
+    };
+    // Rows in parallel, each pixel against its right and lower neighbours; a difference marks
+    // both. Row y also marks row y + 1, so even rows go first and odd rows second.
+    for (int parity = 0; parity < 2; ++parity) {
+        tbb::parallel_for(0, (height + 1 - parity) / 2, [&](int i) {
+            const int y = 2 * i + parity;
+            const std::size_t row = std::size_t(y) * w;
+            for (int x = 0; x < width; ++x) {
+                const std::size_t p = row + std::size_t(x);
+                if (x + 1 < width && differ(p, p + 1)) refined[p] = refined[p + 1] = 1;
+                if (y + 1 < height && differ(p, p + w)) refined[p] = refined[p + w] = 1;
+            }
+        });
     }
+    std::size_t count = 0;
     for (const std::uint8_t r : refined) count += r;
     return count;
 }
@@ -144,15 +166,9 @@ void trace_sampled_frame(const TraceInputs& in, const Camera& camera, const Trac
     const bool adaptive = sampling.adaptive_contrast > 0.0f;
     const packet::Tiling tiling(options.width, options.height, options.tiles);
 
-    // Each sample's texture footprint: a pixel's over sqrt(spp), as its samples are that much
-    // closer together (the first pass keeps a pixel's under adaptive anti-aliasing).
+    // The first pass keeps a pixel's footprint under adaptive anti-aliasing.
     std::optional<SurfaceTextures> sample_textures;
-    if (in.textures != nullptr) {
-        sample_textures.emplace(*in.textures);
-        sample_textures->pixel_angle = in.textures->pixel_angle / std::sqrt(float(spp));
-    }
-    TraceInputs sample_in = in;
-    if (sample_textures) sample_in.textures = &*sample_textures;
+    const TraceInputs sample_in = sample_inputs(in, spp, sample_textures);
 
     PassFigures figures;
     // Sample 0 of every pixel, into `out`: its hit buffers are the frame's.
@@ -170,13 +186,37 @@ void trace_sampled_frame(const TraceInputs& in, const Camera& camera, const Trac
     TraceSettings pass_options = options;
     pass_options.hit_buffers = false;  // the frame's are sample 0's
     RenderedFrame& pass = scratch.sample_pass;
-    for (int s = 1; s < spp && refined > 0; ++s) {
-        pass.stats = out.stats;
-        trace_frame(sample_in, camera, pass_options, scratch, pass, SamplePass{sampling, s, chosen});
-        figures.add(pass.stats);
-        for_each_covered_pixel(tiling, options.width, [&](std::size_t p) {
-            if (chosen == nullptr || (*chosen)[p] != 0) sum[p] += pass.color[p];
+    if (chosen == nullptr) {
+        // Every pixel takes every sample: a pass of the image per sample.
+        for (int s = 1; s < spp; ++s) {
+            pass.stats = out.stats;
+            trace_frame(sample_in, camera, pass_options, scratch, pass, SamplePass{sampling, s});
+            figures.add(pass.stats);
+            for_each_covered_pixel(tiling, options.width, [&](std::size_t p) { sum[p] += pass.color[p]; });
+        }
+    } else if (refined > 0) {
+        // The refined pixels' other samples, listed tile by tile and pixel by pixel, traced as
+        // one frame a tile wide: each of its packets holds 256 samples of a few neighbouring
+        // pixels (the image's own tiles would hold a handful of refined lanes each, and a
+        // packet costs nearly as much for those as for 256).
+        std::vector<PixelSample>& list = scratch.refined_samples;
+        list.clear();
+        tiling.for_each_pixel([&](std::size_t p) {
+            if (!scratch.refined[p]) return;
+            for (int s = 1; s < spp; ++s) list.push_back(PixelSample{std::uint32_t(p), std::uint32_t(s)});
         });
+        pass_options.width = packet::kTileSize;
+        pass_options.height = int((list.size() + packet::kTileSize - 1) / packet::kTileSize);
+        pass_options.tiles = {};
+        std::vector<std::uint8_t>& listed = scratch.listed;
+        listed.assign(std::size_t(pass_options.width) * std::size_t(pass_options.height), 0);
+        std::fill(listed.begin(), listed.begin() + std::ptrdiff_t(list.size()), std::uint8_t{1});
+        pass.stats = out.stats;
+        trace_frame(sample_in, camera, pass_options, scratch, pass,
+                    SamplePass{sampling, 0, &listed, &list, options.width, options.height});
+        figures.add(pass.stats);
+        // In list order: each pixel's samples added in sample order, as the passes above.
+        for (std::size_t v = 0; v < list.size(); ++v) sum[list[v].pixel] += pass.color[v];
     }
     const float inv_spp = 1.0f / float(spp);
     for_each_covered_pixel(tiling, options.width, [&](std::size_t p) {
@@ -185,6 +225,70 @@ void trace_sampled_frame(const TraceInputs& in, const Camera& camera, const Trac
     figures.write(out.stats);
     out.stats.samples_per_pixel = spp;
     out.stats.pixels_refined = refined;
+}
+
+ReusePlan SampledReuse::trace(const TraceInputs& in, const ReuseInputs& now, const TraceSettings& options,
+                             RenderedFrame& out) {
+    const int spp = options.sampling.spp;
+    samples_.resize(std::size_t(spp));
+    std::optional<SurfaceTextures> sample_textures;
+    const TraceInputs sample_in = sample_inputs(in, spp, sample_textures);
+    TraceSettings pass_options = options;
+    PassFigures figures;
+    ReusePlan first_plan;
+    std::size_t traced = 0, shadows_retraced = 0, reused = 0;
+    for (int s = 0; s < spp; ++s) {
+        Sample& sample = samples_[std::size_t(s)];
+        pass_options.hit_buffers = s == 0 && options.hit_buffers;  // the frame's are sample 0's
+        ReuseInputs sample_now = now;
+        sample_now.frame_stamp = sample.frame.reuse_stamp;
+        ReusePlan plan = plan_exact_reuse(sample.memory, sample_now);
+        sample.frame.stats = out.stats;
+        trace_frame_reusing(sample_in, now.camera, pass_options, plan, sample.memory, sample.scratch, sample.frame,
+                            SamplePass{options.sampling, s});
+        remember_inputs(sample_now, sample.memory, sample.frame);
+        figures.add(sample.frame.stats);
+        traced += sample.frame.stats.pixels_traced;
+        shadows_retraced += sample.frame.stats.pixels_shadows_retraced;
+        reused += sample.frame.stats.pixels_reused;
+        if (s == 0) first_plan = std::move(plan);
+    }
+
+    // Each pixel the mean of its samples, in sample order (as trace_sampled_frame adds them).
+    const packet::Tiling tiling(options.width, options.height, options.tiles);
+    const std::size_t pixels = std::size_t(options.width) * std::size_t(options.height);
+    const RenderedFrame& first = samples_[0].frame;
+    out.width = options.width;
+    out.height = options.height;
+    out.color.resize(pixels);
+    const std::size_t hit_pixels = options.hit_buffers ? pixels : 0;
+    out.depth.resize(hit_pixels);
+    out.object.resize(hit_pixels);
+    out.prim.resize(hit_pixels);
+    out.normal.resize(hit_pixels);
+    const float inv_spp = 1.0f / float(spp);
+    for_each_covered_pixel(tiling, options.width, [&](std::size_t p) {
+        glm::vec3 sum = first.color[p];
+        for (std::size_t s = 1; s < samples_.size(); ++s) sum += samples_[s].frame.color[p];
+        out.color[p] = sum * inv_spp;
+        if (hit_pixels == 0) return;
+        out.depth[p] = first.depth[p];
+        out.object[p] = first.object[p];
+        out.prim[p] = first.prim[p];
+        out.normal[p] = first.normal[p];
+    });
+    out.reuse_stamp = 0;  // the passes' own frames hold what the next trace compares
+    figures.write(out.stats);
+    out.stats.samples_per_pixel = spp;
+    out.stats.pixels_refined = tiling.pixel_count();
+    out.stats.reuse_mode = first.stats.reuse_mode;
+    out.stats.reuse_reason = first.stats.reuse_reason;
+    out.stats.pixels_traced = traced / std::size_t(spp);
+    out.stats.pixels_shadows_retraced = shadows_retraced / std::size_t(spp);
+    out.stats.pixels_reused = reused / std::size_t(spp);
+    out.stats.pixels_filled = 0;
+    out.stats.interpolated_pixels = 0;
+    return first_plan;
 }
 
 }  // namespace dynrt::detail

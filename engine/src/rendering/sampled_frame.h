@@ -9,6 +9,7 @@
 
 #include "dynrt/engine/camera.h"
 #include "dynrt/engine/renderer.h"
+#include "rendering/exact_reuse.h"
 #include "rendering/frame_tracer.h"
 
 #include <cstddef>
@@ -33,5 +34,30 @@ std::size_t refine_pixels(const RenderedFrame& first, const std::vector<bvh::Ins
 /// anti-aliasing, whose unrefined pixels keep that one sample).
 void trace_sampled_frame(const TraceInputs& in, const Camera& camera, const TraceSettings& options,
                          TraceScratch& scratch, RenderedFrame& out);
+
+/// Exact reuse (exact_reuse.h) of frames whose every pixel takes options.sampling.spp samples
+/// (no adaptive anti-aliasing): each sample's pass keeps a memory, hits and image of its own
+/// from frame to frame, and re-traces only its rays that may meet what changed, as a frame of
+/// one sample does; each pixel is then the mean of the passes' images, so the frame is
+/// bit-identical to trace_sampled_frame's. It holds spp images and hit buffers.
+class SampledReuse {
+public:
+    /// Traces the frame into `out` (colour, sample 0's hit buffers, the passes' figures added
+    /// up, the pixel counts the mean over the samples) and returns sample 0's plan (why it
+    /// traced in full, or what changed). `now` as FramePipeline makes it for one sample.
+    ReusePlan trace(const TraceInputs& in, const ReuseInputs& now, const TraceSettings& options,
+                    RenderedFrame& out);
+
+    /// Forgets what the passes kept (the next trace is a full one) and frees it.
+    void clear() { samples_.clear(); }
+
+private:
+    struct Sample {
+        ReuseMemory memory;
+        TraceScratch scratch;
+        RenderedFrame frame;
+    };
+    std::vector<Sample> samples_;
+};
 
 }  // namespace dynrt::detail

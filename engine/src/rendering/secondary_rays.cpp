@@ -456,8 +456,8 @@ void SecondaryStage::shade_packet(int depth, std::size_t packet_index) {
             return p.rays.active.test(lane) && hit.is_hit() ? &hit : nullptr;
         },
         p.rays, f.object_material);
-    p.origins.sample_lights(f.lights, [&](int lane) { return wave.rays[p.index[lane]].pixel; },
-                            f.sample, f.spp);
+    p.origins.sample_lights(f.lights, [&](int lane) { return f.sample.at(wave.rays[p.index[lane]].pixel); },
+                            f.sample.sampling.spp);
     work.other_ms += clock.lap_ms();
     TraceWork* trace_work = f.tracing.count ? &work.trace : nullptr;
     work.shadows += trace_tile_shadows(f.tracing.tracer, RayCoherence::scattered, p.origins, f.lights,

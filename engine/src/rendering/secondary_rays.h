@@ -30,6 +30,7 @@
 #include "dynrt/packet/ray_packet.h"
 #include "dynrt/packet/tiling.h"
 #include "dynrt/scene/scene.h"
+#include "rendering/pixel_samples.h"
 #include "rendering/tile_shading.h"
 #include "dynrt/engine/trace_backend.h"
 #include "update/scene_accel.h"
@@ -59,9 +60,8 @@ struct SecondaryFrame {
     std::span<const Material> materials;  ///< the scene's, same indices as shading.materials
     const std::vector<std::int32_t>& object_material;
     SecondaryRayLog* log = nullptr;  ///< TraceSettings::secondary_log
-    /// The pixel sample the frame's rays belong to (which point of an area light they see).
-    int sample = 0;
-    int spp = 1;
+    /// The pixel samples the frame's rays belong to (which point of an area light they see).
+    SamplePass sample = {};
 };
 
 /// One thread's secondary work over a frame.

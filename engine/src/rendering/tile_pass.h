@@ -53,11 +53,22 @@ private:
             pinhole_.fill_tile(tile_, rays_);
             return;
         }
+        // Each lane's sample: its offset in the pixel, and for a list of samples also how far
+        // the image's pixel lies from the lane's place in the pass's frame.
         thread_local packet::PixelOffsets offsets;
+        const std::size_t listed = sample_.samples != nullptr ? sample_.samples->size() : 0;
         for (int lane = 0; lane < packet::kPacketRays; ++lane) {
             const packet::LanePixel px = packet::tile_pixel(tile_, lane);
-            const glm::vec2 d = px.inside ? pixel_sample_offset(sample_.sampling, pixel_index(px, width_), sample_.index)
-                                          : glm::vec2(0.0f);
+            const std::uint32_t v = pixel_index(px, width_);
+            glm::vec2 d(0.0f);
+            if (px.inside && (sample_.samples == nullptr || v < listed)) {
+                const PixelSample at = sample_.at(v);
+                d = pixel_sample_offset(sample_.sampling, at.pixel, int(at.sample));
+                if (sample_.samples != nullptr) {
+                    const auto w = std::uint32_t(sample_.image_width);
+                    d += glm::vec2(float(int(at.pixel % w) - px.x), float(int(at.pixel / w) - px.y));
+                }
+            }
             offsets.dx[lane] = d.x;
             offsets.dy[lane] = d.y;
         }
@@ -90,7 +101,7 @@ struct TilePass {
     /// Makes `origins`' area-light points for its tile's hits (TileShadowOrigins::sample_lights).
     void sample_lights(const packet::Tile& tile, TileShadowOrigins& origins) const {
         origins.sample_lights(
-            in.lights, [&](int lane) { return pixel_index(packet::tile_pixel(tile, lane), width); }, sample.index,
+            in.lights, [&](int lane) { return sample.at(pixel_index(packet::tile_pixel(tile, lane), width)); },
             sample.sampling.spp);
     }
 };

@@ -111,10 +111,10 @@ struct TileShadowOrigins {
     };
     std::vector<LightLanes> light_lanes;
 
-    /// Fills light_lanes for `lights` (light_sample_point): hit lane k takes the point of
-    /// sample `sample` of `spp` of pixel `pixel_of(k)`. Nothing when every light is a point.
-    template <typename PixelOf>
-    void sample_lights(std::span<const PointLight> lights, PixelOf&& pixel_of, int sample, int spp) {
+    /// Fills light_lanes for `lights` (light_sample_point): hit lane k takes the point of the
+    /// pixel sample `sample_of(k)` (a PixelSample) of `spp`. Nothing when every light is a point.
+    template <typename SampleOf>
+    void sample_lights(std::span<const PointLight> lights, SampleOf&& sample_of, int spp) {
         light_lanes.clear();
         if (std::none_of(lights.begin(), lights.end(),
                          [](const PointLight& l) { return l.shape != PointLight::Shape::point; })) {
@@ -126,7 +126,8 @@ struct TileShadowOrigins {
             LightLanes& lanes = light_lanes[l];
             lanes.sampled = true;
             surface.hit.for_each([&](int lane) {
-                const glm::vec3 at = light_sample_point(lights[l], std::uint32_t(l), pixel_of(lane), sample, spp);
+                const PixelSample ps = sample_of(lane);
+                const glm::vec3 at = light_sample_point(lights[l], std::uint32_t(l), ps.pixel, int(ps.sample), spp);
                 for (int a = 0; a < 3; ++a) lanes.point[a][lane] = at[a];
             });
         }

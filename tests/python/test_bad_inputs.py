@@ -287,6 +287,20 @@ ENGINE_CASES = [
     ("render_cutoff", lambda c: c.engine.render(view(), 8, 8, cutoff=2.0), IA,
      exact("dynrt::Engine: render: max_depth must be 0 to 64 and cutoff in [0, 1]")),
     ("render_view_not_a_view", lambda c: c.engine.render("front", 8, 8), TypeError, contains("view")),
+    ("render_spp_zero", lambda c: c.engine.render(view(), 8, 8, samples_per_pixel=0), IA,
+     contains("samples per pixel 0: must be 1 to 4096")),
+    ("render_filter_unknown", lambda c: c.engine.render(view(), 8, 8, filter="gauss"), IA,
+     contains("pixel filter 'gauss'")),
+    ("render_aa_contrast_nan", lambda c: c.engine.render(view(), 8, 8, samples_per_pixel=4, aa_contrast=math.nan),
+     IA, contains("adaptive sampling contrast")),
+    ("render_sphere_light_radius_zero", lambda c: c.engine.render(
+        view(), 8, 8, lights=[dynrt.Light((0, 3, 0)), dynrt.Light((0, 3, 0), radius=0.0)]), IA,
+     contains("light 1: a sphere light's radius must be finite and > 0")),
+    ("render_quad_light_parallel", lambda c: c.engine.render(
+        view(), 8, 8, lights=[dynrt.Light((0, 3, 0), edge_u=(1, 0, 0), edge_v=(2, 0, 0))]), IA,
+     contains("light 0: a quad light's edges must be finite and not parallel")),
+    ("light_quad_one_edge", lambda c: dynrt.Light((0, 3, 0), edge_u=(1, 0, 0)), IA,
+     contains("dynrt.Light: a quad light takes edge_u and edge_v")),
     # ---- render_into ----
     ("render_into_rgb_2d", lambda c: c.engine.render_into(view(), np.zeros((8, 8), np.float32)), IA,
      contains("dynrt.Engine.render_into: rgb must have shape (H, W, 3)")),

@@ -188,6 +188,22 @@ def test_the_settings_change_the_render(py):
     assert not np.array_equal(py[0, "rgb.f32"], py[0, "rgb2.f32"])
 
 
+def test_samples_and_area_lights_reach_the_engine(world):
+    """Several samples per pixel and a sphere light: the same image twice, another than one
+    sample's, each pixel the mean of samples (so between one sample's extremes)."""
+    engine, _ = world.build(borrow=False)
+    light = [dynrt.Light((0.5, 4.0, 2.0), 0.9, radius=0.8)]
+    assert light[0].shape == "sphere"
+    one = engine.render(view(), 48, 32, lights=light)
+    many = engine.render(view(), 48, 32, lights=light, samples_per_pixel=8, filter="tent")
+    again = engine.render(view(), 48, 32, lights=light, samples_per_pixel=8, filter="tent")
+    assert np.array_equal(many, again)
+    assert not np.array_equal(one, many)
+    rgb, report = engine.render(view(), 48, 32, lights=light, samples_per_pixel=8, aa_contrast=0.05, report=True)
+    assert 0 < report["pixels_refined"] < 48 * 32
+    assert report["samples_per_pixel"] == 8
+
+
 def test_coherent_rays_go_as_packets_and_incoherent_ones_alone(py):
     """The comparison covers both of the engine's tracers."""
     for step in STEPS:

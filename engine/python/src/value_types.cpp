@@ -93,15 +93,41 @@ void bind_value_types(py::module_& m) {
                ")";
     });
 
-    py::class_<Light> light(m, "Light", "A point light; no distance falloff.");
-    light.def(py::init([](py::handle position, float intensity) {
-                  return Light{vec3(position, "dynrt.Light", "position"), intensity};
+    py::class_<Light> light(m, "Light",
+                            "A light; no distance falloff. A point, or with radius a sphere light, or with "
+                            "edge_u and edge_v a quad light (area lights: soft shadows, one point per pixel "
+                            "sample; docs/rendering.md \"Samples per pixel and area lights\").");
+    light.def(py::init([](py::handle position, float intensity, py::handle radius, py::handle edge_u,
+                          py::handle edge_v) {
+                  const std::string where = "dynrt.Light";
+                  Light l{vec3(position, where, "position"), intensity};
+                  if (!radius.is_none() && (!edge_u.is_none() || !edge_v.is_none())) {
+                      invalid(where, "a light is a sphere (radius) or a quad (edge_u, edge_v), not both");
+                  }
+                  if (!radius.is_none()) {
+                      l.shape = LightShape::sphere;
+                      l.radius = radius.cast<float>();
+                  } else if (!edge_u.is_none() || !edge_v.is_none()) {
+                      if (edge_u.is_none() || edge_v.is_none()) invalid(where, "a quad light takes edge_u and edge_v");
+                      l.shape = LightShape::quad;
+                      l.edge_u = vec3(edge_u, where, "edge_u");
+                      l.edge_v = vec3(edge_v, where, "edge_v");
+                  }
+                  return l;
               }),
-              py::arg("position"), py::arg("intensity") = 1.0f);
+              py::arg("position"), py::arg("intensity") = 1.0f, py::kw_only(), py::arg("radius") = py::none(),
+              py::arg("edge_u") = py::none(), py::arg("edge_v") = py::none());
     vec3_property(light, "position", &Light::position);
     light.def_readwrite("intensity", &Light::intensity);
+    light.def_property_readonly("shape", [](const Light& l) {
+        return std::string(l.shape == LightShape::sphere ? "sphere" : l.shape == LightShape::quad ? "quad" : "point");
+    }, "'point', 'sphere' or 'quad'");
+    light.def_readonly("radius", &Light::radius);
     light.def("__repr__", [](const Light& l) {
-        return "dynrt.Light(position=" + text(l.position) + ", intensity=" + std::to_string(l.intensity) + ")";
+        std::string area;
+        if (l.shape == LightShape::sphere) area = ", radius=" + std::to_string(l.radius);
+        if (l.shape == LightShape::quad) area = ", edge_u=" + text(l.edge_u) + ", edge_v=" + text(l.edge_v);
+        return "dynrt.Light(position=" + text(l.position) + ", intensity=" + std::to_string(l.intensity) + area + ")";
     });
 }
 

@@ -23,6 +23,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <memory>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -207,6 +208,35 @@ TEST(SampledFrames, ExactReuseSeesChangesNearAnAreaLightsEdge) {
             reused += b.stats.pixels_reused;
         }
         EXPECT_GT(reused, 0u);
+    }
+}
+
+TEST(SampledFrames, TileSharesGatherIntoTheWholeFrame) {
+    // A frame split across processes (TraceSettings::tiles), each share sampled and reusing
+    // pixels on its own, gathers into the whole frame's bits.
+    const Scene scene = test::moving_scene();
+    const Camera camera = default_camera(scene_bounds(scene));
+    RenderOptions options = sampling_options();
+    options.sampling.spp = 4;
+    options.reuse.mode = PixelReuse::exact;
+    Renderer whole(options);
+    std::vector<std::unique_ptr<Renderer>> shares;
+    for (int k = 0; k < 3; ++k) {
+        options.tiles = packet::TileShare{k, 3};
+        shares.push_back(std::make_unique<Renderer>(options));
+    }
+    RenderedFrame all, part, gathered;
+    for (const int f : {0, 1, 1}) {
+        whole.render(scene, camera, f, all);
+        gathered = all;
+        std::fill(gathered.color.begin(), gathered.color.end(), glm::vec3(-1.0f));
+        for (int k = 0; k < 3; ++k) {
+            shares[std::size_t(k)]->render(scene, camera, f, part);
+            packet::Tiling(all.width, all.height, packet::TileShare{k, 3}).for_each_pixel([&](std::size_t p) {
+                gathered.color[p] = part.color[p];
+            });
+        }
+        EXPECT_TRUE(same_bits(all.color, gathered.color)) << "frame " << f;
     }
 }
 

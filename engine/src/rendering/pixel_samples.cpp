@@ -57,7 +57,7 @@ std::string to_string(const PixelSampling& sampling) {
 
 namespace detail {
 
-glm::vec2 scrambled_point(std::uint32_t index, std::uint32_t scramble_x, std::uint32_t scramble_y) {
+glm::uvec2 sequence_point(std::uint32_t index) {
     // Van der Corput: the index's bits mirrored about the binary point.
     std::uint32_t x = index;
     x = (x << 16) | (x >> 16);
@@ -71,9 +71,7 @@ glm::vec2 scrambled_point(std::uint32_t index, std::uint32_t scramble_x, std::ui
     for (std::uint32_t bits = index, v = 1u << 31; bits != 0; bits >>= 1, v ^= v >> 1) {
         if (bits & 1u) y ^= v;
     }
-    // 24 bits each, so that the float is exact and below 1.
-    constexpr float kScale = 1.0f / 16777216.0f;
-    return {float((x ^ scramble_x) >> 8) * kScale, float((y ^ scramble_y) >> 8) * kScale};
+    return {x, y};
 }
 
 namespace {

@@ -61,9 +61,22 @@ constexpr std::uint32_t sample_hash(std::uint32_t value, std::uint32_t salt) {
     return h;
 }
 
-/// Point `index` of the (0,2)-sequence in base 2 (the van der Corput sequence and Sobol's
-/// second dimension), its digits XOR-scrambled by `scramble_x` and `scramble_y`; in [0, 1)^2.
-glm::vec2 scrambled_point(std::uint32_t index, std::uint32_t scramble_x, std::uint32_t scramble_y);
+/// Point `index` of the (0,2)-sequence in base 2 before scrambling, as 32-bit fractions: the
+/// van der Corput sequence (x) and Sobol's second dimension (y).
+glm::uvec2 sequence_point(std::uint32_t index);
+
+/// `point` (a sequence_point) with its digits XOR-scrambled by `scramble_x` and `scramble_y`,
+/// in [0, 1)^2.
+inline glm::vec2 scramble(glm::uvec2 point, std::uint32_t scramble_x, std::uint32_t scramble_y) {
+    // 24 bits each, so that the float is exact and below 1.
+    constexpr float kScale = 1.0f / 16777216.0f;
+    return {float((point.x ^ scramble_x) >> 8) * kScale, float((point.y ^ scramble_y) >> 8) * kScale};
+}
+
+/// Point `index` of the (0,2)-sequence, scrambled: scramble(sequence_point(index), ...).
+inline glm::vec2 scrambled_point(std::uint32_t index, std::uint32_t scramble_x, std::uint32_t scramble_y) {
+    return scramble(sequence_point(index), scramble_x, scramble_y);
+}
 
 /// The offset from a pixel's centre, in pixels, of the sample at `u` (in [0, 1)^2) under
 /// `filter`: each axis through the inverse of the filter's cumulative distribution. Within
@@ -97,6 +110,24 @@ inline glm::vec2 pixel_sample_offset(const PixelSampling& sampling, std::uint32_
     return filter_offset(sampling.filter, scrambled_point(std::uint32_t(sample), sample_hash(pixel, 0x51ed27u),
                                                           sample_hash(pixel, 0x2c1b3c6du)));
 }
+
+/// pixel_sample_offset for many pixels of one sample: the sequence's point made once.
+class SampleOffsets {
+public:
+    SampleOffsets(const PixelSampling& sampling, int sample)
+        : filter_(sampling.filter), point_(sequence_point(std::uint32_t(sample))), centre_(sampling.spp <= 1) {}
+
+    /// pixel_sample_offset(sampling, pixel, sample), the same bits.
+    glm::vec2 at(std::uint32_t pixel) const {
+        if (centre_) return glm::vec2(0.0f);
+        return filter_offset(filter_, scramble(point_, sample_hash(pixel, 0x51ed27u), sample_hash(pixel, 0x2c1b3c6du)));
+    }
+
+private:
+    PixelFilter filter_;
+    glm::uvec2 point_;
+    bool centre_;
+};
 
 /// The point of area light `light` (light number `index` of the frame) that sample `sample`
 /// of `spp` of pixel `pixel` sees: a point of the light's own scramble of the sequence,

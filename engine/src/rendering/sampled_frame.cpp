@@ -132,9 +132,12 @@ std::size_t refine_pixels(const RenderedFrame& first, const std::vector<bvh::Ins
     const int width = first.width, height = first.height;
     const auto w = std::size_t(width);
     refined.assign(w * std::size_t(height), 0);
-    // Whether pixels a and b differ: another object, or a channel of their clamped colours.
+    // Whether pixels a and b differ: another object (read from the frame's object buffer when
+    // it has one: 4 bytes a pixel against a whole hit), or a channel of their clamped colours.
+    const bool objects = !first.object.empty();
     const auto differ = [&](std::size_t a, std::size_t b) {
-        if (hits[a].object != hits[b].object) return true;
+        if (objects ? first.object[a] != first.object[b] : hits[a].object != hits[b].object) return true;
+        if (first.color[a] == first.color[b]) return false;  // most neighbours: the background, a flat face
         for (int c = 0; c < 3; ++c) {
             const float ca = std::clamp(first.color[a][c], 0.0f, 1.0f), cb = std::clamp(first.color[b][c], 0.0f, 1.0f);
             if (std::abs(ca - cb) > contrast) return true;
@@ -174,27 +177,24 @@ void trace_sampled_frame(const TraceInputs& in, const Camera& camera, const Trac
     // Sample 0 of every pixel, into `out`: its hit buffers are the frame's.
     trace_frame(adaptive ? in : sample_in, camera, options, scratch, out, SamplePass{sampling, 0, nullptr});
     figures.add(out.stats);
-    std::vector<glm::vec3>& sum = scratch.sample_sum;
-    sum.assign(out.color.begin(), out.color.end());
-    const std::vector<std::uint8_t>* chosen = nullptr;
-    std::size_t refined = tiling.pixel_count();
-    if (adaptive) {
-        refined = refine_pixels(out, scratch.hits, sampling.adaptive_contrast, scratch.refined);
-        chosen = &scratch.refined;
-    }
-
     TraceSettings pass_options = options;
     pass_options.hit_buffers = false;  // the frame's are sample 0's
     RenderedFrame& pass = scratch.sample_pass;
-    if (chosen == nullptr) {
-        // Every pixel takes every sample: a pass of the image per sample.
+    const float inv_spp = 1.0f / float(spp);
+    std::size_t refined = tiling.pixel_count();
+    if (!adaptive) {
+        // Every pixel takes every sample: a pass of the image per sample, each pixel's samples
+        // added in sample order.
+        std::vector<glm::vec3>& sum = scratch.sample_sum;
+        sum.assign(out.color.begin(), out.color.end());
         for (int s = 1; s < spp; ++s) {
             pass.stats = out.stats;
             trace_frame(sample_in, camera, pass_options, scratch, pass, SamplePass{sampling, s});
             figures.add(pass.stats);
             for_each_covered_pixel(tiling, options.width, [&](std::size_t p) { sum[p] += pass.color[p]; });
         }
-    } else if (refined > 0) {
+        for_each_covered_pixel(tiling, options.width, [&](std::size_t p) { out.color[p] = sum[p] * inv_spp; });
+    } else if ((refined = refine_pixels(out, scratch.hits, sampling.adaptive_contrast, scratch.refined)) > 0) {
         // The refined pixels' other samples, listed tile by tile and pixel by pixel, traced as
         // one frame a tile wide: each of its packets holds 256 samples of a few neighbouring
         // pixels (the image's own tiles would hold a handful of refined lanes each, and a
@@ -215,13 +215,16 @@ void trace_sampled_frame(const TraceInputs& in, const Camera& camera, const Trac
         trace_frame(sample_in, camera, pass_options, scratch, pass,
                     SamplePass{sampling, 0, &listed, &list, options.width, options.height});
         figures.add(pass.stats);
-        // In list order: each pixel's samples added in sample order, as the passes above.
-        for (std::size_t v = 0; v < list.size(); ++v) sum[list[v].pixel] += pass.color[v];
+        // Each pixel's samples lie together in the list, in sample order: added to its first
+        // as the passes above add them.
+        const auto per_pixel = std::size_t(spp - 1);
+        tbb::parallel_for(std::size_t{0}, list.size() / per_pixel, [&](std::size_t k) {
+            const std::size_t p = list[k * per_pixel].pixel;
+            glm::vec3 sum = out.color[p];
+            for (std::size_t v = k * per_pixel; v < (k + 1) * per_pixel; ++v) sum += pass.color[v];
+            out.color[p] = sum * inv_spp;
+        });
     }
-    const float inv_spp = 1.0f / float(spp);
-    for_each_covered_pixel(tiling, options.width, [&](std::size_t p) {
-        if (chosen == nullptr || (*chosen)[p] != 0) out.color[p] = sum[p] * inv_spp;
-    });
     figures.write(out.stats);
     out.stats.samples_per_pixel = spp;
     out.stats.pixels_refined = refined;

@@ -57,13 +57,15 @@ private:
         // the image's pixel lies from the lane's place in the pass's frame.
         thread_local packet::PixelOffsets offsets;
         const std::size_t listed = sample_.samples != nullptr ? sample_.samples->size() : 0;
+        const SampleOffsets pass_offsets(sample_.sampling, sample_.index);
         for (int lane = 0; lane < packet::kPacketRays; ++lane) {
             const packet::LanePixel px = packet::tile_pixel(tile_, lane);
             const std::uint32_t v = pixel_index(px, width_);
             glm::vec2 d(0.0f);
             if (px.inside && (sample_.samples == nullptr || v < listed)) {
                 const PixelSample at = sample_.at(v);
-                d = pixel_sample_offset(sample_.sampling, at.pixel, int(at.sample));
+                d = sample_.samples == nullptr ? pass_offsets.at(at.pixel)
+                                               : pixel_sample_offset(sample_.sampling, at.pixel, int(at.sample));
                 if (sample_.samples != nullptr) {
                     const auto w = std::uint32_t(sample_.image_width);
                     d += glm::vec2(float(int(at.pixel % w) - px.x), float(int(at.pixel / w) - px.y));

@@ -82,5 +82,36 @@ TEST(PinholeRays, TilesMatchSingleRaysBitForBit) {
     }
 }
 
+TEST(PinholeRays, OffsetTilesMatchRayAtBitForBit) {
+    // Each lane moved by its own offset (a pixel's sample): the SIMD fill is ray_at lane by
+    // lane; zero offsets give ray()'s bits.
+    Camera camera;
+    camera.eye = {2.0f, 1.0f, 6.0f};
+    const PinholeRays pinhole(camera, 45, 29);
+    const Tiling tiling(45, 29);
+    auto packet = std::make_unique<RayPacket>();
+    auto offsets = std::make_unique<PixelOffsets>();
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    for (const bool zero : {true, false}) {
+        for (int i = 0; i < tiling.count(); ++i) {
+            const Tile tile = tiling.tile(i);
+            for (int k = 0; k < kPacketRays; ++k) {
+                offsets->dx[k] = zero ? 0.0f : u(rng);
+                offsets->dy[k] = zero ? 0.0f : u(rng);
+            }
+            pinhole.fill_tile(tile, *offsets, *packet);
+            for (int y = tile.y0; y < tile.y1; ++y) {
+                for (int x = tile.x0; x < tile.x1; ++x) {
+                    const int lane = tile_lane(tile, x, y);
+                    const bvh::Ray want = zero ? pinhole.ray(x, y)
+                                               : pinhole.ray_at(float(x) + offsets->dx[lane], float(y) + offsets->dy[lane]);
+                    ASSERT_TRUE(same_ray(packet->ray(lane), want)) << "pixel " << x << ", " << y;
+                }
+            }
+        }
+    }
+}
+
 }  // namespace
 }  // namespace dynrt::packet

@@ -82,17 +82,23 @@ void fill_rows(const PinholeRays& camera, const glm::vec3& eye, const glm::vec3&
             const int lane = tile_lane(tile, x, y);
             return camera.ray_at(float(x) + offsets->dx[lane], float(y) + offsets->dy[lane]);
         }, packet);
-    } else if (offsets != nullptr) {
-        // Each lane's ray through its own point (ray_at's operations, lane by lane).
+    } else {
+        // Each lane's ray through its pixel's centre, moved by its offset when there are
+        // offsets (ray_at's operations, lane by lane: at whole pixels, ray()'s bits).
         packet.clear();
         F lane_x;
         for (int i = 0; i < W; ++i) lane_x[i] = float(i);
         const float inf = std::numeric_limits<float>::infinity();
         for (int y = tile.y0; y < tile.y1; ++y) {
             for (int x0 = tile.x0; x0 < tile.x0 + kTileSize; x0 += W) {
+                // Lanes past the image edge compute a ray too (a harmless one) but stay inactive.
                 const int lane = tile_lane(tile, x0, y);
-                const F x = (L::splat(float(x0)) + lane_x) + L::load(offsets->dx + lane);
-                const F yy = L::splat(float(y)) + L::load(offsets->dy + lane);
+                F x = L::splat(float(x0)) + lane_x;
+                F yy = L::splat(float(y));
+                if (offsets != nullptr) {
+                    x = x + L::load(offsets->dx + lane);
+                    yy = yy + L::load(offsets->dy + lane);
+                }
                 const F sx = (L::splat(2.0f) * (x + L::splat(0.5f)) / L::splat(float(width)) -
                               L::splat(1.0f)) *
                              L::splat(tan_half_fov) * L::splat(aspect);
@@ -102,37 +108,6 @@ void fill_rows(const PinholeRays& camera, const glm::vec3& eye, const glm::vec3&
                 const F dy = L::splat(fwd.y) + sx * L::splat(right.y) + sy * L::splat(up.y);
                 const F dz = L::splat(fwd.z) + sx * L::splat(right.z) + sy * L::splat(up.z);
                 const F inv_len = L::splat(1.0f) / L::sqrt(dx * dx + dy * dy + dz * dz);
-                L::store(packet.org_x + lane, L::splat(eye.x));
-                L::store(packet.org_y + lane, L::splat(eye.y));
-                L::store(packet.org_z + lane, L::splat(eye.z));
-                L::store(packet.dir_x + lane, dx * inv_len);
-                L::store(packet.dir_y + lane, dy * inv_len);
-                L::store(packet.dir_z + lane, dz * inv_len);
-                L::store(packet.tmin + lane, L::splat(0.0f));
-                L::store(packet.tmax + lane, L::splat(inf));
-            }
-            const int row_lane = tile_lane(tile, tile.x0, y);
-            packet.active.words[row_lane >> 6] |= ((std::uint64_t{1} << (tile.x1 - tile.x0)) - 1)
-                                                 << (row_lane & 63);
-        }
-    } else {
-        packet.clear();
-        F lane_x;
-        for (int i = 0; i < W; ++i) lane_x[i] = float(i);
-        const float inf = std::numeric_limits<float>::infinity();
-        for (int y = tile.y0; y < tile.y1; ++y) {
-            const float sy = (1.0f - 2.0f * (float(y) + 0.5f) / float(height)) * tan_half_fov;
-            for (int x0 = tile.x0; x0 < tile.x0 + kTileSize; x0 += W) {
-                // Lanes past the image edge compute a ray too (a harmless one) but stay inactive.
-                const F x = L::splat(float(x0)) + lane_x;
-                const F sx = (L::splat(2.0f) * (x + L::splat(0.5f)) / L::splat(float(width)) -
-                              L::splat(1.0f)) *
-                             L::splat(tan_half_fov) * L::splat(aspect);
-                const F dx = L::splat(fwd.x) + sx * L::splat(right.x) + L::splat(sy * up.x);
-                const F dy = L::splat(fwd.y) + sx * L::splat(right.y) + L::splat(sy * up.y);
-                const F dz = L::splat(fwd.z) + sx * L::splat(right.z) + L::splat(sy * up.z);
-                const F inv_len = L::splat(1.0f) / L::sqrt(dx * dx + dy * dy + dz * dz);
-                const int lane = tile_lane(tile, x0, y);
                 L::store(packet.org_x + lane, L::splat(eye.x));
                 L::store(packet.org_y + lane, L::splat(eye.y));
                 L::store(packet.org_z + lane, L::splat(eye.z));

@@ -47,7 +47,7 @@ FrameSecondary::FrameSecondary(const TraceInputs& in, const TraceSettings& optio
     stage_.emplace(*frame_, scratch.secondary);
 }
 
-void size_frame(const TraceSettings& options, TraceScratch& scratch, RenderedFrame& out) {
+void size_image(const TraceSettings& options, RenderedFrame& out) {
     const std::size_t pixels = std::size_t(options.width) * std::size_t(options.height);
     out.width = options.width;
     out.height = options.height;
@@ -57,7 +57,11 @@ void size_frame(const TraceSettings& options, TraceScratch& scratch, RenderedFra
     out.object.resize(hit_pixels);
     out.prim.resize(hit_pixels);
     out.normal.resize(hit_pixels);
-    scratch.hits.resize(pixels);
+}
+
+void size_frame(const TraceSettings& options, TraceScratch& scratch, RenderedFrame& out) {
+    size_image(options, out);
+    scratch.hits.resize(std::size_t(options.width) * std::size_t(options.height));
 }
 
 detail::TileShading frame_shading(const TraceInputs& in, const TraceSettings& options,

@@ -54,7 +54,10 @@ struct TraceScratch {
 };
 
 /// Sizes `out` for options.width x options.height: the colour, and the hit buffers (depth,
-/// object, prim, normal) when options.hit_buffers, else none; sizes scratch.hits alike.
+/// object, prim, normal) when options.hit_buffers, else none.
+void size_image(const TraceSettings& options, RenderedFrame& out);
+
+/// size_image, and scratch.hits alike.
 void size_frame(const TraceSettings& options, TraceScratch& scratch, RenderedFrame& out);
 
 /// The shading kernel's view of a trace: `in`'s materials, lights (made into

@@ -259,22 +259,15 @@ ReusePlan SampledReuse::trace(const TraceInputs& in, const ReuseInputs& now, con
 
     // Each pixel the mean of its samples, in sample order (as trace_sampled_frame adds them).
     const packet::Tiling tiling(options.width, options.height, options.tiles);
-    const std::size_t pixels = std::size_t(options.width) * std::size_t(options.height);
     const RenderedFrame& first = samples_[0].frame;
-    out.width = options.width;
-    out.height = options.height;
-    out.color.resize(pixels);
-    const std::size_t hit_pixels = options.hit_buffers ? pixels : 0;
-    out.depth.resize(hit_pixels);
-    out.object.resize(hit_pixels);
-    out.prim.resize(hit_pixels);
-    out.normal.resize(hit_pixels);
+    size_image(options, out);
+    const bool hit_buffers = options.hit_buffers;
     const float inv_spp = 1.0f / float(spp);
     for_each_covered_pixel(tiling, options.width, [&](std::size_t p) {
         glm::vec3 sum = first.color[p];
         for (std::size_t s = 1; s < samples_.size(); ++s) sum += samples_[s].frame.color[p];
         out.color[p] = sum * inv_spp;
-        if (hit_pixels == 0) return;
+        if (!hit_buffers) return;
         out.depth[p] = first.depth[p];
         out.object[p] = first.object[p];
         out.prim[p] = first.prim[p];

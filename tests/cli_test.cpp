@@ -59,6 +59,29 @@ TEST(Cli, RenderWritesImageAovsAndReport) {
     EXPECT_NE(run.output.find("build"), std::string::npos);  // the printed table
 }
 
+TEST(Cli, BackgroundColoursThePixelsThatSeeNothing) {
+    // A camera looking away from the scene: every pixel the background given, in 8 bits.
+    const fs::path dir = fresh_dir("background");
+    const CliRun run = run_dynrt("render sphere:100 --res 8x4 --camera eye=0,0,5,target=0,0,10 "
+                                 "--background 1,0.25,0 --out " + (dir / "bg.ppm").string());
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+    std::ifstream file(dir / "bg.ppm", std::ios::binary);
+    std::string magic;
+    int width = 0, height = 0, max = 0;
+    file >> magic >> width >> height >> max;
+    file.get();
+    ASSERT_EQ(magic, "P6");
+    ASSERT_EQ(width * height, 32);
+    std::vector<unsigned char> rgb(std::size_t(width * height * 3));
+    file.read(reinterpret_cast<char*>(rgb.data()), std::streamsize(rgb.size()));
+    for (int p = 0; p < width * height; ++p) {
+        // Linear 0.25 is sRGB 0.537, 137 of 255.
+        EXPECT_EQ(int(rgb[std::size_t(3 * p)]), 255);
+        EXPECT_EQ(int(rgb[std::size_t(3 * p + 1)]), 137);
+        EXPECT_EQ(int(rgb[std::size_t(3 * p + 2)]), 0);
+    }
+}
+
 TEST(Cli, RenderWritesOneImagePerFrameAndAReportOfEachUpdate) {
     const fs::path dir = fresh_dir("sequence");
     const CliRun run = run_dynrt("render 'plane:2@0,-1,0,3+sphere:200' --anim wave:sphere:200 "
@@ -542,6 +565,8 @@ INSTANTIATE_TEST_SUITE_P(
                     BadCall{"render sphere:10 --light 1,2,3:quad=1,0,0,2,0,0", "edges must not be parallel"},
                     BadCall{"render sphere:10 --light 1,2,3:disc=1", "sphere=RADIUS or quad="},
                     BadCall{"render sphere:10 --spp 0", "--spp"},
+                    BadCall{"render sphere:10 --background 1,2", "--background '1,2': expected r,g,b"},
+                    BadCall{"render sphere:10 --background 0,-1,0", "three finite numbers >= 0"},
                     BadCall{"render sphere:10 --spp 5000", "--spp"},
                     BadCall{"render sphere:10 --filter gauss", "--filter"},
                     BadCall{"render sphere:10 --aa-contrast -1", "--aa-contrast"},

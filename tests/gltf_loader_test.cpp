@@ -428,6 +428,25 @@ TEST_F(GltfLoaderTest, MaterialsMapMetalnessTransmissionAndIor) {
     EXPECT_EQ(scene.ignored, ignored);
 }
 
+TEST_F(GltfLoaderTest, EmissionAndAlphaAreListedAsIgnored) {
+    // Terms dynrt does not shade yet are reported, not dropped silently: emission (a factor
+    // that is not black) and alpha modes other than OPAQUE.
+    GltfBuilder b = quad_builder();
+    const int glowing = b.add_material("glowing", {1.0f, 1.0f, 1.0f});
+    const int cut = b.add_material("cut", {1.0f, 1.0f, 1.0f});
+    const int see_through = b.add_material("see-through", {1.0f, 1.0f, 1.0f});
+    const int opaque = b.add_material("opaque", {1.0f, 1.0f, 1.0f});
+    b.doc()["materials"][glowing]["emissiveFactor"] = {1.0, 0.5, 0.0};
+    b.doc()["materials"][cut]["alphaMode"] = "MASK";
+    b.doc()["materials"][see_through]["alphaMode"] = "BLEND";
+    b.doc()["materials"][opaque]["alphaMode"] = "OPAQUE";
+    b.doc()["materials"][opaque]["emissiveFactor"] = {0.0, 0.0, 0.0};
+    const Scene scene = write_and_load(b);
+    const std::vector<std::string> ignored = {"emission of 1 material(s) (emissiveFactor)",
+                                              "alpha of 2 material(s) (alphaMode MASK or BLEND; rendered opaque)"};
+    EXPECT_EQ(scene.ignored, ignored);
+}
+
 TEST_F(GltfLoaderTest, BadIorIsAnErrorNamingObjectAndMaterial) {
     for (const double ior : {0.0, -1.5}) {
         GltfBuilder b = quad_builder();

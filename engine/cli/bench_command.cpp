@@ -324,7 +324,7 @@ int run_bench(const BenchArgs& args) {
     const dynrt::Stopwatch load_clock;
     const dynrt::Scene scene = dynrt::load_scene(source);
     const double load_ms = load_clock.elapsed_ms();
-    apply_scene_setup(scene, base);
+    apply_scene_setup(scene, args, base);
     // Culling items (if swept) vary slowest, then the build sweeps as expand_sweeps orders them.
     const std::vector<dynrt::reference::ErrorConfiguration> configs =
         bench_configurations(args, base);

@@ -137,6 +137,7 @@ dynrt::RenderOptions render_options(const FrameArgs& args) {
     options.sampling.filter = dynrt::parse_pixel_filter(args.filter);
     options.sampling.adaptive_contrast = args.aa_contrast;
     dynrt::check_sampling(options.sampling);
+    if (!args.background.empty()) options.background = parse_background(args.background);
     options.secondary.max_depth = args.depth;
     options.secondary.cutoff = args.cutoff;
     options.secondary.min_packet_rays = args.secondary_packet_min;
@@ -148,14 +149,23 @@ dynrt::RenderOptions render_options(const FrameArgs& args) {
     return options;
 }
 
-void apply_scene_setup(const dynrt::Scene& scene, dynrt::RenderOptions& options) {
+glm::vec3 parse_background(const std::string& text) {
+    const std::vector<float> v = parse_floats(text, "--background");
+    if (v.size() != 3 || !std::all_of(v.begin(), v.end(), [](float c) { return c >= 0.0f && std::isfinite(c); })) {
+        throw std::invalid_argument("--background '" + text + "': expected r,g,b, three finite numbers >= 0 "
+                                    "(linear colour)");
+    }
+    return glm::vec3(v[0], v[1], v[2]);
+}
+
+void apply_scene_setup(const dynrt::Scene& scene, const FrameArgs& args, dynrt::RenderOptions& options) {
     const std::optional<dynrt::SceneSetup>& setup = scene.setup;
     if (options.width == 0) {
         options.width = setup ? setup->width : 1024;
         options.height = setup ? setup->height : 1024;
     }
     if (options.pose.fps == 0.0) options.pose.fps = setup ? setup->fps : dynrt::anim::kDefaultFps;
-    if (setup) options.background = setup->background;
+    if (setup && args.background.empty()) options.background = setup->background;
 }
 
 namespace {
@@ -183,7 +193,7 @@ void refuse_overlapping_clips(const dynrt::Scene& scene, const std::vector<std::
 dynrt::Scene load_animated_scene(const FrameArgs& args, const std::string& source,
                                  dynrt::RenderOptions& options) {
     dynrt::Scene scene = dynrt::load_scene(source);
-    apply_scene_setup(scene, options);
+    apply_scene_setup(scene, args, options);
     dynrt::anim::add_procedural_motions(scene, args.anims);
     options.pose.class_overrides = dynrt::anim::parse_class_overrides(scene, args.treats);
     std::vector<std::size_t> clips;

@@ -41,6 +41,9 @@ struct FrameArgs {
     int spp = 1;
     std::string filter = dynrt::pixel_filter_name(dynrt::PixelSampling{}.filter);
     float aa_contrast = 0.0f;
+    /// TraceSettings::background, "r,g,b" (linear, each finite and >= 0); empty: the scene
+    /// file's own (BART's `b`), else the default.
+    std::string background;
     /// Whitted secondary rays (TraceSettings::secondary): deepest bounce and path-weight cut-off.
     int depth = dynrt::SecondaryRays{}.max_depth;
     float cutoff = dynrt::SecondaryRays{}.cutoff;
@@ -107,9 +110,12 @@ dynrt::PointLight parse_light(const std::string& text);
 /// load_animated_scene fills them from the scene.
 dynrt::RenderOptions render_options(const FrameArgs& args);
 
-/// What the flags left open, from the scene file when it says (Scene::setup: BART's image
-/// size, frame rate and background), else the defaults: 1024x1024 at 24 fps.
-void apply_scene_setup(const dynrt::Scene& scene, dynrt::RenderOptions& options);
+/// What the flags `args` left open, from the scene file when it says (Scene::setup: BART's
+/// image size, frame rate and background), else the defaults: 1024x1024 at 24 fps.
+void apply_scene_setup(const dynrt::Scene& scene, const FrameArgs& args, dynrt::RenderOptions& options);
+
+/// Parses --background r,g,b: three finite numbers >= 0.
+glm::vec3 parse_background(const std::string& text);
 
 /// The scene with the user's procedural motions added, and the pose settings that name its
 /// objects and clips (class overrides and clip choices are checked against this scene); the

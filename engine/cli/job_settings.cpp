@@ -22,7 +22,7 @@ namespace dynrt::cli {
 // A field added to FrameArgs or RenderArgs must be classified in job_settings() below (part of
 // the job, or not) before this compiles again; then update these counts. RenderArgs counts
 // its FrameArgs base as one field.
-static_assert(field_count<FrameArgs>() == 31,
+static_assert(field_count<FrameArgs>() == 32,
               "a FrameArgs field was added or removed: classify it in job_settings()");
 static_assert(field_count<RenderArgs>() == 1 + 6,
               "a RenderArgs field was added or removed: classify it in job_settings()");
@@ -97,6 +97,8 @@ std::vector<JobSetting> job_settings(const RenderArgs& args, const dynrt::Render
     job("--spp", std::to_string(args.spp));
     job("--filter", args.filter);
     job("--aa-contrast", number_text(args.aa_contrast));
+    job("--background", number_text(options.background.x) + "," + number_text(options.background.y) + "," +
+                            number_text(options.background.z));  // as resolved: the file's, or the flag's
     job("--depth", std::to_string(args.depth));
     job("--cutoff", number_text(args.cutoff));
     job("--secondary-packet-min", std::to_string(args.secondary_packet_min));

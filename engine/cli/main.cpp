@@ -156,6 +156,9 @@ int main(int argc, char** argv) {
                         "differing from a neighbour by more than this (per channel, or showing "
                         "another object) take --spp (0: every pixel takes --spp)")
             ->check(CLI::NonNegativeNumber)->capture_default_str();
+        cmd->add_option("--background", args.background,
+                        "Colour of pixels whose ray meets nothing, linear r,g,b (default: the scene "
+                        "file's own, as BART's files give it, else 0.05,0.06,0.08)");
         cmd->add_option("--occluder-cache", args.occluder_cache,
                         "Test each packet of shadow rays first against the triangles that last "
                         "blocked its light's rays in those directions (the same image either way)")

@@ -458,7 +458,7 @@ private:
     std::map<int, std::uint32_t> texture_of_image_;
     /// What the file says that dynrt leaves out, one line each in Scene::ignored (as BART's
     /// loader does): textures other than baseColorTexture (transmissionTexture included; the
-    /// factors are used), and the extensions the file requires or uses but dynrt does not
+    /// factors are used), emission and alpha modes other than OPAQUE, and the extensions the file requires or uses but dynrt does not
     /// implement (all but KHR_materials_transmission and KHR_materials_ior, which
     /// convert_material maps).
     void note_ignored(Scene& scene) const {
@@ -472,6 +472,18 @@ private:
         if (textured > 0) {
             scene.ignored.push_back(cat("textures other than base colour of ", textured,
                                         " material(s) (metal, roughness and transmission from their factors)"));
+        }
+        // Terms the shading has none of yet: emission and alpha (rendered opaque, unlit).
+        std::size_t emissive = 0, alpha = 0;
+        for (const tinygltf::Material& m : model_.materials) {
+            const bool glows = std::any_of(m.emissiveFactor.begin(), m.emissiveFactor.end(),
+                                           [](double c) { return c != 0.0; });
+            emissive += glows ? 1 : 0;
+            alpha += m.alphaMode == "MASK" || m.alphaMode == "BLEND" ? 1 : 0;
+        }
+        if (emissive > 0) scene.ignored.push_back(cat("emission of ", emissive, " material(s) (emissiveFactor)"));
+        if (alpha > 0) {
+            scene.ignored.push_back(cat("alpha of ", alpha, " material(s) (alphaMode MASK or BLEND; rendered opaque)"));
         }
         // The material extensions convert_material maps are not "left out".
         const auto implemented = [](const std::string& extension) {

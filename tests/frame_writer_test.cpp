@@ -146,5 +146,71 @@ TEST(FrameWriter, AnUnwritableFrameIsAnErrorNamingItAndItsFileAndEarlierFramesSt
     }
 }
 
+/// The pixels of an image file as floats (OpenImageIO), RGB interleaved.
+std::vector<float> pixels_of(const fs::path& path) {
+    auto in = OIIO::ImageInput::open(path.string());
+    EXPECT_TRUE(in) << path;
+    if (!in) return {};
+    const OIIO::ImageSpec& spec = in->spec();
+    std::vector<float> out(std::size_t(spec.width) * std::size_t(spec.height) * std::size_t(spec.nchannels));
+    in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, out.data());
+    return out;
+}
+
+TEST(DisplayTransform, CurvesAndExposure) {
+    const DisplayTransform identity;
+    EXPECT_TRUE(identity.identity());
+    EXPECT_EQ(identity.apply(glm::vec3(0.25f, 2.0f, -1.0f)), glm::vec3(0.25f, 2.0f, 0.0f));
+    const DisplayTransform reinhard{0.0f, ToneCurve::reinhard};
+    EXPECT_FLOAT_EQ(reinhard.apply(glm::vec3(1.0f)).x, 0.5f);
+    EXPECT_FLOAT_EQ(reinhard.apply(glm::vec3(3.0f)).x, 0.75f);
+    const DisplayTransform brighter{1.0f, ToneCurve::linear};
+    EXPECT_FLOAT_EQ(brighter.apply(glm::vec3(0.25f)).x, 0.5f);
+    const DisplayTransform aces{0.0f, ToneCurve::aces};
+    EXPECT_FLOAT_EQ(aces.apply(glm::vec3(0.0f)).x, 0.0f);
+    EXPECT_NEAR(aces.apply(glm::vec3(1e30f)).x, 2.51f / 2.43f, 1e-3f);  // no inf / inf
+    const DisplayTransform far{60.0f, ToneCurve::reinhard};
+    EXPECT_NEAR(far.apply(glm::vec3(1.0f)).x, 1.0f, 1e-4f);
+    // Monotone: a brighter colour never shows darker.
+    for (const ToneCurve curve : {ToneCurve::reinhard, ToneCurve::aces}) {
+        float last = -1.0f;
+        for (float x = 0.0f; x < 100.0f; x += 0.37f) {
+            const float y = DisplayTransform{0.0f, curve}.apply(glm::vec3(x)).x;
+            EXPECT_GE(y, last) << tone_curve_name(curve) << " at " << x;
+            last = y;
+        }
+    }
+    EXPECT_EQ(parse_tone_curve("aces"), ToneCurve::aces);
+    EXPECT_THROW(parse_tone_curve("filmic"), std::invalid_argument);
+}
+
+TEST(FrameWriter, TheToneCurveShapesEightBitFilesAndLeavesFloatFilesLinear) {
+    const fs::path dir = fresh_dir("display");
+    RenderedFrame frame = noise_frame(0);
+    for (glm::vec3& c : frame.color) c *= 4.0f;  // values up to 4: clipped by the linear curve
+    FrameOutputs linear = outputs_to(dir / "linear.png");
+    FrameOutputs toned = outputs_to(dir / "toned.png");
+    toned.display = DisplayTransform{-1.0f, ToneCurve::reinhard};
+    FrameOutputs toned_exr = outputs_to(dir / "toned.exr");
+    toned_exr.display = toned.display;
+    write_frame_now(linear, frame);
+    write_frame_now(toned, frame);
+    write_frame_now(toned_exr, frame);
+    const std::vector<float> a = pixels_of(dir / "linear.png"), b = pixels_of(dir / "toned.png");
+    const std::vector<float> exr = pixels_of(dir / "toned.exr");
+    ASSERT_EQ(a.size(), frame.color.size() * 3);
+    ASSERT_EQ(b.size(), a.size());
+    std::size_t clipped = 0, kept = 0;
+    for (std::size_t p = 0; p < frame.color.size(); ++p) {
+        for (int c = 0; c < 3; ++c) {
+            clipped += a[3 * p + std::size_t(c)] == 1.0f ? 1 : 0;
+            kept += b[3 * p + std::size_t(c)] < 1.0f ? 1 : 0;
+            EXPECT_EQ(exr[3 * p + std::size_t(c)], frame.color[p][c]);  // linear, untouched
+        }
+    }
+    EXPECT_GT(clipped, frame.color.size());  // most channels above 1 clip without a curve
+    EXPECT_EQ(kept, frame.color.size() * 3);  // x / (1 + x) never reaches white
+}
+
 }  // namespace frame_writer_test
 }  // namespace dynrt

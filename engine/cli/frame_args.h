@@ -70,6 +70,10 @@ struct RenderArgs : FrameArgs {
     std::string contact_sheet;
     std::string report;
     std::string aov;
+    /// The 8-bit files' exposure (stops) and tone curve (DisplayTransform); float files stay
+    /// linear.
+    float exposure = 0.0f;
+    std::string tone = "linear";
     /// Across processes (`mpirun dynrt render`): "frames" (handed out in runs, the default
     /// under mpirun) or "tiles" (each frame's tiles shared); empty: not given.
     std::string distribute;

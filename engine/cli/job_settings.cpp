@@ -24,7 +24,7 @@ namespace dynrt::cli {
 // its FrameArgs base as one field.
 static_assert(field_count<FrameArgs>() == 32,
               "a FrameArgs field was added or removed: classify it in job_settings()");
-static_assert(field_count<RenderArgs>() == 1 + 6,
+static_assert(field_count<RenderArgs>() == 1 + 8,
               "a RenderArgs field was added or removed: classify it in job_settings()");
 
 namespace {
@@ -122,6 +122,8 @@ std::vector<JobSetting> job_settings(const RenderArgs& args, const dynrt::Render
     // Where the report goes (the journal sits beside it), not what it says.
     not_job("--report", or_default(args.report));
     job("--aov", args.aov.empty() ? std::string("none") : args.aov);
+    job("--exposure", number_text(args.exposure));  // the 8-bit files' bytes
+    job("--tone", args.tone);
     // How the work is shared: the same bits either way (tests/mpi_render_test.cpp).
     not_job("--distribute", or_default(args.distribute));
     not_job("--resume", args.resume ? "yes" : "no");

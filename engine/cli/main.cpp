@@ -252,6 +252,14 @@ int main(int argc, char** argv) {
     render_cmd->add_option("--report", render.report, "Write the frame report as JSON to this file");
     render_cmd->add_option("--aov", render.aov,
                            "Also write float EXRs next to the image: depth,object,prim,normal");
+    render_cmd->add_option("--exposure", render.exposure,
+                           "Exposure of the 8-bit images, GIFs, videos and contact sheet, in stops "
+                           "(colours times 2^stops before the tone curve); float images stay linear")
+        ->check(CLI::Range(-64.0f, 64.0f))->capture_default_str();
+    render_cmd->add_option("--tone", render.tone,
+                           "Tone curve of the 8-bit outputs: linear (clips above 1), reinhard or aces "
+                           "(filmic); float images stay linear")
+        ->check(CLI::IsMember({"linear", "reinhard", "aces"}))->capture_default_str();
     render_cmd->add_option("--distribute", render.distribute,
                            "Under mpirun: frames (the default; each process renders runs of "
                            "frames it asks for) or tiles (every process renders its share of "

@@ -402,8 +402,9 @@ int run_distributed_render(const RenderArgs& args, Cluster& cluster) {
         std::optional<FrameWriter> writer;
         std::function<void()> record_written = [] {};
         if (!tiles || rank == 0) {
-            writer.emplace(FrameOutputs{args.out, aovs, options.pose.fps, args.contact_sheet,
-                                        range.first, range.count()});
+            writer.emplace(FrameOutputs{args.out, aovs, options.pose.fps, args.contact_sheet, range.first,
+                                        range.count(),
+                                        DisplayTransform{args.exposure, parse_tone_curve(args.tone)}});
             record_written = [&] {
                 for (const FrameStats& stats : writer->take_written()) {
                     if (tiles) {

@@ -16,7 +16,7 @@ namespace dynrt {
 
 void write_frame_now(const FrameOutputs& outputs, const RenderedFrame& frame) {
     const std::string path = frame_path(outputs.out, frame.stats.frame);
-    write_image(path, frame);
+    write_image(path, frame, outputs.display);
     for (const Aov aov : outputs.aovs) write_aov(path, aov, frame);
 }
 
@@ -136,12 +136,14 @@ void FrameWriter::run() {
 void FrameWriter::write(RenderedFrame& frame) {
     Stopwatch clock;
     if (sequence_file_) {
-        sequence_file_->add(frame);
-        ++sequence_frames_;
         // AOVs of a one-frame sequence file: beside it, named after it.
         for (const Aov aov : outputs_.aovs) write_aov(outputs_.out, aov, frame);
+        apply_display(outputs_.display, frame.color);  // the writer's own copy; all 8-bit from here
+        sequence_file_->add(frame);
+        ++sequence_frames_;
     } else {
         write_frame_now(outputs_, frame);
+        if (sheet_) apply_display(outputs_.display, frame.color);
     }
     if (sheet_) sheet_->add(frame.stats.frame - outputs_.first_frame, frame);
     frame.stats.write_ms = clock.elapsed_ms();

@@ -77,7 +77,7 @@ std::vector<Aov> parse_aov_list(const std::string& list) {
     return aovs;
 }
 
-void write_image(const std::filesystem::path& path, const RenderedFrame& frame) {
+void write_image(const std::filesystem::path& path, const RenderedFrame& frame, const DisplayTransform& display) {
     // Float formats keep linear radiance; the rest expect display-encoded values.
     std::string ext = path.extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
@@ -90,7 +90,13 @@ void write_image(const std::filesystem::path& path, const RenderedFrame& frame) 
         return;
     }
     std::vector<std::uint8_t> rgb(frame.color.size() * 3);
-    encode_srgb8(frame.color, rgb.data());
+    if (display.identity()) {
+        encode_srgb8(frame.color, rgb.data());
+    } else {
+        std::vector<glm::vec3> shown(frame.color);
+        apply_display(display, shown);
+        encode_srgb8(shown, rgb.data());
+    }
     write_pixels(path, frame.width, frame.height, 3, rgb.data(), OIIO::TypeDesc::UINT8,
                  OIIO::TypeDesc::UINT8);
 }

@@ -8,6 +8,7 @@
 // counted (wait_ms). The files are the same, byte for byte, as writing each frame on the render
 // thread would make (write_frame_now, which the tests compare against).
 
+#include "dynrt/engine/display_transform.h"
 #include "dynrt/engine/frame_stats.h"
 #include "dynrt/engine/image_output.h"
 #include "dynrt/engine/renderer.h"
@@ -41,6 +42,9 @@ struct FrameOutputs {
     std::string contact_sheet;
     int first_frame = 0;
     int frame_count = 1;
+    /// Exposure and tone curve of the 8-bit files (images, sequence files, the contact sheet);
+    /// float images stay linear.
+    DisplayTransform display;
 };
 
 /// An output stage's failure on a frame: what() is "frame F: FILE: why", naming the frame and

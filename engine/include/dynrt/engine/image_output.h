@@ -1,6 +1,7 @@
 #pragma once
 // Writing rendered frames to image files through OpenImageIO.
 
+#include "dynrt/engine/display_transform.h"
 #include "dynrt/engine/renderer.h"
 
 #include <filesystem>
@@ -17,9 +18,11 @@ enum class Aov { depth, object, prim, normal };
 std::vector<Aov> parse_aov_list(const std::string& list);
 
 /// Writes the colour image; the format follows the extension (.png, .exr, .jpg, .tif, ...).
-/// Float formats (.exr, .hdr, .pfm) get linear values; all others get sRGB-encoded 8-bit
-/// values clamped to [0, 1]. Throws std::runtime_error naming the file on failure.
-void write_image(const std::filesystem::path& path, const RenderedFrame& frame);
+/// Float formats (.exr, .hdr, .pfm) get linear values; all others get `display`'s exposure and
+/// tone curve (none by default), then sRGB-encoded 8-bit values clamped to [0, 1]. Throws
+/// std::runtime_error naming the file on failure.
+void write_image(const std::filesystem::path& path, const RenderedFrame& frame,
+                 const DisplayTransform& display = {});
 
 /// Throws std::invalid_argument when `path` cannot be written as an image: unknown format
 /// extension or missing parent folder. Lets callers fail before a long render, not after.

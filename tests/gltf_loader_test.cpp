@@ -428,23 +428,40 @@ TEST_F(GltfLoaderTest, MaterialsMapMetalnessTransmissionAndIor) {
     EXPECT_EQ(scene.ignored, ignored);
 }
 
-TEST_F(GltfLoaderTest, EmissionAndAlphaAreListedAsIgnored) {
-    // Terms dynrt does not shade yet are reported, not dropped silently: emission (a factor
-    // that is not black) and alpha modes other than OPAQUE.
+TEST_F(GltfLoaderTest, EmissionIsMappedAndAlphaIsListedAsIgnored) {
+    // emissiveFactor (clamped to [0, 1]) times KHR_materials_emissive_strength; alpha modes
+    // other than OPAQUE are not shaded yet and are reported, not dropped silently.
     GltfBuilder b = quad_builder();
     const int glowing = b.add_material("glowing", {1.0f, 1.0f, 1.0f});
+    const int strong = b.add_material("strong", {1.0f, 1.0f, 1.0f});
     const int cut = b.add_material("cut", {1.0f, 1.0f, 1.0f});
     const int see_through = b.add_material("see-through", {1.0f, 1.0f, 1.0f});
     const int opaque = b.add_material("opaque", {1.0f, 1.0f, 1.0f});
-    b.doc()["materials"][glowing]["emissiveFactor"] = {1.0, 0.5, 0.0};
+    b.doc()["materials"][glowing]["emissiveFactor"] = {1.0, 0.5, 2.0};
+    b.doc()["materials"][strong]["emissiveFactor"] = {0.5, 0.25, 0.0};
+    b.doc()["materials"][strong]["extensions"]["KHR_materials_emissive_strength"]["emissiveStrength"] = 4.0;
+    b.doc()["extensionsUsed"] = {"KHR_materials_emissive_strength"};
     b.doc()["materials"][cut]["alphaMode"] = "MASK";
     b.doc()["materials"][see_through]["alphaMode"] = "BLEND";
     b.doc()["materials"][opaque]["alphaMode"] = "OPAQUE";
-    b.doc()["materials"][opaque]["emissiveFactor"] = {0.0, 0.0, 0.0};
     const Scene scene = write_and_load(b);
-    const std::vector<std::string> ignored = {"emission of 1 material(s) (emissiveFactor)",
-                                              "alpha of 2 material(s) (alphaMode MASK or BLEND; rendered opaque)"};
+    const auto material = [&](const std::string& name) {
+        for (const Material& m : scene.materials) {
+            if (m.name == name) return m;
+        }
+        ADD_FAILURE() << "no material " << name;
+        return Material{};
+    };
+    EXPECT_EQ(material("glowing").emission, glm::vec3(1.0f, 0.5f, 1.0f));
+    EXPECT_EQ(material("strong").emission, glm::vec3(2.0f, 1.0f, 0.0f));
+    EXPECT_EQ(material("opaque").emission, glm::vec3(0.0f));
+    const std::vector<std::string> ignored = {"alpha of 2 material(s) (alphaMode MASK or BLEND; rendered opaque)"};
     EXPECT_EQ(scene.ignored, ignored);
+
+    // A negative strength is refused, naming the material.
+    b.doc()["materials"][strong]["extensions"]["KHR_materials_emissive_strength"]["emissiveStrength"] = -1.0;
+    b.write_gltf(path("negative.gltf"));
+    expect_error(path("negative.gltf"), {"material 'strong'", "emission", "must be finite and >= 0"});
 }
 
 TEST_F(GltfLoaderTest, BadIorIsAnErrorNamingObjectAndMaterial) {

@@ -746,6 +746,14 @@ Shot prism() { return prism_shot(); }
 Shot mirrors_far() { return mirrors_shot(kFar); }
 Shot glass_far() { return glass_shot(kFar); }
 Shot glass_smooth() { return glass_shot({}, true); }
+/// The mirrors' box glows (emission), seen directly and in the mirrors.
+Shot glowing_box_in_mirrors() {
+    Shot shot = mirrors_shot();
+    for (Object& object : shot.scene.objects) {
+        if (object.name == "box") shot.scene.materials[object.material].emission = glm::vec3(0.35f, 0.2f, 0.05f);
+    }
+    return shot;
+}
 
 INSTANTIATE_TEST_SUITE_P(Scenes, WhittedRenderer,
                          // Measured: open 0.2%, 2%, 2%, 0.3%, 6%; compared mirror or
@@ -757,7 +765,8 @@ INSTANTIATE_TEST_SUITE_P(Scenes, WhittedRenderer,
                                            Case{"farGlassSphere", glass_far, 0.12, 0.08},
                                            Case{"smoothGlassSphere", glass_smooth, 0.15, 0.05},
                                            Case{"smoothMirrorBall", mirror_ball_shot, 0.1, 0.1},
-                                           Case{"bentMirror", bent_mirror_shot, 0.1, 0.15}),
+                                           Case{"bentMirror", bent_mirror_shot, 0.1, 0.15},
+                                           Case{"glowingBoxInMirrors", glowing_box_in_mirrors, 0.02, 0.4}),
                          [](const ::testing::TestParamInfo<Case>& info) {
                              return info.param.name;
                          });

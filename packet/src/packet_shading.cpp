@@ -46,6 +46,9 @@ void shade_lanes(const SurfacePacket& surface, std::span<const PhongMaterial> ma
         const F ambient_kd[3] = {L::splat(ambient) * kd[0], L::splat(ambient) * kd[1],
                                  L::splat(ambient) * kd[2]};
         const F shininess = L::splat(material.shininess);
+        const bool glows = material.emission != glm::vec3(0.0f);
+        const F emission[3] = {L::splat(material.emission.x), L::splat(material.emission.y),
+                               L::splat(material.emission.z)};
         for (int base = 0; base < kPacketRays; base += W) {
             const std::uint32_t hit_bits = surface.hit.extract(base, W);
             if (hit_bits == 0) continue;
@@ -97,6 +100,9 @@ void shade_lanes(const SurfacePacket& surface, std::span<const PhongMaterial> ma
                     const F term = intensity * (kd_lane[a] * n_dot_l + ks[a] * specular);
                     color[a] = L::select(lit_mask, color[a] + term, color[a]);
                 }
+            }
+            if (glows) {
+                for (int a = 0; a < 3; ++a) color[a] = color[a] + emission[a];
             }
             for (int a = 0; a < 3; ++a) {
                 // Lanes of other materials keep what their own pass wrote (or will write).

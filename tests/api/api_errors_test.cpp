@@ -97,6 +97,8 @@ TEST(ApiErrors, BadMeshesAreRefusedNamingTheMesh) {
     refused_surface([](Surface& s) { s.transmittance.z = kInf; }, "transmittance (0, 0, inf) must be finite and >= 0");
     refused_surface([](Surface& s) { s.transmittance = {-1.0f, -1.0f, -1.0f}; },
                     "transmittance (-1, -1, -1) must be finite and >= 0");
+    refused_surface([](Surface& s) { s.emission = {0.0f, -1.0f, 0.0f}; }, "emission (0, -1, 0) must be finite and >= 0");
+    refused_surface([](Surface& s) { s.emission.x = kNaN; }, "emission (nan, 0, 0) must be finite and >= 0");
     refused_surface([](Surface& s) { s.ior = 0.0f; }, "ior 0 must be finite and > 0");
     // Colours: a negative one would shade darker than black (issue 34).
     refused_surface([](Surface& s) { s.diffuse.x = -0.2f; }, "diffuse (-0.2, 0.8, 0.8) must be finite and >= 0");

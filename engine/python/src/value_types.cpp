@@ -51,23 +51,25 @@ void bind_value_types(py::module_& m) {
     const Surface d;
     surface.def(py::init([](py::handle diffuse, py::handle specular, float shininess, py::handle reflectance,
                             py::handle transmittance, float ior, py::handle texture, const std::string& wrap_s,
-                            const std::string& wrap_t) {
+                            const std::string& wrap_t, py::handle emission) {
                     const char* w = "dynrt.Surface";
                     return Surface{vec3(diffuse, w, "diffuse"), vec3(specular, w, "specular"), shininess,
                                    vec3(reflectance, w, "reflectance"), vec3(transmittance, w, "transmittance"),
-                                   ior, texture_id(texture, w), wrap(wrap_s, w, "wrap_s"), wrap(wrap_t, w, "wrap_t")};
+                                   ior, texture_id(texture, w), wrap(wrap_s, w, "wrap_s"), wrap(wrap_t, w, "wrap_t"),
+                                   vec3(emission, w, "emission")};
                 }),
                 py::arg("diffuse") = to_tuple(d.diffuse), py::arg("specular") = to_tuple(d.specular),
                 py::arg("shininess") = d.shininess, py::arg("reflectance") = to_tuple(d.reflectance),
                 py::arg("transmittance") = to_tuple(d.transmittance), py::arg("ior") = d.ior,
                 py::arg("texture") = py::none(), py::arg("wrap_s") = wrap_name(d.wrap_s),
-                py::arg("wrap_t") = wrap_name(d.wrap_t));
+                py::arg("wrap_t") = wrap_name(d.wrap_t), py::arg("emission") = to_tuple(d.emission));
     vec3_property(surface, "diffuse", &Surface::diffuse);
     vec3_property(surface, "specular", &Surface::specular);
     surface.def_readwrite("shininess", &Surface::shininess);
     vec3_property(surface, "reflectance", &Surface::reflectance);
     vec3_property(surface, "transmittance", &Surface::transmittance);
     surface.def_readwrite("ior", &Surface::ior);
+    vec3_property(surface, "emission", &Surface::emission);
     // The diffuse texture as add_texture's id, or None; wrap modes by name.
     surface.def_property(
         "texture",

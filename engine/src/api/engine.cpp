@@ -111,6 +111,9 @@ std::string surface_problem(const Surface& surface) {
         out << "ior " << surface.ior << " must be finite and > 0";
         return out.str();
     }
+    if (!finite_non_negative(to_glm(surface.emission))) {
+        return "emission " + format_vec(to_glm(surface.emission)) + " must be finite and >= 0";
+    }
     return {};
 }
 
@@ -144,6 +147,7 @@ Material material_of(const Surface& surface, const std::string& name) {
     material.reflectance = to_glm(surface.reflectance);
     material.transmittance = to_glm(surface.transmittance);
     material.ior = surface.ior;
+    material.emission = to_glm(surface.emission);
     if (surface.diffuse_texture.valid()) {
         material.diffuse_map = TextureMap{surface.diffuse_texture.value, api_detail::scene_wrap(surface.wrap_s),
                                           api_detail::scene_wrap(surface.wrap_t)};

@@ -2,7 +2,7 @@
 // are in range, positions, normals and texture coordinates (none, or one per vertex) and
 // transforms are finite, material indices and their texture indices are valid, and every
 // material's Whitted terms are usable (reflectance and transmittance finite and >= 0, ior finite
-// and > 0: the refraction maths divides by it).
+// and > 0: the refraction maths divides by it), and so is its emission (finite and >= 0).
 
 #include "dynrt/engine/scene_loading.h"
 #include "dynrt/scene/scene_error.h"
@@ -44,6 +44,9 @@ std::string material_problem(const Material& material, std::size_t index) {
     }
     if (!std::isfinite(material.ior) || !(material.ior > 0.0f)) {
         return cat(which, "ior ", material.ior, " must be finite and > 0");
+    }
+    if (!is_finite_non_negative(material.emission)) {
+        return cat(which, "emission ", to_text(material.emission), " must be finite and >= 0");
     }
     return {};
 }

@@ -38,6 +38,7 @@ namespace {
 constexpr float kDefaultGrey = 0.8f;
 constexpr const char* kTransmission = "KHR_materials_transmission";
 constexpr const char* kIor = "KHR_materials_ior";
+constexpr const char* kEmissiveStrength = "KHR_materials_emissive_strength";
 /// glTF's index of refraction where KHR_materials_ior does not give one.
 constexpr double kGltfDefaultIor = 1.5;
 
@@ -82,8 +83,11 @@ bool has_transmission_texture(const tinygltf::Material& source) {
 ///   transmittance = transmission * (1 - metallic) * base: a metal lets nothing through;
 ///   ior           = KHR_materials_ior's ior (default 1.5) when the material has either
 ///                   extension, else 1 (an opaque material never refracts). A value <= 0 is
-///                   passed on for check_scene to refuse, naming the material.
-/// The other textures, transmissionTexture included, are ignored (listed in Scene::ignored).
+///                   passed on for check_scene to refuse, naming the material;
+///   emission      = emissiveFactor (each channel clamped to [0, 1]) times
+///                   KHR_materials_emissive_strength's emissiveStrength (default 1).
+/// The other textures, transmissionTexture and emissiveTexture included, are ignored (listed
+/// in Scene::ignored).
 Material convert_material(const tinygltf::Material& source, std::size_t index) {
     Material material;
     material.name = source.name.empty() ? cat("material", index) : source.name;
@@ -109,6 +113,14 @@ Material convert_material(const tinygltf::Material& source, std::size_t index) {
     material.transmittance = base * static_cast<float>(transmission * (1.0 - metallic));
     if (has_extension(source, kTransmission) || has_extension(source, kIor)) {
         material.ior = static_cast<float>(extension_number(source, kIor, "ior", kGltfDefaultIor));
+    }
+    // Emission: the factor (each channel clamped to [0, 1], as the spec bounds it) times the
+    // strength (a strength that is negative or not finite is refused by check_scene, naming
+    // the material).
+    const double strength = extension_number(source, kEmissiveStrength, "emissiveStrength", 1.0);
+    for (int c = 0; c < 3 && c < int(source.emissiveFactor.size()); ++c) {
+        const double factor = source.emissiveFactor[std::size_t(c)];
+        material.emission[c] = static_cast<float>((std::isfinite(factor) ? std::clamp(factor, 0.0, 1.0) : 0.0) * strength);
     }
     return material;
 }
@@ -458,9 +470,10 @@ private:
     std::map<int, std::uint32_t> texture_of_image_;
     /// What the file says that dynrt leaves out, one line each in Scene::ignored (as BART's
     /// loader does): textures other than baseColorTexture (transmissionTexture included; the
-    /// factors are used), emission and alpha modes other than OPAQUE, and the extensions the file requires or uses but dynrt does not
-    /// implement (all but KHR_materials_transmission and KHR_materials_ior, which
-    /// convert_material maps).
+    /// factors are used; emissiveTexture too: emissiveFactor is used), alpha modes other than
+    /// OPAQUE, and the extensions the file requires or uses but dynrt does not
+    /// implement (all but KHR_materials_transmission, KHR_materials_ior and
+    /// KHR_materials_emissive_strength, which convert_material maps).
     void note_ignored(Scene& scene) const {
         std::size_t textured = 0;
         for (const tinygltf::Material& m : model_.materials) {
@@ -473,21 +486,17 @@ private:
             scene.ignored.push_back(cat("textures other than base colour of ", textured,
                                         " material(s) (metal, roughness and transmission from their factors)"));
         }
-        // Terms the shading has none of yet: emission and alpha (rendered opaque, unlit).
-        std::size_t emissive = 0, alpha = 0;
+        // A term the shading has none of yet: alpha (rendered opaque).
+        std::size_t alpha = 0;
         for (const tinygltf::Material& m : model_.materials) {
-            const bool glows = std::any_of(m.emissiveFactor.begin(), m.emissiveFactor.end(),
-                                           [](double c) { return c != 0.0; });
-            emissive += glows ? 1 : 0;
             alpha += m.alphaMode == "MASK" || m.alphaMode == "BLEND" ? 1 : 0;
         }
-        if (emissive > 0) scene.ignored.push_back(cat("emission of ", emissive, " material(s) (emissiveFactor)"));
         if (alpha > 0) {
             scene.ignored.push_back(cat("alpha of ", alpha, " material(s) (alphaMode MASK or BLEND; rendered opaque)"));
         }
         // The material extensions convert_material maps are not "left out".
         const auto implemented = [](const std::string& extension) {
-            return extension == kTransmission || extension == kIor;
+            return extension == kTransmission || extension == kIor || extension == kEmissiveStrength;
         };
         for (const std::string& extension : model_.extensionsRequired) {
             if (implemented(extension)) continue;

@@ -50,7 +50,8 @@ bool same_scene_terms(const Material& a, const Material& b) {
 }
 
 bool same_material(const packet::PhongMaterial& a, const packet::PhongMaterial& b) {
-    return a.diffuse == b.diffuse && a.specular == b.specular && a.shininess == b.shininess;
+    return a.diffuse == b.diffuse && a.specular == b.specular && a.shininess == b.shininess &&
+           a.emission == b.emission;
 }
 
 /// Object `i`'s material now and then differ (its index, or the material's values).

@@ -174,7 +174,7 @@ void FramePipeline::trace(const Scene& scene, const Camera& camera, const TraceS
     // The shading kernel's view of the materials (bookkeeping, outside the stage clocks).
     materials_.clear();
     for (const Material& m : scene.materials) {
-        materials_.push_back(packet::PhongMaterial{m.diffuse, m.specular, m.shininess});
+        materials_.push_back(packet::PhongMaterial{m.diffuse, m.specular, m.shininess, m.emission});
     }
     object_material_.clear();
     for (const Object& object : scene.objects) {

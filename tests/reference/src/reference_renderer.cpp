@@ -202,6 +202,7 @@ private:
             sensitivity += double(light.intensity) *
                            (kd_max + 4.0 * shininess * ks_max * std::pow(r_dot_v, std::max(shininess - 1.0, 0.0)));
         }
+        color += glm::dvec3(material.emission);  // after the lights, as packet::shade adds it
         // Where the float renderer takes its shading normal: barycentric_rel * scale away on
         // the same ray, plus point_error for a deviating secondary ray.
         const double normal_error = normal_rate * (point_error + tol_.barycentric_rel * tracer_.scale_at(p));

@@ -140,6 +140,9 @@ struct Surface {
     Wrap wrap_s = Wrap::repeat;
     /// How the texture coordinate t (down) wraps outside [0, 1].
     Wrap wrap_t = Wrap::repeat;
+    /// Light the surface gives off itself, added to its shaded colour whatever lights it (it
+    /// lights nothing else); linear, each channel >= 0. 0 (the default): none.
+    Vec3 emission{0.0f, 0.0f, 0.0f};
 };
 
 }  // namespace dynrt

@@ -44,6 +44,8 @@ struct PhongMaterial {
     glm::vec3 diffuse{0.8f};
     glm::vec3 specular{0.2f};
     float shininess = 32.0f;  ///< >= 0 and finite
+    /// Added to every lit or unlit hit's colour (0: nothing is added, the same bits).
+    glm::vec3 emission{0.0f};
 };
 
 /// A point light: position and intensity (no falloff).

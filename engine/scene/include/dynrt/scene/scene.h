@@ -92,6 +92,10 @@ struct Material {
     /// Index of refraction of the inside (the side the triangles' winding normal points away
     /// from) relative to the outside; > 0 and finite.
     float ior = 1.0f;
+    /// Light the surface gives off itself (linear, each channel >= 0 and finite): added to its
+    /// shaded colour whatever lights it, at camera and secondary hits alike; it lights nothing
+    /// else. glTF's emissiveFactor times KHR_materials_emissive_strength.
+    glm::vec3 emission{0.0f};
     /// When present, the diffuse colour at a hit is `diffuse` times this texture's linear
     /// colour at the hit's texture coordinates (Mesh::texcoords); objects without texture
     /// coordinates, and textures that cannot be read, use `diffuse` alone.

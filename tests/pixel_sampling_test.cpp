@@ -240,6 +240,23 @@ TEST(SampledFrames, TileSharesGatherIntoTheWholeFrame) {
     }
 }
 
+TEST(SampledFrames, ApproximateReuseTracesEveryPixelAndSaysWhy) {
+    // The render cache and frameless mode keep one sample per pixel: with several, every pixel
+    // is traced, and the report names samples per pixel as the reason.
+    const Scene scene = test::moving_scene();
+    const Camera camera = default_camera(scene_bounds(scene));
+    RenderOptions options = sampling_options();
+    options.sampling.spp = 4;
+    options.reuse = parse_reuse("cache:0.25");
+    Renderer renderer(options);
+    RenderedFrame frame;
+    for (const int f : {0, 1}) {
+        renderer.render(scene, camera, f, frame);
+        EXPECT_EQ(frame.stats.reuse_reason, "samples per pixel");
+        EXPECT_EQ(frame.stats.pixels_traced, std::size_t(96 * 72));
+    }
+}
+
 /// Mean absolute difference over the channels of two images.
 double mean_channel_difference(const std::vector<glm::vec3>& a, const std::vector<glm::vec3>& b) {
     double sum = 0.0;

@@ -250,6 +250,7 @@ void FramePipeline::trace(const Scene& scene, const Camera& camera, const TraceS
         out.stats.reuse_mode = pixel_reuse_name(camera_moving ? PixelReuse::exact : PixelReuse::off);
         out.stats.reuse_reason = camera_moving                       ? "camera moving"
                                  : adaptive_aa && reuse_asked         ? "adaptive anti-aliasing"
+                                 : sampled && reuse_asked             ? "samples per pixel"
                                  : secondary && reuse_asked           ? "secondary rays"
                                  : options.adaptive_tolerance > 0.0f ? "adaptive sampling"
                                                                      : "reuse off";

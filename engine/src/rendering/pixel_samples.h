@@ -103,21 +103,15 @@ inline bvh::Aabb light_bounds(const PointLight& light) {
     return box;
 }
 
-/// The offset from pixel `pixel`'s centre (its index y * width + x) of its sample `sample` of
-/// `spp`: the centre itself at one sample per pixel.
-inline glm::vec2 pixel_sample_offset(const PixelSampling& sampling, std::uint32_t pixel, int sample) {
-    if (sampling.spp <= 1) return glm::vec2(0.0f);
-    return filter_offset(sampling.filter, scrambled_point(std::uint32_t(sample), sample_hash(pixel, 0x51ed27u),
-                                                          sample_hash(pixel, 0x2c1b3c6du)));
-}
-
-/// pixel_sample_offset for many pixels of one sample: the sequence's point made once.
+/// Where a pixel's sample `sample` lies, as an offset in pixels from its centre (the pixel's
+/// index y * width + x scrambles the sequence): the centre itself at one sample per pixel. The
+/// sequence's point is made once, for the many pixels of one sample (a pass); `at` gives each
+/// pixel's offset.
 class SampleOffsets {
 public:
     SampleOffsets(const PixelSampling& sampling, int sample)
         : filter_(sampling.filter), point_(sequence_point(std::uint32_t(sample))), centre_(sampling.spp <= 1) {}
 
-    /// pixel_sample_offset(sampling, pixel, sample), the same bits.
     glm::vec2 at(std::uint32_t pixel) const {
         if (centre_) return glm::vec2(0.0f);
         return filter_offset(filter_, scramble(point_, sample_hash(pixel, 0x51ed27u), sample_hash(pixel, 0x2c1b3c6du)));
@@ -128,6 +122,11 @@ private:
     glm::uvec2 point_;
     bool centre_;
 };
+
+/// SampleOffsets(sampling, sample).at(pixel), for a single sample.
+inline glm::vec2 pixel_sample_offset(const PixelSampling& sampling, std::uint32_t pixel, int sample) {
+    return SampleOffsets(sampling, sample).at(pixel);
+}
 
 /// The point of area light `light` (light number `index` of the frame) that sample `sample`
 /// of `spp` of pixel `pixel` sees: a point of the light's own scramble of the sequence,

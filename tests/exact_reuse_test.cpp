@@ -93,6 +93,52 @@ TEST(ExactReuse, ProceduralMotionsMatchFullRendersWithBothTracers) {
     }
 }
 
+// A directional light's shadow rays run from their surface toward it without end, and a
+// spot's are cut by its cone: kept shadows must still be re-traced exactly where a moving
+// object may cross them.
+TEST(ExactReuse, DirectionalAndSpotLightsMatchFullRenders) {
+    const Scene scene = moving_scene();
+    const Camera camera = default_camera(scene_bounds(scene));
+    PointLight sun;
+    sun.kind = PointLight::Kind::directional;
+    sun.direction = glm::normalize(glm::vec3(0.6f, -1.0f, 0.2f));
+    sun.intensity = 0.7f;
+    PointLight spot{glm::vec3(0.0f, 3.0f, 1.0f), 1.5f};
+    spot.kind = PointLight::Kind::spot;
+    spot.direction = glm::normalize(glm::vec3(0.0f, -1.0f, -0.3f));
+    spot.inner_cone = 0.3f;
+    spot.outer_cone = 0.6f;
+    spot.inverse_square = true;
+    RenderOptions options;
+    options.width = 88;
+    options.height = 72;
+    options.lights = {sun, spot};
+    const Totals t = render_both_ways(scene, camera, options, {0, 1, 2, 3, 3, 8, 9});
+    EXPECT_GT(t.reused, t.pixels / 4);
+    EXPECT_GT(t.shadows, 0u);
+}
+
+// Light through glass is not remembered per pixel: the kept pixels of a tile that may change
+// have their shadow rays traced again, and the images stay those of full renders.
+TEST(ExactReuse, ShadowsThroughGlassMatchFullRenders) {
+    // A still glass ball beside the moving objects: kept pixels in its shadow, in tiles where
+    // something else moves, must get their light through it again.
+    Scene scene = load_scene(kPlane + "+" + kRigid + "+" + kWave + "+" + kExplode + "+sphere:400@0.2,-0.5,0.9,0.4");
+    anim::add_procedural_motions(scene, std::vector<std::string>{"rigid:" + kRigid, "wave:" + kWave, "explode:" + kExplode});
+    Material glass = scene.materials[scene.objects.back().material];
+    glass.transmittance = glm::vec3(0.8f, 0.6f, 0.3f);
+    glass.ior = 1.2f;
+    scene.materials.push_back(glass);
+    scene.objects.back().material = std::uint32_t(scene.materials.size() - 1);
+    const Camera camera = default_camera(scene_bounds(scene));
+    RenderOptions options;
+    options.width = 88;
+    options.height = 72;
+    const Totals t = render_both_ways(scene, camera, options, {0, 1, 2, 3, 3, 8});
+    EXPECT_GT(t.reused, t.pixels / 8);
+    EXPECT_GT(t.shadows, 0u);
+}
+
 TEST(ExactReuse, OnlyTheRigidObjectMovesOverAStillScene) {
     Scene scene = load_scene(kPlane + "+" + kRigid + "+" + kWave);
     const std::vector<std::string> motions{"rigid:" + kRigid};
@@ -284,6 +330,55 @@ TEST(ChangedSpace, RayTestIsConservativeAndTight) {
     }
     EXPECT_GT(reported, 10);
     EXPECT_LT(reported, packet::kPacketRays - 10);
+}
+
+TEST(ChangedSpace, SweepTestIsConservativeAndTight) {
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> u(-3.0f, 3.0f);
+    int met = 0, clear = 0;
+    for (int trial = 0; trial < 300; ++trial) {
+        bvh::Aabb box;
+        box.extend(glm::vec3(u(rng), u(rng), u(rng)));
+        box.extend(box.lo + glm::vec3(0.3f + 0.2f * std::abs(u(rng))));
+        const detail::ChangedSpace space(std::span(&box, 1), 6.0f);
+        bvh::Aabb points;
+        points.extend(glm::vec3(u(rng), u(rng), u(rng)));
+        points.extend(points.lo + glm::vec3(0.4f));
+        // Half the trials aim the sweep at the box.
+        glm::vec3 dir = glm::normalize(glm::vec3(u(rng), u(rng), u(rng)));
+        if (trial % 2 == 0) dir = glm::normalize(box.center() - points.center() + 0.2f * dir);
+        if (trial % 7 == 0) dir.y = 0.0f;  // parallel to a slab
+        bool touches = false, near = false;
+        for (int i = 0; i <= 6; ++i) {
+            for (int j = 0; j <= 6; ++j) {
+                for (int k = 0; k <= 6; ++k) {
+                    const glm::vec3 q = points.lo + 0.4f * glm::vec3(i, j, k) / 6.0f;
+                    for (int s = 0; s <= 400; ++s) {
+                        const glm::vec3 p = q + (float(s) / 20.0f) * dir;  // 20 units: past every box
+                        const auto in = [&](float m) {
+                            return glm::all(glm::greaterThanEqual(p, box.lo - m)) &&
+                                   glm::all(glm::lessThanEqual(p, box.hi + m));
+                        };
+                        touches |= in(0.0f);
+                        near |= in(0.1f);
+                    }
+                }
+            }
+        }
+        const bool sweep = space.meets_sweep(points, dir);
+        if (touches) {
+            EXPECT_TRUE(sweep) << "trial " << trial;
+        }
+        if (!near) {
+            EXPECT_FALSE(sweep) << "trial " << trial;
+        }
+        detail::ChangedSpace kept;
+        EXPECT_EQ(space.select_sweep(points, dir, kept), sweep);
+        met += sweep;
+        clear += !sweep;
+    }
+    EXPECT_GT(met, 60);
+    EXPECT_GT(clear, 60);
 }
 
 TEST(ChangedSpace, HullAndPyramidTestsAreConservativeAndTight) {

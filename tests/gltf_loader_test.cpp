@@ -464,6 +464,66 @@ TEST_F(GltfLoaderTest, EmissionIsMappedAndAlphaIsListedAsIgnored) {
     expect_error(path("negative.gltf"), {"material 'strong'", "emission", "must be finite and >= 0"});
 }
 
+TEST_F(GltfLoaderTest, PunctualLightsAreReadOnTheirNodes) {
+    // KHR_lights_punctual: each kind in the spec's units (candela, lux) divided by pi for
+    // dynrt's Phong (gltf_lights.h), on its node, pointing down the node's -Z.
+    GltfBuilder b = quad_builder();
+    b.doc()["extensionsUsed"] = {"KHR_lights_punctual"};
+    b.doc()["extensions"]["KHR_lights_punctual"]["lights"] = {
+        {{"name", "bulb"}, {"type", "point"}, {"intensity", 100.0}, {"color", {1.0, 0.5, 0.25}}, {"range", 10.0}},
+        {{"type", "spot"}, {"intensity", 50.0}, {"spot", {{"innerConeAngle", 0.2}, {"outerConeAngle", 0.5}}}},
+        {{"name", "sun"}, {"type", "directional"}, {"intensity", 3.0}}};
+    for (int light = 0; light < 3; ++light) {
+        b.add_node({{"name", "holder " + std::to_string(light)},
+                    {"translation", {1.0 * light, 2.0, 0.0}},
+                    {"extensions", {{"KHR_lights_punctual", {{"light", light}}}}}});
+    }
+    const Scene scene = write_and_load(b);
+    ASSERT_EQ(scene.lights.size(), 3u);
+    const PointLight& bulb = scene.lights[0];
+    EXPECT_EQ(bulb.name, "bulb");
+    EXPECT_EQ(bulb.kind, PointLight::Kind::point);
+    EXPECT_FLOAT_EQ(bulb.intensity, float(100.0 / M_PI));
+    EXPECT_EQ(bulb.color, glm::vec3(1.0f, 0.5f, 0.25f));
+    EXPECT_TRUE(bulb.inverse_square);
+    EXPECT_EQ(bulb.range, 10.0f);
+    EXPECT_EQ(scene.nodes.at(std::size_t(bulb.node)).name, "holder 0");
+    const PointLight& spot = scene.lights[1];
+    EXPECT_EQ(spot.name, "holder 1");  // unnamed: the node's name
+    EXPECT_EQ(spot.kind, PointLight::Kind::spot);
+    EXPECT_FLOAT_EQ(spot.inner_cone, 0.2f);
+    EXPECT_FLOAT_EQ(spot.outer_cone, 0.5f);
+    EXPECT_EQ(spot.direction, glm::vec3(0.0f, 0.0f, -1.0f));
+    const PointLight& sun = scene.lights[2];
+    EXPECT_EQ(sun.kind, PointLight::Kind::directional);
+    EXPECT_FALSE(sun.inverse_square);
+    EXPECT_FLOAT_EQ(sun.intensity, float(3.0 / M_PI));
+    EXPECT_TRUE(scene.ignored.empty()) << scene.ignored.front();
+
+    // Bad lights are refused, naming the light.
+    json& lights = b.doc()["extensions"]["KHR_lights_punctual"]["lights"];
+    lights[1]["spot"]["innerConeAngle"] = 0.6;
+    expect_error(b, {"light 'holder 1'", "innerConeAngle < outerConeAngle"});
+    lights[1]["spot"]["innerConeAngle"] = 0.2;
+    lights[1]["spot"]["outerConeAngle"] = 2.0;
+    expect_error(b, {"light 'holder 1'", "<= pi/2"});
+    lights[1]["spot"]["outerConeAngle"] = 0.5;
+    lights[0]["intensity"] = -1.0;
+    expect_error(b, {"light 'bulb'", "intensity must be finite and >= 0"});
+    lights[0]["intensity"] = 1.0;
+    lights[0]["color"] = {1.0, -1.0, 0.0};
+    expect_error(b, {"light 'bulb'", "color"});
+    lights[0]["color"] = {1.0, 1.0, 1.0};
+    lights[0]["range"] = -3.0;
+    expect_error(b, {"light 'bulb'", "range must be finite and > 0"});
+    lights[0]["range"] = 10.0;
+    lights[2]["type"] = "area";
+    expect_error(b, {"light 'sun'", "type 'area'"});
+    lights[2]["type"] = "directional";
+    b.doc()["nodes"][1]["extensions"]["KHR_lights_punctual"]["light"] = 7;
+    expect_error(b, {"node 'holder 0'", "light 7 does not exist"});
+}
+
 TEST_F(GltfLoaderTest, BadIorIsAnErrorNamingObjectAndMaterial) {
     for (const double ior : {0.0, -1.5}) {
         GltfBuilder b = quad_builder();

@@ -12,6 +12,9 @@
 
 #include <gtest/gtest.h>
 
+#include <glm/geometric.hpp>
+
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -129,6 +132,25 @@ TEST(JobSettings, AnotherCameraIsRefusedNamingBothValues) {
     a.packet_culling = "all";
     b.packet_culling = "ab,bp,edge,nf";
     EXPECT_EQ(job_difference(header_of(a), header_of(b)), "");
+    // Every part of a light is the job's: its options in any order are the same light, and a
+    // spot's cone, a colour or a falloff makes another one.
+    a = base_args();
+    b = base_args();
+    a.lights = {"1,2,3,2:spot=0,-1,0,10,20:color=1,0.5,0.5:falloff:range=9"};
+    b.lights = {"1,2,3,2:range=9:falloff:color=1,0.5,0.5:spot=0,-1,0,10,20"};
+    EXPECT_EQ(job_difference(header_of(a), header_of(b)), "");
+    for (const char* other : {"1,2,3,2:spot=0,-1,0,10,21:color=1,0.5,0.5:falloff:range=9",
+                              "1,2,3,2:spot=0,-1,0,10,20:color=1,0.5,0.4:falloff:range=9",
+                              "1,2,3,2:spot=0,-1,0,10,20:color=1,0.5,0.5:range=9",
+                              "1,2,3,2:spot=0,-1,0,10,20:color=1,0.5,0.5:falloff:range=8",
+                              "1,2,3,2:directional"}) {
+        b.lights = {other};
+        EXPECT_NE(job_difference(header_of(a), header_of(b)), "") << other;
+    }
+    const PointLight sun = parse_light("1,-2,0,3:directional");
+    EXPECT_EQ(sun.kind, PointLight::Kind::directional);
+    EXPECT_FLOAT_EQ(glm::length(sun.direction), 1.0f);
+    EXPECT_FLOAT_EQ(sun.direction.y, -2.0f / std::sqrt(5.0f));
 }
 
 /// The clips played are part of the job, by name: another clip is refused naming both, and a

@@ -757,13 +757,15 @@ Shot glowing_box_in_mirrors() {
 
 INSTANTIATE_TEST_SUITE_P(Scenes, WhittedRenderer,
                          // Measured: open 0.2%, 2%, 2%, 0.3%, 6%; compared mirror or
-                         // glass pixels 52%, 15%, 98%, 51%, 11% (64x64).
+                         // glass pixels 52%, 15%, 98%, 51%, 11% (64x64). The smooth glass
+                         // sphere's compared share fell to 4.5% when shadow rays began to pass
+                         // through glass: those crossing it near a silhouette are open.
                          ::testing::Values(Case{"mirrors", mirrors_near, 0.02, 0.4},
                                            Case{"glassSphere", glass_near, 0.05, 0.12},
                                            Case{"prism", prism, 0.05, 0.8},
                                            Case{"farMirrors", mirrors_far, 0.03, 0.4},
                                            Case{"farGlassSphere", glass_far, 0.12, 0.08},
-                                           Case{"smoothGlassSphere", glass_smooth, 0.15, 0.05},
+                                           Case{"smoothGlassSphere", glass_smooth, 0.15, 0.04},
                                            Case{"smoothMirrorBall", mirror_ball_shot, 0.1, 0.1},
                                            Case{"bentMirror", bent_mirror_shot, 0.1, 0.15},
                                            Case{"glowingBoxInMirrors", glowing_box_in_mirrors, 0.02, 0.4}),

@@ -15,6 +15,7 @@
 #include "dynrt/engine/scene_loading.h"
 
 #include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
 
 #include <algorithm>
 #include <charconv>
@@ -69,34 +70,79 @@ void parse_resolution(const std::string& text, int& width, int& height) {
 }
 
 dynrt::PointLight parse_light(const std::string& text) {
-    const std::size_t colon = text.find(':');
-    const std::string point = text.substr(0, colon);
-    const std::vector<float> v = parse_floats(point, "--light");
+    std::vector<std::string> parts;
+    for (std::size_t at = 0;;) {
+        const std::size_t colon = text.find(':', at);
+        parts.push_back(text.substr(at, colon == std::string::npos ? std::string::npos : colon - at));
+        if (colon == std::string::npos) break;
+        at = colon + 1;
+    }
     const auto bad = [&](const std::string& why) {
         throw std::invalid_argument("--light '" + text + "': " + why);
     };
-    if (v.size() != 3 && v.size() != 4) {
-        bad("expected x,y,z[,intensity][:sphere=RADIUS|:quad=UX,UY,UZ,VX,VY,VZ]");
-    }
+    const std::vector<float> v = parse_floats(parts[0], "--light");
+    if (v.size() != 3 && v.size() != 4) bad("expected x,y,z[,intensity] then :options (dynrt --help)");
     if (v.size() == 4 && !(v[3] >= 0.0f)) bad("the intensity must be >= 0");
     dynrt::PointLight light{glm::vec3(v[0], v[1], v[2]), v.size() == 4 ? v[3] : 1.0f};
-    if (colon == std::string::npos) return light;
-    const std::string area = text.substr(colon + 1);
-    if (area.rfind("sphere=", 0) == 0) {
-        const std::vector<float> r = parse_floats(area.substr(7), "--light");
-        if (r.size() != 1 || !(r[0] > 0.0f) || !std::isfinite(r[0])) bad("a sphere light's radius must be one number > 0");
-        light.shape = dynrt::PointLight::Shape::sphere;
-        light.radius = r[0];
-    } else if (area.rfind("quad=", 0) == 0) {
-        const std::vector<float> e = parse_floats(area.substr(5), "--light");
-        if (e.size() != 6) bad("a quad light takes its two edges, UX,UY,UZ,VX,VY,VZ");
-        light.shape = dynrt::PointLight::Shape::quad;
-        light.edge_u = glm::vec3(e[0], e[1], e[2]);
-        light.edge_v = glm::vec3(e[3], e[4], e[5]);
-        const glm::vec3 n = glm::cross(light.edge_u, light.edge_v);
-        if (!(glm::dot(n, n) > 0.0f) || !std::isfinite(glm::dot(n, n))) bad("a quad light's edges must not be parallel");
-    } else {
-        bad("the area after ':' is sphere=RADIUS or quad=UX,UY,UZ,VX,VY,VZ");
+    using Kind = dynrt::PointLight::Kind;
+    using Shape = dynrt::PointLight::Shape;
+    const auto numbers = [&](const std::string& part, std::size_t name_length, std::size_t count,
+                             const std::string& expected) {
+        const std::vector<float> n = parse_floats(part.substr(name_length), "--light");
+        if (n.size() != count) bad(expected);
+        return n;
+    };
+    const auto unit = [&](glm::vec3 d, const std::string& what) {
+        const float length = glm::length(d);
+        if (!(length > 0.0f) || !std::isfinite(length)) bad(what + " must not be zero");
+        return d / length;
+    };
+    for (std::size_t i = 1; i < parts.size(); ++i) {
+        const std::string& part = parts[i];
+        if (part.rfind("sphere=", 0) == 0) {
+            const std::vector<float> r = numbers(part, 7, 1, "a sphere light's radius is one number > 0");
+            if (!(r[0] > 0.0f)) bad("a sphere light's radius must be > 0");
+            light.shape = Shape::sphere;
+            light.radius = r[0];
+        } else if (part.rfind("quad=", 0) == 0) {
+            const std::vector<float> e = numbers(part, 5, 6, "a quad light takes its two edges, UX,UY,UZ,VX,VY,VZ");
+            light.shape = Shape::quad;
+            light.edge_u = glm::vec3(e[0], e[1], e[2]);
+            light.edge_v = glm::vec3(e[3], e[4], e[5]);
+            const glm::vec3 n = glm::cross(light.edge_u, light.edge_v);
+            if (!(glm::dot(n, n) > 0.0f) || !std::isfinite(glm::dot(n, n))) bad("a quad light's edges must not be parallel");
+        } else if (part.rfind("spot=", 0) == 0) {
+            const std::vector<float> c =
+                numbers(part, 5, 5, "a spot takes its axis and cone angles in degrees, DX,DY,DZ,INNER,OUTER");
+            light.kind = Kind::spot;
+            light.direction = unit(glm::vec3(c[0], c[1], c[2]), "a spot's axis");
+            if (!(c[3] >= 0.0f && c[3] < c[4] && c[4] <= 90.0f)) {
+                bad("a spot's cone angles must satisfy 0 <= INNER < OUTER <= 90 degrees");
+            }
+            light.inner_cone = glm::radians(c[3]);
+            light.outer_cone = glm::radians(c[4]);
+        } else if (part == "directional") {
+            // x,y,z is then the direction the light travels.
+            light.kind = Kind::directional;
+            light.direction = unit(light.position, "a directional light's direction");
+            light.position = glm::vec3(0.0f);
+        } else if (part.rfind("color=", 0) == 0) {
+            const std::vector<float> c = numbers(part, 6, 3, "a colour is R,G,B");
+            if (!(std::min({c[0], c[1], c[2]}) >= 0.0f)) bad("a colour's channels must be >= 0");
+            light.color = glm::vec3(c[0], c[1], c[2]);
+        } else if (part == "falloff") {
+            light.inverse_square = true;
+        } else if (part.rfind("range=", 0) == 0) {
+            const std::vector<float> r = numbers(part, 6, 1, "a range is one number > 0");
+            if (!(r[0] > 0.0f)) bad("a range must be > 0");
+            light.range = r[0];
+        } else {
+            bad("unknown option '" + part + "' (sphere=, quad=, spot=, directional, color=, falloff, range=)");
+        }
+    }
+    if (light.kind == Kind::directional && light.shape != Shape::point) bad("a directional light has no area");
+    if (light.kind == Kind::directional && (light.inverse_square || light.range > 0.0f)) {
+        bad("a directional light has no distance, so no falloff or range");
     }
     return light;
 }

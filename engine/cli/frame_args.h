@@ -106,8 +106,10 @@ std::vector<float> parse_floats(const std::string& text, const std::string& what
 /// Parses --res WIDTHxHEIGHT (each 1..16384).
 void parse_resolution(const std::string& text, int& width, int& height);
 
-/// Parses --light x,y,z[,intensity][:sphere=RADIUS|:quad=UX,UY,UZ,VX,VY,VZ] (a point light, or
-/// an area light centred there).
+/// Parses --light x,y,z[,intensity][:OPTION]...: a point light there, changed by each option:
+/// sphere=RADIUS or quad=UX,UY,UZ,VX,VY,VZ (an area light centred there), spot=DX,DY,DZ,INNER,OUTER
+/// (a spot along that axis, cone angles in degrees), directional (x,y,z is the direction of
+/// travel), color=R,G,B, falloff (inverse square), range=R.
 dynrt::PointLight parse_light(const std::string& text);
 
 /// The options the flags give. The image size and frame rate are left 0 when not given:

@@ -8,6 +8,7 @@
 #include "dynrt/bvh/triangle.h"
 #include "dynrt/engine/scene_loading.h"
 
+#include <glm/mat3x3.hpp>
 #include <glm/geometric.hpp>
 
 #include <cmath>
@@ -51,12 +52,32 @@ void print_cameras(const dynrt::Scene& scene, const dynrt::anim::PosedScene& pos
     }
 }
 
-void print_lights(const dynrt::Scene& scene) {
+/// Lights with where they are at frame 0 (`posed`'s node matrices, for lights on a node).
+void print_lights(const dynrt::Scene& scene, const dynrt::anim::PosedScene& posed) {
     std::cout << "lights: " << scene.lights.size()
               << (scene.lights.empty() ? " (the renderer's default light is used)" : "") << "\n";
+    using Kind = dynrt::PointLight::Kind;
     for (std::size_t i = 0; i < scene.lights.size(); ++i) {
-        std::cout << "  " << std::left << std::setw(5) << i << std::right << "  point at " << scene.lights[i].position
-                  << ", intensity " << scene.lights[i].intensity << "\n";
+        const dynrt::PointLight& light = scene.lights[i];
+        std::cout << "  " << std::left << std::setw(5) << i << "  " << std::setw(32) << light.name << std::right << "  ";
+        const glm::dmat4 world = light.node >= 0 ? posed.node_world[std::size_t(light.node)] : glm::dmat4(1.0);
+        const glm::vec3 at(world * glm::dvec4(glm::dvec3(light.position), 1.0));
+        const glm::vec3 along(glm::normalize(glm::dmat3(world) * glm::dvec3(light.direction)));
+        if (light.kind == Kind::directional) {
+            std::cout << "directional along " << along;
+        } else {
+            std::cout << (light.kind == Kind::spot ? "spot at " : "point at ") << at;
+            if (light.kind == Kind::spot) {
+                std::cout << " along " << along << ", cone " << degrees_text(light.inner_cone) << "-"
+                          << degrees_text(light.outer_cone) << " deg";
+            }
+        }
+        std::cout << ", intensity " << light.intensity;
+        if (light.color != glm::vec3(1.0f)) std::cout << ", colour " << light.color;
+        if (light.inverse_square) std::cout << ", inverse-square falloff";
+        if (light.range > 0.0f) std::cout << ", range " << light.range;
+        if (light.node >= 0) std::cout << ", on node '" << scene.nodes[std::size_t(light.node)].name << "'";
+        std::cout << "\n";
     }
 }
 
@@ -126,7 +147,7 @@ int run_info(const std::string& source) {
               << scene.objects.size() << " objects, " << scene.materials.size()
               << " materials, " << scene.lights.size() << " lights\n";
     print_cameras(scene, posed);
-    print_lights(scene);
+    print_lights(scene, posed);
     print_materials(scene);
     print_textures(scene);
     // The timeline: frame rate and clips, as render and bench would play them.

@@ -10,6 +10,7 @@
 #include "dynrt/engine/sequence.h"
 
 #include <nlohmann/json.hpp>
+#include <glm/trigonometric.hpp>
 
 #include <algorithm>
 #include <charconv>
@@ -41,13 +42,22 @@ std::string number_text(Number value) {
 
 /// A light as --light reads it.
 std::string light_text(const dynrt::PointLight& light) {
-    std::string text = number_text(light.position.x) + "," + number_text(light.position.y) + "," +
-                       number_text(light.position.z) + "," + number_text(light.intensity);
     const auto vec = [](const glm::vec3& v) {
         return number_text(v.x) + "," + number_text(v.y) + "," + number_text(v.z);
     };
+    using Kind = dynrt::PointLight::Kind;
+    const bool directional = light.kind == Kind::directional;
+    std::string text = vec(directional ? light.direction : light.position) + "," + number_text(light.intensity);
     if (light.shape == dynrt::PointLight::Shape::sphere) text += ":sphere=" + number_text(light.radius);
     if (light.shape == dynrt::PointLight::Shape::quad) text += ":quad=" + vec(light.edge_u) + "," + vec(light.edge_v);
+    if (light.kind == Kind::spot) {
+        text += ":spot=" + vec(light.direction) + "," + number_text(glm::degrees(light.inner_cone)) + "," +
+                number_text(glm::degrees(light.outer_cone));
+    }
+    if (directional) text += ":directional";
+    if (light.color != glm::vec3(1.0f)) text += ":color=" + vec(light.color);
+    if (light.inverse_square) text += ":falloff";
+    if (light.range > 0.0f) text += ":range=" + number_text(light.range);
     return text;
 }
 

@@ -107,9 +107,12 @@ int main(int argc, char** argv) {
                         "camera, animated; the default for a BART (.aff) scene; or still: the "
                         "scene's camera at the first frame, held still");
         cmd->add_option("--light", args.lights,
-                        "Light x,y,z[,intensity], a point, or an area light centred there with "
-                        ":sphere=RADIUS or :quad=UX,UY,UZ,VX,VY,VZ (its two edges), sampled once "
-                        "per pixel sample (soft shadows); repeatable (default: one point light above)")
+                        "Light x,y,z[,intensity], a point, then options: an area light centred there "
+                        "with :sphere=RADIUS or :quad=UX,UY,UZ,VX,VY,VZ (its two edges), sampled once "
+                        "per pixel sample (soft shadows); :spot=DX,DY,DZ,INNER,OUTER (axis, cone in "
+                        "degrees); :directional (x,y,z is the direction of travel); :color=R,G,B; "
+                        ":falloff (inverse square); :range=R. Repeatable (default: the scene's lights, "
+                        "or one point light above)")
             ->allow_extra_args(false);
         cmd->add_option("--cost-ratio", args.cost_ratio,
                         "SAH intersection:traversal cost (0.1 big shallow leaves, 1 small deep)")

@@ -78,25 +78,30 @@ void shade_lanes(const SurfacePacket& surface, std::span<const PhongMaterial> ma
             for (std::size_t l = 0; l < lights.size(); ++l) {
                 const std::uint32_t lit = visible[l].extract(base, W) & mine;
                 if (lit == 0) continue;
-                // l = normalize(P_L - point) and s.l, as the renderer's shadow rays see them.
-                F to[3];
-                F n_dot_l;
-                if (const float* at = lights[l].lane_position; at == nullptr) {
-                    n_dot_l = light_cosine<W>(p, n, lights[l].position, to);
-                } else {
-                    const F lane_light[3] = {L::load(at + base), L::load(at + kPacketRays + base),
-                                             L::load(at + 2 * kPacketRays + base)};
-                    n_dot_l = light_cosine<W>(p, n, lane_light, to);
+                // l = normalize(P_L - point) (or a directional light's fixed vector) and s.l,
+                // as the renderer's shadow rays see them.
+                const ShadingLight& light = lights[l];
+                F at[3] = {L::splat(light.position.x), L::splat(light.position.y), L::splat(light.position.z)};
+                if (const float* lane = light.lane_position; lane != nullptr) {
+                    for (int a = 0; a < 3; ++a) at[a] = L::load(lane + a * kPacketRays + base);
                 }
+                F to[3];
+                const F n_dot_l = light_cosine<W>(light, p, n, at, to);
                 const F twice = L::splat(2.0f) * n_dot_l;
                 const F r_dot_v = (twice * n[0] - to[0]) * v[0] + (twice * n[1] - to[1]) * v[1] +
                                   (twice * n[2] - to[2]) * v[2];
                 const F specular = simd::pow<W>(
                     L::select(r_dot_v > L::splat(0.0f), r_dot_v, L::splat(0.0f)), shininess);
-                const F intensity = L::splat(lights[l].intensity);
                 // A shading normal may face away from a light its triangle faces.
                 const I lit_mask = L::from_bits(lit) & (n_dot_l > L::splat(0.0f));
+                const bool falls_off = light.falls_off();
+                const F falloff = falls_off ? light_falloff<W>(light, p, at, to) : L::splat(1.0f);
                 for (int a = 0; a < 3; ++a) {
+                    F intensity = L::splat(light.intensity * light.color[a]);
+                    if (falls_off) intensity = intensity * falloff;
+                    if (light.lane_filter != nullptr) {
+                        intensity = intensity * L::load(light.lane_filter + a * kPacketRays + base);
+                    }
                     const F term = intensity * (kd_lane[a] * n_dot_l + ks[a] * specular);
                     color[a] = L::select(lit_mask, color[a] + term, color[a]);
                 }

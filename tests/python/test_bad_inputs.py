@@ -301,6 +301,14 @@ ENGINE_CASES = [
      contains("light 0: a quad light's edges must be finite and not parallel")),
     ("light_quad_one_edge", lambda c: dynrt.Light((0, 3, 0), edge_u=(1, 0, 0)), IA,
      contains("dynrt.Light: a quad light takes edge_u and edge_v")),
+    ("light_kind_unknown", lambda c: dynrt.Light((0, 3, 0), kind="area"), IA,
+     contains("dynrt.Light: kind must be 'point', 'spot' or 'directional', not 'area'")),
+    ("render_spot_cone_inverted", lambda c: c.engine.render(
+        view(), 8, 8, lights=[dynrt.Light((0, 3, 0), kind="spot", direction=(0, -1, 0), inner_cone=30, outer_cone=20)]),
+     IA, contains("light 0: a spot's cone angles must satisfy 0 <= inner < outer <= pi/2")),
+    ("render_sun_without_direction", lambda c: c.engine.render(
+        view(), 8, 8, lights=[dynrt.Light((0, 3, 0), kind="directional", direction=(0, 0, 0))]), IA,
+     contains("light 0: its direction must be a finite unit vector")),
     # ---- render_into ----
     ("render_into_rgb_2d", lambda c: c.engine.render_into(view(), np.zeros((8, 8), np.float32)), IA,
      contains("dynrt.Engine.render_into: rgb must have shape (H, W, 3)")),

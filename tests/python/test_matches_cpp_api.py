@@ -204,6 +204,29 @@ def test_samples_and_area_lights_reach_the_engine(world):
     assert report["samples_per_pixel"] == 8
 
 
+def test_light_kinds_reach_the_engine(world):
+    """A spot, a coloured sun and a point light with falloff each give their own image; a
+    spot's cone one degree wider changes it."""
+    engine, _ = world.build(borrow=False)
+    spot = dynrt.Light((0.5, 4.0, 2.0), 0.9, kind="spot", direction=(-0.1, -1.0, -0.4), inner_cone=10, outer_cone=20)
+    wider = dynrt.Light((0.5, 4.0, 2.0), 0.9, kind="spot", direction=(-0.1, -1.0, -0.4), inner_cone=10, outer_cone=21)
+    sun = dynrt.Light((0, 0, 0), 0.8, kind="directional", direction=(0.3, -1.0, -0.2), color=(1.0, 0.8, 0.6))
+    bulb = dynrt.Light((0.5, 2.0, 1.0), 3.0, falloff=True, range=6.0)
+    assert (spot.kind, sun.kind, bulb.kind) == ("spot", "directional", "point")
+    assert "falloff=True" in repr(bulb) and "kind='spot'" in repr(spot)
+    images = [engine.render(view(), 48, 32, lights=[light]) for light in (spot, wider, sun, bulb)]
+    for i in range(len(images)):
+        for j in range(i + 1, len(images)):
+            assert not np.array_equal(images[i], images[j]), (i, j)
+    # The sun's colour scales its light per channel: red as under a white sun, blue darker
+    # wherever the sun reaches.
+    white = engine.render(view(), 48, 32, lights=[
+        dynrt.Light((0, 0, 0), 0.8, kind="directional", direction=(0.3, -1.0, -0.2))])
+    assert np.array_equal(images[2][..., 0], white[..., 0])
+    assert (images[2][..., 2] <= white[..., 2]).all()
+    assert (images[2][..., 2] < white[..., 2]).sum() > 48 * 32 // 4
+
+
 def test_coherent_rays_go_as_packets_and_incoherent_ones_alone(py):
     """The comparison covers both of the engine's tracers."""
     for step in STEPS:

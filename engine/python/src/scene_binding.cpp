@@ -243,7 +243,17 @@ public:
     std::vector<Light> lights() const {
         std::vector<Light> out;
         for (const PointLight& l : effective_lights(*scene_, RenderOptions{})) {
-            out.push_back(Light{vec(l.position), l.intensity});
+            Light light{vec(l.position), l.intensity};
+            light.kind = l.kind == PointLight::Kind::spot          ? LightKind::spot
+                         : l.kind == PointLight::Kind::directional ? LightKind::directional
+                                                                   : LightKind::point;
+            light.color = vec(l.color);
+            light.direction = vec(l.direction);
+            light.inner_cone_deg = l.inner_cone * 57.29577951308232f;
+            light.outer_cone_deg = l.outer_cone * 57.29577951308232f;
+            light.inverse_square = l.inverse_square;
+            light.range = l.range;
+            out.push_back(light);
         }
         return out;
     }

@@ -96,11 +96,14 @@ void bind_value_types(py::module_& m) {
     });
 
     py::class_<Light> light(m, "Light",
-                            "A light; no distance falloff. A point, or with radius a sphere light, or with "
-                            "edge_u and edge_v a quad light (area lights: soft shadows, one point per pixel "
-                            "sample; docs/rendering.md \"Samples per pixel and area lights\").");
+                            "A light: a point, or with radius a sphere light, or with edge_u and edge_v a "
+                            "quad light (area lights: soft shadows, one point per pixel sample); kind='spot' "
+                            "(direction, inner_cone, outer_cone in degrees) or 'directional' (direction of "
+                            "travel; position unused); color; falloff=True for inverse-square falloff; range "
+                            "(docs/rendering.md \"Lights\").");
     light.def(py::init([](py::handle position, float intensity, py::handle radius, py::handle edge_u,
-                          py::handle edge_v) {
+                          py::handle edge_v, const std::string& kind, py::handle color, py::handle direction,
+                          float inner_cone, float outer_cone, bool falloff, float range) {
                   const std::string where = "dynrt.Light";
                   Light l{vec3(position, where, "position"), intensity};
                   if (!radius.is_none() && (!edge_u.is_none() || !edge_v.is_none())) {
@@ -115,21 +118,48 @@ void bind_value_types(py::module_& m) {
                       l.edge_u = vec3(edge_u, where, "edge_u");
                       l.edge_v = vec3(edge_v, where, "edge_v");
                   }
+                  if (kind == "spot") {
+                      l.kind = LightKind::spot;
+                  } else if (kind == "directional") {
+                      l.kind = LightKind::directional;
+                  } else if (kind != "point") {
+                      invalid(where, "kind must be 'point', 'spot' or 'directional', not '" + kind + "'");
+                  }
+                  if (!color.is_none()) l.color = vec3(color, where, "color");
+                  if (!direction.is_none()) l.direction = vec3(direction, where, "direction");
+                  l.inner_cone_deg = inner_cone;
+                  l.outer_cone_deg = outer_cone;
+                  l.inverse_square = falloff;
+                  l.range = range;
                   return l;
               }),
               py::arg("position"), py::arg("intensity") = 1.0f, py::kw_only(), py::arg("radius") = py::none(),
-              py::arg("edge_u") = py::none(), py::arg("edge_v") = py::none());
+              py::arg("edge_u") = py::none(), py::arg("edge_v") = py::none(), py::arg("kind") = "point",
+              py::arg("color") = py::none(), py::arg("direction") = py::none(), py::arg("inner_cone") = 0.0f,
+              py::arg("outer_cone") = 45.0f, py::arg("falloff") = false, py::arg("range") = 0.0f);
     vec3_property(light, "position", &Light::position);
     light.def_readwrite("intensity", &Light::intensity);
     light.def_property_readonly("shape", [](const Light& l) {
         return std::string(l.shape == LightShape::sphere ? "sphere" : l.shape == LightShape::quad ? "quad" : "point");
     }, "'point', 'sphere' or 'quad'");
+    light.def_property_readonly("kind", [](const Light& l) {
+        return std::string(l.kind == LightKind::spot ? "spot" : l.kind == LightKind::directional ? "directional" : "point");
+    }, "'point', 'spot' or 'directional'");
     light.def_readonly("radius", &Light::radius);
+    vec3_property(light, "color", &Light::color);
+    vec3_property(light, "direction", &Light::direction);
     light.def("__repr__", [](const Light& l) {
-        std::string area;
-        if (l.shape == LightShape::sphere) area = ", radius=" + std::to_string(l.radius);
-        if (l.shape == LightShape::quad) area = ", edge_u=" + text(l.edge_u) + ", edge_v=" + text(l.edge_v);
-        return "dynrt.Light(position=" + text(l.position) + ", intensity=" + std::to_string(l.intensity) + area + ")";
+        std::string extra;
+        if (l.shape == LightShape::sphere) extra = ", radius=" + std::to_string(l.radius);
+        if (l.shape == LightShape::quad) extra = ", edge_u=" + text(l.edge_u) + ", edge_v=" + text(l.edge_v);
+        if (l.kind == LightKind::spot) {
+            extra += ", kind='spot', direction=" + text(l.direction) + ", inner_cone=" + std::to_string(l.inner_cone_deg) +
+                     ", outer_cone=" + std::to_string(l.outer_cone_deg);
+        }
+        if (l.kind == LightKind::directional) extra += ", kind='directional', direction=" + text(l.direction);
+        if (l.inverse_square) extra += ", falloff=True";
+        if (l.range > 0.0f) extra += ", range=" + std::to_string(l.range);
+        return "dynrt.Light(position=" + text(l.position) + ", intensity=" + std::to_string(l.intensity) + extra + ")";
     });
 }
 

@@ -19,6 +19,8 @@
 #include <tbb/task_arena.h>
 
 #include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
 #include <glm/vec2.hpp>
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
@@ -895,6 +897,18 @@ FrameStats Engine::render(const View& view, const ImageView& image,
         engine_light.radius = light.radius;
         engine_light.edge_u = to_glm(light.edge_u);
         engine_light.edge_v = to_glm(light.edge_v);
+        engine_light.kind = light.kind == LightKind::spot          ? PointLight::Kind::spot
+                            : light.kind == LightKind::directional ? PointLight::Kind::directional
+                                                                   : PointLight::Kind::point;
+        engine_light.color = to_glm(light.color);
+        // Normalised here (a zero or non-finite one stays not unit, which the trace refuses).
+        const glm::vec3 direction = to_glm(light.direction);
+        const float length = glm::length(direction);
+        engine_light.direction = length > 0.0f ? direction / length : direction;
+        engine_light.inner_cone = glm::radians(light.inner_cone_deg);
+        engine_light.outer_cone = glm::radians(light.outer_cone_deg);
+        engine_light.inverse_square = light.inverse_square;
+        engine_light.range = light.range;
         lights.push_back(engine_light);
     }
     if (lights.empty()) {

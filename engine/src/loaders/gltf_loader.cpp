@@ -15,6 +15,7 @@
 #include "gltf_accessors.h"
 #include "gltf_animations.h"
 #include "gltf_cameras.h"
+#include "gltf_lights.h"
 #include "gltf_data_error.h"
 #include "gltf_file.h"
 #include "gltf_morph_targets.h"
@@ -196,6 +197,7 @@ public:
         std::vector<Warning> warnings;
         try {
             scene.cameras = read_cameras(model_, instances, warnings);
+            scene.lights = read_lights(model_, instances);
             scene.clips = read_animations(model_, scene_node_of, warnings);
         } catch (const GltfDataError& e) {
             fail(e.what());
@@ -473,7 +475,8 @@ private:
     /// factors are used; emissiveTexture too: emissiveFactor is used), alpha modes other than
     /// OPAQUE, and the extensions the file requires or uses but dynrt does not
     /// implement (all but KHR_materials_transmission, KHR_materials_ior and
-    /// KHR_materials_emissive_strength, which convert_material maps).
+    /// KHR_materials_emissive_strength, which convert_material maps, and KHR_lights_punctual,
+    /// which read_lights reads).
     void note_ignored(Scene& scene) const {
         std::size_t textured = 0;
         for (const tinygltf::Material& m : model_.materials) {
@@ -496,7 +499,8 @@ private:
         }
         // The material extensions convert_material maps are not "left out".
         const auto implemented = [](const std::string& extension) {
-            return extension == kTransmission || extension == kIor || extension == kEmissiveStrength;
+            return extension == kTransmission || extension == kIor || extension == kEmissiveStrength ||
+                   extension == "KHR_lights_punctual";
         };
         for (const std::string& extension : model_.extensionsRequired) {
             if (implemented(extension)) continue;

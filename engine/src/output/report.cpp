@@ -379,7 +379,7 @@ void print_shadow_summary(std::ostream& out, const std::vector<FrameStats>& fram
     out << std::fixed << std::setprecision(0) << "shadow rays (median per frame): cast " << camera
         << " at camera hits, " << secondary << " at secondary hits; not cast: " << back
         << " facing away from their light, " << shading << " whose shading normal does, " << dark
-        << " toward lights of intensity 0; occluder cache: "
+        << " where their light is dark (intensity 0, outside a spot's cone, past its range); occluder cache: "
         << answered << " of " << tested << " answered (" << std::setprecision(1)
         << 100.0 * answered / std::max(1.0, tested) << "%)\n";
 }

@@ -186,7 +186,7 @@ private:
     }
     void trace_shadows() {
         work_.add_shadows(trace_tile_shadows(f_.in.tracer, RayCoherence::tile, origins_, f_.in.lights,
-                                             shadow_, visible_, trace_work_));
+                                             f_.shading.glass, shadow_, visible_, trace_work_));
     }
     /// The exact path for the whole tile: the full frame's tile pass.
     void trace_whole_tile() {

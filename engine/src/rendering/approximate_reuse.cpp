@@ -478,11 +478,11 @@ public:
         return lanes_;
     }
     bool may_change(const packet::LaneMask& traced) { return traced.any(); }
-    bool shadows(const TileShadowOrigins& origins, const packet::LaneMask&, TileRays&,
+    bool shadows(TileShadowOrigins& origins, const packet::LaneMask&, TileRays&,
                  std::vector<packet::LaneMask>& visible, StageWork& work) {
         packet::RayPacket shadow;
         work.add_shadows(trace_tile_shadows(pass_.in.tracer, RayCoherence::tile, origins, pass_.in.lights,
-                                            shadow, visible, pass_.trace_work(work)));
+                                            pass_.shading.glass, shadow, visible, pass_.trace_work(work)));
         return true;
     }
     /// What the pixels not traced showed restored, the traced ones' samples stored.

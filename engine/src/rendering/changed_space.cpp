@@ -87,6 +87,26 @@ bool hull_meets_box(const glm::vec3& apex, const bvh::Aabb& points, float pad, c
     return s_lo <= s_hi;
 }
 
+/// Whether `points` swept along `dir` without end, {q + t dir : q in points, t >= 0}, may meet
+/// `box`: exactly when the ray from 0 along dir meets the box of differences box - points,
+/// [box.lo - points.hi, box.hi - points.lo] (widened by the pad), a slab test in double.
+bool sweep_meets_box(const bvh::Aabb& points, const glm::vec3& dir, float pad, const bvh::Aabb& box) {
+    double t_lo = 0.0, t_hi = std::numeric_limits<double>::infinity();
+    for (int a = 0; a < 3; ++a) {
+        const double lo = double(box.lo[a]) - double(points.hi[a]) - pad;
+        const double hi = double(box.hi[a]) - double(points.lo[a]) + pad;
+        const double d = dir[a];
+        if (d == 0.0) {
+            if (lo > 0.0 || hi < 0.0) return false;
+            continue;
+        }
+        const double t0 = lo / d, t1 = hi / d;
+        t_lo = std::max(t_lo, std::min(t0, t1));
+        t_hi = std::min(t_hi, std::max(t0, t1));
+    }
+    return t_lo <= t_hi;
+}
+
 /// The pyramid from an apex as inward side planes (and the plane across its axis), in double.
 struct Pyramid {
     glm::dvec3 apex, normals[5];
@@ -156,6 +176,24 @@ bool ChangedSpace::select_pyramid(const glm::vec3& apex, const glm::vec3 (&corne
         if (pyramid.may_meet(box)) out.boxes_.push_back(box);
     }
     return !out.boxes_.empty();
+}
+
+bool ChangedSpace::select_sweep(const bvh::Aabb& points, const glm::vec3& dir, ChangedSpace& out) const {
+    out.pad_ = pad_;
+    out.boxes_.clear();
+    if (points.is_empty()) return false;
+    for (const bvh::Aabb& box : boxes_) {
+        if (sweep_meets_box(points, dir, pad_, box)) out.boxes_.push_back(box);
+    }
+    return !out.boxes_.empty();
+}
+
+bool ChangedSpace::meets_sweep(const bvh::Aabb& points, const glm::vec3& dir) const {
+    if (points.is_empty()) return false;
+    for (const bvh::Aabb& box : boxes_) {
+        if (sweep_meets_box(points, dir, pad_, box)) return true;
+    }
+    return false;
 }
 
 bool ChangedSpace::select_hull(const glm::vec3& apex, const bvh::Aabb& points,

@@ -8,7 +8,8 @@
 //
 // Three tests, from coarse to fine: a tile's primary rays as the pyramid from the eye through
 // its corner pixels, and as the hull of the eye and the tile's hit points when every pixel hit;
-// a tile's shadow rays as the hull of the light and their end points; one ray's segment.
+// a tile's shadow rays as the hull of the light and their end points (or, toward a
+// directional light, their origins swept toward it); one ray's segment.
 
 #include "dynrt/bvh/aabb.h"
 #include "dynrt/packet/ray_packet.h"
@@ -53,6 +54,12 @@ public:
     /// Returns whether any box is kept.
     bool select_pyramid(const glm::vec3& apex, const glm::vec3 (&corners)[4], ChangedSpace& out) const;
     bool select_hull(const glm::vec3& apex, const bvh::Aabb& points, ChangedSpace& out) const;
+
+    /// Whether `points` (a box) swept along `dir` without end may meet a box: the rays from
+    /// any of them along dir (a directional light's shadow rays) lie in it. select_sweep keeps
+    /// those boxes, as select_hull does.
+    bool meets_sweep(const bvh::Aabb& points, const glm::vec3& dir) const;
+    bool select_sweep(const bvh::Aabb& points, const glm::vec3& dir, ChangedSpace& out) const;
 
     ChangedSpace() = default;
 

@@ -34,9 +34,14 @@ bool same_image_settings(const TraceSettings& a, const TraceSettings& b) {
 /// Whether the shadow rays of `light` toward end points in `ends` may meet `space`'s boxes
 /// (select_hull into `near` when `near` is not null): they lie in the hull of the light's
 /// position and `ends` for a point light; an area light's leave anywhere on it, so they lie in
-/// the box of the light's bounds and `ends` (the hull of its centre and that box).
+/// the box of the light's bounds and `ends` (the hull of its centre and that box). A
+/// directional light's leave their origins (`ends` holds those) toward it without end.
 bool shadows_may_meet(const ChangedSpace& space, const PointLight& light, const bvh::Aabb& ends,
                       ChangedSpace* near) {
+    if (light.kind == PointLight::Kind::directional) {
+        const glm::vec3 toward = -light.direction;
+        return near != nullptr ? space.select_sweep(ends, toward, *near) : space.meets_sweep(ends, toward);
+    }
     bvh::Aabb points = ends;
     if (light.shape != PointLight::Shape::point) points.extend(light_bounds(light));
     return near != nullptr ? space.select_hull(light.position, points, *near)
@@ -251,7 +256,7 @@ packet::LaneMask changed_primary(const ReuseFrame& f, int t, const packet::Tile&
 /// trace (those of the re-traced `primary` lanes, and those meeting a changed box), traced
 /// again; visible[l] gets the lanes light l reaches now, kept or re-traced, and the memory
 /// what the next trace tests. Returns the lanes whose shadows alone were traced again.
-packet::LaneMask retrace_shadows(const ReuseFrame& f, int t, const TileShadowOrigins& origins,
+packet::LaneMask retrace_shadows(const ReuseFrame& f, int t, TileShadowOrigins& origins,
                                  const packet::LaneMask& primary, ChangedSpace& near,
                                  std::vector<packet::LaneMask>& visible, StageWork& tw) {
     const std::span<const PointLight> lights = f.pass.in.lights;
@@ -260,14 +265,13 @@ packet::LaneMask retrace_shadows(const ReuseFrame& f, int t, const TileShadowOri
     packet::RayPacket shadow;
     for (std::size_t l = 0; l < lights.size(); ++l) {
         const std::size_t slot = std::size_t(t) * lights.size() + l;
-        const int shading_away = origins.rays_to(lights[l], l, shadow);
+        const TileShadowOrigins::LeftOut left = origins.rays_to(lights[l], l, shadow);
         const packet::LaneMask lit = shadow.active;
         if (!(origins.surface.hit & ~primary).any()) {
             // Every hit traced afresh: the rays not cast, for the report (a tile's kept hits
             // would be counted again each frame they are kept).
             ShadowCounts fresh;
-            fresh.add(lights[l], std::size_t(origins.surface.hit.count()), std::size_t(lit.count()),
-                      std::size_t(shading_away));
+            fresh.add(lights[l], std::size_t(origins.surface.hit.count()), std::size_t(lit.count()), left);
             tw.add_skipped_shadows(fresh);
         }
         packet::LaneMask retrace = lit & primary;
@@ -277,20 +281,32 @@ packet::LaneMask retrace_shadows(const ReuseFrame& f, int t, const TileShadowOri
             retrace |= meets;
             shadows_only |= meets;
         }
-        packet::LaneMask occluded;
+        // Through glass, what reaches a kept lane is not remembered: its shadow rays are all
+        // traced again (the tiles where nothing may change are not shaded again at all).
+        const std::span<const glm::vec3> glass = f.pass.shading.glass;
+        if (!glass.empty()) {
+            shadows_only |= lit & ~primary & ~retrace;
+            retrace = lit;
+        }
+        packet::LaneMask occluded, through;
         if (retrace.any()) {
             shadow.active = retrace;
-            occluded = f.pass.in.tracer.occluded(shadow, RayCoherence::tile, f.pass.trace_work(tw));
+            occluded = f.pass.in.tracer.occluded(shadow, RayCoherence::tile, f.pass.trace_work(tw)) & retrace;
             tw.shadow_rays += std::size_t(retrace.count());
+            if (!glass.empty() && occluded.any()) {
+                through = through_glass(f.pass.in.tracer, RayCoherence::tile, glass, shadow, occluded, origins, l,
+                                        lights.size(), f.pass.trace_work(tw));
+            }
         }
         const packet::LaneMask before = f.memory.visible[slot];
-        visible[l] = (before & ~primary & ~retrace) | (retrace & ~occluded);
+        visible[l] = (before & ~primary & ~retrace) | (retrace & ~occluded) | through;
         f.memory.visible[slot] = visible[l];
         if (primary.any()) {
             bvh::Aabb ends;
+            const bool directional = lights[l].kind == PointLight::Kind::directional;
             lit.for_each([&](int lane) {
                 const bvh::Ray ray = shadow.ray(lane);
-                ends.extend(ray.org + ray.dir);
+                ends.extend(directional ? ray.org : ray.org + ray.dir);
             });
             f.memory.shadow_ends[slot] = ends;
         }
@@ -321,7 +337,7 @@ public:
         return primary.any() || shadows_may_change || secondary_here_;
     }
 
-    bool shadows(const TileShadowOrigins& origins, const packet::LaneMask& primary, TileRays& rays,
+    bool shadows(TileShadowOrigins& origins, const packet::LaneMask& primary, TileRays& rays,
                  std::vector<packet::LaneMask>& visible, StageWork& work) {
         if (primary.any()) {
             bvh::Aabb points;

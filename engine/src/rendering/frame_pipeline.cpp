@@ -21,8 +21,11 @@ namespace dynrt {
 namespace {
 
 /// Throws std::invalid_argument naming the first light that cannot be traced: a position or
-/// intensity not finite, a negative intensity, a sphere light's radius not finite and
-/// positive, a quad light's edges not finite or parallel (no area).
+/// intensity not finite, a negative intensity, a colour not finite or negative, a sphere
+/// light's radius not finite and positive, a quad light's edges not finite or parallel (no
+/// area), a spot's or directional light's direction not finite or zero, a spot's cone outside
+/// 0 <= inner < outer <= pi / 2, a range negative or not finite, a directional light with an
+/// area (it has no position).
 void check_lights(std::span<const PointLight> lights) {
     const auto finite = [](const glm::vec3& v) {
         return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
@@ -30,10 +33,15 @@ void check_lights(std::span<const PointLight> lights) {
     for (std::size_t i = 0; i < lights.size(); ++i) {
         const PointLight& light = lights[i];
         const auto bad = [&](const std::string& why) {
-            throw std::invalid_argument("light " + std::to_string(i) + ": " + why);
+            const std::string name = light.name.empty() ? std::to_string(i) : "'" + light.name + "'";
+            throw std::invalid_argument("light " + name + ": " + why);
         };
-        if (!finite(light.position)) bad("its position is not finite");
+        const bool directional = light.kind == PointLight::Kind::directional;
+        if (!directional && !finite(light.position)) bad("its position is not finite");
         if (!(light.intensity >= 0.0f) || !std::isfinite(light.intensity)) bad("its intensity must be finite and >= 0");
+        if (!finite(light.color) || !(std::min({light.color.x, light.color.y, light.color.z}) >= 0.0f)) {
+            bad("its colour must be finite and >= 0");
+        }
         if (light.shape == PointLight::Shape::sphere && !(light.radius > 0.0f && std::isfinite(light.radius))) {
             bad("a sphere light's radius must be finite and > 0 (a point light has none)");
         }
@@ -43,6 +51,21 @@ void check_lights(std::span<const PointLight> lights) {
                 bad("a quad light's edges must be finite and not parallel (it has no area)");
             }
         }
+        if (light.kind != PointLight::Kind::point) {
+            const float length = glm::length(light.direction);
+            if (!finite(light.direction) || !(std::abs(length - 1.0f) < 1e-3f)) {
+                bad("its direction must be a finite unit vector");
+            }
+        }
+        if (directional && light.shape != PointLight::Shape::point) {
+            bad("a directional light has no position, so no area (sphere or quad) around one");
+        }
+        if (light.kind == PointLight::Kind::spot &&
+            !(light.inner_cone >= 0.0f && light.inner_cone < light.outer_cone && light.outer_cone <= 1.5707964f)) {
+            bad("a spot's cone angles must satisfy 0 <= inner < outer <= pi/2 (radians; inner " +
+                std::to_string(light.inner_cone) + ", outer " + std::to_string(light.outer_cone) + ")");
+        }
+        if (!(light.range >= 0.0f) || !std::isfinite(light.range)) bad("its range must be finite and >= 0 (0: none)");
     }
 }
 

@@ -12,6 +12,7 @@
 #include <tbb/combinable.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <vector>
 
 namespace dynrt {
@@ -68,10 +69,24 @@ detail::TileShading frame_shading(const TraceInputs& in, const TraceSettings& op
                                   TraceScratch& scratch) {
     scratch.shading_lights.clear();
     for (const PointLight& light : in.lights) {
-        scratch.shading_lights.push_back(packet::ShadingLight{light.position, light.intensity});
+        scratch.shading_lights.push_back(detail::shading_light(light));
     }
-    return detail::TileShading{in.materials, scratch.shading_lights, options.ambient,
-                               options.background, options.packet.lanes, in.textures};
+    // Shadow rays pass through transmissive objects (tile_tracing.h, through_glass), a term of
+    // Whitted's model: with secondary rays off (max_depth 0) every surface blocks light.
+    scratch.glass.clear();
+    const bool any_glass = std::any_of(in.scene_materials.begin(), in.scene_materials.end(),
+                                       [](const Material& m) { return m.transmittance != glm::vec3(0.0f); });
+    if (any_glass && options.secondary.max_depth > 0) {
+        for (const std::int32_t m : in.object_material) {
+            scratch.glass.push_back(std::size_t(m) < in.scene_materials.size()
+                                        ? in.scene_materials[std::size_t(m)].transmittance
+                                        : glm::vec3(0.0f));
+        }
+    }
+    detail::TileShading shading{in.materials, scratch.shading_lights, options.ambient,
+                                options.background, options.packet.lanes, in.textures};
+    shading.glass = scratch.glass;
+    return shading;
 }
 
 void trace_frame(const TraceInputs& in, const Camera& camera, const TraceSettings& options,

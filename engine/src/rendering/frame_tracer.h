@@ -42,6 +42,8 @@ struct TraceInputs {
 struct TraceScratch {
     std::vector<bvh::InstanceHit> hits;
     std::vector<packet::ShadingLight> shading_lights;
+    /// Per object, the transmittance shadow rays pass through (TileShading::glass).
+    std::vector<glm::vec3> glass;
     detail::SecondaryBuffers secondary;
     /// Frames of several samples per pixel (sampled_frame.h): one sample pass's image, the
     /// pixels' sums, and the pixels that take every sample.

@@ -2,7 +2,9 @@
 
 #include "dynrt/anim/posed_scene.h"
 #include "dynrt/packet/packet_shading.h"
+#include "dynrt/scene/scene_error.h"
 #include "dynrt/engine/stopwatch.h"
+#include "rendering/posed_lights.h"
 #include "rendering/frame_pipeline.h"
 #include "rendering/cpu_tracer.h"
 #include "rendering/secondary_rays.h"
@@ -31,7 +33,9 @@ struct Renderer::State {
     /// changes) and the lights the frames use.
     const Scene* scene = nullptr;
     std::optional<anim::ScenePoser> poser;
-    std::vector<PointLight> lights;
+    /// The lights as the scene or options give them, and as the frame uses them (posed with
+    /// their nodes: posed_lights.h).
+    std::vector<PointLight> sequence_lights, lights;
     anim::PosedScene posed;
     /// The posed frame as the planner reads it.
     std::vector<ObjectState> states;
@@ -230,6 +234,7 @@ void Renderer::update(const Scene& scene, int frame) {
         // Flat shading needs no normals: none are posed.
         settings.normals = options_.smooth_normals;
         s.poser.emplace(scene, std::move(settings));
+        s.sequence_lights.clear();
         s.lights.clear();
         s.scene = &scene;
     }
@@ -248,7 +253,24 @@ void Renderer::update(const Scene& scene, int frame) {
                       frame_clock);
     // The lights, once per sequence and untimed. After the update, so that bad geometry is
     // reported at the frame asked for (the default light is placed from frame 0's bounds).
-    if (s.lights.empty()) s.lights = effective_lights(scene, options_);
+    if (s.sequence_lights.empty()) {
+        s.sequence_lights = effective_lights(scene, options_);
+        s.lights = s.sequence_lights;
+    }
+    if (detail::any_on_node(s.sequence_lights)) {
+        detail::pose_lights(s.sequence_lights, s.posed.node_world, s.lights);
+        for (std::size_t i = 0; i < s.lights.size(); ++i) {
+            const PointLight& light = s.lights[i];
+            const auto finite = [](const glm::vec3& v) {
+                return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+            };
+            if (!finite(light.position) || !finite(light.direction) || !finite(light.edge_u) || !finite(light.edge_v)) {
+                const std::string name = light.name.empty() ? std::to_string(i) : "'" + light.name + "'";
+                throw SceneError(scene.source + ": light " + name + ", frame " + std::to_string(frame) +
+                                 ": its node's world transform is not finite or collapses its direction");
+            }
+        }
+    }
 }
 
 void Renderer::trace(const Camera& camera, RenderedFrame& out) {

@@ -461,7 +461,7 @@ void SecondaryStage::shade_packet(int depth, std::size_t packet_index) {
     work.other_ms += clock.lap_ms();
     TraceWork* trace_work = f.tracing.count ? &work.trace : nullptr;
     work.shadows += trace_tile_shadows(f.tracing.tracer, RayCoherence::scattered, p.origins, f.lights,
-                                       p.shadow, p.visible, trace_work);
+                                       f.shading.glass, p.shadow, p.visible, trace_work);
     work.shadow_ms += clock.lap_ms();
 
     shade_lanes(f.shading, p.origins, p.visible, p.colors);

@@ -114,7 +114,7 @@ struct TilePass {
 ///                                                     written in place), none to keep all;
 ///   bool may_change(const packet::LaneMask& traced)   whether any pixel may show something
 ///                                                     else; if not, the tile stops here;
-///   bool shadows(const TileShadowOrigins&, const packet::LaneMask& traced, TileRays&,
+///   bool shadows(TileShadowOrigins&, const packet::LaneMask& traced, TileRays&,
 ///                std::vector<packet::LaneMask>& visible, StageWork&)
 ///                                                     visible[l]: the hit lanes light l
 ///                                                     reaches (traced, or kept); whether to
@@ -169,10 +169,10 @@ struct EveryRay {
 
     packet::LaneMask camera_lanes(TileRays& rays) { return rays.get().active; }
     bool may_change(const packet::LaneMask&) { return true; }
-    bool shadows(const TileShadowOrigins& origins, const packet::LaneMask&, TileRays& rays,
+    bool shadows(TileShadowOrigins& origins, const packet::LaneMask&, TileRays& rays,
                  std::vector<packet::LaneMask>& visible, StageWork& work) {
         packet::RayPacket& shadow = rays.get();  // the camera rays are done with
-        work.add_shadows(trace_tile_shadows(f.in.tracer, RayCoherence::tile, origins, f.in.lights, shadow,
+        work.add_shadows(trace_tile_shadows(f.in.tracer, RayCoherence::tile, origins, f.in.lights, f.shading.glass, shadow,
                                             visible, f.trace_work(work)));
         return true;
     }
@@ -202,7 +202,7 @@ struct SomePixels {
         return chosen;
     }
     bool may_change(const packet::LaneMask& traced) { return traced.any(); }
-    bool shadows(const TileShadowOrigins& origins, const packet::LaneMask& traced, TileRays& rays,
+    bool shadows(TileShadowOrigins& origins, const packet::LaneMask& traced, TileRays& rays,
                  std::vector<packet::LaneMask>& visible, StageWork& work) {
         return EveryRay{f}.shadows(origins, traced, rays, visible, work);
     }

@@ -24,6 +24,7 @@
 #include <glm/vec3.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <bit>
 #include <cstddef>
 #include <cstdint>
@@ -44,6 +45,27 @@ inline glm::vec3 facing_normal(const bvh::Triangle& tri, const glm::vec3& dir) {
 /// distance travelled, so the small shadow-ray offset is enough to clear the surface.
 inline glm::vec3 hit_point(const bvh::Triangle& tri, const bvh::Hit& hit) {
     return (1.0f - hit.u - hit.v) * tri.v0 + hit.u * tri.v1 + hit.v * tri.v2;
+}
+
+/// `light` as the shading kernel reads it (renderer.h, "Lights"): a spot's cone as glTF's
+/// scale and offset, 1 / max(0.001, cos(inner) - cos(outer)) and -cos(outer) times it.
+inline packet::ShadingLight shading_light(const PointLight& light) {
+    packet::ShadingLight out{light.position, light.intensity};
+    out.color = light.color;
+    out.directional = light.kind == PointLight::Kind::directional;
+    out.toward = -light.direction;
+    const bool local = !out.directional;
+    out.inverse_square = local && light.inverse_square;
+    out.range = local ? light.range : 0.0f;
+    out.spot = light.kind == PointLight::Kind::spot;
+    if (out.spot) {
+        const double cos_inner = std::cos(double(light.inner_cone)), cos_outer = std::cos(double(light.outer_cone));
+        const double scale = 1.0 / std::max(0.001, cos_inner - cos_outer);
+        out.spot_axis = light.direction;
+        out.cone_scale = float(scale);
+        out.cone_offset = float(-cos_outer * scale);
+    }
+    return out;
 }
 
 /// Where a pixel's shadow rays start and what they need to know: the facing normal and the
@@ -133,6 +155,30 @@ struct TileShadowOrigins {
         }
     }
 
+    /// Per light, what reaches each hit lane whose shadow ray passed through transmissive
+    /// surfaces only (trace_tile_shadows): the product of their transmittances. Empty when no
+    /// ray did.
+    struct LightFilter {
+        alignas(64) float rgb[3][packet::kPacketRays];
+        bool any = false;  ///< some lane of this light's is filtered (the others read 1)
+    };
+    std::vector<LightFilter> light_filter;
+
+    /// Light l's filter for lanes reached through glass, made (all 1) on first use.
+    LightFilter& filter_of(std::size_t l, std::size_t light_count) {
+        if (light_filter.size() != light_count) light_filter.assign(light_count, LightFilter{});
+        LightFilter& f = light_filter[l];
+        if (!f.any) {
+            for (auto& channel : f.rgb) std::fill(std::begin(channel), std::end(channel), 1.0f);
+            f.any = true;
+        }
+        return f;
+    }
+    /// Light l's filter (r, g, b arrays), or null when none of its lanes is filtered.
+    const float* light_filter_of(std::size_t l) const {
+        return l < light_filter.size() && light_filter[l].any ? &light_filter[l].rgb[0][0] : nullptr;
+    }
+
     /// Light l's points per lane (x, y, z arrays), or null when it is a point light.
     const float* light_points(std::size_t l) const {
         return l < light_lanes.size() && light_lanes[l].sampled ? &light_lanes[l].point[0][0] : nullptr;
@@ -172,6 +218,7 @@ struct TileShadowOrigins {
     void compute_lanes(const SceneAccel& accel, HitOf&& hit_of, const packet::RayPacket& rays,
                        const std::vector<std::int32_t>& object_material) {
         packet::LaneMask& hit = surface.hit;
+        light_filter.clear();
         using L = packet::simd::Lanes<packet::simd::kNativeLanes>;
         using F = L::F;
         using I = L::I;
@@ -279,22 +326,32 @@ struct TileShadowOrigins {
         }
     }
 
+    /// Lanes rays_to leaves out although their surface faces the light.
+    struct LeftOut {
+        int shading_away = 0;  ///< the shading normal faces away
+        int dark = 0;          ///< the falloff is 0 there (outside a spot's cone, past a range)
+    };
+
     /// Fills `out` with the shadow rays toward `light` of the hit lanes on its lit side
-    /// (ShadowOrigin::faces and ray_to, lane by lane) whose shading normal faces it too; none
-    /// toward a light of intensity 0. Returns how many lanes the shading normal left out.
+    /// (ShadowOrigin::faces and ray_to, lane by lane) whose shading normal faces it too and
+    /// whose falloff is not 0; none toward a light of intensity 0. Returns the lanes left out.
     /// The rays left out are exactly those whose light adds nothing to the hit's colour:
     /// packet::shade adds a light's term only on lanes its geometric normal faces and whose
     /// shading normal faces it by the very cosine computed here (packet::light_cosine), and a
-    /// term of intensity 0 is +0 (its factors are finite and the lit lanes' cosine positive),
-    /// which leaves every colour's bits as they are.
-    /// An area light's rays leave each lane's own point of it (light_lanes).
-    int rays_to(const PointLight& light, std::size_t l, packet::RayPacket& out) const {
+    /// term of intensity or falloff 0 (packet::light_falloff, the same function) is +0 (its
+    /// factors are finite and the lit lanes' cosine positive), which leaves every colour's bits
+    /// as they are.
+    /// An area light's rays leave each lane's own point of it (light_lanes). A directional
+    /// light's leave the offset origin toward it, t in [0, +inf): no point of it is nearer.
+    LeftOut rays_to(const PointLight& light, std::size_t l, packet::RayPacket& out) const {
         using L = packet::simd::Lanes<packet::simd::kNativeLanes>;
         using F = L::F;
         constexpr int W = packet::simd::kNativeLanes;
         out.clear();
-        if (light.intensity == 0.0f) return 0;
-        int shading_away = 0;
+        LeftOut left;
+        if (light.intensity == 0.0f) return left;
+        const packet::ShadingLight shading = shading_light(light);
+        const bool falls_off = shading.falls_off();
         const float* points = light_points(l);
         F lx = L::splat(light.position.x), ly = L::splat(light.position.y), lz = L::splat(light.position.z);
         for (int base = 0; base < packet::kPacketRays; base += W) {
@@ -308,22 +365,45 @@ struct TileShadowOrigins {
             const F light_at[3] = {lx, ly, lz};
             const F p[3] = {L::load(surface.point[0] + base), L::load(surface.point[1] + base),
                             L::load(surface.point[2] + base)};
-            const F to_x = lx - p[0], to_y = ly - p[1], to_z = lz - p[2];
             const F nx = L::load(surface.normal[0] + base), ny = L::load(surface.normal[1] + base),
                     nz = L::load(surface.normal[2] + base);
-            const std::uint32_t faces =
-                L::bits((nx * to_x + ny * to_y + nz * to_z) > L::splat(0.0f)) & lanes;
+            F facing;
+            if (shading.directional) {
+                facing = nx * L::splat(shading.toward.x) + ny * L::splat(shading.toward.y) +
+                         nz * L::splat(shading.toward.z);
+            } else {
+                const F to_x = lx - p[0], to_y = ly - p[1], to_z = lz - p[2];
+                facing = nx * to_x + ny * to_y + nz * to_z;
+            }
+            const std::uint32_t faces = L::bits(facing > L::splat(0.0f)) & lanes;
             if (faces == 0) continue;
             const F s[3] = {L::load(surface.shading_normal[0] + base),
                             L::load(surface.shading_normal[1] + base),
                             L::load(surface.shading_normal[2] + base)};
             F unit[3];
-            const std::uint32_t lit =
-                L::bits(packet::light_cosine<W>(p, s, light_at, unit) > L::splat(0.0f)) & faces;
-            shading_away += std::popcount(faces & ~lit);
+            const std::uint32_t toward =
+                L::bits(packet::light_cosine<W>(shading, p, s, light_at, unit) > L::splat(0.0f)) & faces;
+            left.shading_away += std::popcount(faces & ~toward);
+            std::uint32_t lit = toward;
+            if (falls_off && lit != 0) {
+                lit &= L::bits(packet::light_falloff<W>(shading, p, light_at, unit) > L::splat(0.0f));
+                left.dark += std::popcount(toward & ~lit);
+            }
             if (lit == 0) continue;
             const F ox = L::load(origin[0] + base), oy = L::load(origin[1] + base),
                     oz = L::load(origin[2] + base);
+            if (shading.directional) {
+                L::store(out.org_x + base, ox);
+                L::store(out.org_y + base, oy);
+                L::store(out.org_z + base, oz);
+                L::store(out.dir_x + base, L::splat(shading.toward.x));
+                L::store(out.dir_y + base, L::splat(shading.toward.y));
+                L::store(out.dir_z + base, L::splat(shading.toward.z));
+                L::store(out.tmin + base, L::splat(0.0f));
+                L::store(out.tmax + base, L::splat(std::numeric_limits<float>::infinity()));
+                out.active.words[base >> 6] |= std::uint64_t(lit) << (base & 63);
+                continue;
+            }
             // shadow_ray_end: push kShadowLightScale * D further along the normal.
             const F dx = L::abs(lx - ox), dy = L::abs(ly - oy), dz = L::abs(lz - oz);
             F d = dx;
@@ -341,7 +421,7 @@ struct TileShadowOrigins {
             L::store(out.tmax + base, L::splat(1.0f));
             out.active.words[base >> 6] |= std::uint64_t(lit) << (base & 63);
         }
-        return shading_away;
+        return left;
     }
 };
 
@@ -384,6 +464,9 @@ struct TileShading {
     int lanes;  ///< PacketConfig::lanes: the kernel's SIMD width (same bits either way)
     /// The frame's textures, or null when no material maps one.
     const SurfaceTextures* textures = nullptr;
+    /// Per object, its material's transmittance, which shadow rays pass through
+    /// (trace_tile_shadows); empty when no object is transmissive.
+    std::span<const glm::vec3> glass = {};
 };
 
 /// texture_footprint for lookups [0, count), SIMD across them with its operations in its order
@@ -507,14 +590,15 @@ struct ShadowCounts {
     std::size_t cast = 0, back_side = 0, shading_side = 0, dark_light = 0;
 
     /// Adds light `light`'s rays for `hits` hit lanes, of which rays_to cast `cast_rays` and
-    /// left `shading_away` out for their shading normal.
-    void add(const PointLight& light, std::size_t hits, std::size_t cast_rays, std::size_t shading_away) {
+    /// left `left` out although their surface faces the light.
+    void add(const PointLight& light, std::size_t hits, std::size_t cast_rays, TileShadowOrigins::LeftOut left) {
         cast += cast_rays;
         if (light.intensity == 0.0f) {
             dark_light += hits;
         } else {
-            shading_side += shading_away;
-            back_side += hits - cast_rays - shading_away;
+            shading_side += std::size_t(left.shading_away);
+            dark_light += std::size_t(left.dark);
+            back_side += hits - cast_rays - std::size_t(left.shading_away) - std::size_t(left.dark);
         }
     }
     ShadowCounts& operator+=(const ShadowCounts& o) {
@@ -534,11 +618,15 @@ inline void shade_lanes(const TileShading& shading, const TileShadowOrigins& ori
     if (surface.hit.any()) {
         const packet::DiffuseTint* tint = shading.textures ? tint_lanes(*shading.textures, origins) : nullptr;
         std::span<const packet::ShadingLight> lights = shading.lights;
-        if (!origins.light_lanes.empty()) {
-            // Area lights: each lane lit from its own sample of the light.
+        if (!origins.light_lanes.empty() || !origins.light_filter.empty()) {
+            // Area lights: each lane lit from its own sample of the light; lanes lit through
+            // glass: by what it lets through.
             thread_local std::vector<packet::ShadingLight> sampled;
             sampled.assign(lights.begin(), lights.end());
-            for (std::size_t l = 0; l < sampled.size(); ++l) sampled[l].lane_position = origins.light_points(l);
+            for (std::size_t l = 0; l < sampled.size(); ++l) {
+                sampled[l].lane_position = origins.light_points(l);
+                sampled[l].lane_filter = origins.light_filter_of(l);
+            }
             lights = sampled;
         }
         packet::shade(surface, shading.materials, lights, visible, shading.ambient, colors,

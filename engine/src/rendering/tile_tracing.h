@@ -10,7 +10,9 @@
 #include "rendering/tile_shading.h"
 #include "dynrt/engine/trace_backend.h"
 
+#include <cmath>
 #include <cstddef>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -27,22 +29,68 @@ inline void trace_tile_hits(const TraceBackend& tracer, const packet::Tile& tile
                    work);
 }
 
+/// Shadow rays through glass (Whitted 1980's rule, as most classic ray tracers): a shadow ray
+/// blocked only by transmissive surfaces reaches its light, filtered by the product of their
+/// transmittances; refraction of the shadow ray is ignored (it goes straight on). For the
+/// lanes `blocked` of `shadow` (rays toward light l that met something), their closest hits
+/// are found layer by layer, each layer starting just past the last hit (the next float t,
+/// so two triangles at exactly the same t count once), up to kGlassLayersMax: a lane reaches
+/// the light when it leaves the last layer without meeting an opaque surface. Returns those
+/// lanes; their filters go into origins.filter_of(l). `glass` is TileShading::glass.
+constexpr int kGlassLayersMax = 16;
+
+inline packet::LaneMask through_glass(const TraceBackend& tracer, RayCoherence coherence,
+                                      std::span<const glm::vec3> glass, const packet::RayPacket& shadow,
+                                      const packet::LaneMask& blocked, TileShadowOrigins& origins, std::size_t l,
+                                      std::size_t light_count, TraceWork* work) {
+    thread_local packet::RayPacket rays;
+    thread_local LaneHits hits;
+    rays = shadow;
+    rays.active = blocked;
+    packet::LaneMask through;
+    float (*filter)[packet::kPacketRays] = nullptr;
+    for (int layer = 0; layer < kGlassLayersMax && rays.active.any(); ++layer) {
+        tracer.closest(rays, coherence, HitTarget(hits), work);
+        packet::LaneMask next;
+        rays.active.for_each([&](int lane) {
+            const bvh::InstanceHit& hit = HitTarget(hits)[lane];
+            if (!hit.is_hit()) {
+                through.set(lane);
+                return;
+            }
+            const glm::vec3& kt = glass[hit.object];
+            if (kt == glm::vec3(0.0f)) return;  // opaque: the light is blocked
+            if (filter == nullptr) filter = origins.filter_of(l, light_count).rgb;
+            for (int a = 0; a < 3; ++a) filter[a][lane] *= kt[a];
+            rays.tmin[lane] = std::nextafter(hit.hit.t, std::numeric_limits<float>::infinity());
+            next.set(lane);
+        });
+        rays.active = next;
+    }
+    return through;
+}
+
 /// visible[l]: the hit lanes of `origins` that light l reaches (the lit side of their surface
-/// and nothing in between), one shadow batch per light of `coherence` (`shadow` holds the
-/// last). Returns the shadow rays traced and those not cast (TileShadowOrigins::rays_to).
+/// and nothing opaque in between), one shadow batch per light of `coherence` (`shadow` holds
+/// the last); lanes reached through glass get their filter in `origins` (through_glass).
+/// Returns the shadow rays traced and those not cast (TileShadowOrigins::rays_to).
 inline ShadowCounts trace_tile_shadows(const TraceBackend& tracer, RayCoherence coherence,
-                                       const TileShadowOrigins& origins,
-                                       std::span<const PointLight> lights, packet::RayPacket& shadow,
+                                       TileShadowOrigins& origins, std::span<const PointLight> lights,
+                                       std::span<const glm::vec3> glass, packet::RayPacket& shadow,
                                        std::vector<packet::LaneMask>& visible, TraceWork* work) {
     visible.assign(lights.size(), packet::LaneMask{});
     ShadowCounts counts;
     const auto hits = std::size_t(origins.surface.hit.count());
     for (std::size_t l = 0; l < lights.size() && hits > 0; ++l) {
-        const auto shading_away = std::size_t(origins.rays_to(lights[l], l, shadow));
+        const TileShadowOrigins::LeftOut left = origins.rays_to(lights[l], l, shadow);
         const auto cast = std::size_t(shadow.active.count());
-        counts.add(lights[l], hits, cast, shading_away);
+        counts.add(lights[l], hits, cast, left);
         if (cast == 0) continue;
-        visible[l] = shadow.active & ~tracer.occluded(shadow, coherence, work);
+        const packet::LaneMask occluded = tracer.occluded(shadow, coherence, work);
+        visible[l] = shadow.active & ~occluded;
+        if (!glass.empty() && (occluded & shadow.active).any()) {
+            visible[l] |= through_glass(tracer, coherence, glass, shadow, occluded & shadow.active, origins, l, lights.size(), work);
+        }
     }
     return counts;
 }

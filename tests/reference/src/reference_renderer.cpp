@@ -1,6 +1,7 @@
 #include "dynrt/reference/reference_renderer.h"
 
 #include <glm/geometric.hpp>
+#include <glm/mat3x3.hpp>
 #include <glm/trigonometric.hpp>
 
 #include <tbb/blocked_range.h>
@@ -25,16 +26,63 @@ ReferenceShading shading_from(const Scene& scene, const RenderOptions& options) 
     return shading;
 }
 
+ReferenceShading shading_from(const Scene& scene, const RenderOptions& options, const anim::PosedScene& posed) {
+    ReferenceShading shading = shading_from(scene, options);
+    for (PointLight& light : shading.lights) {
+        if (light.node < 0) continue;
+        // The node's matrix applied in double: the light's origin, and its axis normalised.
+        const glm::dmat4& m = posed.node_world.at(std::size_t(light.node));
+        light.position = glm::vec3(m * glm::dvec4(glm::dvec3(light.position), 1.0));
+        light.direction = glm::vec3(glm::normalize(glm::dmat3(m) * glm::dvec3(light.direction)));
+        light.edge_u = glm::vec3(glm::dmat3(m) * glm::dvec3(light.edge_u));
+        light.edge_v = glm::vec3(glm::dmat3(m) * glm::dvec3(light.edge_v));
+        light.node = -1;
+    }
+    return shading;
+}
+
 namespace {
 
 double max_channel(const glm::dvec3& v) { return std::max({v.x, v.y, v.z}); }
+
+/// A light's falloff at p, l the unit vector toward it (renderer.h "Lights", glTF's
+/// KHR_lights_punctual formulas): 1 / d^2 when inverse_square, times clamp(1 - (d / range)^4,
+/// 0, 1) when range > 0, times a spot's clamp((cos a - cos outer) / max(0.001, cos inner -
+/// cos outer), 0, 1)^2 for the angle a between -l and its axis. 1 for a directional light.
+double falloff(const PointLight& light, const glm::dvec3& p, const glm::dvec3& l) {
+    if (light.kind == PointLight::Kind::directional) return 1.0;
+    double factor = 1.0;
+    const double d2 = glm::dot(glm::dvec3(light.position) - p, glm::dvec3(light.position) - p);
+    if (light.inverse_square) factor /= d2;
+    if (light.range > 0.0f) {
+        const double r = d2 / (double(light.range) * double(light.range));
+        factor *= std::clamp(1.0 - r * r, 0.0, 1.0);
+    }
+    if (light.kind == PointLight::Kind::spot) {
+        const double cos_inner = std::cos(double(light.inner_cone)), cos_outer = std::cos(double(light.outer_cone));
+        const double cone = std::clamp((glm::dot(-l, glm::dvec3(light.direction)) - cos_outer) /
+                                           std::max(0.001, cos_inner - cos_outer),
+                                       0.0, 1.0);
+        factor *= cone * cone;
+    }
+    return factor;
+}
 
 /// One pixel's ray tree (the model and the ambiguity rules are in reference_renderer.h).
 class PixelShader {
 public:
     PixelShader(const Scene& scene, const ReferenceTracer& tracer, const ReferenceShading& shading,
                 const Tolerances& tol, double pixel_angle)
-        : scene_(scene), tracer_(tracer), shading_(shading), tol_(tol), pixel_angle_(pixel_angle) {}
+        : scene_(scene), tracer_(tracer), shading_(shading), tol_(tol), pixel_angle_(pixel_angle) {
+        // Shadow rays pass through transmissive objects, filtered by their transmittance.
+        for (const Object& object : scene.objects) {
+            const glm::dvec3 kt(scene.materials.at(object.material).transmittance);
+            object_transmittance_.push_back(kt);
+            glass_ = glass_ || kt != glm::dvec3(0.0);
+        }
+        // A term of Whitted's model: with max_depth 0 every surface blocks light.
+        if (!glass_ || shading.max_depth == 0) object_transmittance_.clear();
+    }
 
     ReferencePixel shade_camera_ray(const bvh::Ray& ray) {
         pixel_ = ReferencePixel{};
@@ -182,24 +230,33 @@ private:
         double sensitivity = 0.0, diffuse_light = shading_.ambient;
         const double kd_max = max_channel(kd), ks_max = max_channel(ks);
         for (const PointLight& light : shading_.lights) {
-            const glm::dvec3 light_pos(light.position);
-            const glm::dvec3 l = glm::normalize(light_pos - p);
+            // The unit vector toward the light, and the far end of the shadow segment: a
+            // directional light's lies so far along it that it leaves every scene.
+            const bool directional = light.kind == PointLight::Kind::directional;
+            const glm::dvec3 light_pos = directional
+                ? p - glm::dvec3(light.direction) * (1e7 * (1.0 + glm::length(p) + tracer_.scale_at(p)))
+                : glm::dvec3(light.position);
+            const glm::dvec3 l = directional ? -glm::dvec3(light.direction) : glm::normalize(light_pos - p);
+            const double intensity = double(light.intensity) * falloff(light, p, l);
+            if (!(intensity > 0.0)) continue;
             // The shadow ray is cast by the geometric normal's side, the terms lit with the
             // shading normal's (continuous at its own n . l = 0).
             const double facing = glm::dot(n, l);
             if (std::abs(facing) < tol_.terminator) pixel_.shading_ambiguous = true;
             if (!(facing > 0.0)) continue;
             const ReferenceOcclusion occlusion =
-                tracer_.occluded(p, light_pos, tri, tol_, point_error);
+                tracer_.occluded(p, light_pos, tri, tol_, point_error, object_transmittance_);
             if (occlusion.ambiguous) pixel_.shading_ambiguous = true;
             if (occlusion.occluded) continue;
             const double n_dot_l = glm::dot(ns, l);
             if (!(n_dot_l > 0.0)) continue;
             const glm::dvec3 r = 2.0 * n_dot_l * ns - l;
             const double r_dot_v = std::max(0.0, glm::dot(r, view));
-            color += double(light.intensity) * (kd * n_dot_l + ks * std::pow(r_dot_v, shininess));
-            diffuse_light += double(light.intensity) * n_dot_l;
-            sensitivity += double(light.intensity) *
+            const glm::dvec3 light_color = intensity * glm::dvec3(light.color) * occlusion.transmittance;
+            color += light_color * (kd * n_dot_l + ks * std::pow(r_dot_v, shininess));
+            const double brightest = max_channel(light_color);
+            diffuse_light += brightest * n_dot_l;
+            sensitivity += brightest *
                            (kd_max + 4.0 * shininess * ks_max * std::pow(r_dot_v, std::max(shininess - 1.0, 0.0)));
         }
         color += glm::dvec3(material.emission);  // after the lights, as packet::shade adds it
@@ -276,6 +333,9 @@ private:
     }
 
     const Scene& scene_;
+    /// Per object, its material's transmittance; empty when nothing is transmissive.
+    std::vector<glm::dvec3> object_transmittance_;
+    bool glass_ = false;
     const ReferenceTracer& tracer_;
     const ReferenceShading& shading_;
     const Tolerances& tol_;

@@ -450,7 +450,8 @@ ReferenceHit ReferenceTracer::closest_within(const RayD& ray, const Reach& reach
 
 ReferenceOcclusion ReferenceTracer::occluded(const glm::dvec3& from, const glm::dvec3& to,
                                              TriangleRef exclude, const Tolerances& tol,
-                                             double origin_error) const {
+                                             double origin_error,
+                                             std::span<const glm::dvec3> object_transmittance) const {
     const glm::dvec3 segment = to - from;
     const double dist = glm::length(segment);
     if (!(dist > 0.0)) return {};
@@ -487,6 +488,11 @@ ReferenceOcclusion ReferenceTracer::occluded(const glm::dvec3& from, const glm::
     bool exact = false;
     std::size_t near_count = 0;
     std::vector<Candidate> inner;  // near candidates well inside the segment's depth range
+    // Transmissive triangles let the segment through, filtered by their transmittance: each
+    // one it certainly crosses filters it once; one it may cross or miss makes it ambiguous.
+    glm::dvec3 through(1.0);
+    bool glass_ambiguous = false;
+    std::vector<Candidate> glass_edge;  // glass triangles the segment passes near an edge of
     for (std::uint32_t k = 0; k < tris_.size(); ++k) {
         if (k == excluded) continue;
         const Sphere& s = spheres_[k];
@@ -507,17 +513,45 @@ ReferenceOcclusion ReferenceTracer::occluded(const glm::dvec3& from, const glm::
         if (c.t < -origin_shift || c.t > dist + resolution) continue;
         c.reach = reach_at(c.t);
         if (c.s_min() < -c.reach) continue;
-        if (c.inside && c.t > t_exact_lo && c.t < dist) exact = true;
         const bool in_depth = c.t >= origin_shift && c.t <= dist - resolution;
+        if (!object_transmittance.empty()) {
+            const glm::dvec3& kt = object_transmittance[std::size_t(tris_[k].object)];
+            if (kt != glm::dvec3(0.0)) {
+                if (in_depth && c.sigma != 0 && c.s_min() >= c.reach) {
+                    through *= kt;
+                } else if (in_depth && c.sigma != 0) {
+                    glass_edge.push_back(c);
+                } else {
+                    glass_ambiguous = true;
+                }
+                continue;
+            }
+        }
+        if (c.inside && c.t > t_exact_lo && c.t < dist) exact = true;
         if (in_depth && c.sigma != 0 && c.s_min() >= c.reach) return {true, false};  // certain
         if (in_depth) inner.push_back(c);
         ++near_count;
     }
-    if (near_count == 0) return {false, false};
+    if (!glass_edge.empty()) {
+        // The segment passes near edges of glass triangles. When they are of one object, all
+        // face it the same way and certainly cover it together (a shared edge of a glass
+        // surface crossed once), a float tracer counts exactly one of them (watertight tests):
+        // one crossing. Otherwise (a graze, several crossings) the filter is open.
+        const Candidate& first = glass_edge.front();
+        const bool one_crossing = std::all_of(glass_edge.begin(), glass_edge.end(), [&](const Candidate& c) {
+            return tris_[c.tri].object == tris_[first.tri].object && c.sigma == first.sigma;
+        }) && covered(glass_edge);
+        if (one_crossing) {
+            through *= object_transmittance[std::size_t(tris_[first.tri].object)];
+        } else {
+            glass_ambiguous = true;
+        }
+    }
+    if (near_count == 0) return {false, glass_ambiguous, through};
 
     // No single triangle certainly blocks it; a closed patch of shared edges still may.
-    if (!inner.empty() && covered(inner)) return {exact, !exact};
-    return {exact, true};
+    if (!inner.empty() && covered(inner)) return {exact, !exact || glass_ambiguous, through};
+    return {exact, true, through};
 }
 
 }  // namespace dynrt::reference

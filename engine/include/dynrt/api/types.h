@@ -103,8 +103,17 @@ enum class LightShape : std::uint8_t {
     quad,    ///< a parallelogram centred on Light::position, spanned by Light::edge_u and Light::edge_v
 };
 
-/// A light; no distance falloff. An area light lights a point as the mean of point lights of
-/// its intensity over its surface.
+/// What a light is (docs/rendering.md "Lights").
+enum class LightKind : std::uint8_t {
+    point,        ///< shines every way from Light::position
+    spot,         ///< shines within a cone around Light::direction from Light::position
+    directional,  ///< a sun: shines along Light::direction from infinitely far (no position)
+};
+
+/// A light. Its colour at a point is intensity * color, times 1 / d^2 when inverse_square (d
+/// the distance to it; the default is no falloff), glTF's window before `range`, and a spot's
+/// cone. An area light lights a point as the mean of point lights of its intensity over its
+/// surface.
 struct Light {
     Vec3 position;           ///< where the light is (an area light's centre), in world space
     float intensity = 1.0f;  ///< what the light's colour is multiplied by, >= 0
@@ -114,6 +123,16 @@ struct Light {
     /// [-1/2, 1/2]; not parallel.
     Vec3 edge_u{0.0f, 0.0f, 0.0f};
     Vec3 edge_v{0.0f, 0.0f, 0.0f};  ///< a quad light's second edge (see edge_u)
+    LightKind kind = LightKind::point;  ///< a point (or area), a spot or a directional light
+    Vec3 color{1.0f, 1.0f, 1.0f};   ///< linear RGB, each >= 0
+    /// A spot's axis, a directional light's direction of travel (normalised here; not zero).
+    Vec3 direction{0.0f, 0.0f, -1.0f};
+    /// A spot's cone in degrees from its axis: full within inner, none past outer
+    /// (0 <= inner < outer <= 90), glTF's smooth ramp between.
+    float inner_cone_deg = 0.0f;
+    float outer_cone_deg = 45.0f;  ///< a spot's outer cone in degrees (see inner_cone_deg)
+    bool inverse_square = false;  ///< point and spot lights: intensity / d^2
+    float range = 0.0f;           ///< point and spot lights: none beyond it; 0: no range
 };
 
 /// A mesh's material: Phong terms plus Whitted's mirror and refraction weights (docs/rendering.md

@@ -160,7 +160,8 @@ struct TraceStats {
     std::vector<double> secondary_mrays_per_s_per_depth;
     /// Shadow rays (at camera and secondary hits) left out because their contribution is
     /// exactly zero: the hit faces away from the light (its geometric normal, or else its
-    /// shading normal), or the light's intensity is 0. Not counted in shadow_rays or
+    /// shading normal), or the light is dark there (intensity 0, outside a spot's cone, past
+    /// its range: shadow_rays_dark_light). Not counted in shadow_rays or
     /// secondary_shadow_rays. Exact reuse counts those of the tiles it traces afresh.
     std::size_t shadow_rays_back_side = 0;
     std::size_t shadow_rays_shading_side = 0;

@@ -9,11 +9,21 @@
 // the texture's linear colour at the hit's interpolated coordinates over the footprint
 // texture_footprint gives (dynrt/engine/texture_set.h, docs/rendering.md "Textures"):
 //   color = a * kd + sum over lights L with n.l > 0, s.l > 0 and the light visible from the hit:
-//           intensity_L * (kd * (s.l) + ks * max(0, r.v)^shininess),  r = 2 (s.l) s - l,
-// l the unit vector to the light. No distance falloff. A miss is the background colour.
-// A shadow ray is traced only for lights with n.l > 0 and an intensity other than 0 (the others
-// add exactly nothing); shadow_rays counts them, shadow_rays_back_side and
-// shadow_rays_dark_light the ones left out.
+//           I_L * (kd * (s.l) + ks * max(0, r.v)^shininess),  r = 2 (s.l) s - l,
+// plus the material's emission, l the unit vector to the light. A miss is the background colour.
+//
+// Lights (PointLight; glTF's KHR_lights_punctual): I_L = intensity * color * falloff, per
+// channel. A point or area light's l points at it (an area light's sample), a spot's too, a
+// directional light's is -direction everywhere. The falloff is 1 (dynrt's own lights by
+// default: no distance falloff), times 1 / d^2 when inverse_square (glTF's point and spot
+// lights), times clamp(1 - (d / range)^4, 0, 1) when range > 0, times a spot's
+// clamp((-l . axis - cos outer) / max(0.001, cos inner - cos outer), 0, 1)^2 (glTF's cone),
+// d the distance to the light. Shadow rays run from the light to the hit's offset origin over
+// t in [0, 1], or for a directional light from the origin toward it over [0, +inf).
+// A shadow ray is traced only where the light can add something: n.l > 0, s.l > 0, and a
+// falloff and intensity other than 0 (the others add exactly nothing); shadow_rays counts
+// them, shadow_rays_back_side, shadow_rays_shading_side and shadow_rays_dark_light (outside a
+// spot's cone, past a range, intensity 0) the ones left out.
 //
 // Shading normals (Phong 1975, "Illumination for Computer Generated Pictures": the normal
 // interpolated across the triangle), when TraceSettings::smooth_normals is on (the default)
@@ -50,6 +60,9 @@
 //   wr = kr + F kt, refracted weight wt = (1 - F) kt.
 //   color(ray) = local(hit) + wr color(reflected ray) + wt color(refracted ray), where local
 //   is the Phong formula above with v = -d, and a miss gives the background.
+//   Shadows through glass: with max_depth > 0, a shadow ray blocked only by transmissive
+//   surfaces (kt > 0) still reaches its light, I_L multiplied by the kt of each one it
+//   crosses, unrefracted (tile_tracing.h, through_glass).
 //   reflected ray: origin offset_along_normal(P, n, m), direction normalize(d - 2 (d.s) s);
 //   refracted ray: origin offset_along_normal(P, -n, m), direction
 //   normalize(eta d + (eta cos_i - cos_t) s); both with t in [0, +inf).

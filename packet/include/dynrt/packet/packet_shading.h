@@ -48,13 +48,35 @@ struct PhongMaterial {
     glm::vec3 emission{0.0f};
 };
 
-/// A point light: position and intensity (no falloff).
+/// A light as the kernel reads it (dynrt::PointLight posed, renderer.h "Lights"): lane k takes
+/// intensity * color * falloff_k, where the falloff is 1 unless the light asks for one.
 struct ShadingLight {
     glm::vec3 position{0.0f};
     float intensity = 1.0f;
     /// When not null, each lane's own position instead of `position` (an area light's point
     /// for that lane's sample): x, y, z arrays of kPacketRays floats, one after the other.
     const float* lane_position = nullptr;
+    glm::vec3 color{1.0f};
+    /// A directional light: every lane's unit vector toward the light is `toward` (the
+    /// negated direction of travel); `position` and `lane_position` are not read.
+    bool directional = false;
+    glm::vec3 toward{0.0f, 0.0f, 1.0f};
+    /// Falloff with the distance d to the light: 1 / d^2 ...
+    bool inverse_square = false;
+    /// ... times clamp(1 - (d^2 / range^2)^2, 0, 1) when range > 0 (glTF's window).
+    float range = 0.0f;
+    /// A spot: times clamp((-l).axis * cone_scale + cone_offset, 0, 1)^2 (glTF's cone).
+    bool spot = false;
+    glm::vec3 spot_axis{0.0f, 0.0f, -1.0f};
+    float cone_scale = 1.0f, cone_offset = 0.0f;
+
+    /// When not null, what reaches each lane through transmissive surfaces (coloured
+    /// shadows): r, g, b arrays of kPacketRays floats, one after the other, multiplying the
+    /// light's colour; read only on lanes `visible` gives.
+    const float* lane_filter = nullptr;
+
+    /// Whether lanes take a falloff other than 1.
+    bool falls_off() const { return inverse_square || range > 0.0f || spot; }
 };
 
 /// Per-lane factors of the material's diffuse colour (a texture's colour at each hit): lanes in

@@ -144,8 +144,11 @@ struct Object {
     std::optional<MorphTargets> morph;
 };
 
-/// A light of dynrt's shading model (no distance falloff): a point, or an area light around
-/// `position` (`shape`).
+/// A light of dynrt's shading model (renderer.h): what it is (`kind`: a point, a spot or a
+/// directional light) and what it is sampled over (`shape`: a point, or an area around
+/// `position`). Its colour at a hit is intensity * color * falloff, where the falloff is 1, or
+/// 1 / d^2 when `inverse_square` (d the distance to the light), times glTF's range window and
+/// a spot's cone (renderer.h, "Lights"). The name is historical: every kind is a PointLight.
 struct PointLight {
     /// What a light is sampled over: a point, which casts hard shadows, or an area (a sphere's
     /// surface or a parallelogram), which casts soft ones. An area light lights a hit as the
@@ -153,6 +156,10 @@ struct PointLight {
     /// per pixel sample (TraceSettings::sampling; docs/rendering.md "Samples per pixel and
     /// area lights").
     enum class Shape : std::uint8_t { point, sphere, quad };
+    /// A point (or area) light shines every way from `position`; a spot only within a cone
+    /// around `direction`; a directional light (a sun) shines along `direction` from infinitely
+    /// far, the same at every point, and has no position.
+    enum class Kind : std::uint8_t { point, spot, directional };
 
     glm::vec3 position{0.0f};
     float intensity = 1.0f;
@@ -162,6 +169,28 @@ struct PointLight {
     /// A quad light's two edges: its points are position + a edge_u + b edge_v for a, b in
     /// [-1/2, 1/2] (so `position` is its centre); not parallel.
     glm::vec3 edge_u{0.0f}, edge_v{0.0f};
+
+    Kind kind = Kind::point;
+    /// Linear RGB the intensity is multiplied by, each channel finite and >= 0.
+    glm::vec3 color{1.0f};
+    /// A spot's axis and a directional light's direction of travel (from the light toward
+    /// what it lights); unit length once posed. glTF's lights point down their node's -Z.
+    glm::vec3 direction{0.0f, 0.0f, -1.0f};
+    /// A spot's cone, in radians from its axis: full intensity within inner_cone, none past
+    /// outer_cone, and glTF's smooth ramp between (0 <= inner_cone < outer_cone <= pi / 2).
+    float inner_cone = 0.0f;
+    float outer_cone = 0.7853982f;
+    /// Point and spot lights: intensity / d^2 (glTF's candela); otherwise (dynrt's own
+    /// lights, the default) no distance falloff.
+    bool inverse_square = false;
+    /// Point and spot lights: beyond this distance they light nothing, with glTF's window
+    /// clamp(1 - (d / range)^4, 0, 1) before it; 0 means no range.
+    float range = 0.0f;
+    /// The node the light hangs on (index into Scene::nodes), or -1: then position, direction
+    /// and edges are in that node's space and the renderer poses them every frame.
+    std::int32_t node = -1;
+    /// For messages: the file's name for it, or empty (then it is named by its index).
+    std::string name{};
 
     bool operator==(const PointLight&) const = default;
 };

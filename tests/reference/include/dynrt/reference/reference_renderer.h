@@ -64,6 +64,7 @@
 
 #include "dynrt/reference/reference_tracer.h"
 
+#include "dynrt/anim/posed_scene.h"
 #include "dynrt/engine/camera.h"
 #include "dynrt/engine/renderer.h"
 #include "dynrt/engine/texture_set.h"
@@ -104,6 +105,8 @@ struct ReferenceShading {
 /// dynrt::Renderer with `options` uses on `scene` (effective_lights decides the default light;
 /// the textures are opened again, quietly: the renderer reports unreadable ones).
 ReferenceShading shading_from(const Scene& scene, const RenderOptions& options);
+/// The same at a posed frame: lights on a node (PointLight::node) placed by its matrix there.
+ReferenceShading shading_from(const Scene& scene, const RenderOptions& options, const anim::PosedScene& posed);
 
 struct ReferencePixel {
     ReferenceHit hit;

@@ -30,6 +30,7 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <span>
 #include <vector>
 
 namespace dynrt::reference {
@@ -161,6 +162,9 @@ struct ReferenceOcclusion {
     /// True when a correct float tracer may answer the other way (an occluder's silhouette
     /// within tolerance of the segment, or an occluder within tolerance of either end).
     bool ambiguous = false;
+    /// What reaches the far end when not occluded: the product of the transmittances of the
+    /// transmissive triangles crossed (1 when none; ReferenceTracer::occluded).
+    glm::dvec3 transmittance{1.0};
 };
 
 /// A triangle of the scene, as (object, prim).
@@ -209,9 +213,14 @@ public:
     /// (scale + |from|)) by that distance: how far a float renderer's own point may lie from
     /// `from` beyond the rounding shadow_rel already covers (a secondary ray's hit point, whose
     /// ray deviates from the exact one). 0 for camera-ray hits.
+    /// With `object_transmittance` (per object in scene order; empty: everything opaque), a
+    /// triangle of an object whose transmittance is not 0 does not block the segment but
+    /// filters it (ReferenceOcclusion::transmittance): a shadow ray passing through glass,
+    /// unrefracted (renderer.h, "Lights").
     ReferenceOcclusion occluded(const glm::dvec3& from, const glm::dvec3& to,
                                 TriangleRef exclude = {}, const Tolerances& tol = {},
-                                double origin_error = 0.0) const;
+                                double origin_error = 0.0,
+                                std::span<const glm::dvec3> object_transmittance = {}) const;
 
     /// Unit geometric normal of a triangle ((v1 - v0) x (v2 - v0), normalised).
     glm::dvec3 normal(TriangleRef tri) const;

@@ -184,6 +184,13 @@ dynrt::RenderOptions render_options(const FrameArgs& args) {
     options.sampling.adaptive_contrast = args.aa_contrast;
     dynrt::check_sampling(options.sampling);
     if (!args.background.empty()) options.background = parse_background(args.background);
+    if (!args.environment.empty()) {
+        try {
+            options.environment = dynrt::EnvironmentMap::read(args.environment, args.environment_scale);
+        } catch (const std::runtime_error& e) {
+            throw std::invalid_argument(std::string("--environment: ") + e.what());
+        }
+    }
     options.secondary.max_depth = args.depth;
     options.secondary.cutoff = args.cutoff;
     options.secondary.min_packet_rays = args.secondary_packet_min;

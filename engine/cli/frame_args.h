@@ -44,6 +44,10 @@ struct FrameArgs {
     /// TraceSettings::background, "r,g,b" (linear, each finite and >= 0); empty: the scene
     /// file's own (BART's `b`), else the default.
     std::string background;
+    /// TraceSettings::environment: an equirectangular image file, and what its texels are
+    /// multiplied by; empty: none (the background).
+    std::string environment;
+    float environment_scale = 1.0f;
     /// Whitted secondary rays (TraceSettings::secondary): deepest bounce and path-weight cut-off.
     int depth = dynrt::SecondaryRays{}.max_depth;
     float cutoff = dynrt::SecondaryRays{}.cutoff;

@@ -23,7 +23,7 @@ namespace dynrt::cli {
 // A field added to FrameArgs or RenderArgs must be classified in job_settings() below (part of
 // the job, or not) before this compiles again; then update these counts. RenderArgs counts
 // its FrameArgs base as one field.
-static_assert(field_count<FrameArgs>() == 32,
+static_assert(field_count<FrameArgs>() == 34,
               "a FrameArgs field was added or removed: classify it in job_settings()");
 static_assert(field_count<RenderArgs>() == 1 + 8,
               "a RenderArgs field was added or removed: classify it in job_settings()");
@@ -109,6 +109,8 @@ std::vector<JobSetting> job_settings(const RenderArgs& args, const dynrt::Render
     job("--aa-contrast", number_text(args.aa_contrast));
     job("--background", number_text(options.background.x) + "," + number_text(options.background.y) + "," +
                             number_text(options.background.z));  // as resolved: the file's, or the flag's
+    job("--environment", args.environment.empty() ? "none" : args.environment);  // its bytes: scene_files
+    job("--environment-scale", number_text(args.environment_scale));
     job("--depth", std::to_string(args.depth));
     job("--cutoff", number_text(args.cutoff));
     job("--secondary-packet-min", std::to_string(args.secondary_packet_min));
@@ -149,6 +151,7 @@ std::string journal_header(const RenderArgs& args, const dynrt::RenderOptions& o
     std::vector<std::string> files = scene.files;
     const std::string source = scene_source(args);
     if (files.empty() && std::filesystem::is_regular_file(source)) files.push_back(source);
+    if (!args.environment.empty()) files.push_back(args.environment);  // a changed image changes pixels
     nlohmann::ordered_json digests = nlohmann::ordered_json::array();
     for (const FileDigest& d : digest_files(files)) {
         char hash[17];

@@ -162,6 +162,13 @@ int main(int argc, char** argv) {
         cmd->add_option("--background", args.background,
                         "Colour of pixels whose ray meets nothing, linear r,g,b (default: the scene "
                         "file's own, as BART's files give it, else 0.05,0.06,0.08)");
+        cmd->add_option("--environment", args.environment,
+                        "Equirectangular image (.exr, .hdr, ...) that rays leaving the scene see, "
+                        "camera rays and reflections alike; +Y up, its centre looking down -Z "
+                        "(default: none, the --background colour)");
+        cmd->add_option("--environment-scale", args.environment_scale,
+                        "What the environment's texels are multiplied by")
+            ->check(CLI::NonNegativeNumber)->capture_default_str();
         cmd->add_option("--occluder-cache", args.occluder_cache,
                         "Test each packet of shadow rays first against the triangles that last "
                         "blocked its light's rays in those directions (the same image either way)")

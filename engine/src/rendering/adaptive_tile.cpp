@@ -171,7 +171,8 @@ private:
     glm::vec3 color_of(int lane) const {
         return origins_.surface.hit.test(lane)
                    ? glm::vec3(colors_.rgb[0][lane], colors_.rgb[1][lane], colors_.rgb[2][lane])
-                   : f_.shading.background;
+                   : f_.shading.miss(-glm::vec3(origins_.surface.view[0][lane], origins_.surface.view[1][lane],
+                                                origins_.surface.view[2][lane]));
     }
     glm::vec3 normal_of(int lane) const {
         const packet::SurfacePacket& s = origins_.surface;

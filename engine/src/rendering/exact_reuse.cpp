@@ -25,7 +25,7 @@ namespace {
 /// the tracer is compared too, so that a comparison of the two always traces both in full).
 bool same_image_settings(const TraceSettings& a, const TraceSettings& b) {
     return a.width == b.width && a.height == b.height && a.tracer == b.tracer &&
-           a.hit_buffers == b.hit_buffers && a.background == b.background &&
+           a.hit_buffers == b.hit_buffers && a.background == b.background && a.environment == b.environment &&
            a.ambient == b.ambient && a.packet.lanes == b.packet.lanes &&
            a.secondary.max_depth == b.secondary.max_depth && a.secondary.cutoff == b.secondary.cutoff &&
            a.smooth_normals == b.smooth_normals && a.tiles == b.tiles && a.sampling == b.sampling;

@@ -86,6 +86,7 @@ detail::TileShading frame_shading(const TraceInputs& in, const TraceSettings& op
     detail::TileShading shading{in.materials, scratch.shading_lights, options.ambient,
                                 options.background, options.packet.lanes, in.textures};
     shading.glass = scratch.glass;
+    shading.environment = options.environment.get();
     return shading;
 }
 

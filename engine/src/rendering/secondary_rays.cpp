@@ -466,13 +466,12 @@ void SecondaryStage::shade_packet(int depth, std::size_t packet_index) {
 
     shade_lanes(f.shading, p.origins, p.visible, p.colors);
     const bool deeper = depth < f.tracing.settings.max_depth;
-    const glm::vec3 background = f.shading.background;
     for (int k = 0; k < count; ++k) {
         const std::uint32_t i = p.index[k];
         const bool hit = p.origins.surface.hit.test(k);
-        const glm::vec3 seen = hit ? glm::vec3(p.colors.rgb[0][k], p.colors.rgb[1][k], p.colors.rgb[2][k])
-                                   : background;
         const PathRay& ray = wave.rays[i];
+        const glm::vec3 seen = hit ? glm::vec3(p.colors.rgb[0][k], p.colors.rgb[1][k], p.colors.rgb[2][k])
+                                   : f.shading.miss(ray.dir);
         wave.share[i] = ray.weight * seen;
         if (!hit || !deeper) continue;
         const Spawned spawned = spawn_at(f, p.origins, k, ray.weight, ray.pixel);

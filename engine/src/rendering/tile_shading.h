@@ -256,7 +256,12 @@ struct TileShadowOrigins {
         const packet::RayPacket& primary = rays;
         const float* dir_in[3] = {primary.dir_x, primary.dir_y, primary.dir_z};
         for (int base = 0; base < packet::kPacketRays; base += W) {
-            if (hit.extract(base, W) == 0) continue;
+            if (hit.extract(base, W) == 0) {
+                // Misses keep their view vector too: their direction picks what the
+                // environment shows (TileShading::miss).
+                for (int a = 0; a < 3; ++a) L::store(surface.view[a] + base, -L::load(dir_in[a] + base));
+                continue;
+            }
             F v0[3], v1[3], v2[3], e1[3], e2[3];
             for (int a = 0; a < 3; ++a) {
                 v0[a] = L::load(v[a] + base);
@@ -467,6 +472,13 @@ struct TileShading {
     /// Per object, its material's transmittance, which shadow rays pass through
     /// (trace_tile_shadows); empty when no object is transmissive.
     std::span<const glm::vec3> glass = {};
+    /// What rays that miss see (TraceSettings::environment), or null: the background.
+    const EnvironmentMap* environment = nullptr;
+
+    /// The colour of a ray along `direction` that meets nothing.
+    glm::vec3 miss(const glm::vec3& direction) const {
+        return environment != nullptr ? environment->radiance(direction) : background;
+    }
 };
 
 /// texture_footprint for lookups [0, count), SIMD across them with its operations in its order
@@ -647,9 +659,13 @@ inline void write_tile(const TileShading& shading, const packet::Tile& tile,
             const std::size_t p = std::size_t(y) * std::size_t(out.width) + std::size_t(x);
             const int lane = packet::tile_lane(tile, x, y);
             const bool hit = surface.hit.test(lane);
+            // A miss's direction is minus its view vector (compute_lanes fills every lane's).
             out.color[p] = hit ? glm::vec3(colors.rgb[0][lane], colors.rgb[1][lane],
                                            colors.rgb[2][lane])
-                               : shading.background;
+                               : shading.environment == nullptr
+                                     ? shading.background
+                                     : shading.miss(-glm::vec3(surface.view[0][lane], surface.view[1][lane],
+                                                               surface.view[2][lane]));
             if (!hit_buffers) continue;
             if (!hit) {
                 write_miss(out, p);

@@ -18,6 +18,7 @@ ReferenceShading shading_from(const Scene& scene, const RenderOptions& options) 
     ReferenceShading shading;
     shading.lights = effective_lights(scene, options);
     shading.background = glm::dvec3(options.background);
+    shading.environment = options.environment;
     shading.ambient = options.ambient;
     shading.max_depth = options.secondary.max_depth;
     shading.cutoff = options.secondary.cutoff;
@@ -88,7 +89,7 @@ public:
         pixel_ = ReferencePixel{};
         pixel_.hit = tracer_.closest(ray, tol_);
         if (!pixel_.hit.is_hit()) {
-            pixel_.color = shading_.background;
+            pixel_.color = miss(glm::dvec3(ray.dir));
             return pixel_;
         }
         const glm::dvec3 org(ray.org), dir(ray.dir);
@@ -100,12 +101,18 @@ public:
     }
 
 private:
+    /// What a ray along `dir` that meets nothing sees.
+    glm::dvec3 miss(const glm::dvec3& dir) const {
+        return shading_.environment ? glm::dvec3(shading_.environment->radiance(glm::vec3(glm::normalize(dir))))
+                                    : shading_.background;
+    }
+
     /// Colour of a secondary ray of depth `depth` >= 1 with path weight `weight`.
     glm::dvec3 trace(const RayD& ray, TriangleRef from, int depth, const glm::dvec3& weight,
                      const RayDeviation& deviation) {
         const ReferenceHit hit = tracer_.closest_leaving(ray, from, deviation, tol_);
         if (hit.ambiguity != Ambiguity::kNone) pixel_.shading_ambiguous = true;
-        if (!hit.is_hit()) return shading_.background;
+        if (!hit.is_hit()) return miss(ray.dir);
         const glm::dvec3 p = ray.org + hit.t * ray.dir;
         const double lateral = deviation.lateral + hit.t * deviation.angle;
         return shade_hit(hit, p, ray.dir, depth, weight, lateral, deviation.angle);

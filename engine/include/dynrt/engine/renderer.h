@@ -86,6 +86,7 @@
 #include "dynrt/bvh/binned_sah_builder.h"
 #include "dynrt/bvh/two_level_bvh.h"
 #include "dynrt/engine/camera.h"
+#include "dynrt/engine/environment_map.h"
 #include "dynrt/engine/frame_stats.h"
 #include "dynrt/engine/pixel_reuse.h"
 #include "dynrt/engine/pixel_sampling.h"
@@ -180,6 +181,9 @@ struct TraceSettings {
     /// on the bundled scene those writes were most of the shading stage's time.
     bool hit_buffers = true;
     glm::vec3 background{0.05f, 0.06f, 0.08f};
+    /// What rays that leave the scene see, by direction, camera and secondary rays alike
+    /// (dynrt/engine/environment_map.h; `--environment`); null: the background colour.
+    std::shared_ptr<const EnvironmentMap> environment;
     /// Ambient term, as a fraction of the diffuse colour.
     float ambient = 0.08f;
     /// Shade with the objects' interpolated vertex normals ("Shading normals" at the top of

@@ -83,6 +83,9 @@ namespace dynrt::reference {
 struct ReferenceShading {
     std::vector<PointLight> lights;
     glm::dvec3 background{0.0};
+    /// What rays that miss see by direction (TraceSettings::environment, the renderer's own
+    /// lookup at the exact direction rounded to float), or null: the background.
+    std::shared_ptr<const EnvironmentMap> environment;
     double ambient = 0.0;
     /// Deepest secondary ray (SecondaryRays::max_depth, same default): 0 shades camera hits
     /// only, as before secondary rays.

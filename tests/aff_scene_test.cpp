@@ -142,7 +142,8 @@ TEST(AffScene, ObjectsPerAnchorAndMaterialWithStaticTransformsBakedIn) {
     EXPECT_EQ(tpa.morph->position_deltas.size(), 2u);
 
     ASSERT_EQ(scene.lights.size(), 1u);
-    EXPECT_FLOAT_EQ(scene.lights[0].intensity, 0.6f);  // the mean of the colour
+    EXPECT_FLOAT_EQ(scene.lights[0].intensity, 1.0f);  // a coloured light: its colour
+    EXPECT_EQ(scene.lights[0].color, glm::vec3(0.3f, 0.6f, 0.9f));
     ASSERT_EQ(scene.materials.size(), 3u);
     EXPECT_FLOAT_EQ(scene.materials[2].diffuse.x, 0.9f);
     EXPECT_FLOAT_EQ(scene.materials[2].shininess, 10.0f);
@@ -163,11 +164,22 @@ pp 3
  1 0 1  0 0 1
  0 1 1  0 0 1
 )");
-    // The textured triangle is mapped (its file is read at render time), not left out.
-    const std::vector<std::string> want = {
-        "light colours (each light is white, of their mean intensity)",
-        "'am' ambient light (dynrt's own ambient term)"};
-    EXPECT_EQ(scene.ignored, want);
+    // The textured triangle is mapped (its file is read at render time), not left out; the
+    // light's colour and the ambient light are used now.
+    EXPECT_TRUE(scene.ignored.empty()) << scene.ignored.front();
+    ASSERT_EQ(scene.lights.size(), 1u);
+    EXPECT_EQ(scene.lights[0].color, glm::vec3(1.0f, 0.5f, 0.5f));
+    EXPECT_EQ(scene.lights[0].intensity, 1.0f);
+    // BART's ambient term: am times the material's ambient coefficients (here 0).
+    ASSERT_TRUE(scene.materials.back().ambient.has_value());
+    EXPECT_EQ(*scene.materials.back().ambient, glm::vec3(0.0f));
+    const Scene lit = convert("am 0.5 0.25 1\nfm 0.2 0.4 0.6  1 1 1  0 0 0  10 0 0\np 3\n0 0 0\n1 0 0\n0 1 0\n");
+    ASSERT_TRUE(lit.materials.back().ambient.has_value());
+    EXPECT_FLOAT_EQ(lit.materials.back().ambient->x, 0.1f);
+    EXPECT_FLOAT_EQ(lit.materials.back().ambient->y, 0.1f);
+    EXPECT_FLOAT_EQ(lit.materials.back().ambient->z, 0.6f);
+    // Without `am`, dynrt's own ambient fraction.
+    EXPECT_FALSE(convert("fm 0.2 0.4 0.6  1 1 1  0 0 0  10 0 0\np 3\n0 0 0\n1 0 0\n0 1 0\n").materials.back().ambient);
 }
 
 // Materials (aff_scene.h): the specular colour is also the reflectance (NFF/SPD), T the grey
@@ -323,8 +335,12 @@ TEST(AffScene, WhatTheSceneModelCannotHoldIsAnErrorNamingFileAndLine) {
         EXPECT_NE(e.find(what), std::string::npos) << e;
     };
     expect_error("la lamp 0 1 0\np 3\n0 0 0\n1 0 0\n0 1 0\n", "snippet.aff:1: 'la lamp': animated lights are not supported");
-    expect_error("x arm\n{\nl 0 1 0\n}\nk arm\n{\ntransl 4\n0 0 0 0 0 0 0\n1 0 0 0 0 0 0\n2 1 0 0 0 0 0\n3 1 0 0 0 0 0\n}\n",
-                 "snippet.aff:3: a light under an animated transform");
+    // A light under an animated transform hangs on its node, posed every frame.
+    const Scene carried = convert("x arm\n{\nl 0 1 0\n}\nk arm\n{\ntransl 4\n0 0 0 0 0 0 0\n1 0 0 0 0 0 0\n2 1 0 0 0 0 0\n"
+                                  "3 1 0 0 0 0 0\n}\np 3\n0 0 0\n1 0 0\n0 1 0\n");
+    ASSERT_EQ(carried.lights.size(), 1u);
+    ASSERT_GE(carried.lights[0].node, 0);
+    EXPECT_LT(std::size_t(carried.lights[0].node), carried.nodes.size());
     expect_error("xs 1 1 1  0 0 0 30  0 0 0\n{\n}\n", "snippet.aff:1: 'xs' rotates about a zero axis");
     expect_error("tpa 2\n1\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n1\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n",
                  "snippet.aff:1: 'tpa' key times must increase");

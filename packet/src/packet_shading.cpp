@@ -43,8 +43,10 @@ void shade_lanes(const SurfacePacket& surface, std::span<const PhongMaterial> ma
                          L::splat(material.diffuse.z)};
         const F ks[3] = {L::splat(material.specular.x), L::splat(material.specular.y),
                          L::splat(material.specular.z)};
-        const F ambient_kd[3] = {L::splat(ambient) * kd[0], L::splat(ambient) * kd[1],
-                                 L::splat(ambient) * kd[2]};
+        // The ambient term: the frame's fraction of kd, or the material's own colour.
+        const F ambient_kd[3] = {material.own_ambient ? L::splat(material.ambient.x) : L::splat(ambient) * kd[0],
+                                 material.own_ambient ? L::splat(material.ambient.y) : L::splat(ambient) * kd[1],
+                                 material.own_ambient ? L::splat(material.ambient.z) : L::splat(ambient) * kd[2]};
         const F shininess = L::splat(material.shininess);
         const bool glows = material.emission != glm::vec3(0.0f);
         const F emission[3] = {L::splat(material.emission.x), L::splat(material.emission.y),
@@ -71,7 +73,10 @@ void shade_lanes(const SurfacePacket& surface, std::span<const PhongMaterial> ma
                     const I tinted_mask = L::from_bits(tinted);
                     for (int a = 0; a < 3; ++a) {
                         kd_lane[a] = L::select(tinted_mask, kd[a] * L::load(tint->rgb[a] + base), kd[a]);
-                        color[a] = L::select(tinted_mask, L::splat(ambient) * kd_lane[a], ambient_kd[a]);
+                        const F tinted_ambient = material.own_ambient
+                                                     ? ambient_kd[a] * L::load(tint->rgb[a] + base)
+                                                     : L::splat(ambient) * kd_lane[a];
+                        color[a] = L::select(tinted_mask, tinted_ambient, ambient_kd[a]);
                     }
                 }
             }

@@ -163,6 +163,13 @@ private:
             material.transmittance = clamp01(Vec3{m.transmittance, m.transmittance, m.transmittance});
             // BART writes 0 for opaque materials; NaN and infinity stay for check_scene to refuse.
             material.ior = m.ior <= 0.0f ? 1.0f : m.ior;
+            // BART's ambient term: the `am` light times the material's ambient coefficients
+            // (an `f` material's are 0); without `am`, dynrt's own ambient fraction.
+            if (model_.ambient) {
+                const Vec3& am = *model_.ambient;
+                material.ambient = glm::max(glm::vec3(am[0] * m.ambient[0], am[1] * m.ambient[1], am[2] * m.ambient[2]),
+                                            glm::vec3(0.0f));
+            }
             scene_.materials.push_back(std::move(material));
         }
     }
@@ -531,27 +538,28 @@ private:
             out.push_back(cat("texture names or coordinates of ", unmapped,
                               " shapes that lack the other (colour from the material)"));
         }
-        bool coloured = false;
-        for (const Light& l : model_.lights) coloured = coloured || (l.color && !((*l.color)[0] == (*l.color)[1] && (*l.color)[1] == (*l.color)[2]));
-        if (coloured) out.push_back("light colours (each light is white, of their mean intensity)");
-        if (model_.ambient) out.push_back("'am' ambient light (dynrt's own ambient term)");
+
     }
 
-    // ---- Lights: fixed points, placed through their static transforms; intensity is the
-    // mean of the colour (dynrt's lights are white) ----
+    // ---- Lights: points placed through their static transforms, or carried by their
+    // innermost moving transform (PointLight::node, posed every frame); a grey light's
+    // intensity is its grey, a coloured one's colour its colour ----
     void lights() {
         for (const Light& l : model_.lights) {
             if (!l.animation.empty()) {
                 throw SceneError(cat(at(l.where), "'la ", l.animation, "': animated lights are not supported"));
             }
-            if (anchor_[std::size_t(l.node)] >= 0) {
-                throw SceneError(cat(at(l.where), "a light under an animated transform is not supported"));
-            }
             check_finite(l.position, l.where, "light position");
             const Vec3 color = l.color.value_or(Vec3{1, 1, 1});
             check_finite(color, l.where, "light colour");
             const glm::dvec3 p = to_anchor_[std::size_t(l.node)] * glm::dvec4(to_dvec3(l.position), 1.0);
-            scene_.lights.push_back(PointLight{glm::vec3(p), (color[0] + color[1] + color[2]) / 3.0f});
+            PointLight light{glm::vec3(p), color[0]};
+            if (!(color[0] == color[1] && color[1] == color[2])) {
+                light.intensity = 1.0f;
+                light.color = glm::vec3(color[0], color[1], color[2]);
+            }
+            if (const std::int32_t anchor = anchor_[std::size_t(l.node)]; anchor >= 0) light.node = scene_node_[std::size_t(anchor)];
+            scene_.lights.push_back(light);
         }
     }
 

@@ -48,6 +48,9 @@ std::string material_problem(const Material& material, std::size_t index) {
     if (!is_finite_non_negative(material.emission)) {
         return cat(which, "emission ", to_text(material.emission), " must be finite and >= 0");
     }
+    if (material.ambient && !is_finite_non_negative(*material.ambient)) {
+        return cat(which, "ambient ", to_text(*material.ambient), " must be finite and >= 0");
+    }
     return {};
 }
 

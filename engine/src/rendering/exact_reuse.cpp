@@ -56,7 +56,7 @@ bool same_scene_terms(const Material& a, const Material& b) {
 
 bool same_material(const packet::PhongMaterial& a, const packet::PhongMaterial& b) {
     return a.diffuse == b.diffuse && a.specular == b.specular && a.shininess == b.shininess &&
-           a.emission == b.emission;
+           a.emission == b.emission && a.ambient == b.ambient && a.own_ambient == b.own_ambient;
 }
 
 /// Object `i`'s material now and then differ (its index, or the material's values).

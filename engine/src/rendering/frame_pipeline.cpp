@@ -197,7 +197,8 @@ void FramePipeline::trace(const Scene& scene, const Camera& camera, const TraceS
     // The shading kernel's view of the materials (bookkeeping, outside the stage clocks).
     materials_.clear();
     for (const Material& m : scene.materials) {
-        materials_.push_back(packet::PhongMaterial{m.diffuse, m.specular, m.shininess, m.emission});
+        materials_.push_back(packet::PhongMaterial{m.diffuse, m.specular, m.shininess, m.emission,
+                                                   m.ambient.value_or(glm::vec3(0.0f)), m.ambient.has_value()});
     }
     object_material_.clear();
     for (const Object& object : scene.objects) {

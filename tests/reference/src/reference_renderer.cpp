@@ -207,6 +207,7 @@ private:
         const double shininess = material.shininess;
         // The texture's colour, and how much it may differ where the float renderer looks.
         double texture_change = 0.0;
+        glm::dvec3 tint(1.0);  // the texture's colour, 1 where there is none
         const double base_kd_max = max_channel(kd);
         if (shading_.textures && shading_.textures->maps(object.material) && !object.mesh.texcoords.empty()) {
             const glm::uvec3& corner = object.mesh.triangles.at(static_cast<std::size_t>(hit.prim));
@@ -222,6 +223,7 @@ private:
                                                   float(twice_world), float(twice_texture));
             const glm::vec3 texel = shading_.textures->diffuse(object.material, glm::vec2(st), width);
             kd *= glm::dvec3(texel);
+            tint = glm::dvec3(texel);
             const double st_error = std::sqrt(twice_texture / std::max(twice_world, 1e-300)) *
                                     (point_error + tol_.barycentric_rel * tracer_.scale_at(p));
             for (const glm::dvec2 offset : {glm::dvec2(st_error, 0.0), glm::dvec2(-st_error, 0.0),
@@ -231,7 +233,8 @@ private:
             }
         }
 
-        glm::dvec3 color = shading_.ambient * kd;
+        // The ambient term: the material's own colour (BART's am times ka) or a fraction of kd.
+        glm::dvec3 color = material.ambient ? glm::dvec3(*material.ambient) * tint : shading_.ambient * kd;
         // How much the colour may change per unit of turn of the shading normal: for each
         // lit light, I (kd + 4 p ks (r.v)^(p - 1)), as |d(s.l)| <= |ds| and |d(r.v)| <= 4 |ds|.
         double sensitivity = 0.0, diffuse_light = shading_.ambient;

@@ -10,7 +10,10 @@
 // texture_footprint gives (dynrt/engine/texture_set.h, docs/rendering.md "Textures"):
 //   color = a * kd + sum over lights L with n.l > 0, s.l > 0 and the light visible from the hit:
 //           I_L * (kd * (s.l) + ks * max(0, r.v)^shininess),  r = 2 (s.l) s - l,
-// plus the material's emission, l the unit vector to the light. A miss is the background colour.
+// plus the material's emission, l the unit vector to the light; a * kd is replaced by the
+// material's own ambient colour times the texture's colour where it gives one
+// (Material::ambient, BART's am times ka). A miss is the background colour, or the
+// environment map's radiance along the ray (TraceSettings::environment).
 //
 // Lights (PointLight; glTF's KHR_lights_punctual): I_L = intensity * color * falloff, per
 // channel. A point or area light's l points at it (an area light's sample), a spot's too, a

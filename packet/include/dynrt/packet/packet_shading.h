@@ -46,6 +46,9 @@ struct PhongMaterial {
     float shininess = 32.0f;  ///< >= 0 and finite
     /// Added to every lit or unlit hit's colour (0: nothing is added, the same bits).
     glm::vec3 emission{0.0f};
+    /// When own_ambient, the ambient colour (times the lane's tint) in place of ambient * kd.
+    glm::vec3 ambient{0.0f};
+    bool own_ambient = false;
 };
 
 /// A light as the kernel reads it (dynrt::PointLight posed, renderer.h "Lights"): lane k takes

@@ -96,6 +96,11 @@ struct Material {
     /// shaded colour whatever lights it, at camera and secondary hits alike; it lights nothing
     /// else. glTF's emissiveFactor times KHR_materials_emissive_strength.
     glm::vec3 emission{0.0f};
+    /// When present, the ambient colour a hit shows whatever lights it, in place of the
+    /// renderer's ambient fraction times the diffuse colour (times the texture's colour where
+    /// the material maps one): BART's `am` ambient light times the material's ambient
+    /// coefficients. Linear, each channel finite and >= 0.
+    std::optional<glm::vec3> ambient = std::nullopt;
     /// When present, the diffuse colour at a hit is `diffuse` times this texture's linear
     /// colour at the hit's texture coordinates (Mesh::texcoords); objects without texture
     /// coordinates, and textures that cannot be read, use `diffuse` alone.

@@ -327,8 +327,17 @@ TEST_F(GltfLoaderTest, UnnamedNodesMultiPrimitiveMeshesAndMaterials) {
     b.doc()["images"] = json::array({json{{"uri", "missing_texture.png"}}});
     b.doc()["textures"] = json::array({json{{"source", 0}}});
     b.doc()["materials"][red]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+    // The blue one glows through the same texture (emissiveTexture); an emissiveTexture
+    // without an emissive factor adds nothing, so it is not mapped.
+    b.doc()["materials"][blue]["emissiveTexture"] = {{"index", 0}};
+    b.doc()["materials"][blue]["emissiveFactor"] = {1.0, 1.0, 0.5};
+    b.doc()["materials"][red]["emissiveTexture"] = {{"index", 0}};
 
     const Scene scene = write_and_load(b);
+    ASSERT_TRUE(scene.materials[2].emission_map.has_value());
+    EXPECT_EQ(scene.materials[2].emission_map->texture, scene.materials[1].diffuse_map->texture);
+    EXPECT_FALSE(scene.materials[2].diffuse_map.has_value());
+    EXPECT_FALSE(scene.materials[1].emission_map.has_value());
     ASSERT_EQ(scene.objects.size(), 3u);
     EXPECT_EQ(scene.objects[0].name, "node0/mesh0#0");
     EXPECT_EQ(scene.objects[1].name, "node0/mesh0#1");
@@ -423,7 +432,7 @@ TEST_F(GltfLoaderTest, MaterialsMapMetalnessTransmissionAndIor) {
     // The two material extensions are implemented; another one and the transmission texture
     // are reported.
     const std::vector<std::string> ignored = {
-        "textures other than base colour of 1 material(s) (metal, roughness and transmission from their factors)",
+        "textures other than base colour and emission of 1 material(s) (metal, roughness and transmission from their factors)",
         "extension KHR_materials_volume (not implemented)"};
     EXPECT_EQ(scene.ignored, ignored);
 }
@@ -453,6 +462,7 @@ TEST_F(GltfLoaderTest, EmissionIsMappedAndAlphaIsListedAsIgnored) {
         return Material{};
     };
     EXPECT_EQ(material("glowing").emission, glm::vec3(1.0f, 0.5f, 1.0f));
+    EXPECT_FALSE(material("glowing").emission_map.has_value());
     EXPECT_EQ(material("strong").emission, glm::vec3(2.0f, 1.0f, 0.0f));
     EXPECT_EQ(material("opaque").emission, glm::vec3(0.0f));
     const std::vector<std::string> ignored = {"alpha of 2 material(s) (alphaMode MASK or BLEND; rendered opaque)"};

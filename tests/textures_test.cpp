@@ -266,6 +266,33 @@ TEST(TexturedRender, AQuadShowsItsTexelsAsTheReferenceDoes) {
     EXPECT_EQ(0, std::memcmp(single.color.data(), frame.color.data(), frame.color.size() * sizeof(glm::vec3)));
 }
 
+// An emission map (glTF's emissiveTexture): the emission is the factor times the map's colour,
+// the diffuse colour left alone; as the reference has it, for both tracers, the same bits.
+TEST(TexturedRender, AnEmissionMapGlowsWithItsTexels) {
+    const fs::path png = temp_path("glow.png");
+    write_image(png, 2, 2, kTexels);
+    Scene scene = quad_scene(png, glm::vec3(0.2f));
+    Material& m = scene.materials[0];
+    m.emission_map = m.diffuse_map;
+    m.diffuse_map.reset();
+    m.emission = glm::vec3(0.5f, 1.0f, 0.25f);
+    const QuadShot shot(scene);
+    const RenderedFrame frame = shot.render();
+    for (int y = 0; y < 2; ++y) {
+        for (int x = 0; x < 2; ++x) {
+            const int px = 8 + 17 * x, py = 8 + 17 * y;
+            const glm::vec3 want = glm::vec3(0.2f) * (shot.options.ambient + 1.0f) + m.emission * texel(x, y);
+            EXPECT_TRUE(near_per_channel(frame.color[std::size_t(py * frame.width + px)], want, 2e-3f))
+                << "quadrant " << x << "," << y;
+        }
+    }
+    const reference::ImageComparison cmp = shot.compare(frame);
+    EXPECT_TRUE(cmp.passed()) << cmp.summary();
+    EXPECT_GT(cmp.color_checked, 34 * 34 * 3 / 4);
+    const RenderedFrame single = shot.render(Tracer::single);
+    EXPECT_EQ(0, std::memcmp(single.color.data(), frame.color.data(), frame.color.size() * sizeof(glm::vec3)));
+}
+
 TEST(TexturedRender, AMissingTextureFallsBackToTheMaterialColour) {
     const QuadShot missing(quad_scene(temp_path("absent.png"), glm::vec3(0.3f, 0.6f, 0.9f)));
     Scene plain = missing.scene;

@@ -29,7 +29,7 @@ int distinct_materials(const SurfacePacket& surface, std::int32_t (&out)[kPacket
 template <int W>
 void shade_lanes(const SurfacePacket& surface, std::span<const PhongMaterial> materials,
                  std::span<const ShadingLight> lights, std::span<const LaneMask> visible,
-                 float ambient, ShadedColors& out, const DiffuseTint* tint) {
+                 float ambient, ShadedColors& out, const DiffuseTint* tint, const DiffuseTint* glow) {
     using L = simd::Lanes<W>;
     using F = typename L::F;
     using I = typename L::I;
@@ -112,7 +112,14 @@ void shade_lanes(const SurfacePacket& surface, std::span<const PhongMaterial> ma
                 }
             }
             if (glows) {
-                for (int a = 0; a < 3; ++a) color[a] = color[a] + emission[a];
+                const std::uint32_t mapped = glow != nullptr ? glow->lanes.extract(base, W) & mine : 0u;
+                for (int a = 0; a < 3; ++a) {
+                    // An emission map's lanes: the factor times the map's colour.
+                    const F e = mapped == 0 ? emission[a]
+                                            : L::select(L::from_bits(mapped), emission[a] * L::load(glow->rgb[a] + base),
+                                                        emission[a]);
+                    color[a] = color[a] + e;
+                }
             }
             for (int a = 0; a < 3; ++a) {
                 // Lanes of other materials keep what their own pass wrote (or will write).
@@ -129,14 +136,14 @@ void shade_lanes(const SurfacePacket& surface, std::span<const PhongMaterial> ma
 
 void shade(const SurfacePacket& surface, std::span<const PhongMaterial> materials,
            std::span<const ShadingLight> lights, std::span<const LaneMask> visible,
-           float ambient, ShadedColors& out, int lanes, const DiffuseTint* tint) {
+           float ambient, ShadedColors& out, int lanes, const DiffuseTint* tint, const DiffuseTint* glow) {
     if (visible.size() != lights.size()) {
         throw std::invalid_argument("packet::shade: one visibility mask per light");
     }
     if (lanes == simd::kNativeLanes) {
-        shade_lanes<simd::kNativeLanes>(surface, materials, lights, visible, ambient, out, tint);
+        shade_lanes<simd::kNativeLanes>(surface, materials, lights, visible, ambient, out, tint, glow);
     } else if (lanes == 1) {
-        shade_lanes<1>(surface, materials, lights, visible, ambient, out, tint);
+        shade_lanes<1>(surface, materials, lights, visible, ambient, out, tint, glow);
     } else {
         throw std::invalid_argument("packet::shade: lanes must be simd::kNativeLanes or 1");
     }

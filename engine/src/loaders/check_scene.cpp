@@ -56,9 +56,12 @@ std::string material_problem(const Material& material, std::size_t index) {
 
 /// What is wrong with material `index`'s texture map in `scene`, or "" when nothing is.
 std::string texture_problem(const Scene& scene, const Material& material, std::size_t index) {
-    if (!material.diffuse_map || material.diffuse_map->texture < scene.textures.size()) return {};
-    return cat("material '", material.name, "' (index ", index, "): texture ", material.diffuse_map->texture,
-               " out of range (", scene.textures.size(), " textures)");
+    for (const std::optional<TextureMap>& map : {material.diffuse_map, material.emission_map}) {
+        if (!map || map->texture < scene.textures.size()) continue;
+        return cat("material '", material.name, "' (index ", index, "): texture ", map->texture, " out of range (",
+                   scene.textures.size(), " textures)");
+    }
+    return {};
 }
 
 void check_object(const Scene& scene, const Object& object) {

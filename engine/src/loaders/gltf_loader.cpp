@@ -86,9 +86,9 @@ bool has_transmission_texture(const tinygltf::Material& source) {
 ///                   extension, else 1 (an opaque material never refracts). A value <= 0 is
 ///                   passed on for check_scene to refuse, naming the material;
 ///   emission      = emissiveFactor (each channel clamped to [0, 1]) times
-///                   KHR_materials_emissive_strength's emissiveStrength (default 1).
-/// The other textures, transmissionTexture and emissiveTexture included, are ignored (listed
-/// in Scene::ignored).
+///                   KHR_materials_emissive_strength's emissiveStrength (default 1), times
+///                   emissiveTexture's colour where it gives one (map_base_color).
+/// The other textures, transmissionTexture included, are ignored (listed in Scene::ignored).
 Material convert_material(const tinygltf::Material& source, std::size_t index) {
     Material material;
     material.name = source.name.empty() ? cat("material", index) : source.name;
@@ -425,10 +425,22 @@ private:
     /// baseColorFactor, through TEXCOORD_0) with its sampler's wrap modes. Only TEXCOORD_0 is
     /// read: a texture on another set is left out, with a warning.
     void map_base_color(const tinygltf::Material& source, Material& material, Scene& scene) {
-        const tinygltf::TextureInfo& info = source.pbrMetallicRoughness.baseColorTexture;
-        if (info.index < 0) return;
+        material.diffuse_map = texture_map(source.pbrMetallicRoughness.baseColorTexture, "baseColorTexture",
+                                           "the base colour factor alone is used", material, scene);
+        // The emission map only matters where the factor is not 0.
+        if (material.emission != glm::vec3(0.0f)) {
+            material.emission_map = texture_map(source.emissiveTexture, "emissiveTexture",
+                                                "the emissive factor alone is used", material, scene);
+        }
+    }
+
+    /// The map `info` gives (`slot` names it in messages; `effect` says what is used instead
+    /// when it cannot be read), or none.
+    std::optional<TextureMap> texture_map(const tinygltf::TextureInfo& info, const char* slot, const char* effect,
+                                          const Material& material, Scene& scene) {
+        if (info.index < 0) return std::nullopt;
         if (static_cast<std::size_t>(info.index) >= model_.textures.size()) {
-            fail(cat("material '", material.name, "': baseColorTexture ", info.index, " does not exist (",
+            fail(cat("material '", material.name, "': ", slot, " ", info.index, " does not exist (",
                      model_.textures.size(), " textures)"));
         }
         const tinygltf::Texture& texture = model_.textures[static_cast<std::size_t>(info.index)];
@@ -438,14 +450,14 @@ private:
                   .item = cat("texture ", info.index),
                   .user = cat("material '", material.name, "'"),
                   .users = "materials",
-                  .effect = "the base colour factor alone is used"});
-            return;
+                  .effect = effect});
+            return std::nullopt;
         }
         if (info.texCoord != 0) {
-            warn({.kind = cat("baseColorTexture on TEXCOORD_", info.texCoord, " (only TEXCOORD_0 is read)"),
+            warn({.kind = cat(slot, " on TEXCOORD_", info.texCoord, " (only TEXCOORD_0 is read)"),
                   .item = cat("material '", material.name, "'"),
-                  .effect = "the base colour factor alone is used"});
-            return;
+                  .effect = effect});
+            return std::nullopt;
         }
         TextureMap map;
         map.texture = texture_of(texture.source, scene);
@@ -454,7 +466,7 @@ private:
             map.wrap_s = wrap_of(sampler.wrapS);
             map.wrap_t = wrap_of(sampler.wrapT);
         }
-        material.diffuse_map = map;
+        return map;
     }
 
     static TextureWrap wrap_of(int mode) {
@@ -471,8 +483,8 @@ private:
     std::string name_;
     std::map<int, std::uint32_t> texture_of_image_;
     /// What the file says that dynrt leaves out, one line each in Scene::ignored (as BART's
-    /// loader does): textures other than baseColorTexture (transmissionTexture included; the
-    /// factors are used; emissiveTexture too: emissiveFactor is used), alpha modes other than
+    /// loader does): textures other than baseColorTexture and emissiveTexture
+    /// (transmissionTexture included; the factors are used), alpha modes other than
     /// OPAQUE, and the extensions the file requires or uses but dynrt does not
     /// implement (all but KHR_materials_transmission, KHR_materials_ior and
     /// KHR_materials_emissive_strength, which convert_material maps, and KHR_lights_punctual,
@@ -482,11 +494,11 @@ private:
         for (const tinygltf::Material& m : model_.materials) {
             const bool any = m.pbrMetallicRoughness.metallicRoughnessTexture.index >= 0 ||
                              m.normalTexture.index >= 0 || m.occlusionTexture.index >= 0 ||
-                             m.emissiveTexture.index >= 0 || has_transmission_texture(m);
+                             has_transmission_texture(m);
             textured += any ? 1 : 0;
         }
         if (textured > 0) {
-            scene.ignored.push_back(cat("textures other than base colour of ", textured,
+            scene.ignored.push_back(cat("textures other than base colour and emission of ", textured,
                                         " material(s) (metal, roughness and transmission from their factors)"));
         }
         // A term the shading has none of yet: alpha (rendered opaque).

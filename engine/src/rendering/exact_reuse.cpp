@@ -51,7 +51,7 @@ bool shadows_may_meet(const ChangedSpace& space, const PointLight& light, const 
 /// The terms of a material that the shading kernel's PhongMaterial leaves out.
 bool same_scene_terms(const Material& a, const Material& b) {
     return a.reflectance == b.reflectance && a.transmittance == b.transmittance && a.ior == b.ior &&
-           a.diffuse_map == b.diffuse_map;
+           a.diffuse_map == b.diffuse_map && a.emission_map == b.emission_map;
 }
 
 bool same_material(const packet::PhongMaterial& a, const packet::PhongMaterial& b) {

@@ -9,14 +9,25 @@
 
 namespace dynrt::detail {
 
+namespace {
+
+/// Material m's diffuse map for slot m < M, its emission map for slot M + m (TextureSet's order).
+const std::optional<TextureMap>& map_in_slot(const Scene& scene, std::size_t slot) {
+    const std::size_t count = scene.materials.size();
+    const Material& material = scene.materials[slot % count];
+    return slot < count ? material.diffuse_map : material.emission_map;
+}
+
+}  // namespace
+
 bool SceneTextures::current(const Scene& scene) const {
     if (!set_ || scene_ != &scene) return false;
     // Materials are few; comparing their maps per trace costs nothing next to the trace.
     std::size_t k = 0;
-    for (std::size_t m = 0; m < scene.materials.size(); ++m) {
-        const std::optional<TextureMap>& map = scene.materials[m].diffuse_map;
+    for (std::size_t slot = 0; slot < 2 * scene.materials.size(); ++slot) {
+        const std::optional<TextureMap>& map = map_in_slot(scene, slot);
         if (!map) continue;
-        if (k == maps_.size() || maps_[k].first != m || !(maps_[k].second == *map)) return false;
+        if (k == maps_.size() || maps_[k].first != slot || !(maps_[k].second == *map)) return false;
         ++k;
     }
     return k == maps_.size();
@@ -29,8 +40,8 @@ std::optional<SurfaceTextures> SceneTextures::for_trace(const Scene& scene, cons
         set_ = std::make_unique<TextureSet>(scene);
         scene_ = &scene;
         maps_.clear();
-        for (std::size_t m = 0; m < scene.materials.size(); ++m) {
-            if (scene.materials[m].diffuse_map) maps_.emplace_back(m, *scene.materials[m].diffuse_map);
+        for (std::size_t slot = 0; slot < 2 * scene.materials.size(); ++slot) {
+            if (const std::optional<TextureMap>& map = map_in_slot(scene, slot)) maps_.emplace_back(slot, *map);
         }
     }
     objects_.clear();

@@ -512,9 +512,12 @@ inline void footprint_lanes(float pixel_angle, int count, float (&eye_offset)[3]
 /// texture_footprint(|point - eye|, pixel_angle, twice the world area, twice the texture area).
 /// The lanes' coordinates and footprints are found one by one, then looked up a material at a
 /// time, SIMD across the lanes (TextureSet's batch diffuse). Null when no lane is textured.
-/// Fills a per-thread buffer: valid until the thread's next call.
-inline const packet::DiffuseTint* tint_lanes(const SurfaceTextures& textures, const TileShadowOrigins& origins) {
-    thread_local packet::DiffuseTint tint;
+/// Fills a per-thread buffer: valid until the thread's next call with the same slot. With
+/// TextureSlot::emission, the same for the materials' emission maps.
+inline const packet::DiffuseTint* tint_lanes(const SurfaceTextures& textures, const TileShadowOrigins& origins,
+                                             TextureSlot slot = TextureSlot::diffuse) {
+    thread_local packet::DiffuseTint tints[2];
+    packet::DiffuseTint& tint = tints[slot == TextureSlot::diffuse ? 0 : 1];
     // The textured lanes' lookups, in lane order; then each material's, gathered in front.
     struct Lookups {
         alignas(64) float s[packet::kPacketRays], t[packet::kPacketRays], width[packet::kPacketRays];
@@ -532,7 +535,7 @@ inline const packet::DiffuseTint* tint_lanes(const SurfaceTextures& textures, co
     int pending = 0;
     surface.hit.for_each([&](int lane) {
         const auto material = std::uint32_t(surface.material[lane]);
-        if (!textures.set.maps(material)) return;
+        if (!textures.set.maps(material, slot)) return;
         const ObjectTexcoords& uv = textures.objects[std::size_t(origins.object[lane])];
         if (uv.texcoords.empty()) return;
         const glm::uvec3& corner = uv.triangles[origins.prim[lane]];
@@ -559,7 +562,7 @@ inline const packet::DiffuseTint* tint_lanes(const SurfaceTextures& textures, co
                     [&](std::uint32_t m) { return m == first_material; })) {
         // One material (the common case): looked up in place.
         float* const rgb[3] = {all.rgb[0], all.rgb[1], all.rgb[2]};
-        textures.set.diffuse(first_material, std::size_t(pending), all.s, all.t, all.width, rgb);
+        textures.set.lookup(slot, first_material, std::size_t(pending), all.s, all.t, all.width, rgb);
         for (int k = 0; k < pending; ++k) {
             for (int a = 0; a < 3; ++a) tint.rgb[a][all.lane[k]] = all.rgb[a][k];
         }
@@ -579,7 +582,7 @@ inline const packet::DiffuseTint* tint_lanes(const SurfaceTextures& textures, co
         }
         pending = kept;
         float* const rgb[3] = {group.rgb[0], group.rgb[1], group.rgb[2]};
-        textures.set.diffuse(material, std::size_t(count), group.s, group.t, group.width, rgb);
+        textures.set.lookup(slot, material, std::size_t(count), group.s, group.t, group.width, rgb);
         for (int k = 0; k < count; ++k) {
             for (int a = 0; a < 3; ++a) tint.rgb[a][group.lane[k]] = group.rgb[a][k];
         }
@@ -629,6 +632,9 @@ inline void shade_lanes(const TileShading& shading, const TileShadowOrigins& ori
     const packet::SurfacePacket& surface = origins.surface;
     if (surface.hit.any()) {
         const packet::DiffuseTint* tint = shading.textures ? tint_lanes(*shading.textures, origins) : nullptr;
+        const packet::DiffuseTint* glow = shading.textures && shading.textures->set.any_emission()
+                                              ? tint_lanes(*shading.textures, origins, TextureSlot::emission)
+                                              : nullptr;
         std::span<const packet::ShadingLight> lights = shading.lights;
         if (!origins.light_lanes.empty() || !origins.light_filter.empty()) {
             // Area lights: each lane lit from its own sample of the light; lanes lit through
@@ -642,7 +648,7 @@ inline void shade_lanes(const TileShading& shading, const TileShadowOrigins& ori
             lights = sampled;
         }
         packet::shade(surface, shading.materials, lights, visible, shading.ambient, colors,
-                      shading.lanes, tint);
+                      shading.lanes, tint, glow);
     }
 }
 

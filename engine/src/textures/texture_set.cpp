@@ -41,21 +41,25 @@ struct TextureSet::Impl {
 
 bool TextureSet::needed(const Scene& scene) {
     return std::any_of(scene.materials.begin(), scene.materials.end(),
-                       [](const Material& m) { return m.diffuse_map.has_value(); });
+                       [](const Material& m) { return m.diffuse_map.has_value() || m.emission_map.has_value(); });
 }
 
 TextureSet::TextureSet(const Scene& scene, bool print_warnings) : impl_(std::make_unique<Impl>()) {
     Impl& s = *impl_;
     const auto start = std::chrono::steady_clock::now();
     s.textures.resize(scene.textures.size());
-    s.materials.resize(scene.materials.size());
-    usable_.assign(scene.materials.size(), 0);
+    // Slot k < M: material k's diffuse map; M + k: its emission map.
+    material_count_ = scene.materials.size();
+    s.materials.resize(2 * material_count_);
+    usable_.assign(2 * material_count_, 0);
+    const auto map_of = [&](std::size_t k) -> const std::optional<TextureMap>& {
+        const Material& material = scene.materials[k % material_count_];
+        return k < material_count_ ? material.diffuse_map : material.emission_map;
+    };
     // The textures some material maps, each read once, in parallel.
     std::vector<std::size_t> mapped;
-    for (const Material& material : scene.materials) {
-        if (material.diffuse_map && material.diffuse_map->texture < scene.textures.size()) {
-            mapped.push_back(material.diffuse_map->texture);
-        }
+    for (std::size_t k = 0; k < 2 * material_count_; ++k) {
+        if (map_of(k) && map_of(k)->texture < scene.textures.size()) mapped.push_back(map_of(k)->texture);
     }
     std::sort(mapped.begin(), mapped.end());
     mapped.erase(std::unique(mapped.begin(), mapped.end()), mapped.end());
@@ -67,10 +71,10 @@ TextureSet::TextureSet(const Scene& scene, bool print_warnings) : impl_(std::mak
         if (entry.problem.empty()) entry.pyramid.emplace(texels);
     });
     s.load_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    for (std::size_t m = 0; m < scene.materials.size(); ++m) {
-        const Material& material = scene.materials[m];
-        if (!material.diffuse_map) continue;
-        const TextureMap& map = *material.diffuse_map;
+    for (std::size_t m = 0; m < 2 * material_count_; ++m) {
+        const Material& material = scene.materials[m % material_count_];
+        if (!map_of(m)) continue;
+        const TextureMap& map = *map_of(m);
         Warning warning{.source = scene.source,
                         .kind = "texture cannot be read",
                         .kinds = "textures cannot be read",
@@ -78,7 +82,8 @@ TextureSet::TextureSet(const Scene& scene, bool print_warnings) : impl_(std::mak
                         .user = "material '" + material.name + "'",
                         .users = "materials",
                         .detail = "no such texture",
-                        .effect = "the diffuse colour is used alone"};
+                        .effect = m < material_count_ ? "the diffuse colour is used alone"
+                                                      : "the emission factor is used alone"};
         if (map.texture < scene.textures.size()) {
             const Texture& texture = scene.textures[map.texture];
             warning.item = texture.path.empty() ? "'" + texture.name + "'" : texture.path;
@@ -94,6 +99,7 @@ TextureSet::TextureSet(const Scene& scene, bool print_warnings) : impl_(std::mak
         }
         Impl::Map& out = s.materials[m];
         usable_[m] = 1;
+        any_emission_ = any_emission_ || m >= material_count_;
         out.texture = map.texture;
         out.wrap_s = map.wrap_s;
         out.wrap_t = map.wrap_t;
@@ -104,9 +110,17 @@ TextureSet::~TextureSet() = default;
 
 
 glm::vec3 TextureSet::diffuse(std::uint32_t material, glm::vec2 st, float width) const {
+    return one(index(material, TextureSlot::diffuse), st, width);
+}
+
+glm::vec3 TextureSet::emission(std::uint32_t material, glm::vec2 st, float width) const {
+    return one(index(material, TextureSlot::emission), st, width);
+}
+
+glm::vec3 TextureSet::one(std::size_t k, glm::vec2 st, float width) const {
     // One lane: the same operations as every lane of the batch's vectors, so the same bits
     // (texture_filter_test.cpp checks it).
-    const Impl::Map& map = impl_->materials[material];
+    const Impl::Map& map = impl_->materials[k];
     const Impl::Entry& entry = impl_->textures[map.texture];
     glm::vec3 rgb;
     float* const out[3] = {&rgb.x, &rgb.y, &rgb.z};
@@ -114,9 +128,9 @@ glm::vec3 TextureSet::diffuse(std::uint32_t material, glm::vec2 st, float width)
     return rgb;
 }
 
-void TextureSet::diffuse(std::uint32_t material, std::size_t count, const float* s, const float* t,
-                         const float* width, float* const rgb[3]) const {
-    const Impl::Map& map = impl_->materials[material];
+void TextureSet::lookup(TextureSlot slot, std::uint32_t material, std::size_t count, const float* s, const float* t,
+                        const float* width, float* const rgb[3]) const {
+    const Impl::Map& map = impl_->materials[index(material, slot)];
     const Impl::Entry& entry = impl_->textures[map.texture];
     const textures::MipPyramid& pyramid = *entry.pyramid;
     constexpr int W = packet::simd::kNativeLanes;

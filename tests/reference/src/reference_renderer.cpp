@@ -209,6 +209,21 @@ private:
         double texture_change = 0.0;
         glm::dvec3 tint(1.0);  // the texture's colour, 1 where there is none
         const double base_kd_max = max_channel(kd);
+        glm::dvec3 glow(1.0);  // the emission map's colour, 1 where there is none
+        if (shading_.textures && shading_.textures->maps(object.material, TextureSlot::emission) &&
+            !object.mesh.texcoords.empty()) {
+            const glm::uvec3& corner = object.mesh.triangles.at(static_cast<std::size_t>(hit.prim));
+            const glm::dvec2 st0(object.mesh.texcoords[corner.x]), st1(object.mesh.texcoords[corner.y]),
+                st2(object.mesh.texcoords[corner.z]);
+            const glm::dvec2 st = (1.0 - hit.u - hit.v) * st0 + hit.u * st1 + hit.v * st2;
+            const glm::dvec2 e1 = st1 - st0, e2 = st2 - st0;
+            glm::dvec3 v[3];
+            tracer_.vertices(tri, v);
+            const float width = texture_footprint(float(glm::length(p - eye_)), float(pixel_angle_),
+                                                  float(glm::length(glm::cross(v[1] - v[0], v[2] - v[0]))),
+                                                  float(std::abs(e1.x * e2.y - e1.y * e2.x)));
+            glow = glm::dvec3(shading_.textures->emission(object.material, glm::vec2(st), width));
+        }
         if (shading_.textures && shading_.textures->maps(object.material) && !object.mesh.texcoords.empty()) {
             const glm::uvec3& corner = object.mesh.triangles.at(static_cast<std::size_t>(hit.prim));
             const glm::dvec2 st0(object.mesh.texcoords[corner.x]), st1(object.mesh.texcoords[corner.y]),
@@ -269,7 +284,7 @@ private:
             sensitivity += brightest *
                            (kd_max + 4.0 * shininess * ks_max * std::pow(r_dot_v, std::max(shininess - 1.0, 0.0)));
         }
-        color += glm::dvec3(material.emission);  // after the lights, as packet::shade adds it
+        color += glm::dvec3(material.emission) * glow;  // after the lights, as packet::shade adds it
         // Where the float renderer takes its shading normal: barycentric_rel * scale away on
         // the same ray, plus point_error for a deviating secondary ray.
         const double normal_error = normal_rate * (point_error + tol_.barycentric_rel * tracer_.scale_at(p));

@@ -27,6 +27,9 @@
 
 namespace dynrt {
 
+/// Which map of a material a lookup reads.
+enum class TextureSlot : std::uint8_t { diffuse, emission };
+
 class TextureSet {
 public:
     /// Opens the textures `scene`'s materials map (Material::diffuse_map), copying embedded
@@ -41,10 +44,14 @@ public:
     /// Whether any material of `scene` maps a texture (so that shading needs a TextureSet).
     static bool needed(const Scene& scene);
 
-    /// Whether material `material` has a diffuse map that could be read.
-    bool maps(std::uint32_t material) const {
-        return material < usable_.size() && usable_[material] != 0;
+    /// Whether material `material` has a diffuse map (or, for TextureSlot::emission, an
+    /// emission map) that could be read.
+    bool maps(std::uint32_t material, TextureSlot slot = TextureSlot::diffuse) const {
+        const std::size_t k = index(material, slot);
+        return k < usable_.size() && usable_[k] != 0;
     }
+    /// Whether any material has a readable emission map.
+    bool any_emission() const { return any_emission_; }
 
     /// The linear RGB of material `material`'s diffuse map at texture coordinates `st`
     /// (Mesh::texcoords' convention), wrapped by the map's modes, filtered over a square
@@ -57,7 +64,15 @@ public:
     /// same colours, bit for bit, as one at a time): lookup i at (s[i], t[i]) over width[i]
     /// writes rgb[0][i], rgb[1][i], rgb[2][i].
     void diffuse(std::uint32_t material, std::size_t count, const float* s, const float* t, const float* width,
-                 float* const rgb[3]) const;
+                 float* const rgb[3]) const {
+        lookup(TextureSlot::diffuse, material, count, s, t, width, rgb);
+    }
+    /// The same lookups in material `material`'s emission map (precondition:
+    /// maps(material, TextureSlot::emission)).
+    glm::vec3 emission(std::uint32_t material, glm::vec2 st, float width) const;
+    /// Lookups in either map, as diffuse() describes.
+    void lookup(TextureSlot slot, std::uint32_t material, std::size_t count, const float* s, const float* t,
+                const float* width, float* const rgb[3]) const;
 
     /// Bytes the readable textures hold in memory, every MIP level included.
     std::size_t bytes() const;
@@ -72,8 +87,15 @@ public:
 private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
-    /// Per material, 1 when it maps a readable texture (maps(), inline: shading asks per hit).
+    /// Per material and slot (index()), 1 when it maps a readable texture (maps(), inline:
+    /// shading asks per hit).
     std::vector<std::uint8_t> usable_;
+    std::size_t material_count_ = 0;
+    bool any_emission_ = false;
+    std::size_t index(std::uint32_t material, TextureSlot slot) const {
+        return slot == TextureSlot::diffuse ? material : material_count_ + material;
+    }
+    glm::vec3 one(std::size_t k, glm::vec2 st, float width) const;
 };
 
 /// The footprint of a pixel's ray at a hit, in texture coordinates, as dynrt's shading and

@@ -99,10 +99,11 @@ struct alignas(64) ShadedColors {
 /// where the shading normal's n.l > 0 too); one mask per light, same order as `lights`. Every `surface.material` of a hit lane must index `materials`. `lanes` is
 /// native_simd_lanes() or 1, as PacketConfig::lanes; both give the same bits. `tint`, when not
 /// null, scales the diffuse colour of its lanes. Throws std::invalid_argument for another
-/// width or mismatched spans. Thread-safe (no shared state).
+/// width or mismatched spans. `glow`, when not null, scales the emission of its lanes (an
+/// emission map's colour). Thread-safe (no shared state).
 void shade(const SurfacePacket& surface, std::span<const PhongMaterial> materials,
            std::span<const ShadingLight> lights, std::span<const LaneMask> visible,
            float ambient, ShadedColors& out, int lanes = native_simd_lanes(),
-           const DiffuseTint* tint = nullptr);
+           const DiffuseTint* tint = nullptr, const DiffuseTint* glow = nullptr);
 
 }  // namespace dynrt::packet

@@ -105,6 +105,9 @@ struct Material {
     /// colour at the hit's texture coordinates (Mesh::texcoords); objects without texture
     /// coordinates, and textures that cannot be read, use `diffuse` alone.
     std::optional<TextureMap> diffuse_map = std::nullopt;
+    /// When present, the emission is `emission` times this texture's linear colour at the hit
+    /// (glTF's emissiveTexture), looked up as diffuse_map is.
+    std::optional<TextureMap> emission_map = std::nullopt;
 
     /// Whether a hit on this material spawns reflection or refraction rays.
     bool traces_secondary() const {

@@ -288,18 +288,15 @@ packet::LaneMask retrace_shadows(const ReuseFrame& f, int t, TileShadowOrigins& 
             shadows_only |= lit & ~primary & ~retrace;
             retrace = lit;
         }
-        packet::LaneMask occluded, through;
+        packet::LaneMask reached;
         if (retrace.any()) {
             shadow.active = retrace;
-            occluded = f.pass.in.tracer.occluded(shadow, RayCoherence::tile, f.pass.trace_work(tw)) & retrace;
+            reached = shadow_reach(f.pass.in.tracer, RayCoherence::tile, glass, shadow, origins, l, lights.size(),
+                                   f.pass.trace_work(tw));
             tw.shadow_rays += std::size_t(retrace.count());
-            if (!glass.empty() && occluded.any()) {
-                through = through_glass(f.pass.in.tracer, RayCoherence::tile, glass, shadow, occluded, origins, l,
-                                        lights.size(), f.pass.trace_work(tw));
-            }
         }
         const packet::LaneMask before = f.memory.visible[slot];
-        visible[l] = (before & ~primary & ~retrace) | (retrace & ~occluded) | through;
+        visible[l] = (before & ~primary & ~retrace) | reached;
         f.memory.visible[slot] = visible[l];
         if (primary.any()) {
             bvh::Aabb ends;

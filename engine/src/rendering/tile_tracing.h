@@ -37,6 +37,9 @@ inline void trace_tile_hits(const TraceBackend& tracer, const packet::Tile& tile
 /// so two triangles at exactly the same t count once), up to kGlassLayersMax: a lane reaches
 /// the light when it leaves the last layer without meeting an opaque surface. Returns those
 /// lanes; their filters go into origins.filter_of(l). `glass` is TileShading::glass.
+/// The first layer's closest hits also answer what an any-hit test would (an opaque first
+/// hit blocks the ray), so in a scene with glass the shadow rays are traced this way alone
+/// (shadow_reach): an any-hit test first would trace every blocked ray twice.
 constexpr int kGlassLayersMax = 16;
 
 inline packet::LaneMask through_glass(const TraceBackend& tracer, RayCoherence coherence,
@@ -70,6 +73,16 @@ inline packet::LaneMask through_glass(const TraceBackend& tracer, RayCoherence c
     return through;
 }
 
+/// The active lanes of `shadow` (rays toward light l) that reach it: those nothing blocks, and
+/// in a scene with glass (`glass` not empty) those only glass blocks, filtered (through_glass).
+inline packet::LaneMask shadow_reach(const TraceBackend& tracer, RayCoherence coherence,
+                                     std::span<const glm::vec3> glass, const packet::RayPacket& shadow,
+                                     TileShadowOrigins& origins, std::size_t l, std::size_t light_count,
+                                     TraceWork* work) {
+    if (glass.empty()) return shadow.active & ~tracer.occluded(shadow, coherence, work);
+    return through_glass(tracer, coherence, glass, shadow, shadow.active, origins, l, light_count, work);
+}
+
 /// visible[l]: the hit lanes of `origins` that light l reaches (the lit side of their surface
 /// and nothing opaque in between), one shadow batch per light of `coherence` (`shadow` holds
 /// the last); lanes reached through glass get their filter in `origins` (through_glass).
@@ -86,11 +99,7 @@ inline ShadowCounts trace_tile_shadows(const TraceBackend& tracer, RayCoherence 
         const auto cast = std::size_t(shadow.active.count());
         counts.add(lights[l], hits, cast, left);
         if (cast == 0) continue;
-        const packet::LaneMask occluded = tracer.occluded(shadow, coherence, work);
-        visible[l] = shadow.active & ~occluded;
-        if (!glass.empty() && (occluded & shadow.active).any()) {
-            visible[l] |= through_glass(tracer, coherence, glass, shadow, occluded & shadow.active, origins, l, lights.size(), work);
-        }
+        visible[l] = shadow_reach(tracer, coherence, glass, shadow, origins, l, lights.size(), work);
     }
     return counts;
 }

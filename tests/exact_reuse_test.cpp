@@ -332,6 +332,34 @@ TEST(ChangedSpace, RayTestIsConservativeAndTight) {
     EXPECT_LT(reported, packet::kPacketRays - 10);
 }
 
+/// Brute force for ChangedSpace's tests: whether points along the paths from a grid of
+/// (grid + 1)^3 points over `points` (`path(q, f)`, f in [0, 1] in `steps` steps) come into
+/// `box` (touches) or within 0.1 of it (near).
+struct Contact {
+    bool touches = false, near = false;
+};
+template <class Path>
+Contact brute_force_contact(const bvh::Aabb& box, const bvh::Aabb& points, int grid, int steps, Path&& path) {
+    Contact c;
+    const glm::vec3 size = points.hi - points.lo;
+    for (int i = 0; i <= grid; ++i) {
+        for (int j = 0; j <= grid; ++j) {
+            for (int k = 0; k <= grid; ++k) {
+                const glm::vec3 q = points.lo + size * glm::vec3(i, j, k) / float(grid);
+                for (int s = 0; s <= steps; ++s) {
+                    const glm::vec3 p = path(q, float(s) / float(steps));
+                    const auto in = [&](float m) {
+                        return glm::all(glm::greaterThanEqual(p, box.lo - m)) && glm::all(glm::lessThanEqual(p, box.hi + m));
+                    };
+                    c.touches |= in(0.0f);
+                    c.near |= in(0.1f);
+                }
+            }
+        }
+    }
+    return c;
+}
+
 TEST(ChangedSpace, SweepTestIsConservativeAndTight) {
     std::mt19937 rng(5);
     std::uniform_real_distribution<float> u(-3.0f, 3.0f);
@@ -348,23 +376,9 @@ TEST(ChangedSpace, SweepTestIsConservativeAndTight) {
         glm::vec3 dir = glm::normalize(glm::vec3(u(rng), u(rng), u(rng)));
         if (trial % 2 == 0) dir = glm::normalize(box.center() - points.center() + 0.2f * dir);
         if (trial % 7 == 0) dir.y = 0.0f;  // parallel to a slab
-        bool touches = false, near = false;
-        for (int i = 0; i <= 6; ++i) {
-            for (int j = 0; j <= 6; ++j) {
-                for (int k = 0; k <= 6; ++k) {
-                    const glm::vec3 q = points.lo + 0.4f * glm::vec3(i, j, k) / 6.0f;
-                    for (int s = 0; s <= 400; ++s) {
-                        const glm::vec3 p = q + (float(s) / 20.0f) * dir;  // 20 units: past every box
-                        const auto in = [&](float m) {
-                            return glm::all(glm::greaterThanEqual(p, box.lo - m)) &&
-                                   glm::all(glm::lessThanEqual(p, box.hi + m));
-                        };
-                        touches |= in(0.0f);
-                        near |= in(0.1f);
-                    }
-                }
-            }
-        }
+        // 20 units along each: past every box.
+        const auto [touches, near] =
+            brute_force_contact(box, points, 6, 400, [&](const glm::vec3& q, float f) { return q + 20.0f * f * dir; });
         const bool sweep = space.meets_sweep(points, dir);
         if (touches) {
             EXPECT_TRUE(sweep) << "trial " << trial;
@@ -398,23 +412,8 @@ TEST(ChangedSpace, HullAndPyramidTestsAreConservativeAndTight) {
                                      : glm::vec3(u(rng), u(rng), u(rng)));
         points.extend(points.lo + glm::vec3(0.5f));
         // Brute force over segments from the apex to a grid of points of the box.
-        bool touches = false, near = false;
-        for (int i = 0; i <= 8 && !touches; ++i) {
-            for (int j = 0; j <= 8; ++j) {
-                for (int k = 0; k <= 8; ++k) {
-                    const glm::vec3 q = points.lo + 0.5f * glm::vec3(i, j, k) / 8.0f;
-                    for (int s = 0; s <= 200; ++s) {
-                        const glm::vec3 p = apex + (float(s) / 200.0f) * (q - apex);
-                        const auto in = [&](float m) {
-                            return glm::all(glm::greaterThanEqual(p, box.lo - m)) &&
-                                   glm::all(glm::lessThanEqual(p, box.hi + m));
-                        };
-                        touches |= in(0.0f);
-                        near |= in(0.1f);
-                    }
-                }
-            }
-        }
+        const auto [touches, near] =
+            brute_force_contact(box, points, 8, 200, [&](const glm::vec3& q, float f) { return apex + f * (q - apex); });
         const bool hull = space.meets_hull(apex, points);
         if (touches) {
             EXPECT_TRUE(hull) << "trial " << trial;

@@ -301,6 +301,10 @@ ENGINE_CASES = [
      contains("light 0: a quad light's edges must be finite and not parallel")),
     ("light_quad_one_edge", lambda c: dynrt.Light((0, 3, 0), edge_u=(1, 0, 0)), IA,
      contains("dynrt.Light: a quad light takes edge_u and edge_v")),
+    ("render_environment_missing", lambda c: c.engine.render(view(), 8, 8, environment="/no/such/sky.hdr"), IA,
+     contains("render: environment map '/no/such/sky.hdr': no such file")),
+    ("render_environment_not_a_path", lambda c: c.engine.render(view(), 8, 8, environment=3), IA,
+     contains("environment must be a path")),
     ("light_kind_unknown", lambda c: dynrt.Light((0, 3, 0), kind="area"), IA,
      contains("dynrt.Light: kind must be 'point', 'spot' or 'directional', not 'area'")),
     ("render_spot_cone_inverted", lambda c: c.engine.render(

@@ -227,6 +227,24 @@ def test_light_kinds_reach_the_engine(world):
     assert (images[2][..., 2] < white[..., 2]).sum() > 48 * 32 // 4
 
 
+def test_an_environment_shows_where_rays_miss(world):
+    """The bundled sky (scenes/sky.hdr) instead of the background: pixels that hit nothing
+    change, the others do not (without secondary rays, which would see it in mirrors), and a
+    path object works."""
+    import pathlib
+    sky = pathlib.Path(__file__).resolve().parents[2] / "scenes" / "sky.hdr"
+    engine, _ = world.build(borrow=False)
+    plain, mesh = engine.render(view(), 48, 32, mesh=True, reuse_pixels=False, max_depth=0)
+    lit = engine.render(view(), 48, 32, environment=sky, reuse_pixels=False, max_depth=0)
+    brighter = engine.render(view(), 48, 32, environment=str(sky), environment_scale=2.0, reuse_pixels=False,
+                             max_depth=0)
+    missed = mesh < 0
+    assert missed.sum() > 48 * 32 // 10
+    assert (np.abs(lit - plain).sum(axis=2)[missed] > 1e-3).all()
+    assert np.array_equal(lit[~missed], plain[~missed])
+    assert np.allclose(brighter[missed], 2.0 * lit[missed], rtol=1e-5)
+
+
 def test_coherent_rays_go_as_packets_and_incoherent_ones_alone(py):
     """The comparison covers both of the engine's tracers."""
     for step in STEPS:

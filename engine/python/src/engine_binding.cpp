@@ -167,7 +167,8 @@ namespace {
 /// The keyword arguments every render takes, as the API's RenderSettings.
 RenderSettings render_settings(py::handle lights, py::handle background, float ambient, bool reuse_pixels,
                                int max_depth, float cutoff, bool smooth_normals, int samples_per_pixel,
-                               const std::string& filter, float aa_contrast, const std::string& where) {
+                               const std::string& filter, float aa_contrast, py::handle environment,
+                               float environment_scale, const std::string& where) {
     RenderSettings s;
     if (!lights.is_none()) {
         for (py::handle light : lights) {
@@ -184,6 +185,13 @@ RenderSettings render_settings(py::handle lights, py::handle background, float a
     s.samples_per_pixel = samples_per_pixel;
     s.filter = filter;
     s.aa_contrast = aa_contrast;
+    if (!environment.is_none()) {
+        if (!py::isinstance<py::str>(environment) && !py::hasattr(environment, "__fspath__")) {
+            invalid(where, "environment must be a path (str or os.PathLike) or None");
+        }
+        s.environment = py::str(py::module_::import("os").attr("fspath")(environment)).cast<std::string>();
+    }
+    s.environment_scale = environment_scale;
     return s;
 }
 
@@ -388,12 +396,13 @@ srgb: the texels are sRGB-encoded; float32 texels are usually linear: pass srgb=
     engine.def("render", [](const PyEngine& self, const View& view, int width, int height, bool depth, bool mesh,
                             bool report, py::handle lights, py::handle background, float ambient, bool reuse_pixels,
                             int max_depth, float cutoff, bool smooth_normals, int samples_per_pixel,
-                            const std::string& filter, float aa_contrast) -> py::object {
+                            const std::string& filter, float aa_contrast, py::handle environment,
+                            float environment_scale) -> py::object {
         const std::string where = "dynrt.Engine.render";
         if (width < 1 || height < 1) invalid(where, "width and height must be >= 1");
         const RenderSettings settings =
             render_settings(lights, background, ambient, reuse_pixels, max_depth, cutoff, smooth_normals,
-                            samples_per_pixel, filter, aa_contrast, where);
+                            samples_per_pixel, filter, aa_contrast, environment, environment_scale, where);
         py::array rgb(dtype("float32"), {py::ssize_t(height), py::ssize_t(width), py::ssize_t(3)});
         py::array depth_image, mesh_image;
         if (depth) depth_image = py::array(dtype("float32"), {py::ssize_t(height), py::ssize_t(width)});
@@ -412,7 +421,7 @@ srgb: the texels are sRGB-encoded; float32 texels are usually linear: pass srgb=
        py::arg("background") = py::make_tuple(0.05f, 0.06f, 0.08f), py::arg("ambient") = 0.08f,
        py::arg("reuse_pixels") = true, py::arg("max_depth") = 5, py::arg("cutoff") = 1.0f / 256.0f,
        py::arg("smooth_normals") = true, py::arg("samples_per_pixel") = 1, py::arg("filter") = "blackman-harris",
-       py::arg("aa_contrast") = 0.0f,
+       py::arg("aa_contrast") = 0.0f, py::arg("environment") = py::none(), py::arg("environment_scale") = 1.0f,
        R"(Renders `view` at width x height: an (H, W, 3) float32 linear RGB array, or a tuple
 (rgb, depth, mesh, report) of the parts asked for: depth (H, W) float32 (+inf on a miss),
 mesh (H, W) int32 (the mesh id hit, -1 on a miss), report the frame's dict: the last
@@ -422,7 +431,8 @@ shade_ms, secondary_ms, rays); its total_ms covers that update and this render.)
     engine.def("render_into", [](const PyEngine& self, const View& view, py::handle rgb, py::handle depth,
                                  py::handle mesh, py::handle lights, py::handle background, float ambient,
                                  bool reuse_pixels, int max_depth, float cutoff, bool smooth_normals,
-                                 int samples_per_pixel, const std::string& filter, float aa_contrast) {
+                                 int samples_per_pixel, const std::string& filter, float aa_contrast,
+                                 py::handle environment, float environment_scale) {
         const std::string where = "dynrt.Engine.render_into";
         py::array rgb_image = image_array(rgb, where, "rgb", "float32", 3, -1, -1);
         const int height = int(rgb_image.shape(0)), width = int(rgb_image.shape(1));
@@ -431,7 +441,7 @@ shade_ms, secondary_ms, rays); its total_ms covers that update and this render.)
         if (!mesh.is_none()) mesh_image = image_array(mesh, where, "mesh", "int32", 0, height, width);
         const RenderSettings settings =
             render_settings(lights, background, ambient, reuse_pixels, max_depth, cutoff, smooth_normals,
-                            samples_per_pixel, filter, aa_contrast, where);
+                            samples_per_pixel, filter, aa_contrast, environment, environment_scale, where);
         const FrameStats stats = render_arrays(self, view, rgb_image, depth_image ? &depth_image : nullptr,
                                                mesh_image ? &mesh_image : nullptr, settings);
         return report_dict(stats);
@@ -439,7 +449,8 @@ shade_ms, secondary_ms, rays); its total_ms covers that update and this render.)
        py::arg("lights") = py::none(), py::arg("background") = py::make_tuple(0.05f, 0.06f, 0.08f),
        py::arg("ambient") = 0.08f, py::arg("reuse_pixels") = true, py::arg("max_depth") = 5,
        py::arg("cutoff") = 1.0f / 256.0f, py::arg("smooth_normals") = true, py::arg("samples_per_pixel") = 1,
-       py::arg("filter") = "blackman-harris", py::arg("aa_contrast") = 0.0f,
+       py::arg("filter") = "blackman-harris", py::arg("aa_contrast") = 0.0f, py::arg("environment") = py::none(),
+       py::arg("environment_scale") = 1.0f,
        "Renders into arrays the caller owns (rgb (H, W, 3) float32; depth, mesh (H, W)); returns the report.");
 
     engine.def("intersect", [](const PyEngine& self, py::handle origins, py::handle directions, py::handle tmin,

@@ -269,6 +269,10 @@ struct Engine::Impl final : FixedPositions {
     AccessGuard guard;
     mutable std::mutex render_mutex;
     mutable RenderedFrame frame;
+    /// The environment the last render read (RenderSettings::environment), kept while its
+    /// path and scale stay the same; under render_mutex.
+    mutable std::shared_ptr<const EnvironmentMap> environment;
+    mutable std::pair<std::string, float> environment_key;
 
     template <typename Work>
     decltype(auto) run(Work&& work) const {
@@ -917,6 +921,17 @@ FrameStats Engine::render(const View& view, const ImageView& image,
     }
 
     const std::lock_guard<std::mutex> lock(s.render_mutex);
+    if (settings.environment.empty()) {
+        s.environment.reset();
+    } else if (!s.environment || s.environment_key != std::pair(settings.environment, settings.environment_scale)) {
+        try {
+            s.environment = EnvironmentMap::read(settings.environment, settings.environment_scale);
+        } catch (const std::runtime_error& e) {
+            throw invalid(std::string("render: ") + e.what());
+        }
+        s.environment_key = {settings.environment, settings.environment_scale};
+    }
+    options.environment = s.environment;
     RenderedFrame& frame = s.frame;
     try {
         s.run([&] { s.pipeline.trace(s.scene, camera, options, lights, frame); });

@@ -186,6 +186,11 @@ struct RenderSettings {
     /// light, docs/rendering.md "Shading").
     std::vector<Light> lights;
     Vec3 background{0.05f, 0.06f, 0.08f};  ///< the colour of pixels whose ray hits nothing
+    /// An equirectangular image file (.exr, .hdr, ...) that rays leaving the scene see instead
+    /// of the background, camera rays and reflections alike (docs/rendering.md "Background and
+    /// environment"); empty: none. Read once and kept while the path and scale stay the same.
+    std::string environment;
+    float environment_scale = 1.0f;  ///< what the environment's texels are multiplied by, >= 0
     /// Ambient term, as a fraction of the diffuse colour.
     float ambient = 0.08f;
     /// Exact reuse of the previous render's pixels (docs/reuse.md "Reusing pixels between frames"):

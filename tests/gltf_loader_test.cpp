@@ -472,6 +472,16 @@ TEST_F(GltfLoaderTest, EmissionIsMappedAndAlphaIsListedAsIgnored) {
     b.doc()["materials"][strong]["extensions"]["KHR_materials_emissive_strength"]["emissiveStrength"] = -1.0;
     b.write_gltf(path("negative.gltf"));
     expect_error(path("negative.gltf"), {"material 'strong'", "emission", "must be finite and >= 0"});
+    b.doc()["materials"][strong]["extensions"]["KHR_materials_emissive_strength"]["emissiveStrength"] = 1.0;
+
+    // Alpha the specification does not allow is refused, naming the material.
+    b.doc()["materials"][cut]["alphaCutoff"] = 1.5;
+    expect_error(b, {"material 'cut'", "alphaCutoff 1.5 must be in [0, 1]"});
+    b.doc()["materials"][cut]["alphaCutoff"] = -0.1;
+    expect_error(b, {"material 'cut'", "alphaCutoff -0.1 must be in [0, 1]"});
+    b.doc()["materials"][cut]["alphaCutoff"] = 0.3;
+    b.doc()["materials"][opaque]["alphaMode"] = "TRANSLUCENT";
+    expect_error(b, {"material 'opaque'", "alphaMode 'TRANSLUCENT' is not OPAQUE, MASK or BLEND"});
 }
 
 TEST_F(GltfLoaderTest, PunctualLightsAreReadOnTheirNodes) {

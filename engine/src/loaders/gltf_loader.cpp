@@ -172,6 +172,7 @@ public:
         scene.materials.push_back(Material{.name = "default", .diffuse = glm::vec3(kDefaultGrey)});
         for (std::size_t i = 0; i < model_.materials.size(); ++i) {
             scene.materials.push_back(convert_material(model_.materials[i], i));
+            check_alpha(model_.materials[i], scene.materials.back().name);
             map_base_color(model_.materials[i], scene.materials.back(), scene);
         }
         note_ignored(scene);
@@ -223,6 +224,20 @@ private:
 
     [[noreturn]] void fail_object(const std::string& object, const std::string& what) const {
         fail(cat("object '", object, "': ", what));
+    }
+
+    /// Refuses alpha the specification does not allow, naming the material: an alphaMode other
+    /// than OPAQUE, MASK and BLEND, or a MASK's alphaCutoff outside [0, 1]. (Alpha itself is
+    /// not rendered yet: note_ignored lists it.)
+    void check_alpha(const tinygltf::Material& source, const std::string& name) const {
+        const std::string& mode = source.alphaMode;
+        if (mode != "OPAQUE" && mode != "MASK" && mode != "BLEND") {
+            fail(cat("material '", name, "': alphaMode '", mode, "' is not OPAQUE, MASK or BLEND"));
+        }
+        const double cutoff = source.alphaCutoff;
+        if (mode == "MASK" && !(cutoff >= 0.0 && cutoff <= 1.0)) {
+            fail(cat("material '", name, "': alphaCutoff ", cutoff, " must be in [0, 1]"));
+        }
     }
 
     /// Reports a problem the loader works around (dynrt/scene/warnings.h), naming this file.

@@ -186,7 +186,7 @@ private:
         work_.primary_rays += std::size_t(lanes.count());
     }
     void trace_shadows() {
-        work_.add_shadows(trace_tile_shadows(f_.in.tracer, RayCoherence::tile, origins_, f_.in.lights,
+        work_.add_shadows(trace_tile_shadows(f_.in.tracer, RayCoherence::tile, origins_, f_.shading.lights,
                                              f_.shading.glass, shadow_, visible_, trace_work_));
     }
     /// The exact path for the whole tile: the full frame's tile pass.

@@ -481,7 +481,7 @@ public:
     bool shadows(TileShadowOrigins& origins, const packet::LaneMask&, TileRays&,
                  std::vector<packet::LaneMask>& visible, StageWork& work) {
         packet::RayPacket shadow;
-        work.add_shadows(trace_tile_shadows(pass_.in.tracer, RayCoherence::tile, origins, pass_.in.lights,
+        work.add_shadows(trace_tile_shadows(pass_.in.tracer, RayCoherence::tile, origins, pass_.shading.lights,
                                             pass_.shading.glass, shadow, visible, pass_.trace_work(work)));
         return true;
     }

@@ -265,13 +265,14 @@ packet::LaneMask retrace_shadows(const ReuseFrame& f, int t, TileShadowOrigins& 
     packet::RayPacket shadow;
     for (std::size_t l = 0; l < lights.size(); ++l) {
         const std::size_t slot = std::size_t(t) * lights.size() + l;
-        const TileShadowOrigins::LeftOut left = origins.rays_to(lights[l], l, shadow);
+        const packet::ShadingLight& shading = f.pass.shading.lights[l];
+        const TileShadowOrigins::LeftOut left = origins.rays_to(shading, l, shadow);
         const packet::LaneMask lit = shadow.active;
         if (!(origins.surface.hit & ~primary).any()) {
             // Every hit traced afresh: the rays not cast, for the report (a tile's kept hits
             // would be counted again each frame they are kept).
             ShadowCounts fresh;
-            fresh.add(lights[l], std::size_t(origins.surface.hit.count()), std::size_t(lit.count()), left);
+            fresh.add(shading, std::size_t(origins.surface.hit.count()), std::size_t(lit.count()), left);
             tw.add_skipped_shadows(fresh);
         }
         packet::LaneMask retrace = lit & primary;

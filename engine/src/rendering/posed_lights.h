@@ -20,7 +20,7 @@ bool any_on_node(std::span<const PointLight> lights);
 /// into `out`: lights on no node as they are; the others with position = M (position, 1),
 /// direction = normalize(M3 direction) and edges M3 edge, M the node's matrix, in double.
 /// A node matrix that is not finite or collapses the direction gives a non-finite light,
-/// which the frame pipeline's light check refuses, naming it.
+/// which Renderer::update refuses, naming the light and the frame.
 void pose_lights(std::span<const PointLight> lights, std::span<const glm::dmat4> node_world,
                  std::vector<PointLight>& out);
 

@@ -460,7 +460,7 @@ void SecondaryStage::shade_packet(int depth, std::size_t packet_index) {
                             f.sample.sampling.spp);
     work.other_ms += clock.lap_ms();
     TraceWork* trace_work = f.tracing.count ? &work.trace : nullptr;
-    work.shadows += trace_tile_shadows(f.tracing.tracer, RayCoherence::scattered, p.origins, f.lights,
+    work.shadows += trace_tile_shadows(f.tracing.tracer, RayCoherence::scattered, p.origins, f.shading.lights,
                                        f.shading.glass, p.shadow, p.visible, trace_work);
     work.shadow_ms += clock.lap_ms();
 

@@ -172,7 +172,7 @@ struct EveryRay {
     bool shadows(TileShadowOrigins& origins, const packet::LaneMask&, TileRays& rays,
                  std::vector<packet::LaneMask>& visible, StageWork& work) {
         packet::RayPacket& shadow = rays.get();  // the camera rays are done with
-        work.add_shadows(trace_tile_shadows(f.in.tracer, RayCoherence::tile, origins, f.in.lights, f.shading.glass, shadow,
+        work.add_shadows(trace_tile_shadows(f.in.tracer, RayCoherence::tile, origins, f.shading.lights, f.shading.glass, shadow,
                                             visible, f.trace_work(work)));
         return true;
     }

@@ -348,17 +348,18 @@ struct TileShadowOrigins {
     /// as they are.
     /// An area light's rays leave each lane's own point of it (light_lanes). A directional
     /// light's leave the offset origin toward it, t in [0, +inf): no point of it is nearer.
-    LeftOut rays_to(const PointLight& light, std::size_t l, packet::RayPacket& out) const {
+    /// `shading` is light l as the frame's shading reads it (TileShading::lights).
+    LeftOut rays_to(const packet::ShadingLight& shading, std::size_t l, packet::RayPacket& out) const {
         using L = packet::simd::Lanes<packet::simd::kNativeLanes>;
         using F = L::F;
         constexpr int W = packet::simd::kNativeLanes;
         out.clear();
         LeftOut left;
-        if (light.intensity == 0.0f) return left;
-        const packet::ShadingLight shading = shading_light(light);
+        if (shading.intensity == 0.0f) return left;
+        const glm::vec3& position = shading.position;
         const bool falls_off = shading.falls_off();
         const float* points = light_points(l);
-        F lx = L::splat(light.position.x), ly = L::splat(light.position.y), lz = L::splat(light.position.z);
+        F lx = L::splat(position.x), ly = L::splat(position.y), lz = L::splat(position.z);
         for (int base = 0; base < packet::kPacketRays; base += W) {
             const std::uint32_t lanes = surface.hit.extract(base, W);
             if (lanes == 0) continue;
@@ -606,7 +607,8 @@ struct ShadowCounts {
 
     /// Adds light `light`'s rays for `hits` hit lanes, of which rays_to cast `cast_rays` and
     /// left `left` out although their surface faces the light.
-    void add(const PointLight& light, std::size_t hits, std::size_t cast_rays, TileShadowOrigins::LeftOut left) {
+    void add(const packet::ShadingLight& light, std::size_t hits, std::size_t cast_rays,
+             TileShadowOrigins::LeftOut left) {
         cast += cast_rays;
         if (light.intensity == 0.0f) {
             dark_light += hits;
@@ -668,10 +670,8 @@ inline void write_tile(const TileShading& shading, const packet::Tile& tile,
             // A miss's direction is minus its view vector (compute_lanes fills every lane's).
             out.color[p] = hit ? glm::vec3(colors.rgb[0][lane], colors.rgb[1][lane],
                                            colors.rgb[2][lane])
-                               : shading.environment == nullptr
-                                     ? shading.background
-                                     : shading.miss(-glm::vec3(surface.view[0][lane], surface.view[1][lane],
-                                                               surface.view[2][lane]));
+                               : shading.miss(-glm::vec3(surface.view[0][lane], surface.view[1][lane],
+                                                         surface.view[2][lane]));
             if (!hit_buffers) continue;
             if (!hit) {
                 write_miss(out, p);

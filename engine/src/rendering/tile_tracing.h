@@ -83,12 +83,13 @@ inline packet::LaneMask shadow_reach(const TraceBackend& tracer, RayCoherence co
     return through_glass(tracer, coherence, glass, shadow, shadow.active, origins, l, light_count, work);
 }
 
-/// visible[l]: the hit lanes of `origins` that light l reaches (the lit side of their surface
+/// visible[l]: the hit lanes of `origins` that light l of `lights` (TileShading::lights)
+/// reaches (the lit side of their surface
 /// and nothing opaque in between), one shadow batch per light of `coherence` (`shadow` holds
 /// the last); lanes reached through glass get their filter in `origins` (through_glass).
 /// Returns the shadow rays traced and those not cast (TileShadowOrigins::rays_to).
 inline ShadowCounts trace_tile_shadows(const TraceBackend& tracer, RayCoherence coherence,
-                                       TileShadowOrigins& origins, std::span<const PointLight> lights,
+                                       TileShadowOrigins& origins, std::span<const packet::ShadingLight> lights,
                                        std::span<const glm::vec3> glass, packet::RayPacket& shadow,
                                        std::vector<packet::LaneMask>& visible, TraceWork* work) {
     visible.assign(lights.size(), packet::LaneMask{});

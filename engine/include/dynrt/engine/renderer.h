@@ -77,7 +77,8 @@
 // Camera rays have depth 0 and a ray spawned at a hit of a depth-k ray has depth k + 1; a ray
 // is traced only when its depth is <= max_depth and the product of the weights along its path
 // has a channel >= secondary.cutoff. Every hit at every depth casts shadow rays as above;
-// transmissive surfaces block light like opaque ones (no caustics, no coloured shadows).
+// they pass through transmissive surfaces, filtered by them (no caustics: "Shadows through
+// glass" above).
 //
 // Two tracers give identical frames (hits, shadows, hence every output buffer, bit for bit):
 // the packet tracer (the default), which traces each 16x16 tile as one 256-ray packet and its

@@ -24,14 +24,8 @@ using testing::boxes_of;
 using testing::bounds_of;
 using testing::random_soup;
 
-/// The binary tree's build: these tests check the binary tree itself (a default build keeps
-/// only the wide tree, which wide_bvh_test.cpp checks).
-BuildConfig config_with(std::uint32_t leaf_size_max, float cost_ratio = 1.0f,
-                        std::uint32_t bin_count = 16) {
-    BuildConfig c = testing::config_with(leaf_size_max, cost_ratio, bin_count);
-    c.wide = false;
-    return c;
-}
+/// These tests check the binary tree itself.
+using testing::binary_config_with;
 
 std::vector<glm::vec3> centers_of(const std::vector<Aabb>& boxes) {
     std::vector<glm::vec3> centers;
@@ -77,7 +71,7 @@ TEST(BvhBuilder, EmptyInputGivesEmptyTree) {
     EXPECT_EQ(stats.nodes, 0u);
     EXPECT_EQ(stats.depth, 0u);
 
-    const TriangleBvh accel = build_triangle_bvh({}, config_with(8));
+    const TriangleBvh accel = build_triangle_bvh({}, binary_config_with(8));
     EXPECT_TRUE(accel.bvh.empty());
     EXPECT_TRUE(accel.tris.empty());
     EXPECT_EQ(accel.degenerate_skipped, 0u);
@@ -86,7 +80,7 @@ TEST(BvhBuilder, EmptyInputGivesEmptyTree) {
 TEST(BvhBuilder, SinglePrimitiveIsOneLeaf) {
     for (std::uint32_t leaf_size_max : {1u, 8u}) {
         const std::vector<Aabb> boxes = {Aabb{glm::vec3(1, 2, 3), glm::vec3(4, 5, 6)}};
-        const Bvh bvh = build_boxes(boxes, config_with(leaf_size_max));
+        const Bvh bvh = build_boxes(boxes, binary_config_with(leaf_size_max));
         ASSERT_EQ(bvh.nodes.size(), 1u);
         EXPECT_TRUE(bvh.nodes[0].is_leaf());
         EXPECT_EQ(bvh.nodes[0].count, 1u);
@@ -101,7 +95,7 @@ TEST(BvhBuilder, SinglePrimitiveIsOneLeaf) {
 TEST(BvhBuilder, TwoSeparateBoxesSplitIntoTwoLeaves) {
     const std::vector<Aabb> boxes = {Aabb{glm::vec3(0), glm::vec3(1)},
                                      Aabb{glm::vec3(10, 0, 0), glm::vec3(11, 1, 1)}};
-    const Bvh bvh = build_boxes(boxes, config_with(8));
+    const Bvh bvh = build_boxes(boxes, binary_config_with(8));
     ASSERT_EQ(bvh.nodes.size(), 3u);
     EXPECT_FALSE(bvh.nodes[0].is_leaf());
     EXPECT_EQ(bvh.nodes[0].first, 1u);
@@ -121,8 +115,8 @@ TEST(BvhBuilder, RandomSoupsAreValidForEveryLeafSizeAndCostRatio) {
                                              std::to_string(count) + " leaf " +
                                              std::to_string(leaf_size_max) + " ratio " +
                                              std::to_string(ratio);
-                    expect_valid_build(boxes, config_with(leaf_size_max, ratio), what);
-                    const TriangleBvh accel = build_triangle_bvh(tris, config_with(leaf_size_max, ratio));
+                    expect_valid_build(boxes, binary_config_with(leaf_size_max, ratio), what);
+                    const TriangleBvh accel = build_triangle_bvh(tris, binary_config_with(leaf_size_max, ratio));
                     EXPECT_EQ(validate(accel, tris, leaf_size_max), "") << what;
                     EXPECT_EQ(validate(accel.bvh, boxes, leaf_size_max), "") << what;
                 }
@@ -134,14 +128,14 @@ TEST(BvhBuilder, RandomSoupsAreValidForEveryLeafSizeAndCostRatio) {
 TEST(BvhBuilder, EveryBinCountGivesAValidTree) {
     const std::vector<Aabb> boxes = boxes_of(random_soup(3, 2000));
     for (std::uint32_t bins : {2u, 3u, 4u, 16u, 32u, 64u, 1000u}) {
-        expect_valid_build(boxes, config_with(4, 1.0f, bins), "bins " + std::to_string(bins));
+        expect_valid_build(boxes, binary_config_with(4, 1.0f, bins), "bins " + std::to_string(bins));
     }
 }
 
 TEST(BvhBuilder, LargeInputTakesTheParallelPaths) {
     // Above the parallel binning and task thresholds.
     const std::vector<Triangle> tris = random_soup(4, 100000, 1.0f, 0.01f);
-    const TriangleBvh accel = build_triangle_bvh(tris, config_with(4));
+    const TriangleBvh accel = build_triangle_bvh(tris, binary_config_with(4));
     EXPECT_EQ(validate(accel, tris, 4), "");
     const BvhStats stats = compute_stats(accel.bvh);
     EXPECT_EQ(stats.nodes, accel.bvh.nodes.size());
@@ -150,8 +144,8 @@ TEST(BvhBuilder, LargeInputTakesTheParallelPaths) {
 
 TEST(BvhBuilder, BuildsAreDeterministic) {
     const std::vector<Triangle> tris = random_soup(5, 50000, 1.0f, 0.02f);
-    const TriangleBvh a = build_triangle_bvh(tris, config_with(4));
-    const TriangleBvh b = build_triangle_bvh(tris, config_with(4));
+    const TriangleBvh a = build_triangle_bvh(tris, binary_config_with(4));
+    const TriangleBvh b = build_triangle_bvh(tris, binary_config_with(4));
     // Node order may differ with task scheduling; primitive order and tree shape may not.
     EXPECT_EQ(a.bvh.prim_ids, b.bvh.prim_ids);
     EXPECT_EQ(sah_cost(a.bvh, SahCosts{}), sah_cost(b.bvh, SahCosts{}));
@@ -175,8 +169,8 @@ TEST(BvhBuilder, BuildingIntoARecycledTreeGivesTheSameTree) {
     TriangleBvh recycled;
     for (std::size_t k = 0; k < inputs.size(); ++k) {
         const std::vector<Triangle>& tris = inputs[k];
-        const TriangleBvh fresh = build_triangle_bvh(tris, config_with(4));
-        recycled = build_triangle_bvh(tris, config_with(4), std::move(recycled));
+        const TriangleBvh fresh = build_triangle_bvh(tris, binary_config_with(4));
+        recycled = build_triangle_bvh(tris, binary_config_with(4), std::move(recycled));
         SCOPED_TRACE("input " + std::to_string(k));
         EXPECT_EQ(validate(recycled, tris, 4), "");
         EXPECT_EQ(recycled.bvh.prim_ids, fresh.bvh.prim_ids);
@@ -197,7 +191,7 @@ TEST(BvhBuilder, IdenticalTrianglesFallBackToMedianSplits) {
     const Triangle t{{0.1f, 0.2f, 0.3f}, {1.1f, 0.2f, 0.3f}, {0.1f, 1.2f, 0.3f}};
     const std::vector<Triangle> tris(1000, t);
     for (std::uint32_t leaf_size_max : {1u, 4u, 32u}) {
-        const TriangleBvh accel = build_triangle_bvh(tris, config_with(leaf_size_max));
+        const TriangleBvh accel = build_triangle_bvh(tris, binary_config_with(leaf_size_max));
         EXPECT_EQ(validate(accel, tris, leaf_size_max), "");
         const BvhStats stats = compute_stats(accel.bvh);
         EXPECT_LE(stats.leaf_prims_max, leaf_size_max);
@@ -215,7 +209,7 @@ TEST(BvhBuilder, CoincidentCentresOfDifferentBoxes) {
         boxes.push_back(Aabb{glm::vec3(5.0f - r), glm::vec3(5.0f + r)});
     }
     for (std::uint32_t leaf_size_max : {1u, 2u, 8u}) {
-        expect_valid_build(boxes, config_with(leaf_size_max), "nested");
+        expect_valid_build(boxes, binary_config_with(leaf_size_max), "nested");
     }
     // Centres equal along one axis only (a flat layer of boxes).
     std::vector<Aabb> layer;
@@ -225,7 +219,7 @@ TEST(BvhBuilder, CoincidentCentresOfDifferentBoxes) {
                           std::uniform_real_distribution<float>(0, 1)(rng));
         layer.push_back(Aabb{c - 0.01f, c + 0.01f});
     }
-    expect_valid_build(layer, config_with(4), "layer");
+    expect_valid_build(layer, binary_config_with(4), "layer");
 }
 
 TEST(BvhBuilder, ExplicitCentresDrivetheBinning) {
@@ -233,7 +227,7 @@ TEST(BvhBuilder, ExplicitCentresDrivetheBinning) {
     const std::vector<Aabb> boxes = boxes_of(random_soup(7, 1000));
     std::vector<glm::vec3> corners;
     for (const Aabb& b : boxes) corners.push_back(b.lo);
-    const Bvh bvh = build_binned_sah(boxes, corners, config_with(4));
+    const Bvh bvh = build_binned_sah(boxes, corners, binary_config_with(4));
     EXPECT_EQ(validate(bvh, boxes, 4), "");
 }
 
@@ -254,14 +248,14 @@ TEST(BvhBuilder, CollinearAndDegenerateTrianglesAreSkipped) {
         tris.push_back({a, a + glm::vec3(1, 0, 0), a + glm::vec3(2, 1e-6f, 0)});
     }
     for (std::uint32_t leaf_size_max : {1u, 4u}) {
-        const TriangleBvh accel = build_triangle_bvh(tris, config_with(leaf_size_max));
+        const TriangleBvh accel = build_triangle_bvh(tris, binary_config_with(leaf_size_max));
         EXPECT_EQ(accel.degenerate_skipped, degenerate);
         EXPECT_EQ(accel.tris.size(), tris.size() - degenerate);
         EXPECT_EQ(validate(accel, tris, leaf_size_max), "");
     }
     // Only degenerate triangles: nothing to build.
     const std::vector<Triangle> only_degenerate(10, Triangle{glm::vec3(1), glm::vec3(1), glm::vec3(2)});
-    const TriangleBvh empty = build_triangle_bvh(only_degenerate, config_with(8));
+    const TriangleBvh empty = build_triangle_bvh(only_degenerate, binary_config_with(8));
     EXPECT_TRUE(empty.bvh.empty());
     EXPECT_EQ(empty.degenerate_skipped, 10u);
     EXPECT_EQ(validate(empty, only_degenerate, 8), "");
@@ -288,8 +282,8 @@ TEST(BvhBuilder, HugeOffsetsAndTinyScales) {
             const std::string what = "extent " + std::to_string(c.extent) + " offset " +
                                      std::to_string(c.offset.x) + " leaf " +
                                      std::to_string(leaf_size_max);
-            expect_valid_build(boxes, config_with(leaf_size_max), what);
-            const TriangleBvh accel = build_triangle_bvh(tris, config_with(leaf_size_max));
+            expect_valid_build(boxes, binary_config_with(leaf_size_max), what);
+            const TriangleBvh accel = build_triangle_bvh(tris, binary_config_with(leaf_size_max));
             EXPECT_EQ(validate(accel, tris, leaf_size_max), "") << what;
         }
     }
@@ -304,7 +298,7 @@ TEST(BvhBuilder, DepthStaysBoundedOnExponentiallySpacedPrimitives) {
         boxes.push_back(Aabb{glm::vec3(x, 0, 0), glm::vec3(x * 1.5f, 1, 1)});
     }
     for (std::uint32_t leaf_size_max : {1u, 2u, 8u}) {
-        const Bvh bvh = build_boxes(boxes, config_with(leaf_size_max));
+        const Bvh bvh = build_boxes(boxes, binary_config_with(leaf_size_max));
         EXPECT_EQ(validate(bvh, boxes, leaf_size_max), "");
         EXPECT_LE(compute_stats(bvh).depth, kMaxDepth);
     }
@@ -312,8 +306,8 @@ TEST(BvhBuilder, DepthStaysBoundedOnExponentiallySpacedPrimitives) {
 
 TEST(BvhBuilder, SmallerCostRatioGivesBiggerLeavesAndShallowerTrees) {
     const std::vector<Aabb> boxes = boxes_of(random_soup(10, 20000, 1.0f, 0.02f));
-    const BvhStats cheap = compute_stats(build_boxes(boxes, config_with(32, 0.1f)));
-    const BvhStats costly = compute_stats(build_boxes(boxes, config_with(32, 1.0f)));
+    const BvhStats cheap = compute_stats(build_boxes(boxes, binary_config_with(32, 0.1f)));
+    const BvhStats costly = compute_stats(build_boxes(boxes, binary_config_with(32, 1.0f)));
     EXPECT_GT(cheap.leaf_prims_mean, costly.leaf_prims_mean);
     EXPECT_LT(cheap.depth, costly.depth);
     EXPECT_LT(cheap.nodes, costly.nodes);
@@ -359,7 +353,7 @@ TEST(BvhBuilder, SahCostOfAFlatSceneCountsEveryNode) {
 /// A valid tree to corrupt, with its primitive boxes.
 struct Corruptible {
     std::vector<Aabb> boxes = boxes_of(random_soup(11, 500));
-    Bvh bvh = build_boxes(boxes, config_with(4));
+    Bvh bvh = build_boxes(boxes, binary_config_with(4));
 
     /// Index of some inner node other than the root, and of some leaf.
     std::uint32_t inner() const {
@@ -484,7 +478,7 @@ TEST(BvhBuilder, ValidateDetectsTreesDeeperThanTheLimit) {
 
 TEST(BvhBuilder, ValidateOfTriangleBvhDetectsBadCopies) {
     const std::vector<Triangle> tris = random_soup(12, 300);
-    TriangleBvh accel = build_triangle_bvh(tris, config_with(4));
+    TriangleBvh accel = build_triangle_bvh(tris, binary_config_with(4));
     ASSERT_EQ(validate(accel, tris, 4), "");
     TriangleBvh wrong_copy = accel;
     std::swap(wrong_copy.tris[0], wrong_copy.tris[1]);
@@ -500,11 +494,11 @@ TEST(BvhBuilder, ValidateOfTriangleBvhDetectsBadCopies) {
 
 TEST(BvhBuilder, RejectsInvalidConfigurationsAndInputs) {
     const std::vector<Aabb> boxes = boxes_of(random_soup(13, 10));
-    EXPECT_THROW(build_boxes(boxes, config_with(0)), std::invalid_argument);
-    EXPECT_THROW(build_boxes(boxes, config_with(4, 0.0f)), std::invalid_argument);
-    EXPECT_THROW(build_boxes(boxes, config_with(4, -1.0f)), std::invalid_argument);
-    EXPECT_THROW(build_boxes(boxes, config_with(4, std::nanf(""))), std::invalid_argument);
-    EXPECT_THROW(build_boxes(boxes, config_with(4, 1.0f, 1)), std::invalid_argument);
+    EXPECT_THROW(build_boxes(boxes, binary_config_with(0)), std::invalid_argument);
+    EXPECT_THROW(build_boxes(boxes, binary_config_with(4, 0.0f)), std::invalid_argument);
+    EXPECT_THROW(build_boxes(boxes, binary_config_with(4, -1.0f)), std::invalid_argument);
+    EXPECT_THROW(build_boxes(boxes, binary_config_with(4, std::nanf(""))), std::invalid_argument);
+    EXPECT_THROW(build_boxes(boxes, binary_config_with(4, 1.0f, 1)), std::invalid_argument);
     const std::vector<glm::vec3> too_few(3);
     EXPECT_THROW(build_binned_sah(boxes, too_few, BuildConfig{}), std::invalid_argument);
 }

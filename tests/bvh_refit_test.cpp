@@ -35,14 +35,8 @@ using testing::random_direction;
 using testing::random_point;
 using testing::random_soup;
 
-/// The binary tree's build: these tests check the binary tree itself (a default build keeps
-/// only the wide tree, which wide_bvh_test.cpp checks).
-BuildConfig config_with(std::uint32_t leaf_size_max, float cost_ratio = 1.0f,
-                        std::uint32_t bin_count = 16) {
-    BuildConfig c = testing::config_with(leaf_size_max, cost_ratio, bin_count);
-    c.wide = false;
-    return c;
-}
+/// These tests check the binary tree itself.
+using testing::binary_config_with;
 
 using Motion = std::function<glm::vec3(const glm::vec3&)>;
 
@@ -238,7 +232,7 @@ int expect_hits_agree(const TriangleBvh& accel, const std::vector<Triangle>& tri
 
 TEST(BvhRefit, UnchangedTrianglesGiveTheBuildsBoxes) {
     for (const NamedScene& scene : scenes()) {
-        const BuildConfig config = config_with(scene.leaf_size_max);
+        const BuildConfig config = binary_config_with(scene.leaf_size_max);
         const TriangleBvh built = build_triangle_bvh(scene.tris, config);
         TriangleBvh accel = built;
         // Scramble the copies first, so the refit must rewrite them.
@@ -257,7 +251,7 @@ TEST(BvhRefit, UnchangedTrianglesGiveTheBuildsBoxes) {
 
 TEST(BvhRefit, EveryMotionGivesAValidTreeMatchingASerialRefitAndBruteForce) {
     for (const NamedScene& scene : scenes()) {
-        const BuildConfig config = config_with(scene.leaf_size_max, 0.5f);
+        const BuildConfig config = binary_config_with(scene.leaf_size_max, 0.5f);
         const TriangleBvh built = build_triangle_bvh(scene.tris, config);
         ASSERT_EQ(built.degenerate_skipped, 0u) << scene.name;
         for (const NamedMotion& m : motions()) {
@@ -295,7 +289,7 @@ TEST(BvhRefit, EveryMotionGivesAValidTreeMatchingASerialRefitAndBruteForce) {
 TEST(BvhRefit, ParallelRefitEqualsOneThreadRefitBitForBit) {
     // Large enough for many tasks; a one-thread arena runs the same code serially.
     const std::vector<Triangle> tris = random_soup(54, 60000, 1.0f, 0.02f);
-    const BuildConfig config = config_with(2);
+    const BuildConfig config = binary_config_with(2);
     const TriangleBvh built = build_triangle_bvh(tris, config);
     for (const NamedMotion& m : motions()) {
         const std::vector<Triangle> after = moved(tris, m.motion);
@@ -318,7 +312,7 @@ TEST(BvhRefit, ParallelRefitEqualsOneThreadRefitBitForBit) {
 
 TEST(BvhRefit, SahCostGrowsWhenTheMotionStretchesBoxes) {
     const std::vector<Triangle> tris = random_soup(55, 5000, 1.0f, 0.03f);
-    const BuildConfig config = config_with(4);
+    const BuildConfig config = binary_config_with(4);
     TriangleBvh accel = build_triangle_bvh(tris, config);
     const double built_cost = sah_cost(accel.bvh, config.sah_costs());
     // Every other triangle swaps places with a far one: boxes grow to span the scene.
@@ -370,7 +364,7 @@ SoupWithDegenerates soup_with_degenerates(std::size_t count) {
 TEST(BvhRefit, SkippedTrianglesAreRecordedAndStayOutWhileDegenerate) {
     const SoupWithDegenerates s = soup_with_degenerates(20000);
     ASSERT_GT(s.collinear.size(), 100u);
-    const TriangleBvh built = build_triangle_bvh(s.tris, config_with(4));
+    const TriangleBvh built = build_triangle_bvh(s.tris, binary_config_with(4));
     EXPECT_EQ(built.degenerate_skipped, s.coincident.size() + s.collinear.size());
     std::vector<std::uint32_t> expected_ids;
     for (std::uint32_t i = 0; i < s.tris.size(); ++i) {
@@ -396,7 +390,7 @@ TEST(BvhRefit, SkippedTrianglesAreRecordedAndStayOutWhileDegenerate) {
 
 TEST(BvhRefit, ASkippedTriangleGainingAreaNeedsARebuildAndChangesNothing) {
     const SoupWithDegenerates s = soup_with_degenerates(20000);
-    const TriangleBvh built = build_triangle_bvh(s.tris, config_with(4));
+    const TriangleBvh built = build_triangle_bvh(s.tris, binary_config_with(4));
     std::vector<Triangle> after = moved(s.tris, [](const glm::vec3& p) { return p + glm::vec3(0.5f); });
     for (const std::uint32_t id : s.collinear) after[id] = s.tris[id];
     // Two skipped triangles get area; the lower index is reported.
@@ -419,7 +413,7 @@ TEST(BvhRefit, ASkippedTriangleGainingAreaNeedsARebuildAndChangesNothing) {
     EXPECT_EQ(validate(accel, s.tris, 4), "");
 
     // A rebuild takes the triangle in.
-    const TriangleBvh rebuilt = build_triangle_bvh(after, config_with(4));
+    const TriangleBvh rebuilt = build_triangle_bvh(after, binary_config_with(4));
     EXPECT_EQ(rebuilt.degenerate_skipped, built.degenerate_skipped - 2);
     EXPECT_EQ(validate(rebuilt, after, 4), "");
     const glm::vec3 target = after[first].centroid();
@@ -429,7 +423,7 @@ TEST(BvhRefit, ASkippedTriangleGainingAreaNeedsARebuildAndChangesNothing) {
 
 TEST(BvhRefit, TreesOfOnlyDegenerateTriangles) {
     const std::vector<Triangle> points(5, Triangle{glm::vec3(1.0f), glm::vec3(1.0f), glm::vec3(2.0f)});
-    TriangleBvh accel = build_triangle_bvh(points, config_with(8));
+    TriangleBvh accel = build_triangle_bvh(points, binary_config_with(8));
     ASSERT_TRUE(accel.bvh.empty());
     EXPECT_EQ(accel.skipped_ids, (std::vector<std::uint32_t>{0, 1, 2, 3, 4}));
     EXPECT_EQ(validate(accel, points, 8), "");
@@ -444,13 +438,13 @@ TEST(BvhRefit, TreesOfOnlyDegenerateTriangles) {
     EXPECT_EQ(result.status, RefitStatus::skipped_triangle_has_area);
     EXPECT_EQ(result.triangle_with_area, 3u);
 
-    TriangleBvh empty = build_triangle_bvh({}, config_with(8));
+    TriangleBvh empty = build_triangle_bvh({}, binary_config_with(8));
     EXPECT_EQ(refit(empty, {}, SahCosts{}).status, RefitStatus::refitted);
 }
 
 TEST(BvhRefit, WrongCountsAndMalformedTreesThrow) {
     const std::vector<Triangle> tris = random_soup(57, 100);
-    const TriangleBvh built = build_triangle_bvh(tris, config_with(4));
+    const TriangleBvh built = build_triangle_bvh(tris, binary_config_with(4));
     TriangleBvh accel = built;
     const std::vector<Triangle> fewer(tris.begin(), tris.end() - 1);
     std::vector<Triangle> more = tris;
@@ -482,7 +476,7 @@ TEST(BvhRefit, WrongCountsAndMalformedTreesThrow) {
     const std::vector<Aabb> boxes = boxes_of(tris);
     std::vector<glm::vec3> centers;
     for (const Aabb& b : boxes) centers.push_back(b.center());
-    Bvh boxes_tree = build_binned_sah(boxes, centers, config_with(4));
+    Bvh boxes_tree = build_binned_sah(boxes, centers, binary_config_with(4));
     EXPECT_THROW(refit(boxes_tree, std::span<const Aabb>(boxes).first(99), SahCosts{}),
                  std::invalid_argument);
 }
@@ -492,7 +486,7 @@ TEST(BvhRefit, PlainBvhFromBoxes) {
     const std::vector<Aabb> boxes = boxes_of(tris);
     std::vector<glm::vec3> centers;
     for (const Aabb& b : boxes) centers.push_back(b.center());
-    const BuildConfig config = config_with(4);
+    const BuildConfig config = binary_config_with(4);
     const Bvh built = build_binned_sah(boxes, centers, config);
 
     Bvh bvh = built;

@@ -34,6 +34,15 @@ inline BuildConfig config_with(std::uint32_t leaf_size_max, float cost_ratio = 1
     return c;
 }
 
+/// config_with for the binary tree alone (a default build keeps only the wide tree, which
+/// wide_bvh_test.cpp checks): for the tests of the binary tree itself.
+inline BuildConfig binary_config_with(std::uint32_t leaf_size_max, float cost_ratio = 1.0f,
+                                      std::uint32_t bin_count = 16) {
+    BuildConfig c = config_with(leaf_size_max, cost_ratio, bin_count);
+    c.wide = false;
+    return c;
+}
+
 inline Ray make_ray(glm::vec3 org, glm::vec3 dir, float tmin = 0.0f, float tmax = kInf) {
     Ray r;
     r.org = org;

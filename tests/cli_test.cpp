@@ -573,6 +573,8 @@ INSTANTIATE_TEST_SUITE_P(
                     BadCall{"render sphere:10 --light 1,2,3:range=0", "range must be > 0"},
                     BadCall{"render sphere:10 --environment /no/such/sky.exr",
                             "--environment: environment map '/no/such/sky.exr': no such file"},
+                    BadCall{"render sphere:10 --environment-lights 8", "environment lights need an environment map"},
+                    BadCall{"render sphere:10 --environment-lights 300", "--environment-lights"},
                     BadCall{"render sphere:10 --spp 0", "--spp"},
                     BadCall{"render sphere:10 --background 1,2", "--background '1,2': expected r,g,b"},
                     BadCall{"render sphere:10 --background 0,-1,0", "three finite numbers >= 0"},

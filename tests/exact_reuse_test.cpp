@@ -139,6 +139,38 @@ TEST(ExactReuse, ShadowsThroughGlassMatchFullRenders) {
     EXPECT_GT(t.shadows, 0u);
 }
 
+// A moving cut-out (alphaMode MASK): rays through its holes meet what is behind it, and kept
+// pixels are traced again wherever its old or new place may cross their rays.
+TEST(ExactReuse, MovingCutoutMatchesFullRenders) {
+    Scene scene = moving_scene();
+    Texture checker;
+    checker.name = "checker";
+    checker.texels = TexelArray{.width = 4, .height = 4, .channels = 2, .floating = false, .bytes = {}};
+    for (int k = 0; k < 16; ++k) {
+        checker.texels.bytes.push_back(200);
+        checker.texels.bytes.push_back(((k % 4) + (k / 4)) % 2 == 0 ? 255 : 0);
+    }
+    scene.textures.push_back(checker);
+    Material cut{.name = "cut"};
+    cut.diffuse_map = TextureMap{.texture = 0};
+    cut.alpha_cutoff = 0.5f;
+    scene.materials.push_back(cut);
+    // Every object but the floor is cut out, through coordinates taken from its positions.
+    for (std::size_t o = 1; o < scene.objects.size(); ++o) {
+        Object& object = scene.objects[o];
+        object.material = std::uint32_t(scene.materials.size() - 1);
+        object.mesh.texcoords.clear();
+        for (const glm::vec3& p : object.mesh.positions) object.mesh.texcoords.emplace_back(3.0f * p.x, 3.0f * (p.y + p.z));
+    }
+    const Camera camera = default_camera(scene_bounds(scene));
+    RenderOptions options;
+    options.width = 88;
+    options.height = 72;
+    const Totals t = render_both_ways(scene, camera, options, {0, 1, 2, 3, 3, 8});
+    EXPECT_GT(t.reused, t.pixels / 4);
+    EXPECT_GT(t.shadows, 0u);
+}
+
 TEST(ExactReuse, OnlyTheRigidObjectMovesOverAStillScene) {
     Scene scene = load_scene(kPlane + "+" + kRigid + "+" + kWave);
     const std::vector<std::string> motions{"rigid:" + kRigid};

@@ -437,9 +437,10 @@ TEST_F(GltfLoaderTest, MaterialsMapMetalnessTransmissionAndIor) {
     EXPECT_EQ(scene.ignored, ignored);
 }
 
-TEST_F(GltfLoaderTest, EmissionIsMappedAndAlphaIsListedAsIgnored) {
-    // emissiveFactor (clamped to [0, 1]) times KHR_materials_emissive_strength; alpha modes
-    // other than OPAQUE are not shaded yet and are reported, not dropped silently.
+TEST_F(GltfLoaderTest, EmissionAndAlphaAreMapped) {
+    // emissiveFactor (clamped to [0, 1]) times KHR_materials_emissive_strength; MASK is a
+    // cut-out at its alphaCutoff (default 1/2), BLEND covers its base alpha of what is behind
+    // (convert_alpha), OPAQUE ignores alpha.
     GltfBuilder b = quad_builder();
     const int glowing = b.add_material("glowing", {1.0f, 1.0f, 1.0f});
     const int strong = b.add_material("strong", {1.0f, 1.0f, 1.0f});
@@ -453,6 +454,8 @@ TEST_F(GltfLoaderTest, EmissionIsMappedAndAlphaIsListedAsIgnored) {
     b.doc()["materials"][cut]["alphaMode"] = "MASK";
     b.doc()["materials"][see_through]["alphaMode"] = "BLEND";
     b.doc()["materials"][opaque]["alphaMode"] = "OPAQUE";
+    b.doc()["materials"][see_through]["pbrMetallicRoughness"]["baseColorFactor"] = {1.0, 0.5, 1.0, 0.25};
+    b.doc()["materials"][opaque]["pbrMetallicRoughness"]["baseColorFactor"] = {1.0, 1.0, 1.0, 0.25};
     const Scene scene = write_and_load(b);
     const auto material = [&](const std::string& name) {
         for (const Material& m : scene.materials) {
@@ -465,8 +468,30 @@ TEST_F(GltfLoaderTest, EmissionIsMappedAndAlphaIsListedAsIgnored) {
     EXPECT_FALSE(material("glowing").emission_map.has_value());
     EXPECT_EQ(material("strong").emission, glm::vec3(2.0f, 1.0f, 0.0f));
     EXPECT_EQ(material("opaque").emission, glm::vec3(0.0f));
-    const std::vector<std::string> ignored = {"alpha of 2 material(s) (alphaMode MASK or BLEND; rendered opaque)"};
-    EXPECT_EQ(scene.ignored, ignored);
+    EXPECT_EQ(material("cut").alpha_cutoff, 0.5f);
+    EXPECT_EQ(material("cut").base_alpha, 1.0f);
+    EXPECT_EQ(material("cut").transmittance, glm::vec3(0.0f));
+    const Material blend = material("see-through");
+    EXPECT_FALSE(blend.alpha_cutoff.has_value());  // no texture: its cover is the factor's
+    const Material plain = material("opaque");
+    EXPECT_FALSE(plain.alpha_cutoff.has_value());
+    EXPECT_EQ(plain.transmittance, glm::vec3(0.0f));
+    EXPECT_EQ(blend.diffuse, 0.25f * plain.diffuse * glm::vec3(1.0f, 0.5f, 1.0f));
+    EXPECT_EQ(blend.specular, 0.25f * plain.specular);
+    EXPECT_EQ(blend.transmittance, glm::vec3(0.75f));
+    EXPECT_EQ(blend.ior, 1.0f);
+    EXPECT_TRUE(scene.ignored.empty()) << scene.ignored.front();
+
+    // A BLEND material's texture alpha is cut at 1/2, and said so.
+    b.doc()["images"] = json::array({json{{"uri", "missing_texture.png"}}});
+    b.doc()["textures"] = json::array({json{{"source", 0}}});
+    b.doc()["materials"][see_through]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+    const Scene textured = write_and_load(b);
+    EXPECT_EQ(textured.materials[std::size_t(see_through) + 1].alpha_cutoff, 0.5f);
+    const std::vector<std::string> ignored = {
+        "partial cover from the base colour texture's alpha of 1 BLEND material(s) (cut out where below 1/2)"};
+    EXPECT_EQ(textured.ignored, ignored);
+    b.doc()["materials"][see_through]["pbrMetallicRoughness"].erase("baseColorTexture");
 
     // A negative strength is refused, naming the material.
     b.doc()["materials"][strong]["extensions"]["KHR_materials_emissive_strength"]["emissiveStrength"] = -1.0;

@@ -73,6 +73,7 @@ TEST(JobSettings, EverySettingOfTheJobIsNamedWhenItDiffers) {
         {"--camera", [](RenderArgs& a) { a.camera = "eye=0,0,5"; }},
         {"--light", [](RenderArgs& a) { a.lights = {"1,2,3"}; }},
         {"--environment-scale", [](RenderArgs& a) { a.environment_scale = 2.0f; }},
+        {"--environment-lights", [](RenderArgs& a) { a.environment_lights = 8; }},
         {"--cost-ratio", [](RenderArgs& a) { a.cost_ratio = 0.5f; }},
         {"--leaf-size", [](RenderArgs& a) { a.leaf_size = 2; }},
         {"--tracer", [](RenderArgs& a) { a.tracer = "single"; }},

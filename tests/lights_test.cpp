@@ -6,6 +6,7 @@
 // the reference poses them, and the shadow rays left out where a light adds nothing.
 
 #include "gltf_test_file.h"
+#include "reference_shot.h"
 #include "dynrt/reference/image_comparison.h"
 #include "dynrt/reference/reference_renderer.h"
 #include "dynrt/reference/reference_tracer.h"
@@ -77,17 +78,11 @@ RenderOptions lights_options(std::vector<PointLight> lights, Tracer tracer = Tra
 }
 
 ReferenceFrame lights_reference(const Scene& scene, const RenderOptions& options) {
-    anim::PosedScene posed;
-    anim::pose_scene(scene, options.pose, 0, posed);
-    const ReferenceTracer tracer(scene, posed);
-    return render_reference(scene, tracer, lights_camera(), options.width, options.height, shading_from(scene, options));
+    return test::reference_shot(scene, lights_camera(), options);
 }
 
 RenderedFrame lights_render(const Scene& scene, const RenderOptions& options) {
-    Renderer renderer(options);
-    RenderedFrame frame;
-    renderer.render(scene, lights_camera(), 0, frame);
-    return frame;
+    return test::renderer_shot(scene, lights_camera(), options);
 }
 
 ComparisonOptions lights_tolerance() {

@@ -191,6 +191,7 @@ dynrt::RenderOptions render_options(const FrameArgs& args) {
             throw std::invalid_argument(std::string("--environment: ") + e.what());
         }
     }
+    options.environment_lights = args.environment_lights;
     options.secondary.max_depth = args.depth;
     options.secondary.cutoff = args.cutoff;
     options.secondary.min_packet_rays = args.secondary_packet_min;

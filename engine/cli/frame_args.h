@@ -48,6 +48,8 @@ struct FrameArgs {
     /// multiplied by; empty: none (the background).
     std::string environment;
     float environment_scale = 1.0f;
+    /// TraceSettings::environment_lights: the environment as this many suns (0: none).
+    int environment_lights = 0;
     /// Whitted secondary rays (TraceSettings::secondary): deepest bounce and path-weight cut-off.
     int depth = dynrt::SecondaryRays{}.max_depth;
     float cutoff = dynrt::SecondaryRays{}.cutoff;

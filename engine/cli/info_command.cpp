@@ -91,6 +91,11 @@ void print_materials(const dynrt::Scene& scene) {
         if (m.traces_secondary()) {
             std::cout << ", reflectance " << m.reflectance << ", transmittance " << m.transmittance << ", ior " << m.ior;
         }
+        if (m.emission != glm::vec3(0.0f)) {
+            std::cout << ", emission " << m.emission;
+            if (m.emission_map) std::cout << " x texture " << m.emission_map->texture;
+        }
+        if (m.alpha_cutoff) std::cout << ", cut out where alpha " << m.base_alpha << (m.diffuse_map ? " x texture's" : "") << " < " << *m.alpha_cutoff;
         std::cout << "\n";
     }
 }

@@ -23,7 +23,7 @@ namespace dynrt::cli {
 // A field added to FrameArgs or RenderArgs must be classified in job_settings() below (part of
 // the job, or not) before this compiles again; then update these counts. RenderArgs counts
 // its FrameArgs base as one field.
-static_assert(field_count<FrameArgs>() == 34,
+static_assert(field_count<FrameArgs>() == 35,
               "a FrameArgs field was added or removed: classify it in job_settings()");
 static_assert(field_count<RenderArgs>() == 1 + 8,
               "a RenderArgs field was added or removed: classify it in job_settings()");
@@ -111,6 +111,7 @@ std::vector<JobSetting> job_settings(const RenderArgs& args, const dynrt::Render
                             number_text(options.background.z));  // as resolved: the file's, or the flag's
     job("--environment", args.environment.empty() ? "none" : args.environment);  // its bytes: scene_files
     job("--environment-scale", number_text(args.environment_scale));
+    job("--environment-lights", std::to_string(args.environment_lights));
     job("--depth", std::to_string(args.depth));
     job("--cutoff", number_text(args.cutoff));
     job("--secondary-packet-min", std::to_string(args.secondary_packet_min));

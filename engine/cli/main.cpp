@@ -5,6 +5,8 @@
 #include "distributed/distributed_render.h"
 #include "frame_args.h"
 
+#include "dynrt/engine/environment_lights.h"
+
 #include <CLI/CLI.hpp>
 #include <tbb/global_control.h>
 
@@ -169,6 +171,10 @@ int main(int argc, char** argv) {
         cmd->add_option("--environment-scale", args.environment_scale,
                         "What the environment's texels are multiplied by")
             ->check(CLI::NonNegativeNumber)->capture_default_str();
+        cmd->add_option("--environment-lights", args.environment_lights,
+                        "Light the scene with the environment as this many suns, cut from it by "
+                        "median cut, each casting shadows (0: it lights nothing); needs --environment")
+            ->check(CLI::Range(0, dynrt::kEnvironmentLightsMax))->capture_default_str();
         cmd->add_option("--occluder-cache", args.occluder_cache,
                         "Test each packet of shadow rays first against the triangles that last "
                         "blocked its light's rays in those directions (the same image either way)")

@@ -243,6 +243,12 @@ def test_an_environment_shows_where_rays_miss(world):
     assert (np.abs(lit - plain).sum(axis=2)[missed] > 1e-3).all()
     assert np.array_equal(lit[~missed], plain[~missed])
     assert np.allclose(brighter[missed], 2.0 * lit[missed], rtol=1e-5)
+    # As 16 suns it lights the meshes instead of the default light: their pixels change.
+    sky_lit = engine.render(view(), 48, 32, environment=sky, environment_lights=16, reuse_pixels=False, max_depth=0)
+    assert (np.abs(sky_lit - lit).sum(axis=2)[~missed] > 1e-3).mean() > 0.9
+    assert np.array_equal(sky_lit[missed], lit[missed])
+    with pytest.raises(dynrt.InvalidArgument, match="environment lights need an environment map"):
+        engine.render(view(), 48, 32, environment_lights=16)
 
 
 def test_coherent_rays_go_as_packets_and_incoherent_ones_alone(py):

@@ -400,3 +400,37 @@ def test_bad_texel_arrays_raise_naming_the_problem():
     with pytest.raises(ValueError):  # InvalidArgument is a ValueError
         engine.add_texture(np.zeros((4, 4, 5), np.uint8))
     assert engine.add_texture(rgb) == 0  # refused calls took no id
+
+
+def test_a_cut_out_surface_shows_what_is_behind_its_holes():
+    # An RGBA array whose alpha is 0 on the left half: with alpha_cutoff the quad is not there
+    # where its texture's alpha is below it, so the background shows through; alpha (the
+    # surface's own) multiplies the texture's.
+    texels = np.full((4, 4, 4), 200, dtype=np.uint8)
+    texels[:, :2, 3] = 0
+    view = dynrt.View(**VIEW)
+    background = (0.0, 0.0, 1.0)
+
+    def render(**surface):
+        engine = dynrt.Engine(threads=1)
+        texture = engine.add_texture(texels)
+        positions, indices, _ = quad_mesh()
+        s = np.linspace(-1.0, 1.0, 4)
+        x, y = np.meshgrid(s, s, indexing="xy")
+        texcoords = np.stack([(x.ravel() + 1) / 2, (1 - y.ravel()) / 2], 1).astype(np.float32)
+        engine.add_mesh(positions, indices, texcoords=texcoords, surface=dynrt.Surface(texture=texture, **surface))
+        engine.update()
+        return engine.render(view, WIDTH, HEIGHT, background=background)
+
+    def blue(image):
+        return np.count_nonzero((image == np.float32(background)).all(-1))
+
+    opaque, cut = render(), render(alpha_cutoff=0.5)
+    assert blue(cut) > blue(opaque) + WIDTH * HEIGHT // 8
+    assert np.array_equal(render(alpha_cutoff=0.5, alpha=0.4), render(alpha_cutoff=1.0))
+    assert blue(render(alpha_cutoff=0.5, alpha=0.4)) > blue(cut)
+    assert "alpha_cutoff=0.5" in repr(dynrt.Surface(alpha_cutoff=0.5))
+    with pytest.raises(dynrt.InvalidArgument, match="alpha_cutoff 1.5 must be in"):
+        engine = dynrt.Engine(threads=1)
+        positions, indices, _ = quad_mesh()
+        engine.add_mesh(positions, indices, surface=dynrt.Surface(alpha_cutoff=1.5))

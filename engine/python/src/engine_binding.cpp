@@ -168,7 +168,7 @@ namespace {
 RenderSettings render_settings(py::handle lights, py::handle background, float ambient, bool reuse_pixels,
                                int max_depth, float cutoff, bool smooth_normals, int samples_per_pixel,
                                const std::string& filter, float aa_contrast, py::handle environment,
-                               float environment_scale, const std::string& where) {
+                               float environment_scale, int environment_lights, const std::string& where) {
     RenderSettings s;
     if (!lights.is_none()) {
         for (py::handle light : lights) {
@@ -192,6 +192,7 @@ RenderSettings render_settings(py::handle lights, py::handle background, float a
         s.environment = py::str(py::module_::import("os").attr("fspath")(environment)).cast<std::string>();
     }
     s.environment_scale = environment_scale;
+    s.environment_lights = environment_lights;
     return s;
 }
 
@@ -397,12 +398,13 @@ srgb: the texels are sRGB-encoded; float32 texels are usually linear: pass srgb=
                             bool report, py::handle lights, py::handle background, float ambient, bool reuse_pixels,
                             int max_depth, float cutoff, bool smooth_normals, int samples_per_pixel,
                             const std::string& filter, float aa_contrast, py::handle environment,
-                            float environment_scale) -> py::object {
+                            float environment_scale, int environment_lights) -> py::object {
         const std::string where = "dynrt.Engine.render";
         if (width < 1 || height < 1) invalid(where, "width and height must be >= 1");
         const RenderSettings settings =
             render_settings(lights, background, ambient, reuse_pixels, max_depth, cutoff, smooth_normals,
-                            samples_per_pixel, filter, aa_contrast, environment, environment_scale, where);
+                            samples_per_pixel, filter, aa_contrast, environment, environment_scale,
+                            environment_lights, where);
         py::array rgb(dtype("float32"), {py::ssize_t(height), py::ssize_t(width), py::ssize_t(3)});
         py::array depth_image, mesh_image;
         if (depth) depth_image = py::array(dtype("float32"), {py::ssize_t(height), py::ssize_t(width)});
@@ -422,6 +424,7 @@ srgb: the texels are sRGB-encoded; float32 texels are usually linear: pass srgb=
        py::arg("reuse_pixels") = true, py::arg("max_depth") = 5, py::arg("cutoff") = 1.0f / 256.0f,
        py::arg("smooth_normals") = true, py::arg("samples_per_pixel") = 1, py::arg("filter") = "blackman-harris",
        py::arg("aa_contrast") = 0.0f, py::arg("environment") = py::none(), py::arg("environment_scale") = 1.0f,
+       py::arg("environment_lights") = 0,
        R"(Renders `view` at width x height: an (H, W, 3) float32 linear RGB array, or a tuple
 (rgb, depth, mesh, report) of the parts asked for: depth (H, W) float32 (+inf on a miss),
 mesh (H, W) int32 (the mesh id hit, -1 on a miss), report the frame's dict: the last
@@ -432,7 +435,7 @@ shade_ms, secondary_ms, rays); its total_ms covers that update and this render.)
                                  py::handle mesh, py::handle lights, py::handle background, float ambient,
                                  bool reuse_pixels, int max_depth, float cutoff, bool smooth_normals,
                                  int samples_per_pixel, const std::string& filter, float aa_contrast,
-                                 py::handle environment, float environment_scale) {
+                                 py::handle environment, float environment_scale, int environment_lights) {
         const std::string where = "dynrt.Engine.render_into";
         py::array rgb_image = image_array(rgb, where, "rgb", "float32", 3, -1, -1);
         const int height = int(rgb_image.shape(0)), width = int(rgb_image.shape(1));
@@ -441,7 +444,8 @@ shade_ms, secondary_ms, rays); its total_ms covers that update and this render.)
         if (!mesh.is_none()) mesh_image = image_array(mesh, where, "mesh", "int32", 0, height, width);
         const RenderSettings settings =
             render_settings(lights, background, ambient, reuse_pixels, max_depth, cutoff, smooth_normals,
-                            samples_per_pixel, filter, aa_contrast, environment, environment_scale, where);
+                            samples_per_pixel, filter, aa_contrast, environment, environment_scale,
+                            environment_lights, where);
         const FrameStats stats = render_arrays(self, view, rgb_image, depth_image ? &depth_image : nullptr,
                                                mesh_image ? &mesh_image : nullptr, settings);
         return report_dict(stats);
@@ -450,7 +454,7 @@ shade_ms, secondary_ms, rays); its total_ms covers that update and this render.)
        py::arg("ambient") = 0.08f, py::arg("reuse_pixels") = true, py::arg("max_depth") = 5,
        py::arg("cutoff") = 1.0f / 256.0f, py::arg("smooth_normals") = true, py::arg("samples_per_pixel") = 1,
        py::arg("filter") = "blackman-harris", py::arg("aa_contrast") = 0.0f, py::arg("environment") = py::none(),
-       py::arg("environment_scale") = 1.0f,
+       py::arg("environment_scale") = 1.0f, py::arg("environment_lights") = 0,
        "Renders into arrays the caller owns (rgb (H, W, 3) float32; depth, mesh (H, W)); returns the report.");
 
     engine.def("intersect", [](const PyEngine& self, py::handle origins, py::handle directions, py::handle tmin,

@@ -47,22 +47,23 @@ void bind_value_types(py::module_& m) {
                                 "A mesh's material: Phong terms, mirror reflectance, transmittance and "
                                 "index of refraction (linear RGB), and optionally a diffuse texture (an id "
                                 "from Engine.add_texture) with its wrap modes (\"repeat\", \"clamp\", "
-                                "\"mirror\").");
+                                "\"mirror\"), emission, and a cut-out's alpha_cutoff and alpha.");
     const Surface d;
     surface.def(py::init([](py::handle diffuse, py::handle specular, float shininess, py::handle reflectance,
                             py::handle transmittance, float ior, py::handle texture, const std::string& wrap_s,
-                            const std::string& wrap_t, py::handle emission) {
+                            const std::string& wrap_t, py::handle emission, float alpha_cutoff, float alpha) {
                     const char* w = "dynrt.Surface";
                     return Surface{vec3(diffuse, w, "diffuse"), vec3(specular, w, "specular"), shininess,
                                    vec3(reflectance, w, "reflectance"), vec3(transmittance, w, "transmittance"),
                                    ior, texture_id(texture, w), wrap(wrap_s, w, "wrap_s"), wrap(wrap_t, w, "wrap_t"),
-                                   vec3(emission, w, "emission")};
+                                   vec3(emission, w, "emission"), alpha_cutoff, alpha};
                 }),
                 py::arg("diffuse") = to_tuple(d.diffuse), py::arg("specular") = to_tuple(d.specular),
                 py::arg("shininess") = d.shininess, py::arg("reflectance") = to_tuple(d.reflectance),
                 py::arg("transmittance") = to_tuple(d.transmittance), py::arg("ior") = d.ior,
                 py::arg("texture") = py::none(), py::arg("wrap_s") = wrap_name(d.wrap_s),
-                py::arg("wrap_t") = wrap_name(d.wrap_t), py::arg("emission") = to_tuple(d.emission));
+                py::arg("wrap_t") = wrap_name(d.wrap_t), py::arg("emission") = to_tuple(d.emission),
+                py::arg("alpha_cutoff") = d.alpha_cutoff, py::arg("alpha") = d.alpha);
     vec3_property(surface, "diffuse", &Surface::diffuse);
     vec3_property(surface, "specular", &Surface::specular);
     surface.def_readwrite("shininess", &Surface::shininess);
@@ -70,6 +71,8 @@ void bind_value_types(py::module_& m) {
     vec3_property(surface, "transmittance", &Surface::transmittance);
     surface.def_readwrite("ior", &Surface::ior);
     vec3_property(surface, "emission", &Surface::emission);
+    surface.def_readwrite("alpha_cutoff", &Surface::alpha_cutoff);
+    surface.def_readwrite("alpha", &Surface::alpha);
     // The diffuse texture as add_texture's id, or None; wrap modes by name.
     surface.def_property(
         "texture",
@@ -88,6 +91,9 @@ void bind_value_types(py::module_& m) {
         return "dynrt.Surface(diffuse=" + text(s.diffuse) + ", specular=" + text(s.specular) +
                ", shininess=" + std::to_string(s.shininess) + ", reflectance=" + text(s.reflectance) +
                ", transmittance=" + text(s.transmittance) + ", ior=" + std::to_string(s.ior) +
+               (s.alpha_cutoff > 0.0f ? ", alpha_cutoff=" + std::to_string(s.alpha_cutoff) +
+                                            ", alpha=" + std::to_string(s.alpha)
+                                      : std::string()) +
                (s.diffuse_texture.valid() ? ", texture=" + std::to_string(s.diffuse_texture.value) +
                                                 ", wrap_s='" + wrap_name(s.wrap_s) + "', wrap_t='" +
                                                 wrap_name(s.wrap_t) + "'"

@@ -116,6 +116,13 @@ std::string surface_problem(const Surface& surface) {
     if (!finite_non_negative(to_glm(surface.emission))) {
         return "emission " + format_vec(to_glm(surface.emission)) + " must be finite and >= 0";
     }
+    for (const auto& [name, value] : {std::pair{"alpha_cutoff", surface.alpha_cutoff}, std::pair{"alpha", surface.alpha}}) {
+        if (!(value >= 0.0f && value <= 1.0f)) {
+            std::ostringstream out;
+            out << name << ' ' << value << " must be in [0, 1]";
+            return out.str();
+        }
+    }
     return {};
 }
 
@@ -150,6 +157,8 @@ Material material_of(const Surface& surface, const std::string& name) {
     material.transmittance = to_glm(surface.transmittance);
     material.ior = surface.ior;
     material.emission = to_glm(surface.emission);
+    if (surface.alpha_cutoff > 0.0f) material.alpha_cutoff = surface.alpha_cutoff;
+    material.base_alpha = surface.alpha;
     if (surface.diffuse_texture.valid()) {
         material.diffuse_map = TextureMap{surface.diffuse_texture.value, api_detail::scene_wrap(surface.wrap_s),
                                           api_detail::scene_wrap(surface.wrap_t)};
@@ -915,7 +924,7 @@ FrameStats Engine::render(const View& view, const ImageView& image,
         engine_light.range = light.range;
         lights.push_back(engine_light);
     }
-    if (lights.empty()) {
+    if (lights.empty() && !(settings.environment_lights > 0 && !settings.environment.empty())) {
         const bvh::Aabb bounds = s.pipeline.accel().world_bounds();
         lights.push_back(bounds.is_empty() ? PointLight{} : default_light(bounds));
     }
@@ -932,6 +941,7 @@ FrameStats Engine::render(const View& view, const ImageView& image,
         s.environment_key = {settings.environment, settings.environment_scale};
     }
     options.environment = s.environment;
+    options.environment_lights = settings.environment_lights;
     RenderedFrame& frame = s.frame;
     try {
         s.run([&] { s.pipeline.trace(s.scene, camera, options, lights, frame); });

@@ -2,7 +2,8 @@
 // are in range, positions, normals and texture coordinates (none, or one per vertex) and
 // transforms are finite, material indices and their texture indices are valid, and every
 // material's Whitted terms are usable (reflectance and transmittance finite and >= 0, ior finite
-// and > 0: the refraction maths divides by it), and so is its emission (finite and >= 0).
+// and > 0: the refraction maths divides by it), and so is its emission (finite and >= 0), and
+// its alpha (cutoff and base alpha in [0, 1]).
 
 #include "dynrt/engine/scene_loading.h"
 #include "dynrt/scene/scene_error.h"
@@ -50,6 +51,12 @@ std::string material_problem(const Material& material, std::size_t index) {
     }
     if (material.ambient && !is_finite_non_negative(*material.ambient)) {
         return cat(which, "ambient ", to_text(*material.ambient), " must be finite and >= 0");
+    }
+    if (material.alpha_cutoff && !(*material.alpha_cutoff >= 0.0f && *material.alpha_cutoff <= 1.0f)) {
+        return cat(which, "alpha cutoff ", *material.alpha_cutoff, " must be in [0, 1]");
+    }
+    if (!(material.base_alpha >= 0.0f && material.base_alpha <= 1.0f)) {
+        return cat(which, "base alpha ", material.base_alpha, " must be in [0, 1]");
     }
     return {};
 }

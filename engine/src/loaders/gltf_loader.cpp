@@ -66,6 +66,37 @@ bool has_transmission_texture(const tinygltf::Material& source) {
            found->second.Has("transmissionTexture");
 }
 
+/// glTF's alpha (alphaMode, alphaCutoff, baseColorFactor's alpha a, the base colour
+/// texture's alpha) on `material`, already converted from `source` as if opaque:
+///   OPAQUE  alpha is ignored, as the specification says;
+///   MASK    a cut-out (Material::alpha_cutoff, dynrt/engine/alpha_mask.h): where a times
+///           the texture's alpha is below alphaCutoff the surface is not there;
+///   BLEND   the surface covers a of what is behind it: every term it shades with (diffuse,
+///           specular, reflection, emission) times a, and the rest, 1 - a, let through
+///           unrefracted (transmittance + 1 - a, ior 1 when the material had none), so that
+///           a pixel shows a times the surface plus 1 - a times what is behind it, and a
+///           shadow through it keeps 1 - a of the light (Whitted's transmission with a
+///           straight ray: it needs secondary rays, --depth >= 1). A base colour texture's
+///           alpha, which would vary that cover across the surface, is applied as a cut-out
+///           at 1/2 instead (note_ignored says so).
+void convert_alpha(const tinygltf::Material& source, Material& material) {
+    const std::vector<double>& factor = source.pbrMetallicRoughness.baseColorFactor;
+    const double a = factor.size() >= 4 && std::isfinite(factor[3]) ? std::clamp(factor[3], 0.0, 1.0) : 1.0;
+    if (source.alphaMode == "MASK") {
+        material.base_alpha = static_cast<float>(a);
+        material.alpha_cutoff = static_cast<float>(source.alphaCutoff);
+    } else if (source.alphaMode == "BLEND") {
+        const auto cover = static_cast<float>(a);
+        material.diffuse *= cover;
+        material.specular *= cover;
+        material.reflectance *= cover;
+        material.emission *= cover;
+        if (material.transmittance == glm::vec3(0.0f)) material.ior = 1.0f;
+        material.transmittance = cover * material.transmittance + glm::vec3(1.0f - cover);
+        if (source.pbrMetallicRoughness.baseColorTexture.index >= 0) material.alpha_cutoff = 0.5f;
+    }
+}
+
 /// Phong and Whitted parameters from glTF metallic-roughness, a deliberately simple mapping
 /// (dynrt shades with Phong plus mirror and refraction rays; of the textures it reads only
 /// baseColorTexture, mapped by GltfSceneBuilder::map_base_color). With
@@ -89,6 +120,7 @@ bool has_transmission_texture(const tinygltf::Material& source) {
 ///                   KHR_materials_emissive_strength's emissiveStrength (default 1), times
 ///                   emissiveTexture's colour where it gives one (map_base_color).
 /// The other textures, transmissionTexture included, are ignored (listed in Scene::ignored).
+/// Alpha: convert_alpha.
 Material convert_material(const tinygltf::Material& source, std::size_t index) {
     Material material;
     material.name = source.name.empty() ? cat("material", index) : source.name;
@@ -123,6 +155,7 @@ Material convert_material(const tinygltf::Material& source, std::size_t index) {
         const double factor = source.emissiveFactor[std::size_t(c)];
         material.emission[c] = static_cast<float>((std::isfinite(factor) ? std::clamp(factor, 0.0, 1.0) : 0.0) * strength);
     }
+    convert_alpha(source, material);
     return material;
 }
 
@@ -227,8 +260,7 @@ private:
     }
 
     /// Refuses alpha the specification does not allow, naming the material: an alphaMode other
-    /// than OPAQUE, MASK and BLEND, or a MASK's alphaCutoff outside [0, 1]. (Alpha itself is
-    /// not rendered yet: note_ignored lists it.)
+    /// than OPAQUE, MASK and BLEND, or a MASK's alphaCutoff outside [0, 1].
     void check_alpha(const tinygltf::Material& source, const std::string& name) const {
         const std::string& mode = source.alphaMode;
         if (mode != "OPAQUE" && mode != "MASK" && mode != "BLEND") {
@@ -499,8 +531,8 @@ private:
     std::map<int, std::uint32_t> texture_of_image_;
     /// What the file says that dynrt leaves out, one line each in Scene::ignored (as BART's
     /// loader does): textures other than baseColorTexture and emissiveTexture
-    /// (transmissionTexture included; the factors are used), alpha modes other than
-    /// OPAQUE, and the extensions the file requires or uses but dynrt does not
+    /// (transmissionTexture included; the factors are used), a BLEND material's texture alpha
+    /// (convert_alpha), and the extensions the file requires or uses but dynrt does not
     /// implement (all but KHR_materials_transmission, KHR_materials_ior and
     /// KHR_materials_emissive_strength, which convert_material maps, and KHR_lights_punctual,
     /// which read_lights reads).
@@ -516,13 +548,14 @@ private:
             scene.ignored.push_back(cat("textures other than base colour and emission of ", textured,
                                         " material(s) (metal, roughness and transmission from their factors)"));
         }
-        // A term the shading has none of yet: alpha (rendered opaque).
-        std::size_t alpha = 0;
+        // What of alpha is approximated (convert_alpha): a BLEND material's texture alpha.
+        std::size_t varying = 0;
         for (const tinygltf::Material& m : model_.materials) {
-            alpha += m.alphaMode == "MASK" || m.alphaMode == "BLEND" ? 1 : 0;
+            varying += m.alphaMode == "BLEND" && m.pbrMetallicRoughness.baseColorTexture.index >= 0 ? 1 : 0;
         }
-        if (alpha > 0) {
-            scene.ignored.push_back(cat("alpha of ", alpha, " material(s) (alphaMode MASK or BLEND; rendered opaque)"));
+        if (varying > 0) {
+            scene.ignored.push_back(cat("partial cover from the base colour texture's alpha of ", varying,
+                                        " BLEND material(s) (cut out where below 1/2)"));
         }
         // The material extensions convert_material maps are not "left out".
         const auto implemented = [](const std::string& extension) {

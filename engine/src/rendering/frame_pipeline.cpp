@@ -1,5 +1,8 @@
 #include "rendering/frame_pipeline.h"
 
+#include "dynrt/engine/alpha_mask.h"
+#include "dynrt/engine/environment_lights.h"
+#include "rendering/alpha_cutouts.h"
 #include "rendering/cpu_tracer.h"
 #include "rendering/same_view.h"
 #include "rendering/sampled_frame.h"
@@ -166,8 +169,29 @@ const FrameStats& FramePipeline::update(const Scene& scene, std::span<const Obje
     return stats;
 }
 
+std::span<const PointLight> FramePipeline::with_environment_lights(std::span<const PointLight> lights,
+                                                                  const TraceSettings& options) {
+    if (options.environment_lights == 0) return lights;
+    if (options.environment_lights < 0 || options.environment_lights > kEnvironmentLightsMax) {
+        throw std::invalid_argument("environment lights " + std::to_string(options.environment_lights) +
+                                    ": must be in [0, " + std::to_string(kEnvironmentLightsMax) + "]");
+    }
+    if (!options.environment) {
+        throw std::invalid_argument("environment lights need an environment map to make them from");
+    }
+    // The suns are made once per map and count (the map is held, so the key stays its own).
+    if (environment_suns_key_.first != options.environment ||
+        environment_suns_key_.second != options.environment_lights) {
+        environment_suns_ = environment_lights(*options.environment, options.environment_lights);
+        environment_suns_key_ = {options.environment, options.environment_lights};
+    }
+    frame_lights_.assign(lights.begin(), lights.end());
+    frame_lights_.insert(frame_lights_.end(), environment_suns_.begin(), environment_suns_.end());
+    return frame_lights_;
+}
+
 void FramePipeline::trace(const Scene& scene, const Camera& camera, const TraceSettings& options,
-                          std::span<const PointLight> lights, RenderedFrame& out) {
+                          std::span<const PointLight> given_lights, RenderedFrame& out) {
     if (!updated_) throw std::logic_error("FramePipeline::trace before any update");
     // Refused before anything changes (the API's render passes these on as its own errors).
     if (!options.tiles.valid()) {
@@ -192,6 +216,7 @@ void FramePipeline::trace(const Scene& scene, const Camera& camera, const TraceS
         throw std::invalid_argument("adaptive anti-aliasing compares neighbouring pixels and needs the whole "
                                     "image: a frame split into tile shares can take every sample in every pixel");
     }
+    const std::span<const PointLight> lights = with_environment_lights(given_lights, options);
     check_lights(lights);
     const Stopwatch trace_clock;
     // The shading kernel's view of the materials (bookkeeping, outside the stage clocks).
@@ -211,7 +236,13 @@ void FramePipeline::trace(const Scene& scene, const Camera& camera, const TraceS
     const std::optional<detail::SurfaceTextures> surface_textures =
         textures_.for_trace(scene, accel_.shading(), camera, options.height);
     const detail::CpuTracer cpu(accel_, options);
-    const TraceBackend& tracer = backend_ ? static_cast<const TraceBackend&>(*backend_) : cpu;
+    const TraceBackend& backend = backend_ ? static_cast<const TraceBackend&>(*backend_) : cpu;
+    // Cut-out materials: every ray through the wrapper that skips their cut hits; without
+    // them, straight to the backend.
+    const detail::AlphaCutouts cutouts(scene.materials, object_material_,
+                                       surface_textures ? &*surface_textures : nullptr);
+    const detail::CutoutTracer cutout_tracer(backend, cutouts);
+    const TraceBackend& tracer = any_cutout(scene.materials) ? cutout_tracer : backend;
     const TraceInputs inputs{accel_, tracer, materials_, object_material_, lights, scene.materials,
                              surface_textures ? &*surface_textures : nullptr};
     // A reflection or refraction can show any object from any pixel whose hit spawns one:

@@ -46,7 +46,8 @@ public:
                              const Stopwatch& frame_clock);
 
     /// Traces and shades the last update's trees as `camera` sees them under `options` (image
-    /// size, tracer, shading) and `lights`, into `out` (buffers reused). out.stats holds the
+    /// size, tracer, shading) and `lights` (and the environment's suns when
+    /// options.environment_lights asks for them), into `out` (buffers reused). out.stats holds the
     /// update's figures and the trace's; total_ms is the update's wall time plus the trace's.
     /// Materials are read from `scene` as it is now; its textures (TextureSet) are opened at
     /// the first trace of a scene and kept while the same scene's materials map the same
@@ -108,6 +109,15 @@ private:
     std::vector<packet::PhongMaterial> materials_;
     std::vector<std::int32_t> object_material_;
     TraceScratch scratch_;
+    /// `lights` and, when options ask for them, the environment's suns (environment_lights.h)
+    /// after them: the lights a trace shades with. Refuses a count out of range, or suns
+    /// without a map. The span borrows frame_lights_ until the next call.
+    std::span<const PointLight> with_environment_lights(std::span<const PointLight> lights,
+                                                        const TraceSettings& options);
+    /// The environment's suns, for the map and count they were made from.
+    std::vector<PointLight> environment_suns_;
+    std::pair<std::shared_ptr<const EnvironmentMap>, int> environment_suns_key_{nullptr, 0};
+    std::vector<PointLight> frame_lights_;
     /// The textures of the scene traced last, kept between traces.
     detail::SceneTextures textures_;
     /// What pixel reuse compares between traces: each object's geometry version, and its parts.

@@ -140,6 +140,7 @@ bvh::Aabb sequence_bounds(const Scene& scene, const anim::PoseSettings& pose, in
 std::vector<PointLight> effective_lights(const Scene& scene, const RenderOptions& options) {
     if (!options.lights.empty()) return options.lights;
     if (!scene.lights.empty()) return scene.lights;
+    if (options.environment && options.environment_lights > 0) return {};
     return {default_light(scene_bounds(scene))};
 }
 

@@ -130,6 +130,29 @@ struct TrilinearFilter {
         }
     }
 
+    /// The alpha channel at (s, t) (not folded), bilinear within level 0 whatever the
+    /// footprint: what a cut-out compares with its cutoff (dynrt/engine/alpha_mask.h). The
+    /// finest level, so that a cut-out's edge does not move with distance (a coarser level
+    /// averages alpha, and a mask thins out or swells as it recedes). Alpha is linear.
+    static F alpha(const MipPyramid& pyramid, TextureWrap wrap_s, TextureWrap wrap_t, F s, F t) {
+        I index[4];
+        F sx, ty;
+        corners(pyramid, wrap_s, wrap_t, L::splat(std::int32_t(0)), fold(wrap_s, s), fold(wrap_t, t), index, sx, ty);
+        F texel[4];
+        for (int corner = 0; corner < 4; ++corner) {
+            if (pyramid.eight_bit()) {
+                const U word = L::gather(pyramid.rgba8(), index[corner]);
+                texel[corner] = L::to_float(I(word >> 24));
+            } else {
+                texel[corner] = L::gather(pyramid.rgba_float(), index[corner] * L::splat(std::int32_t(4)) +
+                                                                   L::splat(std::int32_t(3)));
+            }
+        }
+        const F s1 = L::splat(1.0f) - sx, t1 = L::splat(1.0f) - ty;
+        const F value = t1 * (texel[0] * s1 + texel[1] * sx) + ty * (texel[2] * s1 + texel[3] * sx);
+        return value * L::splat(pyramid.eight_bit() ? 1.0f / 255.0f : 1.0f);
+    }
+
     /// The level choice (compute_miplevels) for footprints `width` wide: the finer level
     /// read, the coarser one (the same where nothing is blended) and the coarser one's weight.
     static void choose_levels(const MipPyramid& pyramid, F width, I& fine, I& coarse, F& blend) {

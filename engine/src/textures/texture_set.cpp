@@ -128,6 +128,16 @@ glm::vec3 TextureSet::one(std::size_t k, glm::vec2 st, float width) const {
     return rgb;
 }
 
+float TextureSet::alpha(std::uint32_t material, glm::vec2 st) const {
+    const Impl::Map& map = impl_->materials[index(material, TextureSlot::diffuse)];
+    const textures::MipPyramid& pyramid = *impl_->textures[map.texture].pyramid;
+    using Filter = textures::TrilinearFilter<1>;
+    float value;
+    Filter::L::store(&value, Filter::alpha(pyramid, map.wrap_s, map.wrap_t, Filter::L::load(&st.x),
+                                           Filter::L::load(&st.y)));
+    return value;
+}
+
 void TextureSet::lookup(TextureSlot slot, std::uint32_t material, std::size_t count, const float* s, const float* t,
                         const float* width, float* const rgb[3]) const {
     const Impl::Map& map = impl_->materials[index(material, slot)];

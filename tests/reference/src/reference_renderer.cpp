@@ -1,5 +1,7 @@
 #include "dynrt/reference/reference_renderer.h"
 
+#include "dynrt/engine/environment_lights.h"
+
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
 #include <glm/trigonometric.hpp>
@@ -17,6 +19,11 @@ namespace dynrt::reference {
 ReferenceShading shading_from(const Scene& scene, const RenderOptions& options) {
     ReferenceShading shading;
     shading.lights = effective_lights(scene, options);
+    if (options.environment && options.environment_lights > 0) {
+        // The environment's suns, as FramePipeline adds them.
+        const std::vector<PointLight> suns = environment_lights(*options.environment, options.environment_lights);
+        shading.lights.insert(shading.lights.end(), suns.begin(), suns.end());
+    }
     shading.background = glm::dvec3(options.background);
     shading.environment = options.environment;
     shading.ambient = options.ambient;

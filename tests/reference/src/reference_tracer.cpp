@@ -4,6 +4,8 @@
 
 #include "dynrt/reference/reference_tracer.h"
 
+#include "dynrt/engine/alpha_mask.h"
+
 #include <glm/geometric.hpp>
 
 #include <algorithm>
@@ -134,6 +136,21 @@ ReferenceTracer::ReferenceTracer(const Scene& scene, const anim::PosedScene& pos
         }
     }
 
+    // Cut-outs: what deciding where a cut-out triangle is there needs, copied.
+    if (any_cutout(scene.materials)) {
+        materials_ = scene.materials;
+        texcoords_.resize(scene.objects.size());
+        triangles_.resize(scene.objects.size());
+        for (std::size_t o = 0; o < scene.objects.size(); ++o) {
+            const Object& object = scene.objects[o];
+            object_material_.push_back(object.material);
+            if (!materials_.at(object.material).alpha_cutoff) continue;
+            texcoords_[o] = object.mesh.texcoords;
+            triangles_[o] = object.mesh.triangles;
+        }
+        if (TextureSet::needed(scene)) textures_ = std::make_shared<const TextureSet>(scene, false);
+    }
+
     // Edge adjacency: sort the 3n edge slots by their endpoint pair (in canonical order), so
     // slots with bitwise-equal endpoints end up next to each other and form a group.
     struct SlotKey {
@@ -240,6 +257,47 @@ bool ReferenceTracer::evaluate(std::uint32_t index, const RayD& ray, double late
         out.t = 0.5 * (depth_lo + depth_hi);
     }
     return true;
+}
+
+// ---- Cut-outs ------------------------------------------------------------------------------
+//
+// The alpha is read where the ray meets the triangle's plane (exact barycentrics, as a hit's),
+// and at the four points `error` away from it along the texture's axes: if any reads the other
+// side of the cutoff, a float renderer may see the triangle where this one does not, or the
+// other way round.
+
+ReferenceTracer::Cover ReferenceTracer::cover(const Candidate& c, const RayD& ray, double error) const {
+    const Tri& tri = tris_[c.tri];
+    if (materials_.empty()) return Cover::solid;
+    const std::uint32_t index = object_material_[std::size_t(tri.object)];
+    const Material& material = materials_[index];
+    if (!material.alpha_cutoff) return Cover::solid;
+    if (c.sigma == 0) return Cover::open;  // edge-on: no point to read
+    const std::vector<glm::vec2>& texcoords = texcoords_[std::size_t(tri.object)];
+    const bool mapped = textures_ && textures_->maps(index) && !texcoords.empty();
+    if (!mapped) return cut_out(material, material.base_alpha) ? Cover::cut : Cover::solid;
+    const glm::dvec3& o = ray.org;
+    const glm::dvec3& d = ray.dir;
+    const double d_dot_n = glm::dot(d, tri.n);
+    const double u = glm::dot(d, glm::cross(tri.v[2] - o, tri.edge[1])) / d_dot_n;
+    const double v = glm::dot(d, glm::cross(tri.v[0] - o, tri.edge[2])) / d_dot_n;
+    const glm::uvec3& corner = triangles_[std::size_t(tri.object)][std::size_t(tri.prim)];
+    const glm::dvec2 st0(texcoords[corner.x]), st1(texcoords[corner.y]), st2(texcoords[corner.z]);
+    const glm::dvec2 st = (1.0 - u - v) * st0 + u * st1 + v * st2;
+    const glm::dvec2 e1 = st1 - st0, e2 = st2 - st0;
+    const double twice_texture = std::abs(e1.x * e2.y - e1.y * e2.x);
+    const double twice_world = glm::length(tri.n);
+    const double st_error = std::sqrt(twice_texture / twice_world) * error;
+    const auto is_cut = [&](glm::dvec2 at) {
+        const glm::vec2 point(at);
+        return cut_out(material, surface_alpha(material, index, textures_.get(), &point));
+    };
+    const bool centre = is_cut(st);
+    for (const glm::dvec2 offset : {glm::dvec2(st_error, 0.0), glm::dvec2(-st_error, 0.0),
+                                    glm::dvec2(0.0, st_error), glm::dvec2(0.0, -st_error)}) {
+        if (is_cut(st + offset) != centre) return Cover::open;
+    }
+    return centre ? Cover::cut : Cover::solid;
 }
 
 // ---- Coverage ------------------------------------------------------------------------------
@@ -353,6 +411,7 @@ ReferenceHit ReferenceTracer::closest_within(const RayD& ray, const Reach& reach
     // Every triangle the ray hits or passes within its reach of, inside the t range widened by
     // the same amount (and by the layer tolerance at the far end).
     std::vector<Candidate> near;
+    double open_t = std::numeric_limits<double>::infinity();  // the nearest open cut-out
     const double t_lo = ray.tmin - reach.at(ray.tmin);
     const double t_hi = ray.tmax + tol.layer_rel * ray.tmax + reach.at(ray.tmax);
     for (std::uint32_t k = 0; k < tris_.size(); ++k) {
@@ -378,6 +437,10 @@ ReferenceHit ReferenceTracer::closest_within(const RayD& ray, const Reach& reach
         if (c.t < t_lo || c.t > t_hi) continue;
         c.reach = reach.at(c.t);
         if (c.s_min() < -c.reach) continue;
+        // A cut-out's cut part is not there; one that may be either way opens what it covers.
+        const Cover there = cover(c, ray, c.reach + tol.barycentric_rel * scale_at(o));
+        if (there == Cover::cut) continue;
+        if (there == Cover::open) open_t = std::min(open_t, c.t - c.depth_band(tol.layer_rel));
         near.push_back(c);
     }
 
@@ -407,6 +470,11 @@ ReferenceHit ReferenceTracer::closest_within(const RayD& ray, const Reach& reach
     // the change of t across the lateral tolerance, large at grazing incidence), or a near miss
     // in front of it.
     const double winner_band = winner->depth_band(tol.layer_rel);
+    if (open_t <= winner->t + winner_band) {
+        // A cut-out in front of the winner, or of its layer, may or may not be there.
+        hit.ambiguity = Ambiguity::kAny;
+        return hit;
+    }
     const double near_margin = reach.at(ray.tmin);
     const double far_margin = std::isinf(ray.tmax) ? 0.0 : reach.at(ray.tmax);
     auto in_origin_zone = [&](const Candidate& c) {
@@ -514,6 +582,12 @@ ReferenceOcclusion ReferenceTracer::occluded(const glm::dvec3& from, const glm::
         c.reach = reach_at(c.t);
         if (c.s_min() < -c.reach) continue;
         const bool in_depth = c.t >= origin_shift && c.t <= dist - resolution;
+        const Cover there = cover(c, ray, c.reach + tol.barycentric_rel * scale);
+        if (there == Cover::cut) continue;
+        if (there == Cover::open) {
+            glass_ambiguous = true;  // an occluder, or a filter, that may not be there
+            continue;
+        }
         if (!object_transmittance.empty()) {
             const glm::dvec3& kt = object_transmittance[std::size_t(tris_[k].object)];
             if (kt != glm::dvec3(0.0)) {

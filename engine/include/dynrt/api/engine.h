@@ -131,7 +131,8 @@ struct TextureDesc {
     std::string mime_type{};
     /// Or the texels themselves, copied by add_texture: `width` x `height` texels (each side
     /// in [1, 16384]) of `channels` values (1 grey, 2 grey and alpha, 3 RGB, 4 RGBA; alpha is
-    /// not used), row by row from the image's top-left corner (texture coordinates (0, 0)),
+    /// read by cut-outs only, Surface::alpha_cutoff), row by row from the image's top-left
+    /// corner (texture coordinates (0, 0)),
     /// as 8-bit values (0-255 for 0 to 1) in `texels8` or as floats (finite, >= 0; 1 is full)
     /// in `texels_float`: one of the two, holding width * height * channels values. Float
     /// texels are usually linear: give them with `srgb` = false. All empty and 0 for a file
@@ -191,6 +192,10 @@ struct RenderSettings {
     /// environment"); empty: none. Read once and kept while the path and scale stay the same.
     std::string environment;
     float environment_scale = 1.0f;  ///< what the environment's texels are multiplied by, >= 0
+    /// The environment as this many directional lights besides `lights` (an image-based light
+    /// by median cut, docs/rendering.md "Background and environment"), at most 256; with it,
+    /// no default light when `lights` is empty. 0 (the default): the environment lights nothing.
+    int environment_lights = 0;
     /// Ambient term, as a fraction of the diffuse colour.
     float ambient = 0.08f;
     /// Exact reuse of the previous render's pixels (docs/reuse.md "Reusing pixels between frames"):

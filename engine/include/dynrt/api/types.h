@@ -162,6 +162,12 @@ struct Surface {
     /// Light the surface gives off itself, added to its shaded colour whatever lights it (it
     /// lights nothing else); linear, each channel >= 0. 0 (the default): none.
     Vec3 emission{0.0f, 0.0f, 0.0f};
+    /// A cut-out (glTF's alphaMode MASK): where the surface's alpha, `alpha` times the diffuse
+    /// texture's alpha at the hit, is below this, the surface is not there and every ray
+    /// passes through it (docs/rendering.md "Alpha"). In [0, 1]; 0 (the default): never cut.
+    float alpha_cutoff = 0.0f;
+    /// The surface's alpha before its texture's, in [0, 1]; read by a cut-out only.
+    float alpha = 1.0f;
 };
 
 }  // namespace dynrt

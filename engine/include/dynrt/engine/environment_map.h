@@ -29,6 +29,9 @@ public:
     /// The radiance seen along `direction` (any length but zero).
     glm::vec3 radiance(const glm::vec3& direction) const;
 
+    /// Texel (x, y) (0 <= x < width, 0 <= y < height, rows from the top) times the scale.
+    glm::vec3 texel(int x, int y) const { return scale_ * texels_[std::size_t(y) * std::size_t(width_) + std::size_t(x)]; }
+
     int width() const { return width_; }
     int height() const { return height_; }
     float scale() const { return scale_; }

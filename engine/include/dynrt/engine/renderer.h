@@ -13,7 +13,9 @@
 // plus the material's emission, l the unit vector to the light; a * kd is replaced by the
 // material's own ambient colour times the texture's colour where it gives one
 // (Material::ambient, BART's am times ka). A miss is the background colour, or the
-// environment map's radiance along the ray (TraceSettings::environment).
+// environment map's radiance along the ray (TraceSettings::environment). A hit on a cut-out
+// material (glTF alphaMode MASK) where its alpha is below the cutoff is no hit: every ray goes
+// on through it (dynrt/engine/alpha_mask.h; docs/rendering.md "Alpha").
 //
 // Lights (PointLight; glTF's KHR_lights_punctual): I_L = intensity * color * falloff, per
 // channel. A point or area light's l points at it (an area light's sample), a spot's too, a
@@ -188,6 +190,12 @@ struct TraceSettings {
     /// What rays that leave the scene see, by direction, camera and secondary rays alike
     /// (dynrt/engine/environment_map.h; `--environment`); null: the background colour.
     std::shared_ptr<const EnvironmentMap> environment;
+    /// The environment as this many directional lights besides the frame's own
+    /// (dynrt/engine/environment_lights.h, an image-based light by median cut;
+    /// `--environment-lights`), at most kEnvironmentLightsMax; 0 (the default): the environment
+    /// is seen but lights nothing. Needs `environment`. With it on, the default light is left
+    /// out (effective_lights): the sky is the light.
+    int environment_lights = 0;
     /// Ambient term, as a fraction of the diffuse colour.
     float ambient = 0.08f;
     /// Shade with the objects' interpolated vertex normals ("Shading normals" at the top of
@@ -346,7 +354,8 @@ bvh::Aabb scene_bounds(const Scene& scene);
 bvh::Aabb sequence_bounds(const Scene& scene, const anim::PoseSettings& pose, int first, int last,
                           int samples = 16);
 
-/// The lights a render of `scene` uses under `options` (see RenderOptions::lights).
+/// The lights a render of `scene` uses under `options` (see RenderOptions::lights); with
+/// environment lights on, no default light (FramePipeline adds the environment's suns to these).
 std::vector<PointLight> effective_lights(const Scene& scene, const RenderOptions& options);
 
 }  // namespace dynrt

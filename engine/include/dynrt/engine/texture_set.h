@@ -5,7 +5,8 @@
 // the level choice and the levels of OpenImageIO's TextureSystem, which it replaces (the test
 // textures_test.cpp compares them: within 1/255 of the same footprints). OpenImageIO reads and
 // decodes the files; every mapped texture is read and MIP-mapped once, when the set is made,
-// in parallel. Grey images read as grey RGB; colours are as stored (alpha not multiplied in).
+// in parallel. Grey images read as grey RGB; colours are as stored (alpha not multiplied in);
+// alpha is read on its own, for cut-outs (alpha()).
 // The shading of every tracer and the reference renderer in tests/ look textures up here, so
 // they see the same colours.
 //
@@ -73,6 +74,12 @@ public:
     /// Lookups in either map, as diffuse() describes.
     void lookup(TextureSlot slot, std::uint32_t material, std::size_t count, const float* s, const float* t,
                 const float* width, float* const rgb[3]) const;
+
+    /// The alpha channel of material `material`'s diffuse map at `st`, wrapped by its modes,
+    /// bilinear within the finest level whatever the distance (what a MASK material's cut-out
+    /// compares, dynrt/engine/alpha_mask.h); 1 for an image without alpha. Precondition:
+    /// maps(material). Thread-safe.
+    float alpha(std::uint32_t material, glm::vec2 st) const;
 
     /// Bytes the readable textures hold in memory, every MIP level included.
     std::size_t bytes() const;

@@ -32,7 +32,7 @@ inline constexpr int kMaxTextureSide = 16384;
 
 /// Texels given as they are, not as a file (the library API's and Python's arrays): `width` x
 /// `height` texels of `channels` values each (1 grey, 2 grey and alpha, 3 RGB, 4 RGBA; alpha
-/// is not used), row by row from the image's top-left corner, 8-bit (0-255) or 32-bit float.
+/// is read by cut-outs only, Material::alpha_cutoff), row by row from the image's top-left corner, 8-bit (0-255) or 32-bit float.
 struct TexelArray {
     int width = 0;
     int height = 0;
@@ -108,6 +108,15 @@ struct Material {
     /// When present, the emission is `emission` times this texture's linear colour at the hit
     /// (glTF's emissiveTexture), looked up as diffuse_map is.
     std::optional<TextureMap> emission_map = std::nullopt;
+
+    /// When present, the material is a cut-out (glTF alphaMode MASK): where its alpha,
+    /// `base_alpha` times the diffuse map's alpha at the hit (dynrt/engine/alpha_mask.h), is
+    /// below this cutoff, its surface is not there: camera, shadow, reflection and refraction
+    /// rays all pass through it as if it had no triangle. In [0, 1].
+    std::optional<float> alpha_cutoff = std::nullopt;
+    /// glTF baseColorFactor's alpha, in [0, 1]: the alpha of a cut-out without a diffuse map,
+    /// and the factor its map's alpha is multiplied by.
+    float base_alpha = 1.0f;
 
     /// Whether a hit on this material spawns reflection or refraction rays.
     bool traces_secondary() const {

@@ -2,6 +2,11 @@
 // The exact reference every fast path is checked against: brute force over all triangles of a
 // posed scene, in double precision, with no acceleration structure and no shortcuts.
 //
+// Cut-out materials (glTF alphaMode MASK, dynrt/engine/alpha_mask.h) are followed: a triangle
+// is not there where its alpha is below its material's cutoff, for every query; where a float
+// renderer's hit point, as far from the exact one as the tolerances allow, may read its alpha
+// on the other side of the cutoff, the answer is ambiguous.
+//
 // It answers two questions for a ray: what does it hit (closest hit; for a secondary ray
 // leaving a surface, closest_leaving), and is a segment blocked (any hit, for shadow rays).
 // Beside each answer it says whether the answer is *determined*:
@@ -23,6 +28,7 @@
 
 #include "dynrt/anim/posed_scene.h"
 #include "dynrt/bvh/ray.h"
+#include "dynrt/engine/texture_set.h"
 #include "dynrt/scene/scene.h"
 
 #include <glm/vec3.hpp>
@@ -30,6 +36,7 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -179,7 +186,8 @@ struct TriangleRef {
 /// queries are const and thread-safe.
 class ReferenceTracer {
 public:
-    /// Borrows nothing: copies what it needs from `scene` (object count and mesh indices) and
+    /// Borrows nothing: copies what it needs from `scene` (object count and mesh indices, and
+    /// for cut-out materials their alpha, texture coordinates and textures, read again) and
     /// `posed` (world-space float positions and, where it has them, vertex normals, converted
     /// exactly to double). Triangles whose edge
     /// cross product is exactly zero in double (zero area, as bvh::is_degenerate) are dropped:
@@ -258,6 +266,10 @@ private:
     /// Edge function test of one triangle against a unit-direction ray, with `lateral` the
     /// grazing tolerance. Returns false when the ray passes farther than `lateral` outside it.
     bool evaluate(std::uint32_t tri, const RayD& ray, double lateral, Candidate& out) const;
+    /// Whether a cut-out triangle is there where `ray` meets candidate `c` (its plane), a
+    /// float renderer's point there lying within `error` (world units) of the exact one.
+    enum class Cover : std::uint8_t { solid, cut, open };
+    Cover cover(const Candidate& c, const RayD& ray, double error) const;
     /// closest() and closest_leaving(): `excluded` (an index into tris_, or none) and the
     /// triangles behind or in its plane are skipped.
     ReferenceHit closest_within(const RayD& ray, const Reach& reach, std::uint32_t excluded,
@@ -285,6 +297,14 @@ private:
     /// Per object and prim: index into tris_, or kNoTri for a degenerate triangle.
     std::vector<std::vector<std::uint32_t>> prim_to_tri_;
     std::size_t degenerate_ = 0;
+    /// Cut-outs, when any material is one: the scene's materials, and per object its material
+    /// index and (for a cut-out) texture coordinates and triangles; the textures their alpha
+    /// is read from (null when none can be).
+    std::vector<Material> materials_;
+    std::vector<std::uint32_t> object_material_;
+    std::vector<std::vector<glm::vec2>> texcoords_;
+    std::vector<std::vector<glm::uvec3>> triangles_;
+    std::shared_ptr<const TextureSet> textures_;
     glm::dvec3 center_{0.0};
     double radius_ = 0.0;
 };

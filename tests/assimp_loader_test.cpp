@@ -448,8 +448,15 @@ TEST(AssimpLoader, ColladaCameraAndLight) {
     EXPECT_LT(glm::distance(posed.camera->forward, glm::dvec3(0.0, 0.0, -1.0)), 1e-6);
     EXPECT_LT(glm::distance(posed.camera->up, glm::dvec3(0.0, 1.0, 0.0)), 1e-6);
     ASSERT_EQ(dae.lights.size(), 1u);
-    EXPECT_LT(glm::distance(dae.lights[0].position, glm::vec3(-4.0f, 6.0f, 2.0f)), 1e-6f);
-    EXPECT_NEAR(dae.lights[0].intensity, 1.75f / 3.0f, 1e-6f);
+    // On its node, posed with it: at (-4, 6, 2) in the rest pose; its colour kept.
+    const PointLight& lamp = dae.lights[0];
+    ASSERT_GE(lamp.node, 0);
+    const glm::dvec3 placed(posed.node_world.at(std::size_t(lamp.node)) * glm::dvec4(glm::dvec3(lamp.position), 1.0));
+    EXPECT_LT(glm::distance(placed, glm::dvec3(-4.0, 6.0, 2.0)), 1e-6);
+    EXPECT_EQ(lamp.kind, PointLight::Kind::point);
+    EXPECT_NEAR(lamp.intensity, 1.0f, 1e-6f);
+    EXPECT_LT(glm::distance(lamp.color, glm::vec3(1.0f, 0.5f, 0.25f)), 1e-6f);
+    EXPECT_FALSE(lamp.inverse_square);
 }
 
 /// A chain of joints j0 -> j1 (0, 1, 0) -> j2 (0, 1, 0), inverse bind matrices T(0, -y, 0); j1

@@ -196,3 +196,36 @@ def test_bart_robots(shared_scenes):
     assert "rigid" in motions, motions
     rgb = scene.render(64, 48)
     assert rgb.shape == (48, 64, 3) and np.isfinite(rgb).all() and rgb.max() > 0
+
+
+def test_a_gltf_light_on_a_node_is_where_its_node_puts_it(tmp_path):
+    """KHR_lights_punctual on a moved and turned node: Scene.lights (which Scene.render lights
+    with) gives it in world space at the posed frame, as dynrt render poses it."""
+    import base64
+    import json
+    import struct
+    positions = struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, 1, 0)
+    doc = {
+        "asset": {"version": "2.0"}, "scene": 0,
+        "extensionsUsed": ["KHR_lights_punctual"],
+        "extensions": {"KHR_lights_punctual": {"lights": [
+            {"type": "spot", "intensity": 3.14159265, "spot": {"innerConeAngle": 0.2, "outerConeAngle": 0.4}}]}},
+        "scenes": [{"nodes": [0, 1]}],
+        "nodes": [{"mesh": 0},
+                  {"translation": [1, 2, 3], "rotation": [0.70710678, 0, 0, 0.70710678],
+                   "extensions": {"KHR_lights_punctual": {"light": 0}}}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+        "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                       "min": [0, 0, 0], "max": [1, 1, 0]}],
+        "bufferViews": [{"buffer": 0, "byteLength": len(positions)}],
+        "buffers": [{"byteLength": len(positions),
+                     "uri": "data:application/octet-stream;base64," + base64.b64encode(positions).decode()}],
+    }
+    path = tmp_path / "lamp.gltf"
+    path.write_text(json.dumps(doc))
+    scene = dynrt.load_scene(str(path))
+    (light,) = scene.lights
+    assert light.kind == "spot"
+    assert np.allclose(light.position, (1, 2, 3), atol=1e-6)
+    # -Z turned 90 degrees about +X points along +Y.
+    assert np.allclose(light.direction, (0, 1, 0), atol=1e-6)

@@ -242,7 +242,8 @@ public:
 
     std::vector<Light> lights() const {
         std::vector<Light> out;
-        for (const PointLight& l : effective_lights(*scene_, RenderOptions{})) {
+        // Where they are at the posed frame: a light on a node moves with it.
+        for (const PointLight& l : lights_at(effective_lights(*scene_, RenderOptions{}), posed_)) {
             Light light{vec(l.position), l.intensity};
             light.kind = l.kind == PointLight::Kind::spot          ? LightKind::spot
                          : l.kind == PointLight::Kind::directional ? LightKind::directional

@@ -340,26 +340,66 @@ private:
         }
     }
 
-    /// Point and spot lights become point lights at their rest position, white of their colour's
-    /// mean (as BART's coloured lights are); the others are listed in Scene::ignored.
+    /// Point, spot and directional lights, on the node of their name (posed with it every
+    /// frame, as glTF's are: position and direction are the node's local ones). The colour is
+    /// mColorDiffuse: its largest channel is the intensity, the colour that divided by it. A
+    /// spot's cone angles are taken as measured from its axis (assimp's glTF importer gives
+    /// them so; formats that mean the whole cone get a spot twice as wide), at most pi/2.
+    /// Attenuation 1 / (c + l d + q d^2) is kept when it is none (1, 0, 0) or inverse-square
+    /// (0, 0, q: intensity / q, with falloff); any other is dropped and listed in
+    /// Scene::ignored, as are ambient and area lights.
     void add_lights(Scene& scene) {
-        std::size_t left_out = 0;
+        std::size_t left_out = 0, attenuation_dropped = 0;
         for (unsigned i = 0; i < ai_.mNumLights; ++i) {
-            const aiLight& light = *ai_.mLights[i];
-            const std::int32_t node = node_named(light.mName);
-            if (node < 0 || (light.mType != aiLightSource_POINT && light.mType != aiLightSource_SPOT)) {
+            const aiLight& source = *ai_.mLights[i];
+            const std::int32_t node = node_named(source.mName);
+            const bool point = source.mType == aiLightSource_POINT, spot = source.mType == aiLightSource_SPOT;
+            const bool directional = source.mType == aiLightSource_DIRECTIONAL;
+            if (node < 0 || !(point || spot || directional)) {
                 ++left_out;
                 continue;
             }
-            const glm::dvec4 position = world_[std::size_t(node)] * glm::dvec4(to_dvec3(light.mPosition), 1.0);
-            const aiColor3D& c = light.mColorDiffuse;
-            scene.lights.push_back(PointLight{.position = glm::vec3(position),
-                                              .intensity = (c.r + c.g + c.b) / 3.0f});
+            PointLight light;
+            light.name = source.mName.C_Str();
+            light.node = node;
+            light.position = glm::vec3(to_dvec3(source.mPosition));
+            const aiColor3D& c = source.mColorDiffuse;
+            const float brightest = std::max({c.r, c.g, c.b, 0.0f});
+            light.intensity = brightest;
+            light.color = brightest > 0.0f ? glm::vec3(c.r, c.g, c.b) / brightest : glm::vec3(1.0f);
+            if (spot || directional) {
+                const glm::vec3 axis(to_dvec3(source.mDirection));
+                light.direction = glm::length(axis) > 0.0f ? glm::normalize(axis) : glm::vec3(0.0f, 0.0f, -1.0f);
+            }
+            if (spot) {
+                light.kind = PointLight::Kind::spot;
+                const float half_pi = 0.5f * 3.14159265f;
+                light.outer_cone = std::clamp(source.mAngleOuterCone, 0.0f, half_pi);
+                light.inner_cone = std::clamp(source.mAngleInnerCone, 0.0f, light.outer_cone);
+                if (light.inner_cone >= light.outer_cone) light.inner_cone = 0.999f * light.outer_cone;
+            }
+            if (directional) light.kind = PointLight::Kind::directional;
+            if (!directional) {
+                const float a0 = source.mAttenuationConstant, a1 = source.mAttenuationLinear,
+                            a2 = source.mAttenuationQuadratic;
+                if (a0 == 0.0f && a1 == 0.0f && a2 > 0.0f) {
+                    light.inverse_square = true;
+                    light.intensity /= a2;
+                } else if (!(a1 == 0.0f && a2 == 0.0f)) {
+                    ++attenuation_dropped;
+                } else if (a0 > 0.0f) {
+                    light.intensity /= a0;
+                }
+            }
+            scene.lights.push_back(light);
         }
         if (left_out > 0) {
-            scene.ignored.push_back(cat(left_out, " light(s) other than point and spot lights (directional, ambient, area)"));
+            scene.ignored.push_back(cat(left_out, " light(s) other than point, spot and directional lights (ambient, area)"));
         }
-        if (!scene.lights.empty()) scene.ignored.push_back("light colours and spot cones (lights are white points)");
+        if (attenuation_dropped > 0) {
+            scene.ignored.push_back(cat("distance attenuation of ", attenuation_dropped,
+                                        " light(s) other than none or inverse-square (lit without falloff)"));
+        }
     }
 
     std::filesystem::path path_;

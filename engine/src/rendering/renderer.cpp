@@ -144,6 +144,13 @@ std::vector<PointLight> effective_lights(const Scene& scene, const RenderOptions
     return {default_light(scene_bounds(scene))};
 }
 
+std::vector<PointLight> lights_at(std::span<const PointLight> lights, const anim::PosedScene& posed) {
+    if (!detail::any_on_node(lights)) return {lights.begin(), lights.end()};
+    std::vector<PointLight> out;
+    detail::pose_lights(lights, posed.node_world, out);
+    return out;
+}
+
 Renderer::Renderer(RenderOptions options)
     : options_(std::move(options)), state_(std::make_unique<State>()) {
     const float tol = options_.adaptive_tolerance;

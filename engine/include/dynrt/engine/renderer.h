@@ -109,6 +109,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <span>
 #include <vector>
 
 namespace dynrt {
@@ -353,6 +354,10 @@ bvh::Aabb scene_bounds(const Scene& scene);
 /// animation or motions, is posed once.
 bvh::Aabb sequence_bounds(const Scene& scene, const anim::PoseSettings& pose, int first, int last,
                           int samples = 16);
+
+/// `lights` as they are at `posed`'s frame: those on a node (glTF's, assimp's) moved with its
+/// world matrix there, as Renderer::update poses them every frame; the others as they are.
+std::vector<PointLight> lights_at(std::span<const PointLight> lights, const anim::PosedScene& posed);
 
 /// The lights a render of `scene` uses under `options` (see RenderOptions::lights); with
 /// environment lights on, no default light (FramePipeline adds the environment's suns to these).

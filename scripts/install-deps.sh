@@ -17,7 +17,9 @@ fuzz=(clang libclang-rt-dev)
 # spread frames or tiles across processes (engine/mpi); the ffmpeg program writes `--out
 # anim.mp4` (and the video tests run with it). Installed when the archive has them.
 # Chromium opens the guide's site in a test (Docs.SiteBuildsAndShows).
-optional=(libembree-dev libopenmpi-dev openmpi-bin ffmpeg chromium fonts-liberation)
+# GLFW and Dear ImGui give `dynrt view` its window; xvfb-run lets its tests open one headless.
+optional=(libembree-dev libopenmpi-dev openmpi-bin ffmpeg chromium fonts-liberation
+          libglfw3-dev libimgui-dev xvfb xauth libgl1-mesa-dri)
 
 missing=()
 for p in "${required[@]}" "${fuzz[@]}" "${optional[@]}"; do
@@ -42,5 +44,7 @@ $sudo apt-get install -y -qq --no-install-recommends libopenmpi-dev openmpi-bin 
   || echo "install-deps: optional Open MPI not available; dynrt is built without MPI and its tests are skipped"
 $sudo apt-get install -y -qq --no-install-recommends ffmpeg >/dev/null \
   || echo "install-deps: optional ffmpeg not available; video output is refused and its tests are skipped"
+$sudo apt-get install -y -qq --no-install-recommends libglfw3-dev libimgui-dev xvfb xauth libgl1-mesa-dri >/dev/null \
+  || echo "install-deps: optional GLFW, Dear ImGui or Xvfb not available; dynrt view has no window and its window tests are skipped"
 $sudo apt-get install -y -qq --no-install-recommends chromium fonts-liberation >/dev/null \
   || echo "install-deps: optional chromium not available; the test that opens the guide's site is skipped"

@@ -4,6 +4,8 @@
 #include "command_warnings.h"
 #include "distributed/distributed_render.h"
 #include "frame_args.h"
+#include "view_command.h"
+#include "../viewer/viewer_script.h"
 
 #include "dynrt/engine/environment_lights.h"
 
@@ -346,6 +348,26 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(0, 100000))->needs(error_flag);
 
     std::string info_scene;
+    dynrt::viewer::ViewArgs view;
+    view.reuse = "exact";
+    CLI::App* view_cmd = app.add_subcommand(
+        "view", "Open a window on a scene: orbit (left drag), pan (right drag), zoom (wheel), fly (W A S D "
+                "Q E), play or pause (space), step (arrows), reset the view (R), screenshot (F12), with its "
+                "figures live and its settings changed on the fly");
+    add_frame_options(view_cmd, view);
+    add_verbosity(view_cmd, "Errors only: no warnings");
+    view_cmd->add_option("--script", view.script,
+                         "Drive the window from a file of timed commands, one per line: SECONDS COMMAND ARGS "
+                         "(for tests under xvfb-run and demos); the commands:\n" +
+                             dynrt::viewer::script_commands_help());
+    view_cmd->add_option("--record", view.record,
+                         "Write the frames the window draws to an animated .gif or a video (.mp4, ...; "
+                         "needs ffmpeg), at the scene's frame rate, the panels left out");
+    view_cmd->add_option("--exposure", view.exposure, "Exposure of the shown image, in stops")
+        ->check(CLI::Range(-64.0f, 64.0f))->capture_default_str();
+    view_cmd->add_option("--tone", view.tone, "Tone curve of the shown image: linear, reinhard or aces")
+        ->check(CLI::IsMember({"linear", "reinhard", "aces"}))->capture_default_str();
+
     CLI::App* info_cmd = app.add_subcommand("info", "Describe a scene: objects, triangles, bounds");
     info_cmd->add_option("scene", info_scene, "glTF file, BART file (.aff) or procedural spec")->required();
     add_verbosity(info_cmd, "No warnings, only the description");
@@ -367,7 +389,9 @@ int main(int argc, char** argv) {
                                                           : dynrt::cli::Verbosity::normal;
         const dynrt::cli::CommandWarnings warnings(verbosity);
         if (quiet && !*info_cmd) std::cout.setstate(std::ios::failbit);
-        FrameArgs& frame_args = *bench_cmd ? static_cast<FrameArgs&>(bench) : render;
+        FrameArgs& frame_args = *bench_cmd  ? static_cast<FrameArgs&>(bench)
+                                : *view_cmd ? static_cast<FrameArgs&>(view)
+                                            : render;
         const int thread_count = frame_args.threads > 0 ? frame_args.threads : threads;
         std::optional<tbb::global_control> limit;
         if (thread_count > 0) {
@@ -394,6 +418,7 @@ int main(int argc, char** argv) {
             return dynrt::cli::run_render(render);
         }
         if (*bench_cmd) return dynrt::cli::run_bench(bench);
+        if (*view_cmd) return dynrt::cli::run_view(view);
         return dynrt::cli::run_info(info_scene);
     } catch (const std::filesystem::filesystem_error& e) {
         // Not the library's "filesystem error: ..." but what failed, on which path, and why.

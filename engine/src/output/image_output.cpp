@@ -89,6 +89,12 @@ void write_image(const std::filesystem::path& path, const RenderedFrame& frame, 
                      OIIO::TypeDesc::FLOAT, OIIO::TypeDesc::FLOAT);
         return;
     }
+    const std::vector<std::uint8_t> rgb = display_rgb8(frame, display);
+    write_pixels(path, frame.width, frame.height, 3, rgb.data(), OIIO::TypeDesc::UINT8,
+                 OIIO::TypeDesc::UINT8);
+}
+
+std::vector<std::uint8_t> display_rgb8(const RenderedFrame& frame, const DisplayTransform& display) {
     std::vector<std::uint8_t> rgb(frame.color.size() * 3);
     if (display.identity()) {
         encode_srgb8(frame.color, rgb.data());
@@ -97,8 +103,7 @@ void write_image(const std::filesystem::path& path, const RenderedFrame& frame, 
         apply_display(display, shown);
         encode_srgb8(shown, rgb.data());
     }
-    write_pixels(path, frame.width, frame.height, 3, rgb.data(), OIIO::TypeDesc::UINT8,
-                 OIIO::TypeDesc::UINT8);
+    return rgb;
 }
 
 void check_image_path(const std::filesystem::path& path) {

@@ -151,18 +151,34 @@ std::vector<PointLight> lights_at(std::span<const PointLight> lights, const anim
     return out;
 }
 
-Renderer::Renderer(RenderOptions options)
-    : options_(std::move(options)), state_(std::make_unique<State>()) {
-    const float tol = options_.adaptive_tolerance;
+namespace {
+
+/// The options a Renderer refuses before it starts.
+void check_options(const RenderOptions& options) {
+    const float tol = options.adaptive_tolerance;
     if (!std::isfinite(tol) || tol < 0.0f) {
         throw std::invalid_argument("adaptive tolerance " + std::to_string(tol) +
                                     ": must be finite and >= 0 (0: exact)");
     }
-    if (tol > 0.0f && options_.tracer != Tracer::packet) {
+    if (tol > 0.0f && options.tracer != Tracer::packet) {
         throw std::invalid_argument("adaptive sampling traces 16x16 packets: it needs the packet "
                                     "tracer, not the single-ray one");
     }
+}
+
+}  // namespace
+
+Renderer::Renderer(RenderOptions options)
+    : options_(std::move(options)), state_(std::make_unique<State>()) {
+    check_options(options_);
     if (options_.backend) use_backend(options_.backend());
+}
+
+void Renderer::set_options(RenderOptions options) {
+    check_options(options);
+    options.pose = options_.pose;  // the poser was made with these
+    options.backend = options_.backend;
+    options_ = std::move(options);
 }
 
 Renderer::~Renderer() = default;

@@ -4,6 +4,7 @@
 #include "dynrt/engine/display_transform.h"
 #include "dynrt/engine/renderer.h"
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -23,6 +24,10 @@ std::vector<Aov> parse_aov_list(const std::string& list);
 /// std::runtime_error naming the file on failure.
 void write_image(const std::filesystem::path& path, const RenderedFrame& frame,
                  const DisplayTransform& display = {});
+
+/// The bytes write_image writes to an 8-bit file: `frame`'s colours through `display`, then
+/// 8-bit sRGB, RGB interleaved, rows from the top. What a window shows of the frame.
+std::vector<std::uint8_t> display_rgb8(const RenderedFrame& frame, const DisplayTransform& display = {});
 
 /// Throws std::invalid_argument when `path` cannot be written as an image: unknown format
 /// extension or missing parent folder. Lets callers fail before a long render, not after.

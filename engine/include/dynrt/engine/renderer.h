@@ -280,6 +280,13 @@ public:
 
     const RenderOptions& options() const { return options_; }
 
+    /// Replaces the options of later frames, keeping the trees, the pose state and the opened
+    /// textures (the viewer's settings panel): the next update plans with the new policy, the
+    /// next trace traces with the new settings (exact reuse re-traces what they change). The
+    /// pose settings stay those the renderer was made with, and so does the backend (change it
+    /// with use_backend). Throws std::invalid_argument as the constructor does, changing nothing.
+    void set_options(RenderOptions options);
+
     /// Renders `scene` at `frame` seen by `camera` into `out` (its buffers are reused):
     /// update(scene, frame), then trace(camera, out).
     /// Throws SceneError for non-finite posed geometry (naming object and frame) and

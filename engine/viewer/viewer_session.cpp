@@ -1,0 +1,220 @@
+// ViewerSession (viewer_session.h).
+
+#include "viewer_session.h"
+
+#include "dynrt/engine/environment_lights.h"
+#include "dynrt/engine/image_output.h"
+#include "dynrt/engine/report.h"
+#include "dynrt/engine/update_plan.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <stdexcept>
+
+namespace dynrt::viewer {
+
+namespace {
+
+constexpr int kDefaultWidth = 640, kDefaultHeight = 480;
+
+/// A whole number, all of `text`.
+int parse_int(const std::string& name, const std::string& text) {
+    std::size_t used = 0;
+    int value = 0;
+    try {
+        value = std::stoi(text, &used);
+    } catch (const std::exception&) {
+        used = 0;
+    }
+    if (used == 0 || used != text.size()) throw std::invalid_argument(name + " '" + text + "': not a whole number");
+    return value;
+}
+
+/// parse_int, within [lo, hi].
+int parse_int_in(const std::string& name, const std::string& text, int lo, int hi) {
+    const int value = parse_int(name, text);
+    if (value < lo || value > hi) {
+        throw std::invalid_argument(name + " '" + text + "': must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    }
+    return value;
+}
+
+float parse_float(const std::string& name, const std::string& text) {
+    std::size_t used = 0;
+    float value = 0.0f;
+    try {
+        value = std::stof(text, &used);
+    } catch (const std::exception&) {
+        used = 0;
+    }
+    if (used == 0 || used != text.size() || !std::isfinite(value)) {
+        throw std::invalid_argument(name + " '" + text + "': not a finite number");
+    }
+    return value;
+}
+
+void one_of(const std::string& name, const std::string& value, std::initializer_list<const char*> choices) {
+    std::string list;
+    for (const char* c : choices) {
+        if (value == c) return;
+        list += std::string(list.empty() ? "" : ", ") + c;
+    }
+    throw std::invalid_argument(name + " '" + value + "': one of " + list);
+}
+
+/// A setting `set` takes: its name, how it is read into the flags, and how it is shown.
+struct Setting {
+    const char* name;
+    std::function<void(cli::FrameArgs&, const std::string&)> write;
+    std::function<std::string(const cli::FrameArgs&)> read;
+};
+
+const std::vector<Setting>& setting_table() {
+    static const std::vector<Setting> table = {
+        {"tracer",
+         [](cli::FrameArgs& a, const std::string& v) { one_of("tracer", v, {"packet", "single"}); a.tracer = v; },
+         [](const cli::FrameArgs& a) { return a.tracer; }},
+        {"backend", [](cli::FrameArgs& a, const std::string& v) { a.backend = v; },
+         [](const cli::FrameArgs& a) { return a.backend; }},
+        {"update",
+         [](cli::FrameArgs& a, const std::string& v) {
+             if (!parse_update_method(v)) throw std::invalid_argument("update '" + v + "': not an update method");
+             a.update = v;
+         },
+         [](const cli::FrameArgs& a) { return a.update; }},
+        {"cost-ratio",
+         [](cli::FrameArgs& a, const std::string& v) {
+             const float r = parse_float("cost-ratio", v);
+             if (!(r > 0.0f)) throw std::invalid_argument("cost-ratio '" + v + "': must be > 0");
+             a.cost_ratio = r;
+         },
+         [](const cli::FrameArgs& a) { return std::to_string(a.cost_ratio); }},
+        {"culling", [](cli::FrameArgs& a, const std::string& v) { a.packet_culling = v; },
+         [](const cli::FrameArgs& a) { return a.packet_culling; }},
+        {"depth", [](cli::FrameArgs& a, const std::string& v) { a.depth = parse_int_in("depth", v, 0, 64); },
+         [](const cli::FrameArgs& a) { return std::to_string(a.depth); }},
+        {"reuse", [](cli::FrameArgs& a, const std::string& v) { a.reuse = v; },
+         [](const cli::FrameArgs& a) { return a.reuse; }},
+        {"spp", [](cli::FrameArgs& a, const std::string& v) { a.spp = parse_int_in("spp", v, 1, 4096); },
+         [](const cli::FrameArgs& a) { return std::to_string(a.spp); }},
+        {"normals",
+         [](cli::FrameArgs& a, const std::string& v) { one_of("normals", v, {"smooth", "flat"}); a.normals = v; },
+         [](const cli::FrameArgs& a) { return a.normals; }},
+        {"occluder-cache",
+         [](cli::FrameArgs& a, const std::string& v) { one_of("occluder-cache", v, {"on", "off"}); a.occluder_cache = v; },
+         [](const cli::FrameArgs& a) { return a.occluder_cache; }},
+        {"environment-lights",
+         [](cli::FrameArgs& a, const std::string& v) {
+             a.environment_lights = parse_int_in("environment-lights", v, 0, kEnvironmentLightsMax);
+         },
+         [](const cli::FrameArgs& a) { return std::to_string(a.environment_lights); }},
+    };
+    return table;
+}
+
+}  // namespace
+
+ViewerSession::ViewerSession(const ViewArgs& args)
+    : args_(args), options_(cli::render_options(args_)),
+      scene_(cli::load_animated_scene(args_, cli::scene_source(args_), options_)),
+      renderer_([&] {
+          // The window's size unless the flags or the file give one.
+          if (args_.res.empty() && !scene_.setup) {
+              options_.width = kDefaultWidth;
+              options_.height = kDefaultHeight;
+          }
+          return options_;
+      }()),
+      first_camera_(cli::camera_for(scene_, args_, options_.pose)), camera_(first_camera_) {
+    display_.exposure = args.exposure;
+    display_.curve = parse_tone_curve(args.tone);
+    last_frame_ = cli::animation_end_frame(scene_, options_.pose);
+    if (scene_.setup) last_frame_ = std::max(last_frame_, scene_.setup->frame_count - 1);
+    endless_ = !args_.anims.empty();
+}
+
+void ViewerSession::step(int frames) {
+    pause();
+    seek(frame() + frames);
+}
+
+void ViewerSession::seek(int target) {
+    pause();
+    const int last = endless_ ? std::max(target, 0) : last_frame_;
+    time_ = double(std::clamp(target, 0, last)) / fps();
+}
+
+void ViewerSession::advance(double seconds) {
+    if (!playing_ || !(seconds > 0.0)) return;
+    time_ += seconds * speed_;
+    if (endless_) return;
+    const double end = double(last_frame_ + 1) / fps();
+    if (time_ < end) return;
+    if (loop_ && last_frame_ > 0) {
+        time_ = std::fmod(time_, end);
+    } else {
+        time_ = double(last_frame_) / fps();
+        playing_ = false;
+    }
+}
+
+int ViewerSession::frame() const {
+    const int f = int(std::floor(time_ * fps() + 1e-9));
+    return endless_ ? f : std::clamp(f, 0, last_frame_);
+}
+
+void ViewerSession::set(const std::string& name, const std::string& value) {
+    const auto& table = setting_table();
+    const auto found = std::find_if(table.begin(), table.end(), [&](const Setting& s) { return name == s.name; });
+    if (found == table.end()) {
+        std::string names;
+        for (const Setting& s : table) names += std::string(names.empty() ? "" : ", ") + s.name;
+        throw std::invalid_argument("unknown setting '" + name + "' (the viewer changes " + names + ")");
+    }
+    ViewArgs changed = args_;
+    found->write(changed, value);
+    RenderOptions options = cli::render_options(changed);  // refuses what the flags refuse
+    cli::apply_scene_setup(scene_, changed, options);
+    options.width = options_.width;
+    options.height = options_.height;
+    options.pose = options_.pose;
+    renderer_.set_options(options);
+    if (changed.backend != args_.backend) renderer_.use_backend(options.backend ? options.backend() : nullptr);
+    args_ = std::move(changed);
+    options_ = std::move(options);
+}
+
+std::vector<std::pair<std::string, std::string>> ViewerSession::settings() const {
+    std::vector<std::pair<std::string, std::string>> out;
+    for (const Setting& s : setting_table()) out.emplace_back(s.name, s.read(args_));
+    return out;
+}
+
+const RenderedFrame& ViewerSession::render() {
+    rendered_frame_ = frame();
+    rendered_camera_ = camera_.camera();
+    renderer_.render(scene_, rendered_camera_, rendered_frame_, frame_);
+    history_.push_back(frame_.stats);
+    if (history_.size() > kHistory) history_.pop_front();
+    return frame_;
+}
+
+std::vector<unsigned char> ViewerSession::display_bytes() const {
+    const std::vector<std::uint8_t> rgb = display_rgb8(frame_, display_);
+    return {rgb.begin(), rgb.end()};
+}
+
+void ViewerSession::screenshot(const std::filesystem::path& path) const {
+    if (frame_.color.empty()) throw std::logic_error("screenshot before the first frame");
+    write_image(path, frame_, display_);
+    std::filesystem::path json = path;
+    json.replace_extension(".json");
+    std::ofstream out(json);
+    out << "{\"camera\": \"" << camera_text(rendered_camera_) << "\", \"frame\": " << rendered_frame_
+        << ", \"stats\": " << frame_report_json(frame_.stats) << "}\n";
+    if (!out) throw std::runtime_error(json.string() + ": cannot be written");
+}
+
+}  // namespace dynrt::viewer

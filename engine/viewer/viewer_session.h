@@ -1,0 +1,119 @@
+#pragma once
+// What `dynrt view` shows, without the window: the scene loaded as `dynrt render` loads it
+// with the same flags, a Renderer kept for the whole session (its trees, pose state and
+// textures survive every setting change), the orbit camera, the animation's clock, the
+// settings the panel changes and the figures of recent frames. The window (viewer_window.h)
+// draws its frames and turns input into its calls; tests drive it directly.
+
+#include "orbit_camera.h"
+#include "../cli/frame_args.h"
+
+#include "dynrt/engine/display_transform.h"
+#include "dynrt/engine/renderer.h"
+#include "dynrt/scene/scene.h"
+
+#include <deque>
+#include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace dynrt::viewer {
+
+/// `dynrt view`'s flags: those of every frame command, and the viewer's own.
+struct ViewArgs : cli::FrameArgs {
+    /// A script of timed inputs (viewer_script.h); empty: the user drives.
+    std::string script;
+    /// The displayed image's exposure (stops) and tone curve, as `dynrt render`'s 8-bit files.
+    float exposure = 0.0f;
+    std::string tone = "linear";
+    /// A GIF or video (.gif, .mp4, ...) the window's frames are written to as they are drawn,
+    /// at the scene's frame rate; empty: none.
+    std::string record;
+};
+
+class ViewerSession {
+public:
+    /// Loads `args.scene` (the bundled scene when empty) with its motions, clips and camera as
+    /// `dynrt render` would; the image is args.res or 640x480. Throws as the render command
+    /// does: SceneError for a scene that cannot be read, std::invalid_argument for bad flags.
+    explicit ViewerSession(const ViewArgs& args);
+
+    // ---- Camera ----
+    OrbitCamera& camera() { return camera_; }
+    /// Back to the first view (the flags' or the scene's camera, else the default framing).
+    void reset_camera() { camera_ = OrbitCamera(first_camera_); }
+
+    // ---- Time ----
+    void play() { playing_ = true; }
+    void pause() { playing_ = false; }
+    bool playing() const { return playing_; }
+    /// Pauses and moves `frames` frames on (back when negative), within the animation.
+    void step(int frames);
+    /// Pauses at `frame` (clamped to the animation).
+    void seek(int frame);
+    void set_speed(double speed) { speed_ = speed; }
+    double speed() const { return speed_; }
+    void set_loop(bool loop) { loop_ = loop; }
+    bool loop() const { return loop_; }
+    /// While playing, moves the clock on by `seconds` of wall time times the speed: the frame
+    /// shown is the one of that time, however many were skipped to keep it (never blocking).
+    void advance(double seconds);
+    /// The frame the clock is at, and the last frame with new animation (0 for a still scene;
+    /// procedural motions never end: then the clock runs on).
+    int frame() const;
+    int last_frame() const { return last_frame_; }
+    double fps() const { return options_.pose.fps; }
+
+    // ---- Settings ----
+    /// Changes a setting as its flag would (`tracer`, `depth`, `reuse`, `spp`, `culling`,
+    /// `update`, `cost-ratio`, `normals`, `backend`, `environment-lights`...): the next frame
+    /// uses it, with the same trees. Throws std::invalid_argument naming the setting for an
+    /// unknown one or a bad value, leaving the settings as they were.
+    void set(const std::string& name, const std::string& value);
+    /// The settings `set` takes, with their values now.
+    std::vector<std::pair<std::string, std::string>> settings() const;
+
+    // ---- Frames ----
+    /// Renders the clock's frame from the camera; returns it (valid until the next call).
+    const RenderedFrame& render();
+    const RenderedFrame& image() const { return frame_; }
+    /// The figures of the last frames rendered, oldest first (at most kHistory).
+    const std::deque<FrameStats>& history() const { return history_; }
+    static constexpr std::size_t kHistory = 240;
+    const DisplayTransform& display() const { return display_; }
+    /// The last frame as 8-bit sRGB RGB, rows from the top, through the display transform:
+    /// what the window shows and what `dynrt render` writes to a PNG.
+    std::vector<unsigned char> display_bytes() const;
+    /// Writes the last frame to `path` (a PNG, as `dynrt render --out` writes it) and beside it
+    /// `path` with .json: the frame's report, the camera as --camera text and the frame.
+    void screenshot(const std::filesystem::path& path) const;
+
+    const Scene& scene() const { return scene_; }
+    const RenderOptions& options() const { return options_; }
+    const Renderer& renderer() const { return renderer_; }
+
+private:
+    /// Options and backend from args_, as the render command makes them.
+    void apply_args();
+
+    ViewArgs args_;
+    RenderOptions options_;
+    Scene scene_;
+    Renderer renderer_;
+    Camera first_camera_;
+    OrbitCamera camera_;
+    DisplayTransform display_;
+    RenderedFrame frame_;
+    std::deque<FrameStats> history_;
+    double time_ = 0.0;  ///< animation seconds
+    int last_frame_ = 0;
+    bool endless_ = false;  ///< procedural motions: the clock never wraps or stops
+    bool playing_ = false;
+    bool loop_ = true;
+    double speed_ = 1.0;
+    int rendered_frame_ = 0;
+    Camera rendered_camera_;  ///< the camera of the last frame rendered
+};
+
+}  // namespace dynrt::viewer

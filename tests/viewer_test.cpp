@@ -8,6 +8,7 @@
 #include "dynrt/engine/renderer.h"
 #include "dynrt/engine/scene_loading.h"
 
+#include "gltf_test_file.h"
 #include "orbit_camera.h"
 #include "script_runner.h"
 #include "viewer_script.h"
@@ -167,6 +168,25 @@ TEST(ViewerSession, TheClockStepsSeeksPlaysAndLoops) {
     const std::vector<glm::vec3> at4 = session.render().color;
     session.seek(30);
     EXPECT_NE(session.render().color, at4);
+}
+
+TEST(ViewerSession, LooksThroughTheFilesCameras) {
+    test::GltfTestFile file;
+    const int mesh = file.add_mesh({-1, -1, 0, 1, -1, 0, 0, 1, 0});
+    file.add_node({{"mesh", mesh}});
+    file.doc()["cameras"] = nlohmann::json::array(
+        {{{"type", "perspective"}, {"name", "front"}, {"perspective", {{"yfov", 0.7}, {"znear", 0.1}}}}});
+    file.add_node({{"camera", 0}, {"translation", {0.5, 0.0, 4.0}}});
+    ViewerSession session(small_args(file.write("viewer_cameras.gltf").string()));
+    EXPECT_EQ(session.camera_names(), std::vector<std::string>{"front"});
+    session.camera().orbit(60.0f, 20.0f);
+    session.use_scene_camera(0);
+    const Camera c = session.camera().camera();
+    EXPECT_LT(glm::length(c.eye - glm::vec3(0.5f, 0.0f, 4.0f)), 1e-4f);
+    EXPECT_LT(glm::length(glm::normalize(c.target - c.eye) - glm::vec3(0.0f, 0.0f, -1.0f)), 1e-4f);
+    EXPECT_NEAR(c.fov_y_deg, 0.7f * 180.0f / 3.14159265f, 1e-3f);
+    EXPECT_THROW(session.use_scene_camera(1), std::out_of_range);
+    EXPECT_THROW(run_command(session, parse_script("0 camera 3", "t").at(0), "t"), std::invalid_argument);
 }
 
 TEST(ViewerScript, CommandsRunOnTheSessionAndBadArgumentsNameTheLine) {

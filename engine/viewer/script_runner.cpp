@@ -41,6 +41,14 @@ WindowStep run_command(ViewerSession& session, const ScriptCommand& command, con
             session.camera().fly(float(number(0)), float(number(1)), float(number(2)));
         } else if (name == "reset-camera") {
             session.reset_camera();
+        } else if (name == "camera") {
+            const double index = number(0);
+            if (index < 0.0 || index != std::floor(index)) throw std::invalid_argument("camera '" + command.args[0] + "': not an index");
+            try {
+                session.use_scene_camera(std::size_t(index));
+            } catch (const std::out_of_range& e) {
+                throw std::invalid_argument(e.what());
+            }
         } else if (name == "play") {
             session.play();
         } else if (name == "pause") {

@@ -23,6 +23,7 @@ constexpr CommandShape kCommands[] = {
     {"zoom", 1, 1, "FACTOR: divide the distance to the target (> 1 closer)"},
     {"fly", 3, 3, "FORWARD RIGHT UP: move along the view, in units of the distance"},
     {"reset-camera", 0, 0, "back to the first view"},
+    {"camera", 1, 1, "INDEX: look through the scene file's camera INDEX (from 0)"},
     {"play", 0, 0, "play the animation at its frame rate (wall time)"},
     {"pause", 0, 0, "hold the animation at its frame"},
     {"step", 0, 1, "[N]: pause and go N frames on (default 1; negative: back)"},

@@ -7,6 +7,12 @@
 #include "dynrt/engine/report.h"
 #include "dynrt/engine/update_plan.h"
 
+#include "dynrt/anim/posed_scene.h"
+
+#include <glm/geometric.hpp>
+#include <glm/mat3x3.hpp>
+#include <glm/trigonometric.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -133,6 +139,34 @@ ViewerSession::ViewerSession(const ViewArgs& args)
     last_frame_ = cli::animation_end_frame(scene_, options_.pose);
     if (scene_.setup) last_frame_ = std::max(last_frame_, scene_.setup->frame_count - 1);
     endless_ = !args_.anims.empty();
+}
+
+std::vector<std::string> ViewerSession::camera_names() const {
+    std::vector<std::string> names;
+    for (const SceneCamera& c : scene_.cameras) names.push_back(c.name);
+    return names;
+}
+
+void ViewerSession::use_scene_camera(std::size_t index) {
+    if (index >= scene_.cameras.size()) {
+        throw std::out_of_range("camera " + std::to_string(index) + ": the scene has " +
+                                std::to_string(scene_.cameras.size()) + " camera(s)");
+    }
+    const SceneCamera& source = scene_.cameras[index];
+    anim::PosedScene posed;
+    anim::pose_scene(scene_, options_.pose, rendered_frame_, posed);
+    const glm::dmat4& world = posed.node_world.at(std::size_t(source.node));
+    const glm::dvec3 eye(world * glm::dvec4(0.0, 0.0, 0.0, 1.0));
+    const glm::dvec3 forward = glm::normalize(glm::dmat3(world) * glm::dvec3(0.0, 0.0, -1.0));
+    const bvh::Aabb bounds = scene_bounds(scene_);
+    const glm::dvec3 centre = 0.5 * (glm::dvec3(bounds.lo) + glm::dvec3(bounds.hi));
+    const double radius = 0.5 * glm::length(glm::dvec3(bounds.hi) - glm::dvec3(bounds.lo));
+    const double depth = std::max(glm::dot(centre - eye, forward), 0.1 * std::max(radius, 1e-3));
+    Camera camera;
+    camera.eye = glm::vec3(eye);
+    camera.target = glm::vec3(eye + depth * forward);
+    camera.fov_y_deg = float(glm::degrees(source.yfov_rad));
+    camera_ = OrbitCamera(camera);
 }
 
 void ViewerSession::step(int frames) {

@@ -43,6 +43,12 @@ public:
     OrbitCamera& camera() { return camera_; }
     /// Back to the first view (the flags' or the scene's camera, else the default framing).
     void reset_camera() { camera_ = OrbitCamera(first_camera_); }
+    /// The scene file's cameras, by name (glTF's, BART's view), in Scene::cameras order.
+    std::vector<std::string> camera_names() const;
+    /// Looks through the file's camera `index` as it is at the last frame rendered (frame 0
+    /// before any): the orbit's target straight ahead of it, at the scene's centre's depth.
+    /// Throws std::out_of_range for an index the scene does not have.
+    void use_scene_camera(std::size_t index);
 
     // ---- Time ----
     void play() { playing_ = true; }

@@ -153,6 +153,12 @@ private:
         float speed = float(session_.speed());
         if (ImGui::SliderFloat("speed", &speed, 0.05f, 4.0f, "%.2fx")) session_.set_speed(speed);
         if (ImGui::Button("reset camera")) session_.reset_camera();
+        const std::vector<std::string> cameras = session_.camera_names();
+        for (std::size_t k = 0; k < cameras.size(); ++k) {
+            ImGui::SameLine();
+            const std::string label = (cameras[k].empty() ? "camera " + std::to_string(k) : cameras[k]) + "##camera" + std::to_string(k);
+            if (ImGui::Button(label.c_str())) session_.use_scene_camera(k);
+        }
     }
 
     void settings() {

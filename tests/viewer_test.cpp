@@ -5,11 +5,13 @@
 // changes nothing, and the clock steps, seeks, plays and loops as documented.
 
 #include "dynrt/engine/camera.h"
+#include "dynrt/engine/image_output.h"
 #include "dynrt/engine/renderer.h"
 #include "dynrt/engine/scene_loading.h"
 
 #include "gltf_test_file.h"
 #include "orbit_camera.h"
+#include "render_worker.h"
 #include "script_runner.h"
 #include "viewer_script.h"
 #include "viewer_session.h"
@@ -18,7 +20,10 @@
 
 #include <glm/geometric.hpp>
 
+#include <chrono>
 #include <cmath>
+#include <functional>
+#include <thread>
 #include <stdexcept>
 #include <string>
 
@@ -187,6 +192,62 @@ TEST(ViewerSession, LooksThroughTheFilesCameras) {
     EXPECT_NEAR(c.fov_y_deg, 0.7f * 180.0f / 3.14159265f, 1e-3f);
     EXPECT_THROW(session.use_scene_camera(1), std::out_of_range);
     EXPECT_THROW(run_command(session, parse_script("0 camera 3", "t").at(0), "t"), std::invalid_argument);
+}
+
+/// Polls `worker` until `done` holds for its newest frame (10 s at most); that frame.
+RenderWorker::Shown wait_for(const RenderWorker& worker, const std::function<bool(const RenderWorker::Shown&)>& done) {
+    RenderWorker::Shown shown;
+    for (int i = 0; i < 2000; ++i) {
+        worker.take(shown);
+        if (shown.number > 0 && done(shown)) return shown;
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    ADD_FAILURE() << "the worker never got there";
+    return shown;
+}
+
+/// The display bytes of `camera`'s view under `options`, rendered by a Renderer of its own.
+std::vector<unsigned char> rendered_bytes(const Scene& scene, const RenderOptions& options, const Camera& camera) {
+    Renderer renderer(options);
+    RenderedFrame frame;
+    renderer.render(scene, camera, 0, frame);
+    return display_rgb8(frame);
+}
+
+TEST(RenderWorker, RefinesAStillViewToItsSamplesAndShowsWhatWasPosted) {
+    ViewArgs args = small_args();
+    args.spp = 4;
+    ViewerSession session(args);
+    const RenderOptions options = session.options();
+    OrbitCamera camera = session.camera();
+    const Scene& scene = session.scene();
+    RenderWorker worker(session);
+    // Still: refined to 4 samples per pixel, the image `dynrt render --spp 4` makes.
+    RenderWorker::Shown shown = wait_for(worker, [](const RenderWorker::Shown& s) { return s.converged(); });
+    EXPECT_EQ(shown.samples, 4);
+    EXPECT_EQ(shown.bytes, rendered_bytes(scene, options, camera.camera()));
+    // A camera move is shown, first at one sample per pixel, then refined again.
+    const std::uint64_t moved = worker.post([](ViewerSession& s) {
+        s.camera().orbit(30.0f, 0.0f);
+        return true;
+    });
+    camera.orbit(30.0f, 0.0f);
+    shown = wait_for(worker, [&](const RenderWorker::Shown& s) { return s.applied >= moved && s.converged(); });
+    EXPECT_EQ(shown.bytes, rendered_bytes(scene, options, camera.camera()));
+    // A change that leaves the view alone renders nothing again: the same frame, published.
+    const std::uint64_t number = shown.number;
+    const std::uint64_t noted = worker.post([](ViewerSession&) { return false; });
+    const RenderWorker::Shown again = wait_for(worker, [&](const RenderWorker::Shown& s) { return s.applied >= noted; });
+    EXPECT_EQ(again.number, number + 1);
+    EXPECT_EQ(again.bytes, shown.bytes);
+    EXPECT_EQ(again.history.size(), shown.history.size()) << "it rendered again";
+    // A change that fails is reported with the next frame, and the worker goes on.
+    const std::uint64_t bad = worker.post([](ViewerSession& s) {
+        s.set("tracer", "laser");
+        return true;
+    });
+    const RenderWorker::Shown failed = wait_for(worker, [&](const RenderWorker::Shown& s) { return s.applied >= bad; });
+    EXPECT_NE(failed.error.find("tracer 'laser'"), std::string::npos) << failed.error;
 }
 
 TEST(ViewerScript, CommandsRunOnTheSessionAndBadArgumentsNameTheLine) {

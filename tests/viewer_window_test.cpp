@@ -166,6 +166,30 @@ TEST(ViewerWindow, AScriptedSessionShowsWhatRenderWrites) {
 #endif
 }
 
+TEST(ViewerWindow, AStillViewRefinesToWhatRenderWritesWithItsSamples) {
+#ifndef DYNRT_HAVE_VIEWER
+    GTEST_SKIP() << "built without the viewer's window (GLFW, Dear ImGui)";
+#else
+    if (!has_xvfb()) GTEST_SKIP() << "Xvfb is not installed";
+    const fs::path dir = dynrt::test::fresh_test_dir("viewer_refine");
+    const fs::path script = dir / "script.txt";
+    std::ofstream(script) << "0 orbit -20 10\n0 wait-still\n0 overlay off\n0 screenshot " << (dir / "shot.png").string()
+                          << "\n0 capture " << (dir / "window.png").string() << "\n0 quit\n";
+    const std::string scene = "'plane:2@0,-1,0,4#c0c0c0+sphere:600@0,0,0,0.7#e04020'";
+    const auto run = run_shell(on_xvfb() + DYNRT_CLI_PATH + " view " + scene + " --res 96x72 --spp 4 --script " + script.string());
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+    std::ifstream json_file(dir / "shot.json");
+    const std::string camera = nlohmann::json::parse(json_file).at("camera");
+    const auto render = run_shell(kEnv + DYNRT_CLI_PATH + " render " + scene + " --res 96x72 --spp 4 --camera '" + camera +
+                                  "' --out " + (dir / "render.png").string() + " -q");
+    ASSERT_EQ(render.exit_code, 0) << render.output;
+    const std::vector<unsigned char> window = pixels_of(dir / "window.png");
+    ASSERT_EQ(window.size(), std::size_t(96 * 72 * 3));
+    EXPECT_TRUE(window == pixels_of(dir / "shot.png"));
+    EXPECT_TRUE(window == pixels_of(dir / "render.png")) << "not refined to --spp 4's image";
+#endif
+}
+
 TEST(ViewerWindow, WhereItCannotOpenItSaysWhyInOneLine) {
 #ifndef DYNRT_HAVE_VIEWER
     const auto built_without = run_shell(std::string(DYNRT_CLI_PATH) + " view sphere:10");

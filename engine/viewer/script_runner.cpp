@@ -69,6 +69,8 @@ WindowStep run_command(ViewerSession& session, const ScriptCommand& command, con
             step = {WindowStep::Action::overlay, on_off(0), {}, 0};
         } else if (name == "capture") {
             step = {WindowStep::Action::capture, true, command.args[0], 0};
+        } else if (name == "wait-still") {
+            step.action = WindowStep::Action::wait_still;
         } else if (name == "wait-frames") {
             step = {WindowStep::Action::wait_frames, true, {}, int(number(0))};
         } else if (name == "quit") {

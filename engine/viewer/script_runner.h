@@ -12,7 +12,7 @@ namespace dynrt::viewer {
 
 /// What the window must do for a command the session does not carry out.
 struct WindowStep {
-    enum class Action { none, overlay, capture, wait_frames, quit };
+    enum class Action { none, overlay, capture, wait_frames, wait_still, quit };
     Action action = Action::none;
     bool on = true;         ///< overlay on or off
     std::string file;       ///< capture's

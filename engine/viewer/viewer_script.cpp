@@ -35,6 +35,7 @@ constexpr CommandShape kCommands[] = {
     {"screenshot", 1, 1, "FILE.png: the frame's image and FILE.json, its report and camera"},
     {"capture", 1, 1, "FILE.png: what the window shows, read back from it"},
     {"wait-frames", 1, 1, "N: hold the script until N more frames are drawn"},
+    {"wait-still", 0, 0, "hold the script until the view has refined to its samples per pixel (--spp)"},
     {"quit", 0, 0, "close the window"},
 };
 

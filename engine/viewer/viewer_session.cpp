@@ -226,12 +226,16 @@ std::vector<std::pair<std::string, std::string>> ViewerSession::settings() const
     return out;
 }
 
-const RenderedFrame& ViewerSession::render() {
+const RenderedFrame& ViewerSession::render(int samples) {
+    RenderOptions wanted = options_;
+    if (samples > 0) wanted.sampling.spp = samples;
+    if (!(wanted.sampling == renderer_.options().sampling)) renderer_.set_options(wanted);
     rendered_frame_ = frame();
     rendered_camera_ = camera_.camera();
     renderer_.render(scene_, rendered_camera_, rendered_frame_, frame_);
     history_.push_back(frame_.stats);
     if (history_.size() > kHistory) history_.pop_front();
+    if (recorder_ != nullptr) recorder_->add(frame_);
     return frame_;
 }
 

@@ -10,6 +10,7 @@
 
 #include "dynrt/engine/display_transform.h"
 #include "dynrt/engine/renderer.h"
+#include "dynrt/engine/sequence_output.h"
 #include "dynrt/scene/scene.h"
 
 #include <deque>
@@ -81,8 +82,14 @@ public:
     std::vector<std::pair<std::string, std::string>> settings() const;
 
     // ---- Frames ----
-    /// Renders the clock's frame from the camera; returns it (valid until the next call).
-    const RenderedFrame& render();
+    /// Renders the clock's frame from the camera, with `samples` samples per pixel (0: the
+    /// settings', target_samples()); returns it (valid until the next call). A recorder set
+    /// gets the frame.
+    const RenderedFrame& render(int samples = 0);
+    /// The settings' samples per pixel (`--spp`, `set spp`): what a still view refines to.
+    int target_samples() const { return options_.sampling.spp; }
+    /// Where every frame rendered is also written (a GIF or video), or null.
+    void set_recorder(SequenceFile* recorder) { recorder_ = recorder; }
     const RenderedFrame& image() const { return frame_; }
     /// The figures of the last frames rendered, oldest first (at most kHistory).
     const std::deque<FrameStats>& history() const { return history_; }
@@ -120,6 +127,7 @@ private:
     double speed_ = 1.0;
     int rendered_frame_ = 0;
     Camera rendered_camera_;  ///< the camera of the last frame rendered
+    SequenceFile* recorder_ = nullptr;
 };
 
 }  // namespace dynrt::viewer

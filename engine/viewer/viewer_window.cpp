@@ -1,11 +1,12 @@
-// run_window (viewer_window.h): the event loop. Each turn: poll input, carry out the script's
-// due commands, turn the mouse and keys into camera, time and panel changes, move the clock
-// by the wall time since the last turn, render the clock's frame, draw it and the panels.
-// The frame is rendered on this thread: the window answers again when it is done (one frame
-// time, 20-50 ms on the bundled scene and CesiumMan).
+// run_window (viewer_window.h): the event loop. The frames are rendered by a RenderWorker on a
+// thread of its own; this loop turns the mouse, keys, panels and the script's commands into
+// changes it posts to the worker, and draws the newest finished frame and the panels, so the
+// window answers input while a frame renders. A script runs one command at a time: the next
+// waits until a frame showing the last one is on screen.
 
 #include "viewer_window.h"
 
+#include "render_worker.h"
 #include "script_runner.h"
 
 #include "dynrt/engine/frame_stats.h"
@@ -21,8 +22,8 @@
 #include <imgui.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cfloat>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <iostream>
@@ -36,6 +37,7 @@ namespace dynrt::viewer {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+using Shown = RenderWorker::Shown;
 
 /// What the window reads back: its framebuffer as RGB rows from the top, to a PNG.
 void capture_window(int width, int height, const std::string& path) {
@@ -55,129 +57,151 @@ void capture_window(int width, int height, const std::string& path) {
     }
 }
 
-/// What the loop measured: per drawn frame, the render's time and the rest of the turn (the
-/// image's bytes, drawing, the panels, the swap): the viewer's overhead over the render; per
-/// scripted input, the time from carrying it out to the swap of the first frame showing it
-/// (glFinish first, so the image is on the display's buffer): the input-to-photon latency as
-/// far as the program can see it.
+/// What the loop measured: per frame shown, the worker's time for it (render and bytes) and
+/// the window's own work to show it (drawing, panels, swap), which runs beside the next
+/// render; per posted input, the time from posting it to the swap of the first frame that
+/// shows it (glFinish first, so the image is on the display's buffer): the input-to-photon
+/// latency as far as the program can see it.
 class LoopTimes {
 public:
-    void input_at(Clock::time_point t) { pending_.push_back(t); }
-    void frame(Clock::time_point turn_start, Clock::time_point render_start, Clock::time_point render_end,
-               Clock::time_point swapped) {
-        render_ms_.push_back(ms(render_end - render_start));
-        rest_ms_.push_back(ms(swapped - turn_start) - render_ms_.back());
-        for (const Clock::time_point t : pending_) latency_ms_.push_back(ms(swapped - t));
-        pending_.clear();
+    void posted(std::uint64_t number) { pending_.emplace_back(number, Clock::now()); }
+    void shown(const Shown& frame, double draw_ms, Clock::time_point swapped) {
+        render_ms_.push_back(frame.render_ms);
+        draw_ms_.push_back(draw_ms);
+        while (!pending_.empty() && pending_.front().first <= frame.applied) {
+            latency_ms_.push_back(std::chrono::duration<double, std::milli>(swapped - pending_.front().second).count());
+            pending_.pop_front();
+        }
     }
     /// One line each for the frames and the inputs, medians and maxima.
-    void print(std::ostream& out) {
+    void print(std::ostream& out) const {
         if (render_ms_.empty()) return;
-        out << "view: " << render_ms_.size() << " frames: render median " << median(render_ms_)
-            << " ms, the viewer's own work besides (bytes, drawing, panels, swap) median " << median(rest_ms_)
-            << " ms, max " << max(rest_ms_) << " ms\n";
+        out << "view: " << render_ms_.size() << " frames shown: render median " << median(render_ms_)
+            << " ms (on its own thread); the window's drawing, panels and swap median " << median(draw_ms_)
+            << " ms, max " << max(draw_ms_) << " ms\n";
         if (!latency_ms_.empty()) {
-            out << "view: " << latency_ms_.size() << " scripted inputs, input to swap median " << median(latency_ms_)
-                << " ms, max " << max(latency_ms_) << " ms\n";
+            out << "view: " << latency_ms_.size() << " inputs, input to swap median " << median(latency_ms_) << " ms, max "
+                << max(latency_ms_) << " ms\n";
         }
     }
 
 private:
-    static double ms(Clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); }
     static double median(std::vector<double> v) {
         std::sort(v.begin(), v.end());
         return v[v.size() / 2];
     }
     static double max(const std::vector<double>& v) { return *std::max_element(v.begin(), v.end()); }
 
-    std::vector<Clock::time_point> pending_;
-    std::vector<double> render_ms_, rest_ms_, latency_ms_;
+    std::deque<std::pair<std::uint64_t, Clock::time_point>> pending_;
+    std::vector<double> render_ms_, draw_ms_, latency_ms_;
 };
 
-/// The panels: the frame's figures with a rolling plot, the time controls and the settings.
+/// Posts changes to the worker, noting each for the latency figures.
+class Poster {
+public:
+    Poster(RenderWorker& worker, LoopTimes& times) : worker_(worker), times_(times) {}
+    std::uint64_t operator()(RenderWorker::Change change) {
+        const std::uint64_t number = worker_.post(std::move(change));
+        times_.posted(number);
+        last_ = number;
+        return number;
+    }
+    std::uint64_t last() const { return last_; }
+
+private:
+    RenderWorker& worker_;
+    LoopTimes& times_;
+    std::uint64_t last_ = 0;
+};
+
+/// The panels: the shown frame's figures with rolling plots, the time controls, the cameras
+/// and the settings. They read the frame's copy of the session and post what is clicked.
 class Panels {
 public:
-    explicit Panels(ViewerSession& session) : session_(session) {}
+    explicit Panels(Poster& post) : post_(post) {}
 
-    void draw() {
+    void draw(const Shown& shown) {
+        if (!shown.error.empty()) error_ = shown.error;
         ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
         ImGui::SetNextWindowBgAlpha(0.8f);
         ImGui::Begin("dynrt", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
-        figures();
-        time_controls();
-        settings();
+        figures(shown);
+        time_controls(shown);
+        settings(shown);
         ImGui::End();
     }
 
 private:
-    void figures() {
-        const auto& history = session_.history();
-        if (history.empty()) return;
-        const FrameStats& s = history.back();
-        ImGui::Text("frame %d  %.1f ms  (%.0f fps)", session_.frame(), s.total_ms, s.total_ms > 0 ? 1000.0 / s.total_ms : 0.0);
+    void figures(const Shown& shown) {
+        if (shown.history.empty()) return;
+        const FrameStats& s = shown.history.back();
+        ImGui::Text("frame %d  %.1f ms  %d/%d samples%s", shown.frame, s.total_ms, shown.samples, shown.target_samples,
+                    shown.converged() ? "" : " (refining)");
         ImGui::Text("update %.2f  build %.2f  camera %.2f  shadow %.2f", s.update_ms, s.build_ms, s.primary_ms, s.shadow_ms);
         ImGui::Text("secondary %.2f  shade %.2f ms", s.secondary_ms, s.shade_ms);
         ImGui::Text("camera %.1f Mrays/s  shadow %.1f Mrays/s", s.primary_mrays_per_s, s.shadow_mrays_per_s);
-        ImGui::Text("refit %zu  rebuilt %zu  skipped %zu  nodes %zu  tree %.1f MB", s.objects_refitted,
-                    s.objects_rebuilt, s.objects_skipped, s.nodes, double(s.wide_tree_bytes) / 1e6);
+        ImGui::Text("refit %zu  rebuilt %zu  skipped %zu  nodes %zu  tree %.1f MB", s.objects_refitted, s.objects_rebuilt,
+                    s.objects_skipped, s.nodes, double(s.wide_tree_bytes) / 1e6);
         ImGui::Text("reuse %s: %zu traced, %zu kept", s.reuse_mode.c_str(), s.pixels_traced, s.pixels_reused);
-        for (const TreeChoice& c : s.choices) {
-            ImGui::TextWrapped("%s: %s (%s)", c.name.c_str(), c.chosen.c_str(), c.why.c_str());
-        }
-        // Rolling plots of the total and of each stage.
-        plot("total ms", [](const FrameStats& f) { return f.total_ms; });
-        plot("build ms", [](const FrameStats& f) { return f.build_ms; });
-        plot("camera ms", [](const FrameStats& f) { return f.primary_ms; });
-        plot("shadow ms", [](const FrameStats& f) { return f.shadow_ms; });
-        plot("secondary ms", [](const FrameStats& f) { return f.secondary_ms; });
+        for (const TreeChoice& c : s.choices) ImGui::TextWrapped("%s: %s (%s)", c.name.c_str(), c.chosen.c_str(), c.why.c_str());
+        plot(shown, "total ms", [](const FrameStats& f) { return f.total_ms; });
+        plot(shown, "build ms", [](const FrameStats& f) { return f.build_ms; });
+        plot(shown, "camera ms", [](const FrameStats& f) { return f.primary_ms; });
+        plot(shown, "shadow ms", [](const FrameStats& f) { return f.shadow_ms; });
+        plot(shown, "secondary ms", [](const FrameStats& f) { return f.secondary_ms; });
     }
 
     template <typename Figure>
-    void plot(const char* label, Figure figure) {
+    void plot(const Shown& shown, const char* label, Figure figure) {
         values_.clear();
-        for (const FrameStats& f : session_.history()) values_.push_back(float(figure(f)));
+        for (const FrameStats& f : shown.history) values_.push_back(float(figure(f)));
         ImGui::PlotLines(label, values_.data(), int(values_.size()), 0, nullptr, 0.0f, FLT_MAX, ImVec2(260, 36));
     }
 
-    void time_controls() {
-        if (ImGui::Button(session_.playing() ? "pause" : "play")) session_.playing() ? session_.pause() : session_.play();
+    void time_controls(const Shown& shown) {
+        if (ImGui::Button(shown.playing ? "pause" : "play")) {
+            post_([](ViewerSession& s) { s.playing() ? s.pause() : s.play(); return true; });
+        }
         ImGui::SameLine();
-        if (ImGui::Button("<")) session_.step(-1);
+        if (ImGui::Button("<")) post_([](ViewerSession& s) { s.step(-1); return true; });
         ImGui::SameLine();
-        if (ImGui::Button(">")) session_.step(1);
+        if (ImGui::Button(">")) post_([](ViewerSession& s) { s.step(1); return true; });
         ImGui::SameLine();
-        bool loop = session_.loop();
-        if (ImGui::Checkbox("loop", &loop)) session_.set_loop(loop);
-        int frame = session_.frame();
-        if (session_.last_frame() > 0 && ImGui::SliderInt("frame", &frame, 0, session_.last_frame())) session_.seek(frame);
-        float speed = float(session_.speed());
-        if (ImGui::SliderFloat("speed", &speed, 0.05f, 4.0f, "%.2fx")) session_.set_speed(speed);
-        if (ImGui::Button("reset camera")) session_.reset_camera();
-        const std::vector<std::string> cameras = session_.camera_names();
-        for (std::size_t k = 0; k < cameras.size(); ++k) {
+        bool loop = shown.loop;
+        if (ImGui::Checkbox("loop", &loop)) post_([loop](ViewerSession& s) { s.set_loop(loop); return true; });
+        int frame = shown.frame;
+        if (shown.last_frame > 0 && ImGui::SliderInt("frame", &frame, 0, shown.last_frame)) {
+            post_([frame](ViewerSession& s) { s.seek(frame); return true; });
+        }
+        float speed = float(shown.speed);
+        if (ImGui::SliderFloat("speed", &speed, 0.05f, 4.0f, "%.2fx")) post_([speed](ViewerSession& s) { s.set_speed(speed); return true; });
+        if (ImGui::Button("reset camera")) post_([](ViewerSession& s) { s.reset_camera(); return true; });
+        for (std::size_t k = 0; k < shown.cameras.size(); ++k) {
             ImGui::SameLine();
-            const std::string label = (cameras[k].empty() ? "camera " + std::to_string(k) : cameras[k]) + "##camera" + std::to_string(k);
-            if (ImGui::Button(label.c_str())) session_.use_scene_camera(k);
+            const std::string name = shown.cameras[k].empty() ? "camera " + std::to_string(k) : shown.cameras[k];
+            if (ImGui::Button((name + "##camera" + std::to_string(k)).c_str())) {
+                post_([k](ViewerSession& s) { s.use_scene_camera(k); return true; });
+            }
         }
     }
 
-    void settings() {
+    void settings(const Shown& shown) {
         if (!ImGui::CollapsingHeader("settings", ImGuiTreeNodeFlags_DefaultOpen)) return;
-        choice("tracer", {"packet", "single"});
-        choice("update", {"auto", "refit", "fast", "sah", "threshold"});
-        choice("reuse", {"exact", "off"});
-        choice("culling", {"all", "none", "ab", "ab,bp"});
-        choice("depth", {"0", "1", "2", "5"});
-        choice("spp", {"1", "4", "16"});
-        choice("normals", {"smooth", "flat"});
-        choice("backend", {"dynrt", "embree"});
+        choice(shown, "tracer", {"packet", "single"});
+        choice(shown, "update", {"auto", "refit", "fast", "sah", "threshold"});
+        choice(shown, "reuse", {"exact", "off"});
+        choice(shown, "culling", {"all", "none", "ab", "ab,bp"});
+        choice(shown, "depth", {"0", "1", "2", "5"});
+        choice(shown, "spp", {"1", "4", "16"});
+        choice(shown, "normals", {"smooth", "flat"});
+        choice(shown, "backend", {"dynrt", "embree"});
         if (!error_.empty()) ImGui::TextWrapped("%s", error_.c_str());
     }
 
     /// A row of buttons, one per value of setting `name`, the current one marked.
-    void choice(const char* name, std::initializer_list<const char*> values) {
+    void choice(const Shown& shown, const char* name, std::initializer_list<const char*> values) {
         std::string current;
-        for (const auto& [setting, value] : session_.settings()) {
+        for (const auto& [setting, value] : shown.settings) {
             if (setting == name) current = value;
         }
         ImGui::Text("%-10s", name);
@@ -185,17 +209,13 @@ private:
             ImGui::SameLine();
             const std::string label = (current == value ? std::string("[") + value + "]" : std::string(value)) + "##" + name;
             if (ImGui::SmallButton(label.c_str())) {
-                try {
-                    session_.set(name, value);
-                    error_.clear();
-                } catch (const std::exception& e) {
-                    error_ = e.what();
-                }
+                error_.clear();
+                post_([setting = std::string(name), v = std::string(value)](ViewerSession& s) { s.set(setting, v); return true; });
             }
         }
     }
 
-    ViewerSession& session_;
+    Poster& post_;
     std::vector<float> values_;
     std::string error_;
 };
@@ -205,7 +225,7 @@ private:
 /// screenshot, Escape closes.
 class Input {
 public:
-    Input(GLFWwindow* window, ViewerSession& session) : window_(window), session_(session) {
+    Input(GLFWwindow* window, Poster& post) : window_(window), post_(post) {
         glfwSetWindowUserPointer(window, this);
         glfwSetScrollCallback(window, [](GLFWwindow* w, double dx, double dy) {
             ImGui_ImplGlfw_ScrollCallback(w, dx, dy);
@@ -221,36 +241,48 @@ public:
     void poll(double seconds) {
         double x = 0.0, y = 0.0;
         glfwGetCursorPos(window_, &x, &y);
-        const bool free = !ImGui::GetIO().WantCaptureMouse;
-        if (free && glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS) {
-            session_.camera().orbit(-0.3f * float(x - last_x_), -0.3f * float(y - last_y_));
-        } else if (free && (glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS ||
-                            glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_MIDDLE) == GLFW_PRESS)) {
-            session_.camera().pan(-0.002f * float(x - last_x_), 0.002f * float(y - last_y_));
-        }
+        const float dx = float(x - last_x_), dy = float(y - last_y_);
         last_x_ = x;
         last_y_ = y;
-        if (scroll_ != 0.0) session_.camera().zoom(float(std::pow(1.1, scroll_)));
+        const bool free = !ImGui::GetIO().WantCaptureMouse;
+        const auto pressed = [&](int button) { return glfwGetMouseButton(window_, button) == GLFW_PRESS; };
+        if (free && (dx != 0.0f || dy != 0.0f)) {
+            if (pressed(GLFW_MOUSE_BUTTON_LEFT)) {
+                post_([dx, dy](ViewerSession& s) { s.camera().orbit(-0.3f * dx, -0.3f * dy); return true; });
+            } else if (pressed(GLFW_MOUSE_BUTTON_RIGHT) || pressed(GLFW_MOUSE_BUTTON_MIDDLE)) {
+                post_([dx, dy](ViewerSession& s) { s.camera().pan(-0.002f * dx, 0.002f * dy); return true; });
+            }
+        }
+        if (scroll_ != 0.0) {
+            const float factor = float(std::pow(1.1, scroll_));
+            post_([factor](ViewerSession& s) { s.camera().zoom(factor); return true; });
+        }
         scroll_ = 0.0;
         if (ImGui::GetIO().WantCaptureKeyboard) return;
         const float step = float(seconds);
         const auto held = [&](int key) { return glfwGetKey(window_, key) == GLFW_PRESS ? 1.0f : 0.0f; };
-        const float forward = held(GLFW_KEY_W) - held(GLFW_KEY_S), right = held(GLFW_KEY_D) - held(GLFW_KEY_A),
-                    up = held(GLFW_KEY_E) - held(GLFW_KEY_Q);
-        if (forward != 0.0f || right != 0.0f || up != 0.0f) session_.camera().fly(step * forward, step * right, step * up);
+        const float forward = step * (held(GLFW_KEY_W) - held(GLFW_KEY_S)), right = step * (held(GLFW_KEY_D) - held(GLFW_KEY_A)),
+                    up = step * (held(GLFW_KEY_E) - held(GLFW_KEY_Q));
+        if (forward != 0.0f || right != 0.0f || up != 0.0f) {
+            post_([forward, right, up](ViewerSession& s) { s.camera().fly(forward, right, up); return true; });
+        }
     }
 
 private:
     void key(int key) {
         switch (key) {
-            case GLFW_KEY_SPACE: session_.playing() ? session_.pause() : session_.play(); break;
-            case GLFW_KEY_RIGHT: session_.step(1); break;
-            case GLFW_KEY_LEFT: session_.step(-1); break;
-            case GLFW_KEY_R: session_.reset_camera(); break;
+            case GLFW_KEY_SPACE: post_([](ViewerSession& s) { s.playing() ? s.pause() : s.play(); return true; }); break;
+            case GLFW_KEY_RIGHT: post_([](ViewerSession& s) { s.step(1); return true; }); break;
+            case GLFW_KEY_LEFT: post_([](ViewerSession& s) { s.step(-1); return true; }); break;
+            case GLFW_KEY_R: post_([](ViewerSession& s) { s.reset_camera(); return true; }); break;
             case GLFW_KEY_F12: {
                 const std::string name = "dynrt-view-" + std::to_string(++screenshots_) + ".png";
-                session_.screenshot(name);
-                std::cout << "screenshot: " << name << " (and its report, " << name.substr(0, name.size() - 4) << ".json)\n";
+                post_([name](ViewerSession& s) {
+                    s.screenshot(name);
+                    std::cout << "screenshot: " << name << " (and its report, " << name.substr(0, name.size() - 4)
+                              << ".json)\n";
+                    return false;
+                });
                 break;
             }
             case GLFW_KEY_ESCAPE: glfwSetWindowShouldClose(window_, GLFW_TRUE); break;
@@ -259,9 +291,88 @@ private:
     }
 
     GLFWwindow* window_;
-    ViewerSession& session_;
+    Poster& post_;
     double last_x_ = 0.0, last_y_ = 0.0, scroll_ = 0.0;
     int screenshots_ = 0;
+};
+
+/// A script carried out one command at a time: a command on the session is posted, and the
+/// next waits until a frame showing it is on screen; the window's own commands are done here.
+class ScriptPlayer {
+public:
+    ScriptPlayer(const std::vector<ScriptCommand>& script, std::string source, Poster& post)
+        : script_(script), source_(std::move(source)), post_(post) {}
+
+    /// Runs the commands due at `elapsed` seconds that may run with `shown` on screen. Sets
+    /// `capture` to a file to read the window back to after drawing, `overlay` as told, and
+    /// returns false when the script quits.
+    bool run(double elapsed, const Shown& shown, std::string& capture, bool& overlay) {
+        while (next_ < script_.size() && script_[next_].at_seconds <= elapsed) {
+            if (shown.number == 0 || shown.applied < post_.last() || hold_frames_ > 0) return true;
+            if (wait_still_ && !shown.converged()) return true;
+            wait_still_ = false;
+            const ScriptCommand& command = script_[next_++];
+            const std::string& name = command.name;
+            if (name == "quit") return false;
+            if (name == "overlay" || name == "wait-frames") {
+                window_step(command, overlay);
+                continue;
+            }
+            if (name == "wait-still") {  // until the shown frame has all its samples
+                wait_still_ = true;
+                continue;
+            }
+            if (name == "capture") {
+                capture = command.args[0];
+                return true;  // drawn, then read back, before the next command
+            }
+            post_([command, source = source_](ViewerSession& s) {
+                run_command(s, command, source);
+                return command.name != "screenshot";  // a screenshot changes nothing shown
+            });
+        }
+        return true;
+    }
+
+    bool done() const { return next_ >= script_.size(); }
+    /// Whether the script waits for frames to be drawn (the window then draws every turn).
+    bool wants_draw() const { return hold_frames_ > 0; }
+    /// A frame was drawn and swapped.
+    void drawn(const Shown& shown) {
+        if (hold_frames_ > 0 && shown.applied >= post_.last()) --hold_frames_;
+    }
+
+private:
+    void window_step(const ScriptCommand& command, bool& overlay) {
+        const auto number = [&] {
+            std::size_t used = 0;
+            int value = -1;
+            try {
+                value = std::stoi(command.args[0], &used);
+            } catch (const std::exception&) {
+            }
+            if (used != command.args[0].size() || value < 0) {
+                throw std::invalid_argument("script " + source_ + ", line " + std::to_string(command.line) + ": '" +
+                                            command.args[0] + "' is not a count of frames");
+            }
+            return value;
+        };
+        if (command.name == "wait-frames") {
+            hold_frames_ = number();
+        } else if (command.args[0] == "on" || command.args[0] == "off") {
+            overlay = command.args[0] == "on";
+        } else {
+            throw std::invalid_argument("script " + source_ + ", line " + std::to_string(command.line) + ": '" +
+                                        command.args[0] + "': on or off");
+        }
+    }
+
+    const std::vector<ScriptCommand>& script_;
+    std::string source_;
+    Poster& post_;
+    std::size_t next_ = 0;
+    int hold_frames_ = 0;
+    bool wait_still_ = false;
 };
 
 /// GLFW, the window and Dear ImGui, torn down in reverse on every way out.
@@ -277,7 +388,7 @@ public:
             throw std::runtime_error("no window could be made (no OpenGL on this display?)");
         }
         glfwMakeContextCurrent(window_);
-        glfwSwapInterval(0);  // the render paces the loop; vsync would add up to a refresh to it
+        glfwSwapInterval(0);  // the frames arrive when rendered; vsync would only add delay
         IMGUI_CHECKVERSION();
         ImGui::CreateContext();
         ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini left behind
@@ -323,7 +434,6 @@ int run_window(ViewerSession& session, const std::vector<ScriptCommand>& script,
         std::cerr << "dynrt view: " << e.what() << "\n";
         return 1;
     }
-    GLFWwindow* window = context->window();
     std::unique_ptr<SequenceFile> record;
     try {
         if (!record_path.empty()) record = open_sequence_file(record_path, session.fps());
@@ -331,84 +441,81 @@ int run_window(ViewerSession& session, const std::vector<ScriptCommand>& script,
         std::cerr << "dynrt: error: " << e.what() << "\n";
         return 1;
     }
-    Input input(window, session);
-    Panels panels(session);
-    bool overlay = true;
-    std::size_t next = 0;          // the script's next command
-    int hold_frames = 0;           // wait-frames left
-    const Clock::time_point start = Clock::now();
-    Clock::time_point last = start;
+    GLFWwindow* window = context->window();
+    if (record) session.set_recorder(record.get());
+    int status = 0;
     LoopTimes times;
-    while (!glfwWindowShouldClose(window)) {
-        glfwPollEvents();
-        const Clock::time_point now = Clock::now();
-        const double seconds = std::chrono::duration<double>(now - last).count();
-        last = now;
-        const double elapsed = std::chrono::duration<double>(now - start).count();
-        std::string capture;
-        // The script's due commands, one frame apart at most for the window's own.
-        while (next < script.size() && hold_frames == 0 && script[next].at_seconds <= elapsed) {
-            WindowStep step;
-            times.input_at(Clock::now());
+    {
+        // The session is the worker's until it is gone; each frame it finishes wakes this loop.
+        RenderWorker worker(session, [] { glfwPostEmptyEvent(); });
+        Poster post(worker, times);
+        Input input(window, post);
+        Panels panels(post);
+        ScriptPlayer player(script, script_source, post);
+        bool overlay = true;
+        Shown shown;
+        const Clock::time_point start = Clock::now();
+        Clock::time_point last = start, last_draw = start;
+        while (!glfwWindowShouldClose(window)) {
+            // Wait for input or a frame (the worker wakes us), or the panels' and the script's
+            // next turn.
+            glfwWaitEventsTimeout(0.016);
+            const Clock::time_point now = Clock::now();
+            const double seconds = std::chrono::duration<double>(now - last).count();
+            last = now;
+            const bool new_frame = worker.take(shown);
+            std::string capture;
             try {
-                step = run_command(session, script[next++], script_source);
+                if (!script.empty() && !shown.error.empty() && new_frame) throw std::invalid_argument(shown.error);
+                if (!player.run(std::chrono::duration<double>(now - start).count(), shown, capture, overlay)) break;
             } catch (const std::exception& e) {
                 std::cerr << "dynrt: error: " << e.what() << "\n";
-                return 1;
-            }
-            if (step.action == WindowStep::Action::overlay) overlay = step.on;
-            if (step.action == WindowStep::Action::wait_frames) hold_frames = step.frames;
-            if (step.action == WindowStep::Action::quit) glfwSetWindowShouldClose(window, GLFW_TRUE);
-            if (step.action == WindowStep::Action::capture) {
-                capture = step.file;
+                status = 1;
                 break;
             }
-        }
-        if (glfwWindowShouldClose(window)) break;
-        input.poll(seconds);
-        session.advance(seconds);
-        int fb_width = 0, fb_height = 0;
-        glfwGetFramebufferSize(window, &fb_width, &fb_height);
-        if (fb_width == 0 || fb_height == 0) {  // minimised: nothing to draw
-            glfwWaitEventsTimeout(0.1);
-            continue;
-        }
-        const Clock::time_point render_start = Clock::now();
-        session.render();
-        const Clock::time_point render_end = Clock::now();
-        if (record) record->add(session.image());
-        const std::vector<unsigned char> bytes = session.display_bytes();
-        glViewport(0, 0, fb_width, fb_height);
-        glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
-        glClear(GL_COLOR_BUFFER_BIT);
-        glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-        glWindowPos2i(0, fb_height);
-        glPixelZoom(1.0f, -1.0f);  // the image's rows run down from the top
-        glDrawPixels(width, height, GL_RGB, GL_UNSIGNED_BYTE, bytes.data());
-        if (overlay) {
-            ImGui_ImplOpenGL2_NewFrame();
-            ImGui_ImplGlfw_NewFrame();
-            ImGui::NewFrame();
-            panels.draw();
-            ImGui::Render();
-            ImGui_ImplOpenGL2_RenderDrawData(ImGui::GetDrawData());
-        }
-        if (!capture.empty()) {
-            try {
-                capture_window(fb_width, fb_height, capture);
-            } catch (const std::exception& e) {
-                std::cerr << "dynrt: error: " << e.what() << "\n";
-                return 1;
+            input.poll(seconds);
+            // Drawn when a frame arrives, for a capture, and for the panels at 30 Hz at most.
+            const bool panels_due = overlay && now - last_draw > std::chrono::milliseconds(33);
+            if (shown.number == 0 || (!new_frame && capture.empty() && !panels_due && !player.wants_draw())) continue;
+            last_draw = now;
+            int fb_width = 0, fb_height = 0;
+            glfwGetFramebufferSize(window, &fb_width, &fb_height);
+            if (fb_width == 0 || fb_height == 0) continue;  // minimised: nothing to draw
+            const Clock::time_point draw_start = Clock::now();
+            glViewport(0, 0, fb_width, fb_height);
+            glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
+            glClear(GL_COLOR_BUFFER_BIT);
+            glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+            glWindowPos2i(0, fb_height);
+            glPixelZoom(1.0f, -1.0f);  // the image's rows run down from the top
+            glDrawPixels(shown.width, shown.height, GL_RGB, GL_UNSIGNED_BYTE, shown.bytes.data());
+            if (overlay) {
+                ImGui_ImplOpenGL2_NewFrame();
+                ImGui_ImplGlfw_NewFrame();
+                ImGui::NewFrame();
+                panels.draw(shown);
+                ImGui::Render();
+                ImGui_ImplOpenGL2_RenderDrawData(ImGui::GetDrawData());
             }
+            if (!capture.empty()) {
+                try {
+                    capture_window(fb_width, fb_height, capture);
+                } catch (const std::exception& e) {
+                    std::cerr << "dynrt: error: " << e.what() << "\n";
+                    status = 1;
+                    break;
+                }
+            }
+            glfwSwapBuffers(window);
+            glFinish();
+            player.drawn(shown);
+            if (new_frame) times.shown(shown, std::chrono::duration<double, std::milli>(Clock::now() - draw_start).count(), Clock::now());
         }
-        glfwSwapBuffers(window);
-        glFinish();
-        times.frame(now, render_start, render_end, Clock::now());
-        if (hold_frames > 0) --hold_frames;
     }
+    session.set_recorder(nullptr);
     times.print(std::cout);
-    if (record) record->close();
-    return 0;
+    if (record && status == 0) record->close();
+    return status;
 }
 
 }  // namespace dynrt::viewer

@@ -27,6 +27,7 @@ std::uint64_t RenderWorker::post(Change change) {
         queue_.push_back(std::move(change));
         number = ++posted_;
     }
+    session_.cancel_render();
     wake_.notify_one();
     return number;
 }
@@ -48,7 +49,8 @@ void RenderWorker::run() {
         std::uint64_t applied = 0;
         {
             std::unique_lock<std::mutex> lock(mutex_);
-            const bool busy = samples == 0 || session_.playing() || samples < session_.target_samples();
+            const bool busy = samples == 0 || !session_.complete() || session_.playing() ||
+                              samples < session_.target_samples();
             if (!busy) wake_.wait(lock, [&] { return stop_ || !queue_.empty(); });
             if (stop_) return;
             changes.swap(queue_);
@@ -69,7 +71,7 @@ void RenderWorker::run() {
         last = now;
         // A view that moves is rendered at one sample per pixel; a still one refined, up to
         // the settings' samples; a converged one not rendered again.
-        const bool moving = samples == 0 || view_changed || session_.playing();
+        const bool moving = samples == 0 || view_changed || session_.playing() || !session_.complete();
         const int next = moving ? 1 : std::min(2 * samples, session_.target_samples());
         if (moving || next != samples) {
             samples = next;
@@ -80,6 +82,8 @@ void RenderWorker::run() {
             }
             render_ms = std::chrono::duration<double, std::milli>(Clock::now() - now).count();
         }
+        // A frame stopped for a newer change is not shown: the next turn renders that one.
+        if (!session_.complete() && error.empty()) continue;
         publish(applied, render_ms, samples, error);
     }
 }

@@ -61,7 +61,9 @@ public:
     RenderWorker& operator=(const RenderWorker&) = delete;
 
     /// Queues `change` for the worker's thread, before its next frame; returns how many changes
-    /// have been posted in all (a frame whose `applied` reaches it shows this one).
+    /// have been posted in all (a frame whose `applied` reaches it shows this one). The frame
+    /// being rendered, if any, is stopped (ViewerSession::cancel_render) so that the change is
+    /// shown sooner; the last frame shown stays up meanwhile.
     std::uint64_t post(Change change);
     /// Copies the newest frame into `out` when it is newer than out.number; true then.
     bool take(Shown& out) const;

@@ -232,7 +232,10 @@ const RenderedFrame& ViewerSession::render(int samples) {
     if (!(wanted.sampling == renderer_.options().sampling)) renderer_.set_options(wanted);
     rendered_frame_ = frame();
     rendered_camera_ = camera_.camera();
+    last_samples_ = samples;
     renderer_.render(scene_, rendered_camera_, rendered_frame_, frame_);
+    complete_ = !frame_.stats.cancelled;
+    if (!complete_) return frame_;
     history_.push_back(frame_.stats);
     if (history_.size() > kHistory) history_.pop_front();
     if (recorder_ != nullptr) recorder_->add(frame_);
@@ -244,8 +247,9 @@ std::vector<unsigned char> ViewerSession::display_bytes() const {
     return {rgb.begin(), rgb.end()};
 }
 
-void ViewerSession::screenshot(const std::filesystem::path& path) const {
-    if (frame_.color.empty()) throw std::logic_error("screenshot before the first frame");
+void ViewerSession::screenshot(const std::filesystem::path& path) {
+    for (int attempt = 0; !complete_ && attempt < 8; ++attempt) render(last_samples_);
+    if (frame_.color.empty() || !complete_) throw std::logic_error("screenshot: no whole frame to write");
     write_image(path, frame_, display_);
     std::filesystem::path json = path;
     json.replace_extension(".json");

@@ -84,8 +84,15 @@ public:
     // ---- Frames ----
     /// Renders the clock's frame from the camera, with `samples` samples per pixel (0: the
     /// settings', target_samples()); returns it (valid until the next call). A recorder set
-    /// gets the frame.
+    /// gets the frame. A render stopped part way (cancel_render) returns with
+    /// stats.cancelled: its image is incomplete, kept out of the history and the recording,
+    /// and complete() is false until the next render that finishes.
     const RenderedFrame& render(int samples = 0);
+    /// Stops the render running now on another thread, if one is (Renderer::cancel).
+    /// Thread-safe: the one call another thread may make while a worker renders.
+    void cancel_render() { renderer_.cancel(); }
+    /// Whether the last render finished (its image whole).
+    bool complete() const { return complete_; }
     /// The settings' samples per pixel (`--spp`, `set spp`): what a still view refines to.
     int target_samples() const { return options_.sampling.spp; }
     /// Where every frame rendered is also written (a GIF or video), or null.
@@ -99,8 +106,9 @@ public:
     /// what the window shows and what `dynrt render` writes to a PNG.
     std::vector<unsigned char> display_bytes() const;
     /// Writes the last frame to `path` (a PNG, as `dynrt render --out` writes it) and beside it
-    /// `path` with .json: the frame's report, the camera as --camera text and the frame.
-    void screenshot(const std::filesystem::path& path) const;
+    /// `path` with .json: the frame's report, the camera as --camera text and the frame. When
+    /// the last render was stopped part way, the frame is rendered again first.
+    void screenshot(const std::filesystem::path& path);
 
     const Scene& scene() const { return scene_; }
     const RenderOptions& options() const { return options_; }
@@ -128,6 +136,8 @@ private:
     int rendered_frame_ = 0;
     Camera rendered_camera_;  ///< the camera of the last frame rendered
     SequenceFile* recorder_ = nullptr;
+    bool complete_ = false;
+    int last_samples_ = 0;
 };
 
 }  // namespace dynrt::viewer

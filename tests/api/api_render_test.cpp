@@ -13,7 +13,10 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <bit>
+#include <chrono>
+#include <thread>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -208,6 +211,38 @@ TEST(ApiRender, SameFrameAsTheRendererPixelForPixel) {
     Image mesh_only(kWidth, kHeight);
     engine.render(view, ImageView{kWidth, kHeight, mesh_only.rgb, {}, mesh_only.mesh}, settings);
     EXPECT_EQ(mesh_only.mesh, full.mesh);
+}
+
+// Engine::cancel_render from another thread stops a render in progress; the next render is
+// whole (the same as one never stopped).
+TEST(ApiRender, ARenderStoppedFromAnotherThreadReturnsAndTheNextIsWhole) {
+    Engine engine;
+    add_pieces(engine, pieces());
+    engine.update();
+    RenderSettings settings;
+    settings.samples_per_pixel = 16;
+    const View view{{1.0f, 2.0f, 6.0f}, {0.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, 50.0f};
+    Image whole(kWidth, kHeight);
+    Engine other;
+    add_pieces(other, pieces());
+    other.update();
+    other.render(view, ImageView{kWidth, kHeight, whole.rgb}, settings);
+    std::atomic<bool> finished{false};
+    FrameStats stopped;
+    Image image(kWidth, kHeight);
+    std::thread render([&] {
+        stopped = engine.render(view, ImageView{kWidth, kHeight, image.rgb}, settings);
+        finished = true;
+    });
+    while (!finished) {
+        engine.cancel_render();
+        std::this_thread::sleep_for(std::chrono::microseconds(100));
+    }
+    render.join();
+    EXPECT_TRUE(stopped.cancelled);
+    const FrameStats next = engine.render(view, ImageView{kWidth, kHeight, image.rgb}, settings);
+    EXPECT_FALSE(next.cancelled);
+    EXPECT_EQ(image.rgb, whole.rgb);
 }
 
 TEST(ApiRender, DefaultLightIsTheRenderersDefault) {

@@ -845,6 +845,8 @@ FrameStats Engine::Impl::update() {
     return named;
 }
 
+void Engine::cancel_render() const { impl_->pipeline.cancel(); }
+
 FrameStats Engine::render(const View& view, const ImageView& image,
                           const RenderSettings& settings) const {
     const Impl& s = *impl_;

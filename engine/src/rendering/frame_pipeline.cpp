@@ -191,7 +191,47 @@ std::span<const PointLight> FramePipeline::with_environment_lights(std::span<con
 }
 
 void FramePipeline::trace(const Scene& scene, const Camera& camera, const TraceSettings& options,
-                          std::span<const PointLight> given_lights, RenderedFrame& out) {
+                          std::span<const PointLight> lights, RenderedFrame& out) {
+    // The whole trace runs as one task of a group of its own, so that cancel() reaches every
+    // parallel loop inside it (nested loops' contexts are bound to the group's).
+    tbb::task_group_context context;
+    {
+        const std::lock_guard<std::mutex> lock(cancel_mutex_);
+        running_ = &context;
+    }
+    const auto done = [&] {
+        const std::lock_guard<std::mutex> lock(cancel_mutex_);
+        running_ = nullptr;
+    };
+    tbb::task_group_status status = tbb::task_group_status::complete;
+    try {
+        tbb::task_group group(context);
+        // (The group resets its context when its wait ends: its status says whether it was
+        // cancelled.)
+        status = group.run_and_wait([&] { run_trace(scene, camera, options, lights, out); });
+    } catch (...) {
+        done();
+        throw;
+    }
+    done();
+    out.stats.cancelled = status == tbb::task_group_status::canceled;
+    if (out.stats.cancelled) {
+        // The image is incomplete: nothing of it may be reused.
+        reuse_.valid = false;
+        sampled_reuse_.clear();
+        pixel_cache_.valid = false;
+        camera_moving_ = false;
+        out.reuse_stamp = 0;
+    }
+}
+
+void FramePipeline::cancel() {
+    const std::lock_guard<std::mutex> lock(cancel_mutex_);
+    if (running_ != nullptr) running_->cancel_group_execution();
+}
+
+void FramePipeline::run_trace(const Scene& scene, const Camera& camera, const TraceSettings& options,
+                              std::span<const PointLight> given_lights, RenderedFrame& out) {
     if (!updated_) throw std::logic_error("FramePipeline::trace before any update");
     // Refused before anything changes (the API's render passes these on as its own errors).
     if (!options.tiles.valid()) {

@@ -24,8 +24,11 @@
 #include "rendering/scene_textures.h"
 #include "update/scene_accel.h"
 
+#include <tbb/task_group.h>
+
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <span>
 #include <utility>
 #include <vector>
@@ -57,6 +60,12 @@ public:
     /// before any update and std::invalid_argument for a degenerate camera.
     void trace(const Scene& scene, const Camera& camera, const TraceSettings& options,
                std::span<const PointLight> lights, RenderedFrame& out);
+
+    /// Stops the trace running now, if one is, from any thread: its parallel loops start no
+    /// more work (a oneTBB task group's cancellation), it returns with out.stats.cancelled and
+    /// an incomplete image, and what pixel reuse remembered is forgotten (the next trace is a
+    /// full one). Does nothing between traces. Thread-safe.
+    void cancel();
 
     /// Traces with `backend` (not null) instead of dynrt's own tracer, or with dynrt's again
     /// (null): each update then also loads its frame into the backend. Forgets the trees, as
@@ -109,6 +118,12 @@ private:
     std::vector<packet::PhongMaterial> materials_;
     std::vector<std::int32_t> object_material_;
     TraceScratch scratch_;
+    /// trace() without its cancellation: what a trace does.
+    void run_trace(const Scene& scene, const Camera& camera, const TraceSettings& options,
+                   std::span<const PointLight> given_lights, RenderedFrame& out);
+    /// The running trace's task group context (cancel()), or null between traces.
+    std::mutex cancel_mutex_;
+    tbb::task_group_context* running_ = nullptr;
     /// `lights` and, when options ask for them, the environment's suns (environment_lights.h)
     /// after them: the lights a trace shades with. Refuses a count out of range, or suns
     /// without a map. The span borrows frame_lights_ until the next call.

@@ -297,6 +297,8 @@ void Renderer::update(const Scene& scene, int frame) {
     }
 }
 
+void Renderer::cancel() { state_->pipeline.cancel(); }
+
 void Renderer::trace(const Camera& camera, RenderedFrame& out) {
     State& s = *state_;
     if (!s.pipeline.updated()) throw std::logic_error("Renderer::trace before any update");

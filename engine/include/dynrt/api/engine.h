@@ -355,6 +355,11 @@ public:
     FrameStats render(const View& view, const ImageView& image,
                       const RenderSettings& settings = {}) const;
 
+    /// Stops the render running now on another thread, if there is one: it returns soon, its
+    /// FrameStats::cancelled set and `image` incomplete (not to be shown); the next render
+    /// traces every pixel. An update is never stopped. Callable from any thread, any time.
+    void cancel_render() const;
+
     /// Closest hit of every ray, hits[i] for rays[i]; the same results as tracing each ray
     /// alone, bit for bit. The batch is cut into runs of 256 consecutive rays and each run into
     /// groups by the signs of the directions; a group of at least 16 rays whose directions all

@@ -222,6 +222,9 @@ struct FrameStats : UpdateStats, TreeShape, TraceStats, DistributionStats {
     /// which still run under another backend for the shading geometry). Part of total_ms.
     std::string backend = "dynrt";
     double backend_load_ms = 0;
+    /// The trace was stopped part way (Renderer::cancel, Engine::cancel_render): the frame's
+    /// image is incomplete and is not to be shown or written; the next frame traces in full.
+    bool cancelled = false;
 };
 
 }  // namespace dynrt

@@ -307,6 +307,12 @@ public:
     /// update's figures too. Throws std::logic_error before any update.
     void trace(const Camera& camera, RenderedFrame& out);
 
+    /// Stops the trace running now, from any other thread: it returns soon with
+    /// out.stats.cancelled set and an incomplete image (not to be shown); the trees are whole
+    /// (an update is never stopped) and the next frame traces in full. Does nothing between
+    /// frames. Thread-safe.
+    void cancel();
+
     /// The scene as evaluated by the last update (its camera, transforms, motion classes).
     /// Static and rigid objects' positions are left empty. Throws std::logic_error before any
     /// update.

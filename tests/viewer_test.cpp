@@ -146,6 +146,20 @@ TEST(ViewerSession, ASettingChangedOnTheFlyKeepsTheTreesAndGivesItsImage) {
     EXPECT_EQ(session.settings(), settings);
 }
 
+#ifdef DYNRT_HAVE_EMBREE
+// The panel's backend switch: Embree's trees built for it, dynrt's used again after.
+TEST(ViewerSession, TheBackendSwitchesToEmbreeAndBack) {
+    ViewerSession session(small_args());
+    EXPECT_EQ(session.render().stats.backend, "dynrt");
+    session.set("backend", "embree");
+    const RenderedFrame& embree = session.render();
+    EXPECT_NE(embree.stats.backend.find("embree"), std::string::npos) << embree.stats.backend;
+    EXPECT_GT(embree.stats.primary_rays, 0u);
+    session.set("backend", "dynrt");
+    EXPECT_EQ(session.render().stats.backend, "dynrt");
+}
+#endif
+
 TEST(ViewerSession, TheClockStepsSeeksPlaysAndLoops) {
     // A still scene has one frame: stepping and seeking stay at 0.
     ViewerSession still(small_args());

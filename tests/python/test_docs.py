@@ -192,7 +192,7 @@ def test_documented_flags_exist():
     if not CLI:
         pytest.skip("DYNRT_CLI is not set (scripts/run_tests.sh sets it)")
     help_text = ""
-    for command in ([], ["render"], ["bench"], ["info"]):
+    for command in ([], ["render"], ["bench"], ["info"], ["view"]):
         run = subprocess.run([CLI, *command, "--help"], capture_output=True, text=True, timeout=60)
         assert run.returncode == 0, run.stderr
         help_text += run.stdout

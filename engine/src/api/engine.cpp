@@ -951,6 +951,7 @@ FrameStats Engine::render(const View& view, const ImageView& image,
         throw invalid(std::string("render: ") + e.what());
     }
     FrameStats stats = frame.stats;
+    if (stats.cancelled) return stats;  // the caller's image left as it was
     s.name_meshes(stats);
     // The frame's hits name slots; the caller's image names MeshId values.
     const bool ids_are_slots = s.ids.ids_are_slots();

@@ -214,8 +214,12 @@ void FramePipeline::trace(const Scene& scene, const Camera& camera, const TraceS
         throw;
     }
     done();
-    out.stats.cancelled = status == tbb::task_group_status::canceled;
-    if (out.stats.cancelled) {
+    if (status == tbb::task_group_status::canceled) {
+        // Stopped before or while it ran: the image sized but incomplete (a trace stopped
+        // before it started has not even sized it), the update's figures alone.
+        if (options.width > 0 && options.height > 0) size_image(options, out);
+        out.stats = update_stats_;
+        out.stats.cancelled = true;
         // The image is incomplete: nothing of it may be reused.
         reuse_.valid = false;
         sampled_reuse_.clear();

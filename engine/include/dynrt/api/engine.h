@@ -356,8 +356,8 @@ public:
                       const RenderSettings& settings = {}) const;
 
     /// Stops the render running now on another thread, if there is one: it returns soon, its
-    /// FrameStats::cancelled set and `image` incomplete (not to be shown); the next render
-    /// traces every pixel. An update is never stopped. Callable from any thread, any time.
+    /// FrameStats::cancelled set and its `image` left as it was; the next render traces every
+    /// pixel. An update is never stopped. Callable from any thread, any time.
     void cancel_render() const;
 
     /// Closest hit of every ray, hits[i] for rays[i]; the same results as tracing each ray

@@ -223,7 +223,9 @@ struct FrameStats : UpdateStats, TreeShape, TraceStats, DistributionStats {
     std::string backend = "dynrt";
     double backend_load_ms = 0;
     /// The trace was stopped part way (Renderer::cancel, Engine::cancel_render): the frame's
-    /// image is incomplete and is not to be shown or written; the next frame traces in full.
+    /// image is incomplete and is not to be shown or written (the library API leaves the
+    /// caller's image as it was), and the figures are the update's alone; the next frame
+    /// traces in full.
     bool cancelled = false;
 };
 

@@ -27,7 +27,7 @@ std::uint64_t RenderWorker::post(Change change) {
         queue_.push_back(std::move(change));
         number = ++posted_;
     }
-    session_.cancel_render();
+    if (refining_) session_.cancel_render();
     wake_.notify_one();
     return number;
 }
@@ -76,10 +76,12 @@ void RenderWorker::run() {
         if (moving || next != samples) {
             samples = next;
             try {
+                refining_ = samples > 1;
                 session_.render(samples);
             } catch (const std::exception& e) {
                 error = e.what();
             }
+            refining_ = false;
             render_ms = std::chrono::duration<double, std::milli>(Clock::now() - now).count();
         }
         // A frame stopped for a newer change is not shown: the next turn renders that one.

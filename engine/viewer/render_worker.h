@@ -13,6 +13,7 @@
 
 #include "viewer_session.h"
 
+#include <atomic>
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
@@ -61,9 +62,11 @@ public:
     RenderWorker& operator=(const RenderWorker&) = delete;
 
     /// Queues `change` for the worker's thread, before its next frame; returns how many changes
-    /// have been posted in all (a frame whose `applied` reaches it shows this one). The frame
-    /// being rendered, if any, is stopped (ViewerSession::cancel_render) so that the change is
-    /// shown sooner; the last frame shown stays up meanwhile.
+    /// have been posted in all (a frame whose `applied` reaches it shows this one). A
+    /// refinement step being rendered (more than one sample per pixel) is stopped
+    /// (ViewerSession::cancel_render) so that the change is shown sooner; a frame at one
+    /// sample per pixel is finished, so that a stream of changes (a drag) cannot stop every
+    /// frame and leave none to show.
     std::uint64_t post(Change change);
     /// Copies the newest frame into `out` when it is newer than out.number; true then.
     bool take(Shown& out) const;
@@ -81,6 +84,8 @@ private:
     std::vector<Change> queue_;
     std::uint64_t posted_ = 0;
     bool stop_ = false;
+    /// Whether the frame being rendered is a refinement step, which a change may stop.
+    std::atomic<bool> refining_{false};
     Shown shown_;  ///< the newest frame, under mutex_
     std::thread thread_;
 };

@@ -7,9 +7,15 @@
 
 namespace dynrt::viewer {
 
-WindowStep run_command(ViewerSession& session, const ScriptCommand& command, const std::string& source) {
-    const auto where = [&] { return "script " + source + ", line " + std::to_string(command.line) + ": "; };
-    const auto number = [&](std::size_t i) {
+namespace {
+
+/// A command's arguments read as numbers or on/off, errors naming the script and the line.
+struct Arguments {
+    const ScriptCommand& command;
+    const std::string& source;
+
+    std::string where() const { return "script " + source + ", line " + std::to_string(command.line) + ": "; }
+    double number(std::size_t i) const {
         std::size_t used = 0;
         double value = 0.0;
         try {
@@ -21,15 +27,39 @@ WindowStep run_command(ViewerSession& session, const ScriptCommand& command, con
             throw std::invalid_argument(where() + "'" + command.args[i] + "' is not a number");
         }
         return value;
-    };
-    const auto on_off = [&](std::size_t i) {
+    }
+    bool on_off(std::size_t i) const {
         if (command.args.at(i) != "on" && command.args[i] != "off") {
             throw std::invalid_argument(where() + "'" + command.args[i] + "': on or off");
         }
         return command.args[i] == "on";
-    };
+    }
+};
+
+}  // namespace
+
+WindowStep window_step(const ScriptCommand& command, const std::string& source) {
+    const Arguments args{command, source};
     const std::string& name = command.name;
-    WindowStep step;
+    if (name == "overlay") return {WindowStep::Action::overlay, args.on_off(0), {}, 0};
+    if (name == "capture") return {WindowStep::Action::capture, true, command.args[0], 0};
+    if (name == "wait-still") return {WindowStep::Action::wait_still, true, {}, 0};
+    if (name == "quit") return {WindowStep::Action::quit, true, {}, 0};
+    if (name == "wait-frames") {
+        const double frames = args.number(0);
+        if (frames < 0.0 || frames != std::floor(frames)) {
+            throw std::invalid_argument(args.where() + "'" + command.args[0] + "' is not a count of frames");
+        }
+        return {WindowStep::Action::wait_frames, true, {}, int(frames)};
+    }
+    return {};
+}
+
+WindowStep run_command(ViewerSession& session, const ScriptCommand& command, const std::string& source) {
+    if (const WindowStep step = window_step(command, source); step.action != WindowStep::Action::none) return step;
+    const Arguments args{command, source};
+    const auto number = [&](std::size_t i) { return args.number(i); };
+    const std::string& name = command.name;
     try {
         if (name == "orbit") {
             session.camera().orbit(float(number(0)), float(number(1)));
@@ -60,28 +90,18 @@ WindowStep run_command(ViewerSession& session, const ScriptCommand& command, con
         } else if (name == "speed") {
             session.set_speed(number(0));
         } else if (name == "loop") {
-            session.set_loop(on_off(0));
+            session.set_loop(args.on_off(0));
         } else if (name == "set") {
             session.set(command.args[0], command.args[1]);
         } else if (name == "screenshot") {
             session.screenshot(command.args[0]);
-        } else if (name == "overlay") {
-            step = {WindowStep::Action::overlay, on_off(0), {}, 0};
-        } else if (name == "capture") {
-            step = {WindowStep::Action::capture, true, command.args[0], 0};
-        } else if (name == "wait-still") {
-            step.action = WindowStep::Action::wait_still;
-        } else if (name == "wait-frames") {
-            step = {WindowStep::Action::wait_frames, true, {}, int(number(0))};
-        } else if (name == "quit") {
-            step.action = WindowStep::Action::quit;
         }
     } catch (const std::invalid_argument& e) {
         const std::string what = e.what();
         if (what.rfind("script ", 0) == 0) throw;
-        throw std::invalid_argument(where() + what);
+        throw std::invalid_argument(args.where() + what);
     }
-    return step;
+    return {};
 }
 
 }  // namespace dynrt::viewer

@@ -19,7 +19,12 @@ struct WindowStep {
     int frames = 0;         ///< wait_frames'
 };
 
-/// Carries out `command` on `session`, or says what the window must. Throws
+/// What the window must do for `command` when it is one of the window's own (overlay,
+/// capture, wait-frames, wait-still, quit); Action::none for a command on the session. Throws
+/// std::invalid_argument naming the script line for a bad argument.
+WindowStep window_step(const ScriptCommand& command, const std::string& source);
+
+/// Carries out `command` on `session`, or says what the window must (window_step). Throws
 /// std::invalid_argument naming the script line for a bad argument (a setting the session
 /// refuses, a number that is not one).
 WindowStep run_command(ViewerSession& session, const ScriptCommand& command, const std::string& source);

@@ -312,19 +312,16 @@ public:
             if (wait_still_ && !shown.converged()) return true;
             wait_still_ = false;
             const ScriptCommand& command = script_[next_++];
-            const std::string& name = command.name;
-            if (name == "quit") return false;
-            if (name == "overlay" || name == "wait-frames") {
-                window_step(command, overlay);
-                continue;
-            }
-            if (name == "wait-still") {  // until the shown frame has all its samples
-                wait_still_ = true;
-                continue;
-            }
-            if (name == "capture") {
-                capture = command.args[0];
-                return true;  // drawn, then read back, before the next command
+            const WindowStep step = window_step(command, source_);
+            switch (step.action) {
+                case WindowStep::Action::quit: return false;
+                case WindowStep::Action::overlay: overlay = step.on; continue;
+                case WindowStep::Action::wait_frames: hold_frames_ = step.frames; continue;
+                case WindowStep::Action::wait_still: wait_still_ = true; continue;  // all its samples
+                case WindowStep::Action::capture:
+                    capture = step.file;
+                    return true;  // drawn, then read back, before the next command
+                case WindowStep::Action::none: break;
             }
             post_([command, source = source_](ViewerSession& s) {
                 run_command(s, command, source);
@@ -343,30 +340,6 @@ public:
     }
 
 private:
-    void window_step(const ScriptCommand& command, bool& overlay) {
-        const auto number = [&] {
-            std::size_t used = 0;
-            int value = -1;
-            try {
-                value = std::stoi(command.args[0], &used);
-            } catch (const std::exception&) {
-            }
-            if (used != command.args[0].size() || value < 0) {
-                throw std::invalid_argument("script " + source_ + ", line " + std::to_string(command.line) + ": '" +
-                                            command.args[0] + "' is not a count of frames");
-            }
-            return value;
-        };
-        if (command.name == "wait-frames") {
-            hold_frames_ = number();
-        } else if (command.args[0] == "on" || command.args[0] == "off") {
-            overlay = command.args[0] == "on";
-        } else {
-            throw std::invalid_argument("script " + source_ + ", line " + std::to_string(command.line) + ": '" +
-                                        command.args[0] + "': on or off");
-        }
-    }
-
     const std::vector<ScriptCommand>& script_;
     std::string source_;
     Poster& post_;

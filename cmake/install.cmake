@@ -3,7 +3,8 @@
 #   lib/libdynrt.so*                      the shared library (target dynrt_api)
 #   include/dynrt/dynrt.h, api/*.h,       the public API headers and nothing else: the engine's
 #     engine/frame_stats.h,                 other headers stay private to this tree
-#     engine/texture_figures.h
+#     engine/texture_figures.h,
+#     engine/render_progress.h
 #   lib/cmake/dynrt/dynrt*.cmake          find_package(dynrt), imported target dynrt::dynrt
 #   lib/pkgconfig/dynrt.pc                pkg-config --cflags --libs dynrt
 # Only the library is installed: the CLI, tests and benchmarks run from the build tree.
@@ -26,7 +27,7 @@ install(FILES ${_dynrt_headers}/dynrt.h DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/
 install(DIRECTORY ${_dynrt_headers}/api DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/dynrt
   FILES_MATCHING PATTERN "*.h")
 install(FILES ${_dynrt_headers}/engine/frame_stats.h ${_dynrt_headers}/engine/texture_figures.h
-  DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/dynrt/engine)
+  ${_dynrt_headers}/engine/render_progress.h DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/dynrt/engine)
 
 # ---- CMake package: find_package(dynrt) ------------------------------------------------------
 install(EXPORT dynrtTargets NAMESPACE dynrt:: DESTINATION ${DYNRT_INSTALL_CMAKEDIR})

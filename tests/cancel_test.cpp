@@ -1,7 +1,10 @@
 // Stopping a frame part way (Renderer::cancel, FramePipeline::cancel): a trace asked to stop
 // from another thread returns with FrameStats::cancelled, and the next frame, which may not
 // reuse anything of the incomplete one, is exactly a fresh renderer's. A cancel between frames
-// changes nothing.
+// changes nothing. Progress (Renderer::progress) counts each tile pass of a frame once, in
+// every mode.
+
+#include "moving_scene.h"
 
 #include "dynrt/engine/camera.h"
 #include "dynrt/engine/renderer.h"
@@ -11,6 +14,9 @@
 
 #include <atomic>
 #include <chrono>
+#include <functional>
+#include <string>
+#include <vector>
 #include <thread>
 
 namespace dynrt {
@@ -59,6 +65,55 @@ TEST(Cancel, AStoppedTraceReturnsAndTheNextFrameIsWhole) {
     renderer.render(scene, a, 0, next);
     EXPECT_EQ(next.color, fresh_render(scene, options, a).color);
     EXPECT_FALSE(fresh_render(scene, options, b).stats.cancelled);
+}
+
+// After a whole frame, every tile of the trace's share was counted once per sample pass: no
+// mode skips the count or counts a tile twice.
+TEST(Progress, EveryModeCountsEachTilePassOnce) {
+    const Scene scene = test::moving_scene();
+    const Camera camera = default_camera(scene_bounds(scene));
+    struct Mode {
+        const char* name;
+        std::function<void(RenderOptions&)> set;
+    };
+    const std::vector<Mode> modes = {
+        {"reuse off", [](RenderOptions& o) { o.reuse.mode = PixelReuse::off; }},
+        {"exact reuse", [](RenderOptions&) {}},
+        {"render cache", [](RenderOptions& o) { o.reuse.mode = PixelReuse::render_cache; }},
+        {"frameless", [](RenderOptions& o) { o.reuse.mode = PixelReuse::frameless; }},
+        {"adaptive sampling", [](RenderOptions& o) { o.adaptive_tolerance = 0.05f; }},
+        {"4 spp", [](RenderOptions& o) { o.sampling.spp = 4; o.reuse.mode = PixelReuse::off; }},
+        {"4 spp exact reuse", [](RenderOptions& o) { o.sampling.spp = 4; }},
+        {"4 spp adaptive aa", [](RenderOptions& o) { o.sampling.spp = 4; o.sampling.adaptive_contrast = 0.05f; }},
+        {"tile share", [](RenderOptions& o) { o.tiles = packet::TileShare{1, 3}; }},
+        {"single rays", [](RenderOptions& o) { o.tracer = Tracer::single; }},
+    };
+    for (const Mode& mode : modes) {
+        SCOPED_TRACE(mode.name);
+        RenderOptions options;
+        options.width = 72;
+        options.height = 40;
+        mode.set(options);
+        Renderer renderer(options);
+        EXPECT_EQ(renderer.progress().tiles_total, 0u);
+        const std::size_t tiles = std::size_t(packet::Tiling(72, 40, options.tiles).count());
+        std::size_t passes = tiles * std::size_t(options.sampling.spp);
+        RenderedFrame frame;
+        for (const int f : {0, 1, 2}) {
+            renderer.render(scene, camera, f, frame);
+            if (options.sampling.adaptive_contrast > 0.0f) {
+                // One pass over the tiles, then the refined pixels' other samples, 256 to a
+                // tile pass.
+                const std::size_t samples = frame.stats.pixels_refined * std::size_t(options.sampling.spp - 1);
+                passes = tiles + (samples + 255) / 256;
+                EXPECT_GT(frame.stats.pixels_refined, 0u) << "nothing refined: the case tests nothing";
+            }
+            const RenderProgress p = renderer.progress();
+            EXPECT_FALSE(p.tracing) << "frame " << f;
+            EXPECT_EQ(p.tiles_total, passes) << "frame " << f;
+            EXPECT_EQ(p.tiles_done, passes) << "frame " << f;
+        }
+    }
 }
 
 }  // namespace

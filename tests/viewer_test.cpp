@@ -16,12 +16,14 @@
 #include "viewer_script.h"
 #include "viewer_session.h"
 
+#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
 #include <glm/geometric.hpp>
 
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <functional>
 #include <thread>
 #include <stdexcept>
@@ -144,6 +146,54 @@ TEST(ViewerSession, ASettingChangedOnTheFlyKeepsTheTreesAndGivesItsImage) {
         EXPECT_NE(std::string(e.what()).find("unknown setting 'gamma'"), std::string::npos) << e.what();
     }
     EXPECT_EQ(session.settings(), settings);
+}
+
+// The cost view: the heat map of the renderer's own pixel costs for the same frame, its legend,
+// a screenshot of what is shown, and back to the image without rebuilding anything.
+TEST(ViewerSession, TheCostViewShowsTheFramesPixelCostsAsAHeatMap) {
+    ViewerSession session(small_args());
+    EXPECT_TRUE(session.display_bytes().empty());  // nothing rendered yet
+    session.render();
+    EXPECT_TRUE(session.legend().empty());
+    session.set("view", "nodes");
+    EXPECT_TRUE(session.options().pixel_cost);
+    const RenderedFrame& shown = session.render();
+    EXPECT_EQ(shown.stats.objects_rebuilt, 0u);
+    ASSERT_EQ(shown.cost.size(), std::size_t(64 * 48));
+    RenderOptions options = session.options();
+    Renderer fresh(options);
+    RenderedFrame want;
+    fresh.render(session.scene(), session.camera().camera(), 0, want);
+    ASSERT_EQ(want.cost, shown.cost);
+    const std::uint32_t scale = cost_scale(want.cost, CostMeasure::nodes);
+    const std::vector<std::uint8_t> heat = cost_heat_rgb8(want.cost, CostMeasure::nodes, scale);
+    EXPECT_EQ(session.display_bytes(), std::vector<unsigned char>(heat.begin(), heat.end()));
+    EXPECT_NE(session.legend().find("node visits per pixel: black 0, white " + std::to_string(scale)), std::string::npos)
+        << session.legend();
+    // A fixed white, and the triangle count.
+    session.set("cost-scale", "7");
+    session.set("view", "triangles");
+    session.render();
+    const std::vector<std::uint8_t> triangles = cost_heat_rgb8(want.cost, CostMeasure::triangles, 7);
+    EXPECT_EQ(session.display_bytes(), std::vector<unsigned char>(triangles.begin(), triangles.end()));
+    EXPECT_NE(session.legend().find("triangle tests per pixel: black 0, white 7 or more"), std::string::npos);
+    // The screenshot is what is shown.
+    const std::filesystem::path dir = std::filesystem::temp_directory_path() / "dynrt_viewer_cost_test";
+    std::filesystem::create_directories(dir);
+    session.screenshot(dir / "cost.png");
+    std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open((dir / "cost.png").string());
+    ASSERT_TRUE(in);
+    std::vector<unsigned char> read(std::size_t(64 * 48 * 3));
+    ASSERT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, read.data()));
+    EXPECT_EQ(read, std::vector<unsigned char>(triangles.begin(), triangles.end()));
+    std::filesystem::remove_all(dir);
+    EXPECT_THROW(session.set("view", "heat"), std::invalid_argument);
+    EXPECT_THROW(session.set("cost-scale", "-1"), std::invalid_argument);
+    session.set("view", "image");
+    EXPECT_FALSE(session.options().pixel_cost);
+    EXPECT_TRUE(session.render().cost.empty());
+    EXPECT_TRUE(session.legend().empty());
+    EXPECT_EQ(session.display_bytes(), display_rgb8(session.image(), session.display()));
 }
 
 #ifdef DYNRT_HAVE_EMBREE

@@ -5,10 +5,12 @@
 // cannot be read, a bad script: one clear line, no window, no hang. Skipped when this dynrt
 // was built without its window or Xvfb is not installed.
 
+#include "dynrt/engine/pixel_cost.h"
 #include "test_files.h"
 #include "shell_command.h"
 
 #include <OpenImageIO/imageio.h>
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -187,6 +189,45 @@ TEST(ViewerWindow, AStillViewRefinesToWhatRenderWritesWithItsSamples) {
     ASSERT_EQ(window.size(), std::size_t(96 * 72 * 3));
     EXPECT_TRUE(window == pixels_of(dir / "shot.png"));
     EXPECT_TRUE(window == pixels_of(dir / "render.png")) << "not refined to --spp 4's image";
+#endif
+}
+
+// The window resized: the image follows it and is still `dynrt render`'s at the new size; the
+// cost view shows the heat map of the pixel costs `dynrt render --aov cost` writes.
+TEST(ViewerWindow, AResizedWindowAndItsCostViewShowWhatRenderWrites) {
+#ifndef DYNRT_HAVE_VIEWER
+    GTEST_SKIP() << "built without the viewer's window (GLFW, Dear ImGui)";
+#else
+    if (!has_xvfb()) GTEST_SKIP() << "Xvfb is not installed";
+    const fs::path dir = dynrt::test::fresh_test_dir("viewer_resize");
+    const fs::path script = dir / "script.txt";
+    std::ofstream(script) << "0 overlay off\n0 resize 120 80\n0 wait-frames 1\n0 screenshot " << (dir / "shot.png").string()
+                          << "\n0 capture " << (dir / "window.png").string() << "\n0 set view triangles\n0 set cost-scale 40\n"
+                          << "0 wait-frames 1\n0 capture " << (dir / "cost.png").string() << "\n0 quit\n";
+    const std::string scene = "'plane:2@0,-1,0,4#c0c0c0+sphere:600@0,0,0,0.7#e04020'";
+    const auto run = run_shell(on_xvfb() + DYNRT_CLI_PATH + " view " + scene + " --res 64x48 --script " + script.string());
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+    std::ifstream json_file(dir / "shot.json");
+    const std::string camera = nlohmann::json::parse(json_file).at("camera");
+    const auto render = run_shell(kEnv + DYNRT_CLI_PATH + " render " + scene + " --res 120x80 --camera '" + camera +
+                                  "' --aov cost --out " + (dir / "render.png").string() + " -q");
+    ASSERT_EQ(render.exit_code, 0) << render.output;
+    const std::vector<unsigned char> window = pixels_of(dir / "window.png");
+    ASSERT_EQ(window.size(), std::size_t(120 * 80 * 3)) << "the window was not resized";
+    EXPECT_TRUE(window == pixels_of(dir / "shot.png"));
+    EXPECT_TRUE(window == pixels_of(dir / "render.png")) << "not dynrt render's image at the new size";
+    // The heat map of the render's triangle counts, white at 40.
+    auto in = OIIO::ImageInput::open((dir / "render.cost.exr").string());
+    ASSERT_TRUE(in);
+    std::vector<float> counts(std::size_t(120 * 80 * 2));
+    ASSERT_TRUE(in->read_image(0, 0, 0, 2, OIIO::TypeDesc::FLOAT, counts.data()));
+    std::vector<dynrt::PixelCost> costs(std::size_t(120 * 80));
+    for (std::size_t i = 0; i < costs.size(); ++i) {
+        costs[i] = dynrt::PixelCost{std::uint32_t(counts[2 * i]), std::uint32_t(counts[2 * i + 1])};
+    }
+    const std::vector<std::uint8_t> heat = dynrt::cost_heat_rgb8(costs, dynrt::CostMeasure::triangles, 40);
+    EXPECT_TRUE(pixels_of(dir / "cost.png") == std::vector<unsigned char>(heat.begin(), heat.end()))
+        << "the cost view is not the heat map of render --aov cost";
 #endif
 }
 

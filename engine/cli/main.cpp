@@ -269,7 +269,9 @@ int main(int argc, char** argv) {
                            "over the sequence) to this image");
     render_cmd->add_option("--report", render.report, "Write the frame report as JSON to this file");
     render_cmd->add_option("--aov", render.aov,
-                           "Also write float EXRs next to the image: depth,object,prim,normal");
+                           "Also write float EXRs next to the image: depth,object,prim,normal,cost "
+                           "(cost: each pixel's camera-ray node visits and triangle tests, "
+                           "docs/viewer.md)");
     render_cmd->add_option("--exposure", render.exposure,
                            "Exposure of the 8-bit images, GIFs, videos and contact sheet, in stops "
                            "(colours times 2^stops before the tone curve); float images stay linear")

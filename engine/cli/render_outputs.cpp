@@ -112,10 +112,9 @@ std::vector<RenderOutput> render_outputs(const RenderArgs& args, const dynrt::Fr
     const std::string out = numbered ? args.out : dynrt::frame_path(args.out, 0);
     outputs.push_back({"--out", out, numbered, numbered});
     for (const dynrt::Aov aov : dynrt::parse_aov_list(args.aov)) {
-        static constexpr const char* kNames[] = {"depth", "object", "prim", "normal"};
         // aov_path keeps the folder and the stem, so a numbered image's AOVs are numbered too
         // ('f%04d.png' -> 'f%04d.depth.exr').
-        outputs.push_back({std::string("--aov ") + kNames[int(aov)],
+        outputs.push_back({std::string("--aov ") + dynrt::aov_name(aov),
                            dynrt::aov_path(out, aov).string(), numbered, numbered});
     }
     if (!args.report.empty()) outputs.push_back({"--report", args.report, false, false});

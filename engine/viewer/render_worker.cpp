@@ -16,6 +16,8 @@ RenderWorker::~RenderWorker() {
         const std::lock_guard<std::mutex> lock(mutex_);
         stop_ = true;
     }
+    // Closing the window does not wait for a long frame (many samples, a huge scene) to end.
+    session_.cancel_render();
     wake_.notify_one();
     thread_.join();
 }
@@ -95,6 +97,7 @@ void RenderWorker::publish(std::uint64_t applied, double render_ms, int samples,
     Shown next;
     next.applied = applied;
     next.bytes = session_.display_bytes();
+    next.legend = session_.legend();
     next.width = session_.image().width;
     next.height = session_.image().height;
     next.render_ms = render_ms;

@@ -34,6 +34,7 @@ public:
         std::uint64_t applied = 0;  ///< changes applied before it was rendered
         int width = 0, height = 0;
         std::vector<unsigned char> bytes;  ///< ViewerSession::display_bytes
+        std::string legend;                ///< ViewerSession::legend: the cost view's colours
         double render_ms = 0.0;            ///< the worker's time for it: render and bytes
         std::deque<FrameStats> history;
         std::vector<std::pair<std::string, std::string>> settings;
@@ -56,7 +57,7 @@ public:
     /// destruction). `published`, if given, is called on the worker's thread after each frame
     /// is published (the window wakes its event loop with it).
     explicit RenderWorker(ViewerSession& session, std::function<void()> published = {});
-    /// Stops after the frame at hand.
+    /// Stops the frame at hand (ViewerSession::cancel_render) and the thread.
     ~RenderWorker();
     RenderWorker(const RenderWorker&) = delete;
     RenderWorker& operator=(const RenderWorker&) = delete;
@@ -70,6 +71,8 @@ public:
     std::uint64_t post(Change change);
     /// Copies the newest frame into `out` when it is newer than out.number; true then.
     bool take(Shown& out) const;
+    /// How far the frame being rendered now has come (Renderer::progress). Any thread.
+    RenderProgress progress() const { return session_.renderer().progress(); }
 
 private:
     void run();

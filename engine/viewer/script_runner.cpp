@@ -52,6 +52,19 @@ WindowStep window_step(const ScriptCommand& command, const std::string& source) 
         }
         return {WindowStep::Action::wait_frames, true, {}, int(frames)};
     }
+    if (name == "resize") {
+        WindowStep step;
+        step.action = WindowStep::Action::resize;
+        for (int i = 0; i < 2; ++i) {
+            const double size = args.number(std::size_t(i));
+            if (size < 1.0 || size > double(ViewerSession::kMaxSize) || size != std::floor(size)) {
+                throw std::invalid_argument(args.where() + "'" + command.args[std::size_t(i)] + "': a size in pixels, 1 to " +
+                                            std::to_string(ViewerSession::kMaxSize));
+            }
+            (i == 0 ? step.width : step.height) = int(size);
+        }
+        return step;
+    }
     return {};
 }
 

@@ -12,15 +12,16 @@ namespace dynrt::viewer {
 
 /// What the window must do for a command the session does not carry out.
 struct WindowStep {
-    enum class Action { none, overlay, capture, wait_frames, wait_still, quit };
+    enum class Action { none, overlay, capture, wait_frames, wait_still, resize, quit };
     Action action = Action::none;
     bool on = true;         ///< overlay on or off
     std::string file;       ///< capture's
     int frames = 0;         ///< wait_frames'
+    int width = 0, height = 0;  ///< resize's
 };
 
 /// What the window must do for `command` when it is one of the window's own (overlay,
-/// capture, wait-frames, wait-still, quit); Action::none for a command on the session. Throws
+/// capture, wait-frames, wait-still, resize, quit); Action::none for a command on the session. Throws
 /// std::invalid_argument naming the script line for a bad argument.
 WindowStep window_step(const ScriptCommand& command, const std::string& source);
 

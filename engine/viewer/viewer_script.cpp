@@ -32,6 +32,7 @@ constexpr CommandShape kCommands[] = {
     {"loop", 1, 1, "on|off: play again from the first frame past the last"},
     {"set", 2, 2, "NAME VALUE: a setting, as its flag takes it (tracer, depth, reuse, spp, ...)"},
     {"overlay", 1, 1, "on|off: the panels over the image"},
+    {"resize", 2, 2, "WIDTH HEIGHT: resize the window (the image follows it) and wait for its frame"},
     {"screenshot", 1, 1, "FILE.png: the frame's image and FILE.json, its report and camera"},
     {"capture", 1, 1, "FILE.png: what the window shows, read back from it"},
     {"wait-frames", 1, 1, "N: hold the script until N more frames are drawn"},

@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <functional>
 #include <stdexcept>
@@ -73,49 +74,55 @@ void one_of(const std::string& name, const std::string& value, std::initializer_
 /// A setting `set` takes: its name, how it is read into the flags, and how it is shown.
 struct Setting {
     const char* name;
-    std::function<void(cli::FrameArgs&, const std::string&)> write;
-    std::function<std::string(const cli::FrameArgs&)> read;
+    std::function<void(ViewArgs&, const std::string&)> write;
+    std::function<std::string(const ViewArgs&)> read;
 };
 
 const std::vector<Setting>& setting_table() {
     static const std::vector<Setting> table = {
         {"tracer",
-         [](cli::FrameArgs& a, const std::string& v) { one_of("tracer", v, {"packet", "single"}); a.tracer = v; },
-         [](const cli::FrameArgs& a) { return a.tracer; }},
-        {"backend", [](cli::FrameArgs& a, const std::string& v) { a.backend = v; },
-         [](const cli::FrameArgs& a) { return a.backend; }},
+         [](ViewArgs& a, const std::string& v) { one_of("tracer", v, {"packet", "single"}); a.tracer = v; },
+         [](const ViewArgs& a) { return a.tracer; }},
+        {"backend", [](ViewArgs& a, const std::string& v) { a.backend = v; },
+         [](const ViewArgs& a) { return a.backend; }},
         {"update",
-         [](cli::FrameArgs& a, const std::string& v) {
+         [](ViewArgs& a, const std::string& v) {
              if (!parse_update_method(v)) throw std::invalid_argument("update '" + v + "': not an update method");
              a.update = v;
          },
-         [](const cli::FrameArgs& a) { return a.update; }},
+         [](const ViewArgs& a) { return a.update; }},
         {"cost-ratio",
-         [](cli::FrameArgs& a, const std::string& v) {
+         [](ViewArgs& a, const std::string& v) {
              const float r = parse_float("cost-ratio", v);
              if (!(r > 0.0f)) throw std::invalid_argument("cost-ratio '" + v + "': must be > 0");
              a.cost_ratio = r;
          },
-         [](const cli::FrameArgs& a) { return std::to_string(a.cost_ratio); }},
-        {"culling", [](cli::FrameArgs& a, const std::string& v) { a.packet_culling = v; },
-         [](const cli::FrameArgs& a) { return a.packet_culling; }},
-        {"depth", [](cli::FrameArgs& a, const std::string& v) { a.depth = parse_int_in("depth", v, 0, 64); },
-         [](const cli::FrameArgs& a) { return std::to_string(a.depth); }},
-        {"reuse", [](cli::FrameArgs& a, const std::string& v) { a.reuse = v; },
-         [](const cli::FrameArgs& a) { return a.reuse; }},
-        {"spp", [](cli::FrameArgs& a, const std::string& v) { a.spp = parse_int_in("spp", v, 1, 4096); },
-         [](const cli::FrameArgs& a) { return std::to_string(a.spp); }},
+         [](const ViewArgs& a) { return std::to_string(a.cost_ratio); }},
+        {"culling", [](ViewArgs& a, const std::string& v) { a.packet_culling = v; },
+         [](const ViewArgs& a) { return a.packet_culling; }},
+        {"depth", [](ViewArgs& a, const std::string& v) { a.depth = parse_int_in("depth", v, 0, 64); },
+         [](const ViewArgs& a) { return std::to_string(a.depth); }},
+        {"reuse", [](ViewArgs& a, const std::string& v) { a.reuse = v; },
+         [](const ViewArgs& a) { return a.reuse; }},
+        {"spp", [](ViewArgs& a, const std::string& v) { a.spp = parse_int_in("spp", v, 1, 4096); },
+         [](const ViewArgs& a) { return std::to_string(a.spp); }},
         {"normals",
-         [](cli::FrameArgs& a, const std::string& v) { one_of("normals", v, {"smooth", "flat"}); a.normals = v; },
-         [](const cli::FrameArgs& a) { return a.normals; }},
+         [](ViewArgs& a, const std::string& v) { one_of("normals", v, {"smooth", "flat"}); a.normals = v; },
+         [](const ViewArgs& a) { return a.normals; }},
         {"occluder-cache",
-         [](cli::FrameArgs& a, const std::string& v) { one_of("occluder-cache", v, {"on", "off"}); a.occluder_cache = v; },
-         [](const cli::FrameArgs& a) { return a.occluder_cache; }},
+         [](ViewArgs& a, const std::string& v) { one_of("occluder-cache", v, {"on", "off"}); a.occluder_cache = v; },
+         [](const ViewArgs& a) { return a.occluder_cache; }},
         {"environment-lights",
-         [](cli::FrameArgs& a, const std::string& v) {
+         [](ViewArgs& a, const std::string& v) {
              a.environment_lights = parse_int_in("environment-lights", v, 0, kEnvironmentLightsMax);
          },
-         [](const cli::FrameArgs& a) { return std::to_string(a.environment_lights); }},
+         [](const ViewArgs& a) { return std::to_string(a.environment_lights); }},
+        {"view",
+         [](ViewArgs& a, const std::string& v) { one_of("view", v, {"image", "nodes", "triangles"}); a.view = v; },
+         [](const ViewArgs& a) { return a.view; }},
+        {"cost-scale",
+         [](ViewArgs& a, const std::string& v) { a.cost_scale = parse_int_in("cost-scale", v, 0, 1 << 24); },
+         [](const ViewArgs& a) { return std::to_string(a.cost_scale); }},
     };
     return table;
 }
@@ -214,9 +221,22 @@ void ViewerSession::set(const std::string& name, const std::string& value) {
     options.width = options_.width;
     options.height = options_.height;
     options.pose = options_.pose;
+    options.pixel_cost = changed.view != "image";
     renderer_.set_options(options);
     if (changed.backend != args_.backend) renderer_.use_backend(options.backend ? options.backend() : nullptr);
     args_ = std::move(changed);
+    options_ = std::move(options);
+}
+
+void ViewerSession::resize(int width, int height) {
+    if (width < 1 || height < 1 || width > kMaxSize || height > kMaxSize) {
+        throw std::invalid_argument("image size " + std::to_string(width) + "x" + std::to_string(height) +
+                                    ": must be 1 to " + std::to_string(kMaxSize) + " pixels each way");
+    }
+    RenderOptions options = options_;
+    options.width = width;
+    options.height = height;
+    renderer_.set_options(options);
     options_ = std::move(options);
 }
 
@@ -242,19 +262,50 @@ const RenderedFrame& ViewerSession::render(int samples) {
     return frame_;
 }
 
+CostMeasure ViewerSession::cost_measure() const {
+    return args_.view == "triangles" ? CostMeasure::triangles : CostMeasure::nodes;
+}
+
+std::uint32_t ViewerSession::heat_scale() const {
+    return args_.cost_scale > 0 ? std::uint32_t(args_.cost_scale) : cost_scale(frame_.cost, cost_measure());
+}
+
 std::vector<unsigned char> ViewerSession::display_bytes() const {
-    const std::vector<std::uint8_t> rgb = display_rgb8(frame_, display_);
+    // A cost view whose frame has no costs yet (rendered before the switch) shows the image.
+    const bool heat = args_.view != "image" && !frame_.cost.empty();
+    const std::vector<std::uint8_t> rgb =
+        heat ? cost_heat_rgb8(frame_.cost, cost_measure(), heat_scale()) : display_rgb8(frame_, display_);
     return {rgb.begin(), rgb.end()};
+}
+
+std::string ViewerSession::legend() const {
+    if (args_.view == "image" || frame_.cost.empty()) return {};
+    double sum = 0.0;
+    std::uint32_t max = 0;
+    for (const PixelCost& c : frame_.cost) {
+        sum += cost_of(c, cost_measure());
+        max = std::max(max, cost_of(c, cost_measure()));
+    }
+    char text[160];
+    std::snprintf(text, sizeof text, "%s per pixel: black 0, white %u or more; mean %.1f, max %u",
+                  args_.view == "nodes" ? "node visits" : "triangle tests", heat_scale(),
+                  sum / double(frame_.cost.size()), max);
+    return text;
 }
 
 void ViewerSession::screenshot(const std::filesystem::path& path) {
     for (int attempt = 0; !complete_ && attempt < 8; ++attempt) render(last_samples_);
     if (frame_.color.empty() || !complete_) throw std::logic_error("screenshot: no whole frame to write");
-    write_image(path, frame_, display_);
+    if (args_.view == "image") {
+        write_image(path, frame_, display_);
+    } else {
+        write_image_rgb8(path, frame_.width, frame_.height, display_bytes());
+    }
     std::filesystem::path json = path;
     json.replace_extension(".json");
     std::ofstream out(json);
     out << "{\"camera\": \"" << camera_text(rendered_camera_) << "\", \"frame\": " << rendered_frame_
+        << ", \"view\": \"" << args_.view << "\", \"legend\": \"" << legend() << "\""
         << ", \"stats\": " << frame_report_json(frame_.stats) << "}\n";
     if (!out) throw std::runtime_error(json.string() + ": cannot be written");
 }

@@ -31,6 +31,12 @@ struct ViewArgs : cli::FrameArgs {
     /// A GIF or video (.gif, .mp4, ...) the window's frames are written to as they are drawn,
     /// at the scene's frame rate; empty: none.
     std::string record;
+    /// What the window shows (`set view`): "image", or the cost view's heat map of each
+    /// pixel's camera-ray "nodes" (node visits) or "triangles" (triangle tests),
+    /// dynrt/engine/pixel_cost.h.
+    std::string view = "image";
+    /// The heat map's white: this many visits or tests; 0 picks it per frame (cost_scale).
+    int cost_scale = 0;
 };
 
 class ViewerSession {
@@ -81,6 +87,13 @@ public:
     /// The settings `set` takes, with their values now.
     std::vector<std::pair<std::string, std::string>> settings() const;
 
+    // ---- Image size ----
+    /// Renders the next frames at `width` x `height` (the window's new size), with the same
+    /// trees, camera and settings. Throws std::invalid_argument for a size outside
+    /// [1, kMaxSize], changing nothing.
+    void resize(int width, int height);
+    static constexpr int kMaxSize = 16384;
+
     // ---- Frames ----
     /// Renders the clock's frame from the camera, with `samples` samples per pixel (0: the
     /// settings', target_samples()); returns it (valid until the next call). A recorder set
@@ -102,12 +115,17 @@ public:
     const std::deque<FrameStats>& history() const { return history_; }
     static constexpr std::size_t kHistory = 240;
     const DisplayTransform& display() const { return display_; }
-    /// The last frame as 8-bit sRGB RGB, rows from the top, through the display transform:
-    /// what the window shows and what `dynrt render` writes to a PNG.
+    /// What the window shows of the last frame as 8-bit RGB, rows from the top: the image in
+    /// sRGB through the display transform (what `dynrt render` writes to a PNG), or in a cost
+    /// view its heat map (cost_heat_rgb8).
     std::vector<unsigned char> display_bytes() const;
-    /// Writes the last frame to `path` (a PNG, as `dynrt render --out` writes it) and beside it
-    /// `path` with .json: the frame's report, the camera as --camera text and the frame. When
-    /// the last render was stopped part way, the frame is rendered again first.
+    /// In a cost view, what its colours mean ("node visits per pixel: white 50 or more; mean
+    /// 12.3, max 87"); "" showing the image.
+    std::string legend() const;
+    /// Writes what the window shows of the last frame to `path` (the image as `dynrt render
+    /// --out` writes it to a PNG, or the cost view's heat map) and beside it `path` with .json:
+    /// the frame's report, the camera as --camera text, the frame and the view. When the last
+    /// render was stopped part way, the frame is rendered again first.
     void screenshot(const std::filesystem::path& path);
 
     const Scene& scene() const { return scene_; }
@@ -115,8 +133,9 @@ public:
     const Renderer& renderer() const { return renderer_; }
 
 private:
-    /// Options and backend from args_, as the render command makes them.
-    void apply_args();
+    /// The heat map's measure and white in a cost view (CostMeasure, cost_scale).
+    CostMeasure cost_measure() const;
+    std::uint32_t heat_scale() const;
 
     ViewArgs args_;
     RenderOptions options_;

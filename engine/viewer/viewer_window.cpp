@@ -120,11 +120,15 @@ class Panels {
 public:
     explicit Panels(Poster& post) : post_(post) {}
 
-    void draw(const Shown& shown) {
+    /// `progress`: the frame being rendered now, behind the one shown.
+    void draw(const Shown& shown, const RenderProgress& progress) {
         if (!shown.error.empty()) error_ = shown.error;
         ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
         ImGui::SetNextWindowBgAlpha(0.8f);
         ImGui::Begin("dynrt", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
+        if (progress.tracing) {
+            ImGui::ProgressBar(float(progress.fraction()), ImVec2(260, 0), "rendering the next frame");
+        }
         figures(shown);
         time_controls(shown);
         settings(shown);
@@ -195,6 +199,8 @@ private:
         choice(shown, "spp", {"1", "4", "16"});
         choice(shown, "normals", {"smooth", "flat"});
         choice(shown, "backend", {"dynrt", "embree"});
+        choice(shown, "view", {"image", "nodes", "triangles"});
+        if (!shown.legend.empty()) ImGui::TextWrapped("%s", shown.legend.c_str());
         if (!error_.empty()) ImGui::TextWrapped("%s", error_.c_str());
     }
 
@@ -300,8 +306,8 @@ private:
 /// next waits until a frame showing it is on screen; the window's own commands are done here.
 class ScriptPlayer {
 public:
-    ScriptPlayer(const std::vector<ScriptCommand>& script, std::string source, Poster& post)
-        : script_(script), source_(std::move(source)), post_(post) {}
+    ScriptPlayer(const std::vector<ScriptCommand>& script, std::string source, Poster& post, GLFWwindow* window)
+        : script_(script), source_(std::move(source)), post_(post), window_(window) {}
 
     /// Runs the commands due at `elapsed` seconds that may run with `shown` on screen. Sets
     /// `capture` to a file to read the window back to after drawing, `overlay` as told, and
@@ -311,6 +317,10 @@ public:
             if (shown.number == 0 || shown.applied < post_.last() || hold_frames_ > 0) return true;
             if (wait_still_ && !shown.converged()) return true;
             wait_still_ = false;
+            // A resize is done when a frame of the new size is shown (the loop posts it when
+            // the window system has resized the framebuffer).
+            if (resize_width_ > 0 && (shown.width != resize_width_ || shown.height != resize_height_)) return true;
+            resize_width_ = resize_height_ = 0;
             const ScriptCommand& command = script_[next_++];
             const WindowStep step = window_step(command, source_);
             switch (step.action) {
@@ -318,6 +328,11 @@ public:
                 case WindowStep::Action::overlay: overlay = step.on; continue;
                 case WindowStep::Action::wait_frames: hold_frames_ = step.frames; continue;
                 case WindowStep::Action::wait_still: wait_still_ = true; continue;  // all its samples
+                case WindowStep::Action::resize:
+                    resize_width_ = step.width;
+                    resize_height_ = step.height;
+                    glfwSetWindowSize(window_, step.width, step.height);
+                    continue;
                 case WindowStep::Action::capture:
                     capture = step.file;
                     return true;  // drawn, then read back, before the next command
@@ -343,9 +358,11 @@ private:
     const std::vector<ScriptCommand>& script_;
     std::string source_;
     Poster& post_;
+    GLFWwindow* window_;
     std::size_t next_ = 0;
     int hold_frames_ = 0;
     bool wait_still_ = false;
+    int resize_width_ = 0, resize_height_ = 0;  ///< a resize waited for
 };
 
 /// GLFW, the window and Dear ImGui, torn down in reverse on every way out.
@@ -354,7 +371,7 @@ public:
     WindowContext(int width, int height, const std::string& title) {
         glfwSetErrorCallback([](int, const char* text) { std::cerr << "dynrt view: GLFW: " << text << "\n"; });
         if (!glfwInit()) throw std::runtime_error("no window system could be opened (GLFW failed to start)");
-        glfwWindowHint(GLFW_RESIZABLE, GLFW_FALSE);
+        glfwWindowHint(GLFW_RESIZABLE, GLFW_TRUE);  // the image follows the window's size
         window_ = glfwCreateWindow(width, height, title.c_str(), nullptr, nullptr);
         if (window_ == nullptr) {
             glfwTerminate();
@@ -424,9 +441,10 @@ int run_window(ViewerSession& session, const std::vector<ScriptCommand>& script,
         Poster post(worker, times);
         Input input(window, post);
         Panels panels(post);
-        ScriptPlayer player(script, script_source, post);
+        ScriptPlayer player(script, script_source, post, window);
         bool overlay = true;
         Shown shown;
+        int image_width = width, image_height = height;  // the size the session renders at
         const Clock::time_point start = Clock::now();
         Clock::time_point last = start, last_draw = start;
         while (!glfwWindowShouldClose(window)) {
@@ -447,12 +465,19 @@ int run_window(ViewerSession& session, const std::vector<ScriptCommand>& script,
                 break;
             }
             input.poll(seconds);
+            // The image follows the window: a new size is posted once (minimised, the
+            // framebuffer is 0 x 0 and the image keeps its size).
+            int fb_width = 0, fb_height = 0;
+            glfwGetFramebufferSize(window, &fb_width, &fb_height);
+            if (fb_width > 0 && fb_height > 0 && (fb_width != image_width || fb_height != image_height)) {
+                image_width = fb_width;
+                image_height = fb_height;
+                post([fb_width, fb_height](ViewerSession& s) { s.resize(fb_width, fb_height); return true; });
+            }
             // Drawn when a frame arrives, for a capture, and for the panels at 30 Hz at most.
             const bool panels_due = overlay && now - last_draw > std::chrono::milliseconds(33);
             if (shown.number == 0 || (!new_frame && capture.empty() && !panels_due && !player.wants_draw())) continue;
             last_draw = now;
-            int fb_width = 0, fb_height = 0;
-            glfwGetFramebufferSize(window, &fb_width, &fb_height);
             if (fb_width == 0 || fb_height == 0) continue;  // minimised: nothing to draw
             const Clock::time_point draw_start = Clock::now();
             glViewport(0, 0, fb_width, fb_height);
@@ -466,7 +491,7 @@ int run_window(ViewerSession& session, const std::vector<ScriptCommand>& script,
                 ImGui_ImplOpenGL2_NewFrame();
                 ImGui_ImplGlfw_NewFrame();
                 ImGui::NewFrame();
-                panels.draw(shown);
+                panels.draw(shown, worker.progress());
                 ImGui::Render();
                 ImGui_ImplOpenGL2_RenderDrawData(ImGui::GetDrawData());
             }

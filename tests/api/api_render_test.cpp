@@ -245,6 +245,47 @@ TEST(ApiRender, ARenderStoppedFromAnotherThreadReturnsAndTheNextIsWhole) {
     EXPECT_EQ(image.rgb, whole.rgb);
 }
 
+// Progress polled from another thread: nothing before the first render; while it runs the
+// tile passes done only grow toward every tile once per sample; after it, all of them done.
+TEST(ApiRender, ProgressCountsTilePassesWhileARenderRuns) {
+    Engine engine;
+    add_pieces(engine, pieces());
+    engine.update();
+    EXPECT_FALSE(engine.render_progress().tracing);
+    EXPECT_EQ(engine.render_progress().tiles_total, 0u);
+    EXPECT_EQ(engine.render_progress().fraction(), 0.0);
+    RenderSettings settings;
+    settings.samples_per_pixel = 9;
+    const View view{{1.0f, 2.0f, 6.0f}, {0.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, 50.0f};
+    const std::size_t passes = std::size_t((kWidth + 15) / 16) * std::size_t((kHeight + 15) / 16) * 9;
+    Image image(kWidth, kHeight);
+    std::atomic<bool> finished{false};
+    std::thread render([&] {
+        engine.render(view, ImageView{kWidth, kHeight, image.rgb}, settings);
+        finished = true;
+    });
+    std::size_t last = 0;
+    int seen_tracing = 0;
+    while (!finished) {
+        const RenderProgress p = engine.render_progress();
+        if (p.tracing) {
+            ++seen_tracing;
+            EXPECT_EQ(p.tiles_total, passes);
+            EXPECT_GE(p.tiles_done, last);
+            EXPECT_LE(p.tiles_done, p.tiles_total);
+            last = p.tiles_done;
+        }
+        std::this_thread::yield();
+    }
+    render.join();
+    const RenderProgress after = engine.render_progress();
+    EXPECT_FALSE(after.tracing);
+    EXPECT_EQ(after.tiles_total, passes);
+    EXPECT_EQ(after.tiles_done, passes);
+    EXPECT_EQ(after.fraction(), 1.0);
+    RecordProperty("polls_while_tracing", seen_tracing);
+}
+
 TEST(ApiRender, DefaultLightIsTheRenderersDefault) {
     const std::vector<Piece> ps = pieces();
     RenderOptions options;

@@ -40,11 +40,12 @@ run("install" COMMAND ${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix}
 # ---- Only the API's headers are installed ----
 file(GLOB_RECURSE headers RELATIVE ${prefix}/${INCLUDEDIR} ${prefix}/${INCLUDEDIR}/*)
 foreach(header IN LISTS headers)
-  if(NOT header MATCHES "^dynrt/(dynrt\\.h|api/[a-z_]+\\.h|engine/frame_stats\\.h|engine/texture_figures\\.h)$")
+  if(NOT header MATCHES "^dynrt/(dynrt\\.h|api/[a-z_]+\\.h|engine/frame_stats\\.h|engine/texture_figures\\.h|engine/render_progress\\.h)$")
     message(FATAL_ERROR "installed a header that is not part of the API: ${header}")
   endif()
 endforeach()
-foreach(required dynrt/dynrt.h dynrt/api/engine.h dynrt/engine/frame_stats.h dynrt/engine/texture_figures.h)
+foreach(required dynrt/dynrt.h dynrt/api/engine.h dynrt/engine/frame_stats.h dynrt/engine/texture_figures.h
+                 dynrt/engine/render_progress.h)
   if(NOT EXISTS ${prefix}/${INCLUDEDIR}/${required})
     message(FATAL_ERROR "the install lacks ${required}")
   endif()

@@ -309,3 +309,32 @@ def test_scene_pose_while_rendering_is_refused_then_catches_up(shared_scenes):
     still = load()
     still.pose(frame=0)
     assert still.render(96, 96, view=fresh.view, reuse_pixels=False).tobytes() != images[1][0].tobytes()
+
+
+def test_progress_and_cancel_from_another_thread(big):
+    """render_progress() polled while a render runs in another thread only grows; after it,
+    every tile pass is done. cancel_render() stops a long render, which raises InvalidState
+    (its arrays hold no whole image), and the next render is whole."""
+    engine, _ = big
+    assert engine.render_progress()["tracing"] is False
+    reference = engine.render(view(), 320, 240, reuse_pixels=False, samples_per_pixel=4)
+    done = engine.render_progress()
+    assert done["tiles_total"] == 20 * 15 * 4 and done["tiles_done"] == done["tiles_total"]
+    assert done["fraction"] == 1.0
+    with concurrent.futures.ThreadPoolExecutor(max_workers=1) as pool:
+        render = pool.submit(lambda: engine.render(view(), 320, 240, reuse_pixels=False, samples_per_pixel=4))
+        last = 0
+        while not render.done():
+            p = engine.render_progress()
+            if p["tracing"]:
+                assert last <= p["tiles_done"] <= p["tiles_total"] == 20 * 15 * 4
+                last = p["tiles_done"]
+        assert render.result().tobytes() == reference.tobytes()
+        # Stopped as soon as it is seen tracing (64 samples per pixel take seconds on one thread).
+        long = pool.submit(lambda: engine.render(view(), 320, 240, reuse_pixels=False, samples_per_pixel=64))
+        while not long.done() and not engine.render_progress()["tracing"]:
+            time.sleep(0.001)
+        engine.cancel_render()
+        with pytest.raises(dynrt.InvalidState, match="stopped by cancel_render"):
+            long.result()
+    assert engine.render(view(), 320, 240, reuse_pixels=False, samples_per_pixel=4).tobytes() == reference.tobytes()

@@ -141,6 +141,10 @@ void check_distributed_args(const RenderArgs& args, const FrameRange& range, int
                                     "render cache and frameless rendering need the whole image; "
                                     "use --reuse exact or off");
     }
+    if (args.distribute == "tiles" && args.aov.find("cost") != std::string::npos) {
+        throw std::invalid_argument("--aov cost with --distribute tiles: the pixel costs are not gathered "
+                                    "across processes; use --distribute frames");
+    }
     // One process not resuming writes whatever run_render accepted (a GIF, a video, a sheet).
     if (ranks == 1 && !args.resume) return;
     if (is_sequence_file(args.out) && !has_frame_number(args.out)) {
@@ -359,6 +363,7 @@ int run_distributed_render(const RenderArgs& args, Cluster& cluster) {
         RenderOptions options = render_options(args);
         const std::vector<Aov> aovs = parse_aov_list(args.aov);
         options.hit_buffers = !aovs.empty();
+        options.pixel_cost = std::find(aovs.begin(), aovs.end(), Aov::cost) != aovs.end();
         if (tiles) options.tiles = packet::TileShare{rank, ranks};
         const FrameRange range = args.frames.empty() ? FrameRange{} : parse_frame_range(args.frames);
         check_distributed_args(args, range, ranks);

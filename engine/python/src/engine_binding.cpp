@@ -205,8 +205,17 @@ FrameStats render_arrays(const PyEngine& self, const View& view, py::array& rgb,
     image.rgb = mutable_floats(rgb);
     if (depth) image.depth = mutable_floats(*depth);
     if (mesh) image.mesh = {static_cast<std::int32_t*>(mesh->mutable_data()), std::size_t(mesh->size())};
-    const py::gil_scoped_release nogil;
-    return self.engine().render(view, image, settings);
+    FrameStats stats;
+    {
+        const py::gil_scoped_release nogil;
+        stats = self.engine().render(view, image, settings);
+    }
+    // A render stopped by cancel_render() from another thread: its arrays are not an image.
+    if (stats.cancelled) {
+        throw Error(Error::Code::invalid_state, "dynrt.Engine.render: stopped by cancel_render() before it finished; "
+                                                "the arrays hold no whole image");
+    }
+    return stats;
 }
 
 /// An image array of shape (height, width[, 3]) checked for render_into.
@@ -394,6 +403,20 @@ srgb: the texels are sRGB-encoded; float32 texels are usually linear: pass srgb=
         return report_dict(stats);
     }, "Brings every tree up to date; returns the step's report as a dict (README \"Report\").");
 
+    engine.def("cancel_render", [](const PyEngine& self) { self.engine().cancel_render(); },
+               "Stops the render running now in another thread, if one is: that render raises "
+               "dynrt.InvalidState soon, and the next one traces every pixel. Callable from any thread.");
+    engine.def("render_progress", [](const PyEngine& self) {
+        const RenderProgress p = self.engine().render_progress();
+        py::dict d;
+        d["tracing"] = p.tracing;
+        d["tiles_done"] = p.tiles_done;
+        d["tiles_total"] = p.tiles_total;
+        d["fraction"] = p.fraction();
+        return d;
+    }, "How far the render running now (in another thread) has come, as a dict: tracing (a "
+       "render is running), tiles_done and tiles_total (each 16x16 tile once per sample per "
+       "pixel) and fraction; the last render's between renders.");
     engine.def("render", [](const PyEngine& self, const View& view, int width, int height, bool depth, bool mesh,
                             bool report, py::handle lights, py::handle background, float ambient, bool reuse_pixels,
                             int max_depth, float cutoff, bool smooth_normals, int samples_per_pixel,

@@ -847,6 +847,8 @@ FrameStats Engine::Impl::update() {
 
 void Engine::cancel_render() const { impl_->pipeline.cancel(); }
 
+RenderProgress Engine::render_progress() const { return impl_->pipeline.progress(); }
+
 FrameStats Engine::render(const View& view, const ImageView& image,
                           const RenderSettings& settings) const {
     const Impl& s = *impl_;

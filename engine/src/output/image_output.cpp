@@ -16,7 +16,8 @@ namespace dynrt {
 
 namespace {
 
-constexpr const char* kAovNames[] = {"depth", "object", "prim", "normal"};
+constexpr const char* kAovNames[] = {"depth", "object", "prim", "normal", "cost"};
+constexpr int kAovCount = int(std::size(kAovNames));
 
 /// PNG files are written fast rather than small: zlib's level 1 instead of OpenImageIO's 6, and
 /// every row filtered by "up" (libpng's PNG_FILTER_UP) instead of libpng trying all five
@@ -30,7 +31,8 @@ constexpr int kPngFilterUp = 0x20;
 /// (atomic_file.h): a render killed part way never leaves a torn image. `data` holds
 /// `channels` values of `data_type` per pixel; the file stores them as `file_type`.
 void write_pixels(const std::filesystem::path& path, int width, int height, int channels,
-                  const void* data, OIIO::TypeDesc data_type, OIIO::TypeDesc file_type) {
+                  const void* data, OIIO::TypeDesc data_type, OIIO::TypeDesc file_type,
+                  std::vector<std::string> channel_names = {}) {
     const std::filesystem::path partial = partial_path(path);
     std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create(path.string());
     if (!out) {
@@ -38,6 +40,7 @@ void write_pixels(const std::filesystem::path& path, int width, int height, int 
                                  OIIO::geterror() + ")");
     }
     OIIO::ImageSpec spec(width, height, channels, file_type);
+    if (!channel_names.empty()) spec.channelnames = std::move(channel_names);
     spec.attribute("png:compressionLevel", kPngCompressionLevel);
     spec.attribute("png:filter", kPngFilterUp);
     if (!out->open(partial.string(), spec) || !out->write_image(data_type, data) ||
@@ -52,6 +55,8 @@ void write_pixels(const std::filesystem::path& path, int width, int height, int 
 
 }  // namespace
 
+const char* aov_name(Aov aov) { return kAovNames[int(aov)]; }
+
 std::vector<Aov> parse_aov_list(const std::string& list) {
     std::vector<Aov> aovs;
     std::size_t start = 0;
@@ -60,7 +65,7 @@ std::vector<Aov> parse_aov_list(const std::string& list) {
         const std::string name = list.substr(start, comma - start);
         start = comma + 1;
         bool known = false;
-        for (int a = 0; a < 4; ++a) {
+        for (int a = 0; a < kAovCount; ++a) {
             if (name != kAovNames[a]) continue;
             known = true;
             const Aov aov = Aov(a);
@@ -71,7 +76,7 @@ std::vector<Aov> parse_aov_list(const std::string& list) {
         }
         if (!known) {
             throw std::invalid_argument("--aov: unknown output '" + name +
-                                        "' (known: depth, object, prim, normal)");
+                                        "' (known: depth, object, prim, normal, cost)");
         }
     }
     return aovs;
@@ -92,6 +97,14 @@ void write_image(const std::filesystem::path& path, const RenderedFrame& frame, 
     const std::vector<std::uint8_t> rgb = display_rgb8(frame, display);
     write_pixels(path, frame.width, frame.height, 3, rgb.data(), OIIO::TypeDesc::UINT8,
                  OIIO::TypeDesc::UINT8);
+}
+
+void write_image_rgb8(const std::filesystem::path& path, int width, int height, std::span<const std::uint8_t> rgb) {
+    if (rgb.size() != std::size_t(width) * std::size_t(height) * 3) {
+        throw std::invalid_argument(path.string() + ": " + std::to_string(rgb.size()) + " bytes for a " +
+                                    std::to_string(width) + "x" + std::to_string(height) + " RGB image");
+    }
+    write_pixels(path, width, height, 3, rgb.data(), OIIO::TypeDesc::UINT8, OIIO::TypeDesc::UINT8);
 }
 
 std::vector<std::uint8_t> display_rgb8(const RenderedFrame& frame, const DisplayTransform& display) {
@@ -128,6 +141,7 @@ void write_aov(const std::filesystem::path& image, Aov aov, const RenderedFrame&
     const std::filesystem::path path = aov_path(image, aov);
     std::vector<float> data;
     int channels = 1;
+    std::vector<std::string> names;
     switch (aov) {
     case Aov::depth: data = frame.depth; break;
     case Aov::object: data.assign(frame.object.begin(), frame.object.end()); break;
@@ -139,9 +153,22 @@ void write_aov(const std::filesystem::path& image, Aov aov, const RenderedFrame&
             for (int c = 0; c < 3; ++c) data[3 * i + c] = frame.normal[i][c];
         }
         break;
+    case Aov::cost:
+        if (frame.cost.size() != std::size_t(frame.width) * std::size_t(frame.height)) {
+            throw std::invalid_argument(path.string() + ": the frame was traced without its pixel costs "
+                                        "(TraceSettings::pixel_cost)");
+        }
+        channels = 2;
+        names = {"nodes", "triangles"};
+        data.resize(frame.cost.size() * 2);
+        for (std::size_t i = 0; i < frame.cost.size(); ++i) {
+            data[2 * i] = float(frame.cost[i].nodes);
+            data[2 * i + 1] = float(frame.cost[i].triangles);
+        }
+        break;
     }
     write_pixels(path, frame.width, frame.height, channels, data.data(), OIIO::TypeDesc::FLOAT,
-                 OIIO::TypeDesc::FLOAT);
+                 OIIO::TypeDesc::FLOAT, std::move(names));
 }
 
 }  // namespace dynrt

@@ -4,6 +4,7 @@
 #include "dynrt/engine/environment_lights.h"
 #include "rendering/alpha_cutouts.h"
 #include "rendering/cpu_tracer.h"
+#include "rendering/pixel_cost_pass.h"
 #include "rendering/same_view.h"
 #include "rendering/sampled_frame.h"
 #include "update/held_bytes.h"
@@ -210,9 +211,11 @@ void FramePipeline::trace(const Scene& scene, const Camera& camera, const TraceS
         // cancelled.)
         status = group.run_and_wait([&] { run_trace(scene, camera, options, lights, out); });
     } catch (...) {
+        progress_.finish();
         done();
         throw;
     }
+    progress_.finish();
     done();
     if (status == tbb::task_group_status::canceled) {
         // Stopped before or while it ran: the image sized but incomplete (a trace stopped
@@ -262,6 +265,11 @@ void FramePipeline::run_trace(const Scene& scene, const Camera& camera, const Tr
     }
     const std::span<const PointLight> lights = with_environment_lights(given_lights, options);
     check_lights(lights);
+    // Every tile, once per sample pass (render_progress.h); adaptive anti-aliasing adds its
+    // refinement pass's tiles once it knows them.
+    const bool refines_later = sampled && options.sampling.adaptive_contrast > 0.0f;
+    progress_.start(std::size_t(packet::Tiling(options.width, options.height, options.tiles).count()) *
+                    std::size_t(refines_later ? 1 : options.sampling.spp));
     const Stopwatch trace_clock;
     // The shading kernel's view of the materials (bookkeeping, outside the stage clocks).
     materials_.clear();
@@ -288,7 +296,7 @@ void FramePipeline::run_trace(const Scene& scene, const Camera& camera, const Tr
     const detail::CutoutTracer cutout_tracer(backend, cutouts);
     const TraceBackend& tracer = any_cutout(scene.materials) ? cutout_tracer : backend;
     const TraceInputs inputs{accel_, tracer, materials_, object_material_, lights, scene.materials,
-                             surface_textures ? &*surface_textures : nullptr};
+                             surface_textures ? &*surface_textures : nullptr, &progress_};
     // A reflection or refraction can show any object from any pixel whose hit spawns one:
     // exact reuse traces such pixels again whenever anything changed (exact_reuse.h), while the
     // approximate modes' ranking and adaptive sampling's interpolation cannot account for it,
@@ -368,6 +376,12 @@ void FramePipeline::run_trace(const Scene& scene, const Camera& camera, const Tr
     out.stats.total_ms = update_wall_ms_ + trace_clock.elapsed_ms();
     // What the automatic update method predicts the next frames' trace times from.
     accel_.note_trace_ms(out.stats.primary_ms + out.stats.shadow_ms);
+    // The cost view: a pass of its own, after the clocks.
+    if (options.pixel_cost) {
+        detail::trace_pixel_costs(accel_.top_level(), camera, options.width, options.height, options.tiles, out.cost);
+    } else {
+        out.cost.clear();
+    }
 }
 
 }  // namespace dynrt

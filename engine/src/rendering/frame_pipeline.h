@@ -66,6 +66,8 @@ public:
     /// an incomplete image, and what pixel reuse remembered is forgotten (the next trace is a
     /// full one). Does nothing between traces. Thread-safe.
     void cancel();
+    /// How far the trace running now has come (the last one's between traces). Thread-safe.
+    RenderProgress progress() const { return progress_.now(); }
 
     /// Traces with `backend` (not null) instead of dynrt's own tracer, or with dynrt's again
     /// (null): each update then also loads its frame into the backend. Forgets the trees, as
@@ -124,6 +126,8 @@ private:
     /// The running trace's task group context (cancel()), or null between traces.
     std::mutex cancel_mutex_;
     tbb::task_group_context* running_ = nullptr;
+    /// The tile passes of the trace running now (progress()).
+    detail::FrameProgress progress_;
     /// `lights` and, when options ask for them, the environment's suns (environment_lights.h)
     /// after them: the lights a trace shades with. Refuses a count out of range, or suns
     /// without a map. The span borrows frame_lights_ until the next call.

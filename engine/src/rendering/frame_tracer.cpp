@@ -23,11 +23,13 @@ using detail::StageWork;
 
 /// The adaptive path (RenderOptions::adaptive_tolerance > 0): each tile sampled, traced,
 /// shadowed and shaded by trace_tile_adaptive in one task.
-void trace_adaptive(const detail::AdaptiveFrame& frame, const packet::Tiling& tiling, RenderedFrame& out) {
+void trace_adaptive(const detail::AdaptiveFrame& frame, const packet::Tiling& tiling,
+                    detail::FrameProgress* progress, RenderedFrame& out) {
     tbb::combinable<StageWork> work;
     const Stopwatch clock;
     tbb::parallel_for(0, tiling.count(), [&](int i) {
         detail::trace_tile_adaptive(frame, i, tiling.tile(i), out, work.local());
+        if (progress != nullptr) progress->tile_done();
     });
     const double wall_ms = clock.elapsed_ms();
     const StageWork sum = work.combine([](StageWork a, const StageWork& b) { return a += b; });
@@ -111,8 +113,11 @@ void trace_frame(const TraceInputs& in, const Camera& camera, const TraceSetting
     const bool count = options.count_packet_work;
 
     if (options.adaptive_tolerance > 0.0f) {
-        const detail::TilePass pass{in, rays, shading, nullptr, scratch.hits, width, count, sample};
-        trace_adaptive(detail::AdaptiveFrame{pass, options.adaptive_tolerance}, tiling, out);
+        // Counted per tile here, whether it was interpolated or traced.
+        TraceInputs uncounted = in;
+        uncounted.progress = nullptr;
+        const detail::TilePass pass{uncounted, rays, shading, nullptr, scratch.hits, width, count, sample};
+        trace_adaptive(detail::AdaptiveFrame{pass, options.adaptive_tolerance}, tiling, in.progress, out);
         return;
     }
 

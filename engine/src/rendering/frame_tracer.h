@@ -7,6 +7,7 @@
 #include "dynrt/engine/camera.h"
 #include "dynrt/engine/renderer.h"
 #include "dynrt/packet/packet_shading.h"
+#include "rendering/frame_progress.h"
 #include "rendering/pixel_samples.h"
 #include "rendering/secondary_rays.h"
 #include "dynrt/engine/trace_backend.h"
@@ -36,6 +37,8 @@ struct TraceInputs {
     std::span<const Material> scene_materials = {};
     /// The frame's textures, or null when no material maps one.
     const detail::SurfaceTextures* textures = nullptr;
+    /// Counts each tile pass done (Renderer::progress), or null.
+    detail::FrameProgress* progress = nullptr;
 };
 
 /// Buffers a trace fills and the next one reuses (one per concurrent trace).

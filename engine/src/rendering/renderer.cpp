@@ -299,6 +299,8 @@ void Renderer::update(const Scene& scene, int frame) {
 
 void Renderer::cancel() { state_->pipeline.cancel(); }
 
+RenderProgress Renderer::progress() const { return state_->pipeline.progress(); }
+
 void Renderer::trace(const Camera& camera, RenderedFrame& out) {
     State& s = *state_;
     if (!s.pipeline.updated()) throw std::logic_error("Renderer::trace before any update");

@@ -212,6 +212,8 @@ void trace_sampled_frame(const TraceInputs& in, const Camera& camera, const Trac
         listed.assign(std::size_t(pass_options.width) * std::size_t(pass_options.height), 0);
         std::fill(listed.begin(), listed.begin() + std::ptrdiff_t(list.size()), std::uint8_t{1});
         pass.stats = out.stats;
+        // The frame's progress learns of this pass's tiles now that they are known.
+        if (in.progress != nullptr) in.progress->add_tiles(std::size_t(packet::Tiling(pass_options.width, pass_options.height).count()));
         trace_frame(sample_in, camera, pass_options, scratch, pass,
                     SamplePass{sampling, 0, &listed, &list, options.width, options.height});
         figures.add(pass.stats);

@@ -124,8 +124,8 @@ struct TilePass {
 ///   bool gathers_secondary()                          whether its hits' secondary rays join
 ///                                                     the secondary stage.
 template <class Choice>
-void trace_tile(const TilePass& f, int index, const packet::Tile& tile, Choice& choice,
-                StageWork& work, RenderedFrame& out) {
+void trace_tile_stages(const TilePass& f, int index, const packet::Tile& tile, Choice& choice,
+                       StageWork& work, RenderedFrame& out) {
     Stopwatch clock;
     TileRays rays(f.pinhole, tile, f.sample, f.width);
     const packet::LaneMask traced = choice.camera_lanes(rays);
@@ -160,6 +160,14 @@ void trace_tile(const TilePass& f, int index, const packet::Tile& tile, Choice& 
     choice.written(origins, rays, out);
     if (f.secondary != nullptr && choice.gathers_secondary()) f.secondary->gather(index, tile, f.width, origins);
     work.shade_ms += clock.lap_ms();
+}
+
+/// trace_tile_stages, then the tile counted done for the frame's progress (render_progress.h).
+template <class Choice>
+void trace_tile(const TilePass& f, int index, const packet::Tile& tile, Choice& choice,
+                StageWork& work, RenderedFrame& out) {
+    trace_tile_stages(f, index, tile, choice, work, out);
+    if (f.in.progress != nullptr) f.in.progress->tile_done();
 }
 
 /// A full frame's choice of rays for trace_tile: every camera ray and every shadow ray of the

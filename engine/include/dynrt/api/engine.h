@@ -34,6 +34,7 @@
 #include "dynrt/api/export.h"
 #include "dynrt/api/types.h"
 #include "dynrt/engine/frame_stats.h"
+#include "dynrt/engine/render_progress.h"
 #include "dynrt/engine/texture_figures.h"
 
 #include <oneapi/tbb/task_arena.h>
@@ -359,6 +360,10 @@ public:
     /// FrameStats::cancelled set and its `image` left as it was; the next render traces every
     /// pixel. An update is never stopped. Callable from any thread, any time.
     void cancel_render() const;
+    /// How far the render running now has come: its tile passes done and in all
+    /// (dynrt/engine/render_progress.h); the last render's between renders. Callable from any
+    /// thread, any time, e.g. to draw a progress bar or decide to cancel_render().
+    RenderProgress render_progress() const;
 
     /// Closest hit of every ray, hits[i] for rays[i]; the same results as tracing each ray
     /// alone, bit for bit. The batch is cut into runs of 256 consecutive rays and each run into

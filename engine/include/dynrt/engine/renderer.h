@@ -94,8 +94,10 @@
 #include "dynrt/engine/camera.h"
 #include "dynrt/engine/environment_map.h"
 #include "dynrt/engine/frame_stats.h"
+#include "dynrt/engine/pixel_cost.h"
 #include "dynrt/engine/pixel_reuse.h"
 #include "dynrt/engine/pixel_sampling.h"
+#include "dynrt/engine/render_progress.h"
 #include "dynrt/engine/secondary_ray_log.h"
 #include "dynrt/engine/trace_backend.h"
 #include "dynrt/engine/texture_figures.h"
@@ -187,6 +189,10 @@ struct TraceSettings {
     /// colour. Off, they are left empty and a frame writes 12 bytes per pixel instead of 36:
     /// on the bundled scene those writes were most of the shading stage's time.
     bool hit_buffers = true;
+    /// Fill RenderedFrame::cost, each pixel's camera-ray work in the frame's trees
+    /// (dynrt/engine/pixel_cost.h; `--aov cost`, the viewer's cost view): a pass of its own
+    /// after the frame, outside the stage times. Off by default.
+    bool pixel_cost = false;
     glm::vec3 background{0.05f, 0.06f, 0.08f};
     /// What rays that leave the scene see, by direction, camera and secondary rays alike
     /// (dynrt/engine/environment_map.h; `--environment`); null: the background colour.
@@ -241,6 +247,9 @@ struct RenderedFrame {
     std::vector<std::int32_t> prim;    ///< triangle index within the object; -1 on a miss
     /// Unit geometric normal facing the eye (not the shading normal); 0 on a miss.
     std::vector<glm::vec3> normal;
+    /// Each pixel's camera-ray work in the frame's trees (dynrt/engine/pixel_cost.h), when
+    /// TraceSettings::pixel_cost is on; empty otherwise.
+    std::vector<PixelCost> cost;
     FrameStats stats;
     /// Set by the trace that filled this frame: the next trace reuses its pixels only when it
     /// is the frame that trace wrote (TraceSettings::reuse). A caller that edits the buffers
@@ -312,6 +321,10 @@ public:
     /// (an update is never stopped) and the next frame traces in full. Does nothing between
     /// frames. Thread-safe.
     void cancel();
+    /// How far the frame being traced has come: its tile passes done and in all
+    /// (dynrt/engine/render_progress.h); the last frame's between frames. Thread-safe: another
+    /// thread may poll it while render() runs.
+    RenderProgress progress() const;
 
     /// The scene as evaluated by the last update (its camera, transforms, motion classes).
     /// Static and rigid objects' positions are left empty. Throws std::logic_error before any

@@ -126,7 +126,8 @@ TEST(Bench, RowsCountPacketWorkPerCullingConfiguration) {
     EXPECT_EQ(doc["rows"][1]["ray_triangle_culled"], culled.ray_triangle_culled);
     const std::string csv = bench_csv({none, culled});
     EXPECT_NE(csv.find(",packet_culling,ray_triangle_tests,ray_triangle_culled,nodes_visited,"
-                       "rays,tree_width,bytes_per_triangle\n"),
+                       "rays,tree_width,bytes_per_triangle,scene_bytes_per_triangle,renderer_bytes_per_triangle,"
+                       "peak_bytes_per_triangle\n"),
               std::string::npos)
         << csv;
     EXPECT_NE(csv.find(",ab+bp+nf," + std::to_string(culled.ray_triangle_tests) + "," +

@@ -338,6 +338,7 @@ void print_results(const RenderArgs& args, const Scene& scene, const FramesLeft&
     print_update_choices(std::cout, frames);
     if (ranks > 0) print_ranks(std::cout, frames, ranks, tiles);
     print_textures(std::cout, textures);
+    print_memory(std::cout, frames);
     print_writer_summary(std::cout, frames, writer.wait_ms());
     if (left.journal) std::cout << "journal: " << left.journal->path().string() << "\n";
 }

@@ -1,5 +1,7 @@
 #include "dynrt/bench/bench.h"
 
+#include "dynrt/engine/resident_memory.h"
+
 #include "dynrt/engine/report.h"
 #include "dynrt/engine/stopwatch.h"
 
@@ -238,6 +240,7 @@ BenchRow bench_configuration(const Scene& scene, const Camera& camera,
         }
         renderer.render(scene, camera, frame, out);
     };
+    restart_peak_resident();  // this row's peak, not an earlier row's
     Renderer renderer(options);
     RenderedFrame local_frame;
     RenderedFrame& out = last_frame ? *last_frame : local_frame;
@@ -296,6 +299,10 @@ BenchRow bench_configuration(const Scene& scene, const Camera& camera,
     row.bytes_per_triangle =
         kept > 0 ? double(out.stats.binary_tree_bytes + out.stats.wide_tree_bytes) / double(kept)
                  : 0.0;
+    const double per = 1.0 / double(std::max<std::size_t>(out.stats.triangles, 1));
+    row.scene_bytes_per_triangle = double(out.stats.scene_bytes) * per;
+    row.renderer_bytes_per_triangle = double(out.stats.renderer_bytes) * per;
+    row.peak_bytes_per_triangle = double(out.stats.peak_rss_bytes) * per;
     if (options.tracer == Tracer::packet) {
         std::string culling = options.packet.culling.to_string();
         std::replace(culling.begin(), culling.end(), ',', '+');
@@ -332,6 +339,7 @@ void print_bench_table(std::ostream& out, const std::vector<BenchRow>& rows) {
         << "depth" << std::setw(7) << "adapt" << "  " << std::left << std::setw(14) << "culling" << std::right
         << std::setw(10) << "tests M" << std::setw(10) << "culled M" << std::setw(7) << "width"
         << std::setw(7) << "B/tri" << std::setw(11) << "nodes/ray" << std::setw(10) << "tris/ray"
+        << std::setw(12) << "scene B/tri" << std::setw(12) << "held B/tri" << std::setw(12) << "peak B/tri"
         << '\n';
     for (const BenchRow& r : rows) {
         std::ostringstream cost;
@@ -351,7 +359,8 @@ void print_bench_table(std::ostream& out, const std::vector<BenchRow>& rows) {
             << std::setprecision(0) << std::setw(7) << r.bytes_per_triangle << std::setprecision(2)
             << std::setw(11) << (r.rays ? double(r.nodes_visited) / double(r.rays) : 0.0)
             << std::setw(10) << (r.rays ? double(r.ray_triangle_tests) / double(r.rays) : 0.0)
-            << '\n';
+            << std::setprecision(0) << std::setw(12) << r.scene_bytes_per_triangle << std::setw(12)
+            << r.renderer_bytes_per_triangle << std::setw(12) << r.peak_bytes_per_triangle << '\n';
     }
 }
 

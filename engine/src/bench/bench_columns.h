@@ -47,6 +47,9 @@ struct ForEachBenchColumn {
         visit("rays", row.rays);
         visit("tree_width", row.tree_width);
         visit("bytes_per_triangle", row.bytes_per_triangle);
+        visit("scene_bytes_per_triangle", row.scene_bytes_per_triangle);
+        visit("renderer_bytes_per_triangle", row.renderer_bytes_per_triangle);
+        visit("peak_bytes_per_triangle", row.peak_bytes_per_triangle);
     }
 };
 

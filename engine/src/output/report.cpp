@@ -111,6 +111,10 @@ nlohmann::ordered_json frame_json(const FrameStats& s) {
         j["choices"].push_back(
             {{"object", c.object}, {"name", c.name}, {"chosen", c.chosen}, {"why", c.why}});
     }
+    // Memory after the frame (an object of its own: reports written before it lack it).
+    j["memory"] = {{"scene_bytes", s.scene_bytes},       {"tree_bytes", s.tree_bytes},
+                   {"build_triangle_bytes", s.build_triangle_bytes}, {"renderer_bytes", s.renderer_bytes},
+                   {"rss_bytes", s.rss_bytes},           {"peak_rss_bytes", s.peak_rss_bytes}};
     // A frame rendered across processes: which one made it and what the distribution cost.
     if (s.rank >= 0) {
         j["rank"] = s.rank;
@@ -135,6 +139,15 @@ FrameStats frame_from_json(const nlohmann::json& j) {
     j.at("secondary_mrays_per_s_per_depth").get_to(s.secondary_mrays_per_s_per_depth);
     j.at("reuse_mode").get_to(s.reuse_mode);
     j.at("reuse_reason").get_to(s.reuse_reason);
+    if (j.contains("memory")) {
+        const nlohmann::json& m = j["memory"];
+        m.at("scene_bytes").get_to(s.scene_bytes);
+        m.at("tree_bytes").get_to(s.tree_bytes);
+        m.at("build_triangle_bytes").get_to(s.build_triangle_bytes);
+        m.at("renderer_bytes").get_to(s.renderer_bytes);
+        m.at("rss_bytes").get_to(s.rss_bytes);
+        m.at("peak_rss_bytes").get_to(s.peak_rss_bytes);
+    }
     for (const nlohmann::json& event : j.at("rebuilds")) {
         TreeRebuild& r = s.rebuilds.emplace_back();
         event.at("object").get_to(r.object);
@@ -257,6 +270,21 @@ std::string describe_textures(const TextureFigures& textures) {
     }
     text << ", read in " << std::setprecision(1) << textures.load_ms << " ms";
     return text.str();
+}
+
+void print_memory(std::ostream& out, const std::vector<FrameStats>& frames) {
+    if (frames.empty()) return;
+    // The last frame's holdings, and the peak of the whole run (the resident peak never falls).
+    const FrameStats& last = frames.back();
+    if (last.renderer_bytes == 0 && last.peak_rss_bytes == 0) return;
+    const double triangles = double(std::max<std::size_t>(last.triangles, 1));
+    const auto per = [&](std::size_t bytes) { return double(bytes) / triangles; };
+    std::size_t peak = 0;
+    for (const FrameStats& f : frames) peak = std::max(peak, f.peak_rss_bytes);
+    out << std::fixed << std::setprecision(0) << "memory per triangle: scene " << per(last.scene_bytes)
+        << " B, trees " << per(last.tree_bytes) << " B, build triangles " << per(last.build_triangle_bytes)
+        << " B, renderer in all " << per(last.renderer_bytes) << " B; resident peak " << per(peak) << " B ("
+        << std::setprecision(1) << double(peak) / 1e9 << " GB)\n";
 }
 
 void print_textures(std::ostream& out, const TextureFigures& textures) {

@@ -1,5 +1,9 @@
 #include "dynrt/engine/renderer.h"
 
+#include "dynrt/engine/resident_memory.h"
+#include "dynrt/scene/scene_bytes.h"
+#include "update/held_bytes.h"
+
 #include "dynrt/anim/posed_scene.h"
 #include "dynrt/packet/packet_shading.h"
 #include "dynrt/scene/scene_error.h"
@@ -305,6 +309,16 @@ void Renderer::trace(const Camera& camera, RenderedFrame& out) {
     State& s = *state_;
     if (!s.pipeline.updated()) throw std::logic_error("Renderer::trace before any update");
     s.pipeline.trace(*s.scene, camera, options_, s.lights, out);
+    // What the frame holds in memory, after its clocks (a walk over the objects' containers).
+    s.pipeline.accel().memory_figures(out.stats);
+    out.stats.scene_bytes = scene_bytes(*s.scene);
+    std::size_t posed = held_bytes(s.posed.objects) + held_bytes(s.posed.node_world) + held_bytes(s.posed.node_weights) +
+                        held_bytes(s.states);
+    for (const anim::PosedObject& o : s.posed.objects) posed += held_bytes(o.positions) + held_bytes(o.normals);
+    out.stats.renderer_bytes = s.pipeline.memory_bytes() + posed;
+    const ResidentMemory resident = resident_memory();
+    out.stats.rss_bytes = resident.current;
+    out.stats.peak_rss_bytes = resident.peak;
 }
 
 }  // namespace dynrt

@@ -115,15 +115,22 @@ std::size_t tree_bytes(const bvh::TriangleBvh& tree) {
 
 }  // namespace
 
+void SceneAccel::memory_figures(MemoryStats& out) const {
+    out.tree_bytes = tree_bytes(static_group_.tree) + held_bytes(top_.instances) + held_bytes(top_.world_boxes) +
+                     held_bytes(top_.top.nodes) + held_bytes(top_.top.prim_ids);
+    out.build_triangle_bytes = held_bytes(static_group_.triangles);
+    for (const ObjectTree& o : objects_) {
+        out.tree_bytes += tree_bytes(o.tree);
+        out.build_triangle_bytes += held_bytes(o.triangles);
+    }
+}
+
 std::size_t SceneAccel::memory_bytes() const {
-    const auto object_bytes = [](const ObjectTree& o) {
-        return held_bytes(o.triangles) + tree_bytes(o.tree);
-    };
-    std::size_t bytes = held_bytes(objects_) + object_bytes(static_group_);
-    for (const ObjectTree& o : objects_) bytes += object_bytes(o);
+    MemoryStats parts;
+    memory_figures(parts);
+    std::size_t bytes = held_bytes(objects_) + parts.tree_bytes + parts.build_triangle_bytes;
     bytes += held_bytes(static_first_) + held_bytes(static_objects_) + held_bytes(static_bucket_slot_);
-    bytes += held_bytes(instance_trees_) + held_bytes(top_.instances) + held_bytes(top_.world_boxes) +
-             held_bytes(top_.top.nodes) + held_bytes(top_.top.prim_ids);
+    bytes += held_bytes(instance_trees_);
     bytes += held_bytes(object_boxes_) + held_bytes(positions_) + held_bytes(history_) +
              held_bytes(plan_.objects) + shading_.memory_bytes();
     return bytes;

@@ -92,6 +92,10 @@ public:
     /// Heap bytes held: every object's triangles, trees (binary and wide) and normals, the
     /// static group, the top level and the per-object records. Not thread-safe with update().
     std::size_t memory_bytes() const;
+    /// Of those, the trees (nodes and leaves of every object and the static group, the top
+    /// level) and the triangles they are built from, into `out`'s tree_bytes and
+    /// build_triangle_bytes.
+    void memory_figures(MemoryStats& out) const;
 
     const bvh::TwoLevelBvh& top_level() const { return top_; }
 

@@ -60,6 +60,13 @@ struct BenchRow {
     /// the trees kept (binary tree, plus the wide tree when built).
     int tree_width = 2;
     double bytes_per_triangle = 0;
+    /// Memory per triangle (FrameStats' MemoryStats after the last run): the scene model,
+    /// everything the renderer holds, and the process's resident peak over the row's renders
+    /// (the first, which builds every tree, included; each row's peak starts afresh where
+    /// Linux allows, restart_peak_resident).
+    double scene_bytes_per_triangle = 0;
+    double renderer_bytes_per_triangle = 0;
+    double peak_bytes_per_triangle = 0;
 };
 
 /// Expands sweep specs such as "cost-ratio=0.1,1" and "leaf=4,8" into the cross product of

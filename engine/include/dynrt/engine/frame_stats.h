@@ -207,10 +207,35 @@ struct DistributionStats {
     double gather_ms = 0;
 };
 
+/// Memory after the frame (issue 43): what the scene model, the trees and the renderer hold,
+/// and the process's resident set, in bytes (the report's "memory" object; `dynrt render`
+/// prints them per triangle). Filled by Renderer (`dynrt render`, `dynrt bench`, the viewer);
+/// 0 from the library API, whose Engine::memory_bytes() gives what it holds.
+struct MemoryStats {
+    /// The scene model the frame was rendered from: its meshes (positions, triangles, normals,
+    /// texture coordinates, skin weights, morph targets), embedded image files and texel
+    /// arrays, animation clips.
+    std::size_t scene_bytes = 0;
+    /// The trees: every object's nodes and leaves (the wide tree's nodes and triangle blocks,
+    /// or a binary tree's nodes, ids and triangles in leaf order) and the top level.
+    std::size_t tree_bytes = 0;
+    /// The triangles each tree is built and refitted from (per object, in world space, or in
+    /// object space for rigid ones).
+    std::size_t build_triangle_bytes = 0;
+    /// Everything the renderer holds besides the scene model: tree_bytes, build_triangle_bytes,
+    /// the shading geometry, the posed scene, decoded textures, pixel reuse's records.
+    std::size_t renderer_bytes = 0;
+    /// The process's resident set after the frame and its peak so far (Linux's VmRSS and
+    /// VmHWM; 0 where they cannot be read). For a one-frame render of a static scene the peak
+    /// is the build's.
+    std::size_t rss_bytes = 0;
+    std::size_t peak_rss_bytes = 0;
+};
+
 /// One frame's figures: the three stages' parts, each filled by its stage (SceneAccel the
 /// update and the tree shape, trace_frame the trace), and the whole frame's wall time. The
 /// parts are bases, so every figure is read as stats.<field>, as the report's keys name it.
-struct FrameStats : UpdateStats, TreeShape, TraceStats, DistributionStats {
+struct FrameStats : UpdateStats, TreeShape, TraceStats, DistributionStats, MemoryStats {
     int frame = 0;
     double total_ms = 0;  ///< the whole frame, wall clock
     /// `dynrt render`: the output stage's time encoding and writing this frame's files (on its

@@ -66,7 +66,9 @@ TIMING_SUFFIXES = ("_ms", "_per_s", "_per_s_per_depth")
 # Where each side writes (the journal's settings name it) differs by design.
 UNCOMPARED_KEYS = {"--out", "--report", "summary", "threads", "rebuilds", "objects_refitted", "objects_rebuilt",
                    "triangles_refitted", "triangles_rebuilt", "sah_cost", "nodes", "leaves",
-                   "leaf_tris_mean", "leaf_tris_max", "depth"}
+                   "leaf_tris_mean", "leaf_tris_max", "depth",
+                   # The process's resident set varies from run to run.
+                   "rss_bytes", "peak_rss_bytes"}
 
 
 # How the secondary rays were grouped into packets: what regrouping them changes (--regrouped).

@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstddef>
 #include <cstring>
 #include <random>
 #include <string>
@@ -134,6 +135,18 @@ TYPED_TEST(WideBvhTest, GivesTheBinaryTreesHitsBitForBit) {
                 const WideBvhOf<N> wide = collapse_to_wide<N>(binary.bvh, binary.tris);
                 ASSERT_EQ(validate(wide, c.tris, binary.bvh.prim_ids), "") << what;
                 EXPECT_EQ(count_disagreements(wide, binary, random_rays(c.tris, leaf, 600), what), 0);
+                // From the caller's triangles through the ids: the same tree, byte for byte.
+                const WideBvhOf<N> by_id = collapse_to_wide_by_id<N>(binary.bvh, c.tris);
+                ASSERT_EQ(by_id.nodes.size(), wide.nodes.size()) << what;
+                ASSERT_EQ(by_id.blocks.size(), wide.blocks.size()) << what;
+                // Each node's fields, not its padding (left unwritten).
+                const std::size_t used = offsetof(WideNode<N>, blocks) + sizeof(wide.nodes[0].blocks);
+                for (std::size_t k = 0; k < wide.nodes.size(); ++k) {
+                    ASSERT_EQ(std::memcmp(&by_id.nodes[k], &wide.nodes[k], used), 0) << what << " node " << k;
+                }
+                EXPECT_EQ(std::memcmp(by_id.blocks.data(), wide.blocks.data(), wide.blocks.size() * sizeof(TriangleBlock)), 0)
+                    << what;
+                EXPECT_EQ(by_id.triangle_count, wide.triangle_count) << what;
             }
         }
     }

@@ -290,17 +290,18 @@ TriangleBvh build_triangle_bvh(std::span<const Triangle> tris, const BuildConfig
             accel.morton_scratch->buffers.keys, std::move(recycled_wide));
         return accel;
     }
-    // The binary tree with its triangles in leaf order: the result itself without the wide
-    // tree, else the collapse's input, dropped after it.
+    // The binary tree: the result itself without the wide tree (with its triangles copied in
+    // leaf order), else the collapse's input, dropped after it (the collapse reads the
+    // caller's triangles through the tree's ids: no leaf-order copy at the build's peak).
     Bvh binary_storage;
-    std::vector<Triangle> leaf_tris_storage;
     Bvh& binary = wide ? binary_storage : accel.bvh;
-    std::vector<Triangle>& leaf_tris = wide ? leaf_tris_storage : accel.tris;
+    std::vector<Triangle>& leaf_tris = accel.tris;
     if (!wide) binary = std::move(recycled_tree);
     leaf_tris.clear();
     // Copy the triangles in leaf order while the builder makes its hierarchy: three serial
     // fills (triangles, nodes, ids) of fresh memory share the threads.
     const auto gather_leaf_order = [&](auto id_of) {
+        if (wide) return;
         detail::resize_with_huge_pages(leaf_tris, count);
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kBlock),
                           [&](const tbb::blocked_range<std::size_t>& r) {
@@ -324,8 +325,10 @@ TriangleBvh build_triangle_bvh(std::span<const Triangle> tris, const BuildConfig
             std::move(binary));
     }
     if (wide) {
-        accel.wide = collapse_to_wide<kWideWidth>(binary, leaf_tris, WideCosts{},
-                                                  std::move(recycled_wide));
+        // The references are done with: freed before the wide tree is made (32 bytes per
+        // triangle off the build's peak).
+        own_refs.reset();
+        accel.wide = collapse_to_wide_by_id<kWideWidth>(binary, tris, WideCosts{}, std::move(recycled_wide));
     }
     return accel;
 }

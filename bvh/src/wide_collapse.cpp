@@ -60,8 +60,10 @@ struct WideSize {
 template <int N>
 class Collapser {
 public:
-    Collapser(const Bvh& bvh, std::span<const Triangle> leaf_tris, const WideCosts& costs)
-        : bvh_(bvh), leaf_tris_(leaf_tris), costs_(costs),
+    /// `by_id`: `tris` is in the caller's order (leaf position k's triangle is
+    /// tris[prim_ids[k]]), else in leaf order (tris[k]).
+    Collapser(const Bvh& bvh, std::span<const Triangle> tris, bool by_id, const WideCosts& costs)
+        : bvh_(bvh), tris_(tris), by_id_(by_id), costs_(costs),
           choice_(std::make_unique_for_overwrite<Choices[]>(bvh.nodes.size())),
           size_as_node_(std::make_unique_for_overwrite<WideSize[]>(bvh.nodes.size())) {}
 
@@ -89,7 +91,7 @@ public:
             emit_node(0, 0, 0, 1);
         }
         wide.root_box = bvh_.nodes[0].box;
-        wide.triangle_count = leaf_tris_.size();
+        wide.triangle_count = bvh_.prim_ids.size();
         return wide;
     }
 
@@ -261,7 +263,10 @@ private:
     /// how many it filled.
     std::uint32_t fill_leaf(TriangleBlock* blocks, std::uint32_t index) const {
         detail::BlockWriter writer(blocks);
-        visit_leaves(index, [&](std::uint32_t k) { writer.add(leaf_tris_[k], bvh_.prim_ids[k]); });
+        visit_leaves(index, [&](std::uint32_t k) {
+            const std::uint32_t id = bvh_.prim_ids[k];
+            writer.add(tris_[by_id_ ? id : k], id);
+        });
         return writer.finish();
     }
 
@@ -277,7 +282,8 @@ private:
     }
 
     const Bvh& bvh_;
-    std::span<const Triangle> leaf_tris_;
+    std::span<const Triangle> tris_;
+    bool by_id_;
     WideCosts costs_;
     std::unique_ptr<Choices[]> choice_;
     /// Per binary inner node, the wide subtree it gives as a wide node.
@@ -296,12 +302,28 @@ WideBvhOf<N> collapse_to_wide(const Bvh& bvh, std::span<const Triangle> leaf_tri
                                     " triangles for " + std::to_string(bvh.prim_ids.size()) +
                                     " primitive ids");
     }
-    return Collapser<N>(bvh, leaf_tris, costs).run(std::move(recycled));
+    return Collapser<N>(bvh, leaf_tris, false, costs).run(std::move(recycled));
+}
+
+template <int N>
+WideBvhOf<N> collapse_to_wide_by_id(const Bvh& bvh, std::span<const Triangle> tris, const WideCosts& costs,
+                                    WideBvhOf<N>&& recycled) {
+    for (const std::uint32_t id : bvh.prim_ids) {
+        if (id >= tris.size()) {
+            throw std::invalid_argument("collapse_to_wide_by_id: primitive id " + std::to_string(id) + " past " +
+                                        std::to_string(tris.size()) + " triangles");
+        }
+    }
+    return Collapser<N>(bvh, tris, true, costs).run(std::move(recycled));
 }
 
 template WideBvhOf<4> collapse_to_wide<4>(const Bvh&, std::span<const Triangle>, const WideCosts&,
                                           WideBvhOf<4>&&);
 template WideBvhOf<8> collapse_to_wide<8>(const Bvh&, std::span<const Triangle>, const WideCosts&,
                                           WideBvhOf<8>&&);
+template WideBvhOf<4> collapse_to_wide_by_id<4>(const Bvh&, std::span<const Triangle>, const WideCosts&,
+                                                WideBvhOf<4>&&);
+template WideBvhOf<8> collapse_to_wide_by_id<8>(const Bvh&, std::span<const Triangle>, const WideCosts&,
+                                                WideBvhOf<8>&&);
 
 }  // namespace dynrt::bvh

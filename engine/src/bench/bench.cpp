@@ -286,6 +286,9 @@ BenchRow bench_configuration(const Scene& scene, const Camera& camera,
     row.sah_cost = out.stats.sah_cost;
     row.leaf_tris_mean = out.stats.leaf_tris_mean;
     row.depth = out.stats.depth;
+    // Memory as the runs left it, before another renderer below holds trees of its own.
+    const MemoryStats memory = out.stats;
+    const std::size_t scene_triangles = out.stats.triangles;
     if (last_frame && !options.hit_buffers) {
         // The caller compares hits: one more frame, untimed, with the hit buffers filled.
         RenderOptions with_hits = options;
@@ -299,10 +302,10 @@ BenchRow bench_configuration(const Scene& scene, const Camera& camera,
     row.bytes_per_triangle =
         kept > 0 ? double(out.stats.binary_tree_bytes + out.stats.wide_tree_bytes) / double(kept)
                  : 0.0;
-    const double per = 1.0 / double(std::max<std::size_t>(out.stats.triangles, 1));
-    row.scene_bytes_per_triangle = double(out.stats.scene_bytes) * per;
-    row.renderer_bytes_per_triangle = double(out.stats.renderer_bytes) * per;
-    row.peak_bytes_per_triangle = double(out.stats.peak_rss_bytes) * per;
+    const double per = 1.0 / double(std::max<std::size_t>(scene_triangles, 1));
+    row.scene_bytes_per_triangle = double(memory.scene_bytes) * per;
+    row.renderer_bytes_per_triangle = double(memory.renderer_bytes) * per;
+    row.peak_bytes_per_triangle = double(memory.peak_rss_bytes) * per;
     if (options.tracer == Tracer::packet) {
         std::string culling = options.packet.culling.to_string();
         std::replace(culling.begin(), culling.end(), ',', '+');

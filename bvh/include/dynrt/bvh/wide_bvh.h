@@ -164,6 +164,14 @@ template <int N>
 WideBvhOf<N> collapse_to_wide(const Bvh& bvh, std::span<const Triangle> leaf_tris,
                               const WideCosts& costs = {}, WideBvhOf<N>&& recycled = {});
 
+/// collapse_to_wide from the caller's triangles as they are: `tris[i]` is the caller's
+/// triangle i, so leaf position k's is tris[bvh.prim_ids[k]]. The same tree bit for bit,
+/// without a leaf-order copy of the triangles (36 bytes per triangle at a build's peak).
+/// Throws std::invalid_argument for a primitive id past `tris`.
+template <int N>
+WideBvhOf<N> collapse_to_wide_by_id(const Bvh& bvh, std::span<const Triangle> tris,
+                                    const WideCosts& costs = {}, WideBvhOf<N>&& recycled = {});
+
 /// Refits the wide tree in place to `tris`, the caller's triangles after a move (indexed as
 /// TriangleBlock::prim): every block's vertices are re-read, every child box recomputed
 /// bottom-up (a leaf's as the union of its triangles' boxes, an inner node's as the union of

@@ -61,6 +61,27 @@ TEST(MemoryFigures, ARenderReportsTheSceneTheTreesAndTheProcess) {
         EXPECT_GE(s.tree_bytes, 36 * s.triangles);
         EXPECT_GE(s.build_triangle_bytes, 36 * s.triangles);
         EXPECT_GT(s.renderer_bytes, s.tree_bytes + s.build_triangle_bytes);
+        // The holders: the static floor's group and the three moving objects, largest first,
+        // each with its own counts.
+        ASSERT_EQ(s.largest.size(), 4u);
+        std::size_t trees = 0, triangles = 0;
+        for (std::size_t k = 0; k < s.largest.size(); ++k) {
+            const ObjectMemory& m = s.largest[k];
+            if (k > 0) {
+                EXPECT_GE(s.largest[k - 1].bytes(), m.bytes());
+            }
+            EXPECT_GE(m.build_triangle_bytes, 36 * m.triangles) << m.name;
+            trees += m.tree_bytes;
+            triangles += m.triangles;
+            if (m.object >= 0) {
+                EXPECT_EQ(m.name, scene.objects[std::size_t(m.object)].name);
+                EXPECT_EQ(m.scene_bytes, object_bytes(scene.objects[std::size_t(m.object)]));
+            } else {
+                EXPECT_EQ(m.name, "static objects (1)");
+            }
+        }
+        EXPECT_EQ(triangles, s.triangles);
+        EXPECT_LE(trees, s.tree_bytes);  // the top level besides
 #ifdef __linux__
         EXPECT_GT(s.rss_bytes, s.renderer_bytes);
         EXPECT_GE(s.peak_rss_bytes, s.rss_bytes);
@@ -77,6 +98,8 @@ TEST(MemoryFigures, TheReportRoundTripsThemAndReadsOlderReportsWithout) {
     s.renderer_bytes = 150000;
     s.rss_bytes = 300000;
     s.peak_rss_bytes = 304000;
+    s.largest = {ObjectMemory{-1, "static objects (3)", 800, 20000, 50000, 28800},
+                 ObjectMemory{4, "robot", 200, 4000, 16000, 7200}};
     const std::string json = frame_report_json(s);
     const FrameStats back = parse_frame_report_json(json);
     EXPECT_EQ(back.scene_bytes, s.scene_bytes);
@@ -85,6 +108,13 @@ TEST(MemoryFigures, TheReportRoundTripsThemAndReadsOlderReportsWithout) {
     EXPECT_EQ(back.renderer_bytes, s.renderer_bytes);
     EXPECT_EQ(back.rss_bytes, s.rss_bytes);
     EXPECT_EQ(back.peak_rss_bytes, s.peak_rss_bytes);
+    ASSERT_EQ(back.largest.size(), 2u);
+    EXPECT_EQ(back.largest[1].object, 4);
+    EXPECT_EQ(back.largest[1].name, "robot");
+    EXPECT_EQ(back.largest[1].triangles, 200u);
+    EXPECT_EQ(back.largest[1].scene_bytes, 4000u);
+    EXPECT_EQ(back.largest[1].tree_bytes, 16000u);
+    EXPECT_EQ(back.largest[1].build_triangle_bytes, 7200u);
     nlohmann::json older = nlohmann::json::parse(json);
     older.erase("memory");
     const FrameStats old = parse_frame_report_json(older.dump());
@@ -93,7 +123,8 @@ TEST(MemoryFigures, TheReportRoundTripsThemAndReadsOlderReportsWithout) {
     std::ostringstream line;
     print_memory(line, {s});
     EXPECT_EQ(line.str(), "memory per triangle: scene 24 B, trees 66 B, build triangles 36 B, renderer in all 150 B; "
-                          "resident peak 304 B (0.0 GB)\n");
+                          "resident peak 304 B (0.0 GB)\n"
+                          "largest: static objects (3) 0.1 MB, robot 0.0 MB\n");
     std::ostringstream nothing;
     print_memory(nothing, {FrameStats{}});
     EXPECT_EQ(nothing.str(), "");

@@ -14,21 +14,24 @@ std::size_t held(const Vector& v) {
 
 }  // namespace
 
+std::size_t object_bytes(const Object& object) {
+    const Mesh& mesh = object.mesh;
+    std::size_t bytes = held(mesh.positions) + held(mesh.triangles) + held(mesh.normals) + held(mesh.texcoords);
+    if (object.skin) bytes += held(object.skin->joints) + held(object.skin->weights);
+    if (object.morph) {
+        const MorphTargets& m = *object.morph;
+        bytes += held(m.base_positions) + held(m.position_deltas) + held(m.default_weights) + held(m.base_normals) +
+                 held(m.normal_deltas);
+        for (const auto& d : m.position_deltas) bytes += held(d);
+        for (const auto& d : m.normal_deltas) bytes += held(d);
+    }
+    return bytes;
+}
+
 std::size_t scene_bytes(const Scene& scene) {
     std::size_t bytes = held(scene.objects) + held(scene.materials) + held(scene.nodes) + held(scene.skins) +
                         held(scene.clips) + held(scene.textures);
-    for (const Object& object : scene.objects) {
-        const Mesh& mesh = object.mesh;
-        bytes += held(mesh.positions) + held(mesh.triangles) + held(mesh.normals) + held(mesh.texcoords);
-        if (object.skin) bytes += held(object.skin->joints) + held(object.skin->weights);
-        if (object.morph) {
-            const MorphTargets& m = *object.morph;
-            bytes += held(m.base_positions) + held(m.position_deltas) + held(m.default_weights) +
-                     held(m.base_normals) + held(m.normal_deltas);
-            for (const auto& d : m.position_deltas) bytes += held(d);
-            for (const auto& d : m.normal_deltas) bytes += held(d);
-        }
-    }
+    for (const Object& object : scene.objects) bytes += object_bytes(object);
     for (const Skin& skin : scene.skins) bytes += held(skin.joints) + held(skin.inverse_bind_matrices);
     for (const AnimationClip& clip : scene.clips) {
         bytes += held(clip.samplers) + held(clip.channels);

@@ -80,6 +80,29 @@ void for_each_field(Stats& s, Visit&& visit) {
     visit("write_ms", s.write_ms);
 }
 
+/// Calls visit(key, field) for every key of the report's "memory" object but "largest", in
+/// order (the writer's and the reader's one list). `Memory` is MemoryStats, const or not.
+template <typename Memory, typename Visit>
+void for_each_memory_field(Memory& m, Visit&& visit) {
+    visit("scene_bytes", m.scene_bytes);
+    visit("tree_bytes", m.tree_bytes);
+    visit("build_triangle_bytes", m.build_triangle_bytes);
+    visit("renderer_bytes", m.renderer_bytes);
+    visit("rss_bytes", m.rss_bytes);
+    visit("peak_rss_bytes", m.peak_rss_bytes);
+}
+
+/// The same for each of "largest"'s holders (ObjectMemory, const or not).
+template <typename Holder, typename Visit>
+void for_each_holder_field(Holder& h, Visit&& visit) {
+    visit("object", h.object);
+    visit("name", h.name);
+    visit("triangles", h.triangles);
+    visit("scene_bytes", h.scene_bytes);
+    visit("tree_bytes", h.tree_bytes);
+    visit("build_triangle_bytes", h.build_triangle_bytes);
+}
+
 nlohmann::ordered_json frame_json(const FrameStats& s) {
     nlohmann::ordered_json j;
     for_each_field(s, [&](const char* key, const auto& value) { j[key] = value; });
@@ -112,9 +135,14 @@ nlohmann::ordered_json frame_json(const FrameStats& s) {
             {{"object", c.object}, {"name", c.name}, {"chosen", c.chosen}, {"why", c.why}});
     }
     // Memory after the frame (an object of its own: reports written before it lack it).
-    j["memory"] = {{"scene_bytes", s.scene_bytes},       {"tree_bytes", s.tree_bytes},
-                   {"build_triangle_bytes", s.build_triangle_bytes}, {"renderer_bytes", s.renderer_bytes},
-                   {"rss_bytes", s.rss_bytes},           {"peak_rss_bytes", s.peak_rss_bytes}};
+    nlohmann::ordered_json& memory = j["memory"];
+    for_each_memory_field(static_cast<const MemoryStats&>(s), [&](const char* key, const auto& value) { memory[key] = value; });
+    memory["largest"] = nlohmann::ordered_json::array();
+    for (const ObjectMemory& m : s.largest) {
+        nlohmann::ordered_json holder;
+        for_each_holder_field(m, [&](const char* key, const auto& value) { holder[key] = value; });
+        memory["largest"].push_back(holder);
+    }
     // A frame rendered across processes: which one made it and what the distribution cost.
     if (s.rank >= 0) {
         j["rank"] = s.rank;
@@ -140,13 +168,12 @@ FrameStats frame_from_json(const nlohmann::json& j) {
     j.at("reuse_mode").get_to(s.reuse_mode);
     j.at("reuse_reason").get_to(s.reuse_reason);
     if (j.contains("memory")) {
-        const nlohmann::json& m = j["memory"];
-        m.at("scene_bytes").get_to(s.scene_bytes);
-        m.at("tree_bytes").get_to(s.tree_bytes);
-        m.at("build_triangle_bytes").get_to(s.build_triangle_bytes);
-        m.at("renderer_bytes").get_to(s.renderer_bytes);
-        m.at("rss_bytes").get_to(s.rss_bytes);
-        m.at("peak_rss_bytes").get_to(s.peak_rss_bytes);
+        const nlohmann::json& memory = j["memory"];
+        for_each_memory_field(static_cast<MemoryStats&>(s), [&](const char* key, auto& value) { memory.at(key).get_to(value); });
+        for (const nlohmann::json& holder : memory.at("largest")) {
+            ObjectMemory& m = s.largest.emplace_back();
+            for_each_holder_field(m, [&](const char* key, auto& value) { holder.at(key).get_to(value); });
+        }
     }
     for (const nlohmann::json& event : j.at("rebuilds")) {
         TreeRebuild& r = s.rebuilds.emplace_back();
@@ -285,6 +312,13 @@ void print_memory(std::ostream& out, const std::vector<FrameStats>& frames) {
         << " B, trees " << per(last.tree_bytes) << " B, build triangles " << per(last.build_triangle_bytes)
         << " B, renderer in all " << per(last.renderer_bytes) << " B; resident peak " << per(peak) << " B ("
         << std::setprecision(1) << double(peak) / 1e9 << " GB)\n";
+    if (last.largest.size() < 2) return;  // one holder: the line above says it all
+    out << "largest:";
+    for (std::size_t i = 0; i < last.largest.size(); ++i) {
+        const ObjectMemory& m = last.largest[i];
+        out << (i == 0 ? " " : ", ") << m.name << ' ' << std::setprecision(1) << double(m.bytes()) / 1e6 << " MB";
+    }
+    out << "\n";
 }
 
 void print_textures(std::ostream& out, const TextureFigures& textures) {

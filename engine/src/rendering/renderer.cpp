@@ -305,6 +305,36 @@ void Renderer::cancel() { state_->pipeline.cancel(); }
 
 RenderProgress Renderer::progress() const { return state_->pipeline.progress(); }
 
+namespace {
+
+/// `holders` (SceneAccel::memory_by_object) named and given their scene bytes, the largest
+/// MemoryStats::kLargestHolders of them, largest first.
+std::vector<ObjectMemory> largest_holders(const Scene& scene, std::span<const ObjectState> states,
+                                          std::vector<ObjectMemory> holders) {
+    std::size_t statics = 0, static_bytes = 0;
+    for (std::size_t i = 0; i < states.size() && i < scene.objects.size(); ++i) {
+        if (states[i].motion_class != anim::MotionClass::static_) continue;
+        ++statics;
+        static_bytes += object_bytes(scene.objects[i]);
+    }
+    for (ObjectMemory& h : holders) {
+        if (h.object < 0) {
+            h.name = "static objects (" + std::to_string(statics) + ")";
+            h.scene_bytes = static_bytes;
+        } else {
+            h.name = scene.objects[std::size_t(h.object)].name;
+            h.scene_bytes = object_bytes(scene.objects[std::size_t(h.object)]);
+        }
+    }
+    const std::size_t kept = std::min(holders.size(), MemoryStats::kLargestHolders);
+    std::partial_sort(holders.begin(), holders.begin() + std::ptrdiff_t(kept), holders.end(),
+                      [](const ObjectMemory& a, const ObjectMemory& b) { return a.bytes() > b.bytes(); });
+    holders.resize(kept);
+    return holders;
+}
+
+}  // namespace
+
 void Renderer::trace(const Camera& camera, RenderedFrame& out) {
     State& s = *state_;
     if (!s.pipeline.updated()) throw std::logic_error("Renderer::trace before any update");
@@ -319,6 +349,7 @@ void Renderer::trace(const Camera& camera, RenderedFrame& out) {
     const ResidentMemory resident = resident_memory();
     out.stats.rss_bytes = resident.current;
     out.stats.peak_rss_bytes = resident.peak;
+    out.stats.largest = largest_holders(*s.scene, s.states, s.pipeline.accel().memory_by_object());
 }
 
 }  // namespace dynrt

@@ -125,6 +125,28 @@ void SceneAccel::memory_figures(MemoryStats& out) const {
     }
 }
 
+std::vector<ObjectMemory> SceneAccel::memory_by_object() const {
+    std::vector<ObjectMemory> out;
+    for (std::size_t i = 0; i < objects_.size(); ++i) {
+        const ObjectTree& o = objects_[i];
+        if (o.motion_class == anim::MotionClass::static_ || o.tree.empty()) continue;
+        ObjectMemory m;
+        m.object = std::int64_t(i);
+        m.triangles = o.triangles.size();
+        m.tree_bytes = tree_bytes(o.tree);
+        m.build_triangle_bytes = held_bytes(o.triangles);
+        out.push_back(std::move(m));
+    }
+    if (!static_group_.tree.empty()) {
+        ObjectMemory m;
+        m.triangles = static_group_.triangles.size();
+        m.tree_bytes = tree_bytes(static_group_.tree);
+        m.build_triangle_bytes = held_bytes(static_group_.triangles);
+        out.push_back(std::move(m));
+    }
+    return out;
+}
+
 std::size_t SceneAccel::memory_bytes() const {
     MemoryStats parts;
     memory_figures(parts);

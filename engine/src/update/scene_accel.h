@@ -96,6 +96,10 @@ public:
     /// level) and the triangles they are built from, into `out`'s tree_bytes and
     /// build_triangle_bytes.
     void memory_figures(MemoryStats& out) const;
+    /// Per holder of a tree, its tree_bytes and build_triangle_bytes (ObjectMemory; object and
+    /// triangles set, names and scene bytes left to the caller): each object with a tree of
+    /// its own, then the static objects' shared tree (object -1) when there is one.
+    std::vector<ObjectMemory> memory_by_object() const;
 
     const bvh::TwoLevelBvh& top_level() const { return top_; }
 

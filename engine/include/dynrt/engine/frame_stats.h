@@ -207,6 +207,19 @@ struct DistributionStats {
     double gather_ms = 0;
 };
 
+/// One holder of memory after the frame: an object with a tree of its own, or all static
+/// objects together (they share one tree; object -1, name "static objects (N)").
+struct ObjectMemory {
+    std::int64_t object = -1;  ///< index in scene order; -1: the static objects' shared tree
+    std::string name;
+    std::size_t triangles = 0;
+    std::size_t scene_bytes = 0;           ///< its meshes' arrays in the scene model
+    std::size_t tree_bytes = 0;            ///< its tree's nodes and leaves
+    std::size_t build_triangle_bytes = 0;  ///< the triangles its tree is built from
+
+    std::size_t bytes() const { return scene_bytes + tree_bytes + build_triangle_bytes; }
+};
+
 /// Memory after the frame (issue 43): what the scene model, the trees and the renderer hold,
 /// and the process's resident set, in bytes (the report's "memory" object; `dynrt render`
 /// prints them per triangle). Filled by Renderer (`dynrt render`, `dynrt bench`, the viewer);
@@ -230,6 +243,9 @@ struct MemoryStats {
     /// is the build's.
     std::size_t rss_bytes = 0;
     std::size_t peak_rss_bytes = 0;
+    /// The largest holders (ObjectMemory::bytes), largest first, at most kLargestHolders.
+    std::vector<ObjectMemory> largest;
+    static constexpr std::size_t kLargestHolders = 8;
 };
 
 /// One frame's figures: the three stages' parts, each filled by its stage (SceneAccel the

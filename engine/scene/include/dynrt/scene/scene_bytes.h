@@ -14,4 +14,7 @@ namespace dynrt {
 /// strings left out).
 std::size_t scene_bytes(const Scene& scene);
 
+/// Of those, one object's: its mesh's arrays, skin weights and morph targets.
+std::size_t object_bytes(const Object& object);
+
 }  // namespace dynrt

@@ -73,6 +73,34 @@ void check_lights(std::span<const PointLight> lights) {
     }
 }
 
+/// Throws std::invalid_argument for settings whose modes cannot go together: a tile share out
+/// of range; the render cache or frameless rendering over a tile share (they reproject and rank
+/// pixels over the whole image); bad sampling; interpolating adaptive sampling with several
+/// samples per pixel; adaptive anti-aliasing over a tile share (it compares neighbours).
+void check_trace_modes(const TraceSettings& options) {
+    if (!options.tiles.valid()) {
+        throw std::invalid_argument("tile share " + std::to_string(options.tiles.index) + " of " +
+                                    std::to_string(options.tiles.count) +
+                                    ": needs 0 <= index < count");
+    }
+    if (options.reuse.approximate() && !options.tiles.whole()) {
+        throw std::invalid_argument(std::string("pixel reuse '") + pixel_reuse_name(options.reuse.mode) +
+                                    "' needs the whole image: a frame split into tile shares "
+                                    "can use exact reuse or none");
+    }
+    check_sampling(options.sampling);
+    const bool sampled = options.sampling.spp > 1;
+    if (sampled && options.adaptive_tolerance > 0.0f) {
+        throw std::invalid_argument("adaptive sampling (interpolation) takes one sample per pixel: with " +
+                                    std::to_string(options.sampling.spp) +
+                                    " samples per pixel use adaptive anti-aliasing instead");
+    }
+    if (sampled && options.sampling.adaptive_contrast > 0.0f && !options.tiles.whole()) {
+        throw std::invalid_argument("adaptive anti-aliasing compares neighbouring pixels and needs the whole "
+                                    "image: a frame split into tile shares can take every sample in every pixel");
+    }
+}
+
 /// The frame an update received, as another backend loads it: world positions per object.
 class PipelineGeometry final : public FrameGeometry {
 public:
@@ -237,41 +265,7 @@ void FramePipeline::cancel() {
     if (running_ != nullptr) running_->cancel_group_execution();
 }
 
-void FramePipeline::run_trace(const Scene& scene, const Camera& camera, const TraceSettings& options,
-                              std::span<const PointLight> given_lights, RenderedFrame& out) {
-    if (!updated_) throw std::logic_error("FramePipeline::trace before any update");
-    // Refused before anything changes (the API's render passes these on as its own errors).
-    if (!options.tiles.valid()) {
-        throw std::invalid_argument("tile share " + std::to_string(options.tiles.index) + " of " +
-                                    std::to_string(options.tiles.count) +
-                                    ": needs 0 <= index < count");
-    }
-    // The render cache and frameless rendering reproject and rank pixels over the whole image.
-    if (options.reuse.approximate() && !options.tiles.whole()) {
-        throw std::invalid_argument(std::string("pixel reuse '") + pixel_reuse_name(options.reuse.mode) +
-                                    "' needs the whole image: a frame split into tile shares "
-                                    "can use exact reuse or none");
-    }
-    check_sampling(options.sampling);
-    const bool sampled = options.sampling.spp > 1;
-    if (sampled && options.adaptive_tolerance > 0.0f) {
-        throw std::invalid_argument("adaptive sampling (interpolation) takes one sample per pixel: with " +
-                                    std::to_string(options.sampling.spp) +
-                                    " samples per pixel use adaptive anti-aliasing instead");
-    }
-    if (sampled && options.sampling.adaptive_contrast > 0.0f && !options.tiles.whole()) {
-        throw std::invalid_argument("adaptive anti-aliasing compares neighbouring pixels and needs the whole "
-                                    "image: a frame split into tile shares can take every sample in every pixel");
-    }
-    const std::span<const PointLight> lights = with_environment_lights(given_lights, options);
-    check_lights(lights);
-    // Every tile, once per sample pass (render_progress.h); adaptive anti-aliasing adds its
-    // refinement pass's tiles once it knows them.
-    const bool refines_later = sampled && options.sampling.adaptive_contrast > 0.0f;
-    progress_.start(std::size_t(packet::Tiling(options.width, options.height, options.tiles).count()) *
-                    std::size_t(refines_later ? 1 : options.sampling.spp));
-    const Stopwatch trace_clock;
-    // The shading kernel's view of the materials (bookkeeping, outside the stage clocks).
+void FramePipeline::view_materials(const Scene& scene) {
     materials_.clear();
     for (const Material& m : scene.materials) {
         materials_.push_back(packet::PhongMaterial{m.diffuse, m.specular, m.shininess, m.emission,
@@ -281,6 +275,23 @@ void FramePipeline::run_trace(const Scene& scene, const Camera& camera, const Tr
     for (const Object& object : scene.objects) {
         object_material_.push_back(std::int32_t(object.material));
     }
+}
+
+void FramePipeline::run_trace(const Scene& scene, const Camera& camera, const TraceSettings& options,
+                              std::span<const PointLight> given_lights, RenderedFrame& out) {
+    if (!updated_) throw std::logic_error("FramePipeline::trace before any update");
+    // Refused before anything changes (the API's render passes these on as its own errors).
+    check_trace_modes(options);
+    const bool sampled = options.sampling.spp > 1;
+    const std::span<const PointLight> lights = with_environment_lights(given_lights, options);
+    check_lights(lights);
+    // Every tile, once per sample pass (render_progress.h); adaptive anti-aliasing adds its
+    // refinement pass's tiles once it knows them.
+    const bool refines_later = sampled && options.sampling.adaptive_contrast > 0.0f;
+    progress_.start(std::size_t(packet::Tiling(options.width, options.height, options.tiles).count()) *
+                    std::size_t(refines_later ? 1 : options.sampling.spp));
+    const Stopwatch trace_clock;
+    view_materials(scene);  // bookkeeping, outside the stage clocks
     out.stats = update_stats_;
     accel_.use_vertex_normals(options.smooth_normals);
     // Textures: read, decoded and MIP-mapped once per scene (and again when its materials map

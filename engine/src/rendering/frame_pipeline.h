@@ -120,6 +120,9 @@ private:
     std::vector<packet::PhongMaterial> materials_;
     std::vector<std::int32_t> object_material_;
     TraceScratch scratch_;
+    /// The shading kernel's view of `scene`'s materials and each object's material index,
+    /// into materials_ and object_material_.
+    void view_materials(const Scene& scene);
     /// trace() without its cancellation: what a trace does.
     void run_trace(const Scene& scene, const Camera& camera, const TraceSettings& options,
                    std::span<const PointLight> given_lights, RenderedFrame& out);

@@ -346,7 +346,9 @@ void SceneAccel::build_static_group(const Scene& scene, std::span<const ObjectSt
         const Mesh& mesh = scene.objects[i].mesh;
         const std::span<bvh::Triangle> out(all.data() + first, mesh.triangles.size());
         object_boxes_[i] = gather(mesh, fixed.world(i, positions_), out);
-        shading_.keep_static_normals(i, fixed.world_normals(i, positions_));
+        // Borrowed where FixedPositions holds them; copied where it made them in the scratch.
+        const std::span<const glm::vec3> normals = fixed.world_normals(i, positions_);
+        shading_.keep_static_normals(i, normals, normals.empty() || normals.data() != positions_.data());
         static_objects_.push_back(std::uint32_t(i));
         static_first_.push_back(std::uint32_t(first));
         objects_[i].group_first = std::uint32_t(first);

@@ -48,8 +48,10 @@ public:
     /// A rigid object's unit vertex normals in object space, indexed as object_space(), or
     /// empty (flat shading). Read at every update; must stay valid until the next one.
     virtual std::span<const glm::vec3> object_space_normals(std::size_t /*object*/) const { return {}; }
-    /// A static object's world-space unit vertex normals, indexed as world(), in storage of
-    /// its own or `scratch`; empty for flat shading. Copied when the static group is built.
+    /// A static object's world-space unit vertex normals, indexed as world(): in storage of
+    /// its own, which must stay valid until the next update (shading borrows it, and takes it
+    /// again at every update), or made in `scratch` (then copied when the static group is
+    /// built); empty for flat shading.
     virtual std::span<const glm::vec3> world_normals(std::size_t /*object*/,
                                                      std::vector<glm::vec3>& /*scratch*/) const {
         return {};

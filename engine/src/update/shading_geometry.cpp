@@ -18,6 +18,15 @@ void ShadingGeometry::refresh(const Scene& scene, std::span<const ObjectState> s
         switch (states[i].motion_class) {
             case anim::MotionClass::static_:
                 object.normals = object.own_normals;  // taken when the static group was built
+                if (object.borrowed_static) {
+                    object.normals = fixed.world_normals(i, scratch_);
+                    // Made in the scratch after all (not expected for an object borrowed at
+                    // its build): kept as a copy from now on.
+                    if (!object.normals.empty() && object.normals.data() == scratch_.data()) {
+                        keep_static_normals(i, object.normals, false);
+                        object.normals = object.own_normals;
+                    }
+                }
                 break;
             case anim::MotionClass::rigid:
                 object.normals = fixed.object_space_normals(i);
@@ -30,9 +39,15 @@ void ShadingGeometry::refresh(const Scene& scene, std::span<const ObjectState> s
     }
 }
 
-void ShadingGeometry::keep_static_normals(std::size_t object, std::span<const glm::vec3> normals) {
+void ShadingGeometry::keep_static_normals(std::size_t object, std::span<const glm::vec3> normals, bool borrowed) {
     if (objects_.size() <= object) objects_.resize(object + 1);
-    objects_[object].own_normals.assign(normals.begin(), normals.end());
+    ObjectShading& o = objects_[object];
+    o.borrowed_static = borrowed;
+    if (borrowed) {
+        std::vector<glm::vec3>().swap(o.own_normals);
+    } else {
+        o.own_normals.assign(normals.begin(), normals.end());
+    }
 }
 
 void ShadingGeometry::forget(std::size_t object) {
@@ -54,7 +69,7 @@ bool ShadingGeometry::world_vertex_normals(std::size_t object, std::uint32_t pri
 }
 
 std::size_t ShadingGeometry::memory_bytes() const {
-    std::size_t bytes = held_bytes(objects_);
+    std::size_t bytes = held_bytes(objects_) + held_bytes(scratch_);
     for (const ObjectShading& o : objects_) bytes += held_bytes(o.own_normals);
     return bytes;
 }

@@ -5,8 +5,10 @@
 // objects hold; the positions themselves live with the trees (SceneAccel::world_triangle).
 //
 // The spans are borrowed (from the scene's meshes, ObjectState::world_normals and
-// FixedPositions) and valid until the next update, as the trees are; only a static object's
-// normals are copied, once, when the static group is built.
+// FixedPositions) and valid until the next update, as the trees are. A static object's world
+// normals are borrowed too when FixedPositions holds them (an object at the identity: its own
+// normals), taken again at every update; only those made in FixedPositions' scratch (a static
+// object under another transform) are copied, once, when the static group is built.
 
 #include "dynrt/engine/update_plan.h"
 #include "dynrt/scene/scene.h"
@@ -31,9 +33,11 @@ public:
     /// keep_static_normals for static ones.
     void refresh(const Scene& scene, std::span<const ObjectState> states, const FixedPositions& fixed);
 
-    /// Keeps a copy of static object `object`'s world-space unit normals (empty: flat), taken
-    /// when the static group is built from them.
-    void keep_static_normals(std::size_t object, std::span<const glm::vec3> normals);
+    /// Static object `object`'s world-space unit normals (empty: flat), given when the static
+    /// group is built: `borrowed`, they are FixedPositions' own storage, which refresh takes
+    /// again from FixedPositions::world_normals at every update; else (made in a scratch
+    /// buffer) a copy is kept.
+    void keep_static_normals(std::size_t object, std::span<const glm::vec3> normals, bool borrowed);
 
     /// The world-space unit normals of triangle `prim`'s three vertices of `object` at the last
     /// refresh, into `out` in corner order; false, leaving `out` alone, when the object has none
@@ -64,12 +68,16 @@ private:
         std::span<const glm::uvec3> corners;
         /// In the space of the object's triangles: world, or object space for a rigid object.
         std::span<const glm::vec3> normals;
-        /// A static object's copy (normals points into it).
+        /// A static object's copy (normals points into it), unless borrowed_static.
         std::vector<glm::vec3> own_normals;
+        bool borrowed_static = false;
         bool rigid = false;
         glm::mat3 normal_to_world{1.0f};
     };
     std::vector<ObjectShading> objects_;
+    /// FixedPositions::world_normals' scratch at refresh (unused for borrowed normals, which
+    /// are never made in it).
+    std::vector<glm::vec3> scratch_;
     bool vertex_normals_ = true;
 };
 

@@ -144,6 +144,11 @@ private:
         ImGui::Text("refit %zu  rebuilt %zu  skipped %zu  nodes %zu  tree %.1f MB", s.objects_refitted, s.objects_rebuilt,
                     s.objects_skipped, s.nodes, double(s.wide_tree_bytes) / 1e6);
         ImGui::Text("reuse %s: %zu traced, %zu kept", s.reuse_mode.c_str(), s.pixels_traced, s.pixels_reused);
+        if (s.triangles > 0) {
+            const double per = 1.0 / double(s.triangles);
+            ImGui::Text("memory per triangle: scene %.0f B, held %.0f B, peak %.0f B", double(s.scene_bytes) * per,
+                        double(s.renderer_bytes) * per, double(s.peak_rss_bytes) * per);
+        }
         for (const TreeChoice& c : s.choices) ImGui::TextWrapped("%s: %s (%s)", c.name.c_str(), c.chosen.c_str(), c.why.c_str());
         plot(shown, "total ms", [](const FrameStats& f) { return f.total_ms; });
         plot(shown, "build ms", [](const FrameStats& f) { return f.build_ms; });

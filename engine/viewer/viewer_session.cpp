@@ -280,11 +280,13 @@ std::vector<unsigned char> ViewerSession::display_bytes() const {
 
 std::string ViewerSession::legend() const {
     if (args_.view == "image" || frame_.cost.empty()) return {};
+    const CostMeasure measure = cost_measure();
     double sum = 0.0;
     std::uint32_t max = 0;
     for (const PixelCost& c : frame_.cost) {
-        sum += cost_of(c, cost_measure());
-        max = std::max(max, cost_of(c, cost_measure()));
+        const std::uint32_t n = cost_of(c, measure);
+        sum += n;
+        max = std::max(max, n);
     }
     char text[160];
     std::snprintf(text, sizeof text, "%s per pixel: black 0, white %u or more; mean %.1f, max %u",

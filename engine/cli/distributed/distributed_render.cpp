@@ -141,7 +141,8 @@ void check_distributed_args(const RenderArgs& args, const FrameRange& range, int
                                     "render cache and frameless rendering need the whole image; "
                                     "use --reuse exact or off");
     }
-    if (args.distribute == "tiles" && args.aov.find("cost") != std::string::npos) {
+    const std::vector<Aov> aovs = parse_aov_list(args.aov);
+    if (args.distribute == "tiles" && std::find(aovs.begin(), aovs.end(), Aov::cost) != aovs.end()) {
         throw std::invalid_argument("--aov cost with --distribute tiles: the pixel costs are not gathered "
                                     "across processes; use --distribute frames");
     }

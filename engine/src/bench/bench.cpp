@@ -1,8 +1,7 @@
 #include "dynrt/bench/bench.h"
 
-#include "dynrt/engine/resident_memory.h"
-
 #include "dynrt/engine/report.h"
+#include "dynrt/engine/resident_memory.h"
 #include "dynrt/engine/stopwatch.h"
 
 #include "dynrt/bvh/wide_bvh.h"

@@ -228,7 +228,9 @@ void FramePipeline::trace(const Scene& scene, const Camera& camera, const TraceS
         const std::lock_guard<std::mutex> lock(cancel_mutex_);
         running_ = &context;
     }
+    // The trace is over, whole, stopped or failed: nothing left to cancel or to count.
     const auto done = [&] {
+        progress_.finish();
         const std::lock_guard<std::mutex> lock(cancel_mutex_);
         running_ = nullptr;
     };
@@ -239,11 +241,9 @@ void FramePipeline::trace(const Scene& scene, const Camera& camera, const TraceS
         // cancelled.)
         status = group.run_and_wait([&] { run_trace(scene, camera, options, lights, out); });
     } catch (...) {
-        progress_.finish();
         done();
         throw;
     }
-    progress_.finish();
     done();
     if (status == tbb::task_group_status::canceled) {
         // Stopped before or while it ran: the image sized but incomplete (a trace stopped

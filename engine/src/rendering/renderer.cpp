@@ -1,10 +1,9 @@
 #include "dynrt/engine/renderer.h"
 
+#include "dynrt/anim/posed_scene.h"
 #include "dynrt/engine/resident_memory.h"
 #include "dynrt/scene/scene_bytes.h"
 #include "update/held_bytes.h"
-
-#include "dynrt/anim/posed_scene.h"
 #include "dynrt/packet/packet_shading.h"
 #include "dynrt/scene/scene_error.h"
 #include "dynrt/engine/stopwatch.h"

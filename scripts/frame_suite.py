@@ -168,9 +168,13 @@ def main():
     parser.add_argument("--keep", help="render into this folder and keep it (default: a temporary one)")
     parser.add_argument("--regrouped", action="store_true",
                         help="leave out how secondary rays were grouped into packets (for a change that regroups them)")
+    parser.add_argument("--memory", action="store_true",
+                        help="leave out the memory figures (for a change that moves what is held, not what is drawn)")
     args = parser.parse_args()
     if args.regrouped:
         uncompared.update(GROUPING_KEYS)
+    if args.memory:
+        uncompared.add("memory")
     for binary in (args.reference, args.candidate):
         if not os.access(binary, os.X_OK):
             print(f"frame_suite: error: {binary} is not an executable dynrt", file=sys.stderr)

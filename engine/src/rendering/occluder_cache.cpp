@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 namespace dynrt::detail {
 
@@ -75,8 +76,8 @@ void OccluderCache::guesses(const Light& light, const packet::RayPacket& rays, c
         seen[count++] = entry;
         const auto instance = std::uint32_t(entry >> 32), prim = std::uint32_t(entry);
         if (instance >= tlas.instances.size()) return;
-        const bvh::Triangle* tri = accel.tree_triangle(tlas.instances[instance].object, prim);
-        if (tri != nullptr) out.push_back(packet::InstanceTriangle{instance, packet::PrimTriangle{*tri, prim}});
+        const std::optional<bvh::Triangle> tri = accel.tree_triangle(tlas.instances[instance].object, prim);
+        if (tri) out.push_back(packet::InstanceTriangle{instance, packet::PrimTriangle{*tri, prim}});
     });
     if (!all_held) out.clear();
 }

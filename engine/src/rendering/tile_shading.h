@@ -6,7 +6,6 @@
 // texture colours of its hits (tint_lanes) and the Phong shading and output writes of a whole
 // tile.
 
-#include "dynrt/bvh/prefetch.h"
 #include "dynrt/bvh/triangle.h"
 #include "dynrt/bvh/two_level_bvh.h"
 #include "dynrt/engine/renderer.h"
@@ -195,9 +194,7 @@ struct TileShadowOrigins {
             for (int x = tile.x0; x < tile.x1; ++x) {
                 const bvh::InstanceHit& h = hits[std::size_t(y) * width + x];
                 if (!h.is_hit()) continue;
-                const char* t = reinterpret_cast<const char*>(accel.triangle_address(h.object, h.hit.prim));
-                bvh::prefetch_line(t);
-                bvh::prefetch_line(t + sizeof(bvh::Triangle) - 1);
+                accel.prefetch_triangle(h.object, h.hit.prim);
             }
         }
         compute_lanes(

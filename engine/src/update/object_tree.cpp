@@ -1,5 +1,6 @@
 #include "update/object_tree.h"
 
+#include "dynrt/bvh/prefetch.h"
 #include "dynrt/bvh/refit.h"
 #include "dynrt/engine/stopwatch.h"
 
@@ -166,6 +167,25 @@ void build_tree(ObjectTree& object, const bvh::BuildConfig& config, CostMemory& 
     object.built = true;
     object.built_with = config.method;
     memory.note_build(config.method, object.triangles.size(), ms, object.costs);
+}
+
+void ObjectTree::drop_triangles() {
+    in_blocks = bvh::BlockTriangles::index(tree, triangles);
+    if (in_blocks.indexed()) std::vector<bvh::Triangle>().swap(triangles);
+}
+
+void ObjectTree::prefetch_triangle(std::uint32_t prim) const {
+    if (in_blocks.indexed()) {
+        in_blocks.prefetch(tree, prim);
+        return;
+    }
+    const char* t = reinterpret_cast<const char*>(&triangles[prim]);
+    bvh::prefetch_line(t);
+    bvh::prefetch_line(t + sizeof(bvh::Triangle) - 1);
+}
+
+std::size_t ObjectTree::triangle_bytes() const {
+    return triangles.capacity() * sizeof(bvh::Triangle) + in_blocks.bytes();
 }
 
 void measure_tree(ObjectTree& object, const bvh::SahCosts& costs) {

@@ -7,6 +7,7 @@
 
 #include "dynrt/anim/motion_class.h"
 #include "dynrt/bvh/binned_sah_builder.h"
+#include "dynrt/bvh/block_triangles.h"
 #include "dynrt/bvh/triangle.h"
 #include "dynrt/bvh/triangle_bvh.h"
 #include "dynrt/engine/frame_stats.h"
@@ -25,9 +26,12 @@ namespace dynrt {
 
 struct ObjectTree {
     /// The triangles the tree was built or refitted from, in the mesh's order: world space
-    /// for static, deformable and exploding objects, object space for rigid ones.
+    /// for static, deformable and exploding objects, object space for rigid ones. Empty once
+    /// drop_triangles() has left them to the tree's blocks.
     std::vector<bvh::Triangle> triangles;
     bvh::TriangleBvh tree;
+    /// After drop_triangles(): where the tree's blocks hold `triangles`.
+    bvh::BlockTriangles in_blocks;
     anim::MotionClass motion_class = anim::MotionClass::static_;
     /// Rigid objects: object to world this frame, and its inverse (the identity otherwise).
     glm::mat4 object_to_world{1.0f};
@@ -47,6 +51,24 @@ struct ObjectTree {
     /// The builder of its current tree, and what its builds and refits measured.
     bvh::BuildMethod built_with = bvh::BuildMethod::binned_sah;
     ObjectCosts costs;
+
+    /// For a tree never refitted (the static group): frees `triangles` (36 bytes each) once
+    /// the tree is built, keeping an index into its blocks (4 bytes each) to read them back.
+    /// Keeps them when the tree has no blocks to read (a binary-only build). The next gather
+    /// into `triangles` must call keep_triangles() first.
+    void drop_triangles();
+    /// Undoes drop_triangles' index, before `triangles` are gathered again.
+    void keep_triangles() { in_blocks = {}; }
+    /// Triangles the tree was built from.
+    std::size_t triangle_count() const { return in_blocks.indexed() ? in_blocks.size() : triangles.size(); }
+    /// Triangle `prim` (< triangle_count()) as the tree was built from it, bit for bit.
+    bvh::Triangle triangle(std::uint32_t prim) const {
+        return in_blocks.indexed() ? in_blocks.at(tree, prim) : triangles[prim];
+    }
+    /// Asks the cache for triangle `prim`'s lines, before triangle() reads it.
+    void prefetch_triangle(std::uint32_t prim) const;
+    /// Heap bytes of `triangles` or of the index that replaced them.
+    std::size_t triangle_bytes() const;
 };
 
 /// Builds `object`'s tree from its triangles with `config`'s builder, and records the time in

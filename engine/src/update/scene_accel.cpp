@@ -118,10 +118,10 @@ std::size_t tree_bytes(const bvh::TriangleBvh& tree) {
 void SceneAccel::memory_figures(MemoryStats& out) const {
     out.tree_bytes = tree_bytes(static_group_.tree) + held_bytes(top_.instances) + held_bytes(top_.world_boxes) +
                      held_bytes(top_.top.nodes) + held_bytes(top_.top.prim_ids);
-    out.build_triangle_bytes = held_bytes(static_group_.triangles);
+    out.build_triangle_bytes = static_group_.triangle_bytes();
     for (const ObjectTree& o : objects_) {
         out.tree_bytes += tree_bytes(o.tree);
-        out.build_triangle_bytes += held_bytes(o.triangles);
+        out.build_triangle_bytes += o.triangle_bytes();
     }
 }
 
@@ -132,16 +132,16 @@ std::vector<ObjectMemory> SceneAccel::memory_by_object() const {
         if (o.motion_class == anim::MotionClass::static_ || o.tree.empty()) continue;
         ObjectMemory m;
         m.object = std::int64_t(i);
-        m.triangles = o.triangles.size();
+        m.triangles = o.triangle_count();
         m.tree_bytes = tree_bytes(o.tree);
-        m.build_triangle_bytes = held_bytes(o.triangles);
+        m.build_triangle_bytes = o.triangle_bytes();
         out.push_back(std::move(m));
     }
     if (!static_group_.tree.empty()) {
         ObjectMemory m;
-        m.triangles = static_group_.triangles.size();
+        m.triangles = static_group_.triangle_count();
         m.tree_bytes = tree_bytes(static_group_.tree);
-        m.build_triangle_bytes = held_bytes(static_group_.triangles);
+        m.build_triangle_bytes = static_group_.triangle_bytes();
         out.push_back(std::move(m));
     }
     return out;
@@ -278,7 +278,7 @@ void SceneAccel::measure(const bvh::SahCosts& costs, TreeShape& shape) {
     std::uint32_t leaf_max = 0, depth = 0;
     for (std::size_t k = 0; k < instance_trees_.size(); ++k) {
         const ObjectTree& object = *instance_trees_[k];
-        triangles += object.triangles.size();
+        triangles += object.triangle_count();
         shape.degenerate_skipped += object.tree.degenerate_skipped;
         const bvh::Aabb& box = top_.world_boxes[k];
         if (root_area > 0.0 && !box.is_empty()) sah += double(box.half_area()) / root_area * object.sah;
@@ -335,7 +335,8 @@ void SceneAccel::build_static_group(const Scene& scene, std::span<const ObjectSt
     for (std::size_t i = 0; i < scene.objects.size(); ++i) {
         if (states[i].motion_class == anim::MotionClass::static_) total += scene.objects[i].mesh.triangles.size();
     }
-    // Gathered straight into the group's storage (kept from build to build), boxes on the way.
+    // Gathered straight into the group's storage, boxes on the way; dropped after the build.
+    static_group_.keep_triangles();
     std::vector<bvh::Triangle>& all = static_group_.triangles;
     all.resize(total);
     Stopwatch clock;
@@ -361,34 +362,43 @@ void SceneAccel::build_static_group(const Scene& scene, std::span<const ObjectSt
     stats.update_ms += clock.lap_ms();
     static_group_.motion_class = anim::MotionClass::static_;
     build_tree(static_group_, config, costs_);
+    // The group is never refitted: its tree's blocks hold the triangles, and the gathered copy
+    // (36 bytes a triangle, as much as the blocks) is freed for an index into them. Timed
+    // with the build (it is the build's last step for this tree).
+    static_group_.drop_triangles();
     stats.rebuild_ms += clock.lap_ms();
 }
 
-const bvh::Triangle* SceneAccel::triangle_address(std::size_t object, std::uint32_t prim) const {
+/// The tree that holds `object`'s triangles, and where its triangle 0 is in it.
+std::pair<const ObjectTree*, std::uint32_t> SceneAccel::holder_of(std::size_t object) const {
     const ObjectTree& o = objects_[object];
-    if (o.motion_class == anim::MotionClass::static_) {
-        return &static_group_.triangles[o.group_first + prim];
-    }
-    return &o.triangles[prim];
+    if (o.motion_class == anim::MotionClass::static_) return {&static_group_, o.group_first};
+    return {&o, 0};
 }
 
-const bvh::Triangle* SceneAccel::tree_triangle(std::uint32_t object, std::uint32_t prim) const {
+void SceneAccel::prefetch_triangle(std::size_t object, std::uint32_t prim) const {
+    const auto [tree, first] = holder_of(object);
+    tree->prefetch_triangle(first + prim);
+}
+
+std::optional<bvh::Triangle> SceneAccel::tree_triangle(std::uint32_t object, std::uint32_t prim) const {
     if (object == static_group_id()) {
-        return prim < static_group_.triangles.size() ? &static_group_.triangles[prim] : nullptr;
+        if (prim >= static_group_.triangle_count()) return std::nullopt;
+        return static_group_.triangle(prim);
     }
-    if (object >= objects_.size()) return nullptr;
+    if (object >= objects_.size()) return std::nullopt;
     const ObjectTree& o = objects_[object];
-    if (o.motion_class == anim::MotionClass::static_ || prim >= o.triangles.size()) return nullptr;
-    return &o.triangles[prim];
+    if (o.motion_class == anim::MotionClass::static_ || prim >= o.triangle_count()) return std::nullopt;
+    return o.triangle(prim);
 }
 
 bvh::Triangle SceneAccel::world_triangle(std::size_t object, std::uint32_t prim) const {
-    const ObjectTree& o = objects_[object];
-    const bvh::Triangle& t = *triangle_address(object, prim);
-    if (o.motion_class != anim::MotionClass::rigid) return t;
-    return bvh::Triangle{transform_point(o.object_to_world, t.v0),
-                         transform_point(o.object_to_world, t.v1),
-                         transform_point(o.object_to_world, t.v2)};
+    const auto [tree, first] = holder_of(object);
+    const bvh::Triangle t = tree->triangle(first + prim);
+    if (tree->motion_class != anim::MotionClass::rigid) return t;
+    return bvh::Triangle{transform_point(tree->object_to_world, t.v0),
+                         transform_point(tree->object_to_world, t.v1),
+                         transform_point(tree->object_to_world, t.v2)};
 }
 
 void SceneAccel::object_world_parts(std::size_t i, std::size_t max_parts,

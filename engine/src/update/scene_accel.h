@@ -30,7 +30,9 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <optional>
 #include <span>
+#include <utility>
 #include <vector>
 
 namespace dynrt {
@@ -134,12 +136,12 @@ public:
     }
 
     /// Triangle `prim` of the tree that instances named `object` carry in top_level() (the
-    /// static group's id included), exactly as that tree stores it; null when the tree has no
+    /// static group's id included), exactly as that tree stores it; none when the tree has no
     /// such triangle. Hits before resolve() name their tree so.
-    const bvh::Triangle* tree_triangle(std::uint32_t object, std::uint32_t prim) const;
+    std::optional<bvh::Triangle> tree_triangle(std::uint32_t object, std::uint32_t prim) const;
 
-    /// Where triangle `prim` of `object` is stored (in the space of its tree), to prefetch it.
-    const bvh::Triangle* triangle_address(std::size_t object, std::uint32_t prim) const;
+    /// Asks the cache for the lines world_triangle(object, prim) reads.
+    void prefetch_triangle(std::size_t object, std::uint32_t prim) const;
 
     /// World-space bounds of the whole scene at the last update.
     bvh::Aabb world_bounds() const;
@@ -172,6 +174,9 @@ private:
     void build_static_group(const Scene& scene, std::span<const ObjectState> objects,
                             const FixedPositions& fixed, const bvh::BuildConfig& config,
                             RebuildReason reason, UpdateStats& stats);
+    /// The tree holding object `object`'s triangles (the static group for a static object),
+    /// and the index of its triangle 0 there.
+    std::pair<const ObjectTree*, std::uint32_t> holder_of(std::size_t object) const;
     /// Fills static_bucket_slot_ for the static group's `total` triangles.
     void index_static_buckets(std::size_t total);
     /// The instance id of the static group: one past the last object index, so it collides

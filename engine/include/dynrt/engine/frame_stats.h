@@ -215,7 +215,7 @@ struct ObjectMemory {
     std::size_t triangles = 0;
     std::size_t scene_bytes = 0;           ///< its meshes' arrays in the scene model
     std::size_t tree_bytes = 0;            ///< its tree's nodes and leaves
-    std::size_t build_triangle_bytes = 0;  ///< the triangles its tree is built from
+    std::size_t build_triangle_bytes = 0;  ///< the triangles its tree is built from (see MemoryStats)
 
     std::size_t bytes() const { return scene_bytes + tree_bytes + build_triangle_bytes; }
 };
@@ -233,7 +233,9 @@ struct MemoryStats {
     /// or a binary tree's nodes, ids and triangles in leaf order) and the top level.
     std::size_t tree_bytes = 0;
     /// The triangles each tree is built and refitted from (per object, in world space, or in
-    /// object space for rigid ones).
+    /// object space for rigid ones: 36 bytes each). The static objects' tree is never refitted
+    /// and keeps only an index into its own leaf blocks instead (4 bytes a triangle,
+    /// bvh/block_triangles.h).
     std::size_t build_triangle_bytes = 0;
     /// Everything the renderer holds besides the scene model: tree_bytes, build_triangle_bytes,
     /// the shading geometry, the posed scene, decoded textures, pixel reuse's records.

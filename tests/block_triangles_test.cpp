@@ -96,32 +96,37 @@ TEST(StaticGroup, KeepsNoCopyOfItsTrianglesAndShadesFromItsBlocks) {
             return scene.objects[i].mesh.positions;
         }
     } fixed(scene);
-    SceneAccel accel;
-    UpdateStats stats;
-    TreeShape shape;
-    accel.update(scene, states, fixed, UpdatePolicy{}, stats, shape);
-    MemoryStats memory;
-    accel.memory_figures(memory);
     const std::size_t statics = scene.objects[0].mesh.triangles.size() + scene.objects[1].mesh.triangles.size();
-    EXPECT_EQ(memory.build_triangle_bytes, 4 * statics + 36 * scene.objects[2].mesh.triangles.size());
-    EXPECT_EQ(shape.triangles, statics + scene.objects[2].mesh.triangles.size());
-    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
-        const Mesh& mesh = scene.objects[i].mesh;
-        for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t) {
-            const bvh::Triangle tri = accel.world_triangle(i, t);
-            const glm::uvec3& v = mesh.triangles[t];
-            ASSERT_EQ(tri.v0, mesh.positions[v.x]) << "object " << i << " triangle " << t;
-            ASSERT_EQ(tri.v1, mesh.positions[v.y]) << "object " << i << " triangle " << t;
-            ASSERT_EQ(tri.v2, mesh.positions[v.z]) << "object " << i << " triangle " << t;
+    for (const bool wide : {true, false}) {
+        SCOPED_TRACE(wide ? "wide tree" : "binary tree (the group keeps a gathered copy)");
+        SceneAccel accel;
+        UpdateStats stats;
+        TreeShape shape;
+        UpdatePolicy policy;
+        policy.build.wide = wide;
+        accel.update(scene, states, fixed, policy, stats, shape);
+        MemoryStats memory;
+        accel.memory_figures(memory);
+        EXPECT_EQ(memory.build_triangle_bytes, (wide ? 4 : 36) * statics + 36 * scene.objects[2].mesh.triangles.size());
+        EXPECT_EQ(shape.triangles, statics + scene.objects[2].mesh.triangles.size());
+        for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+            const Mesh& mesh = scene.objects[i].mesh;
+            for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t) {
+                const bvh::Triangle tri = accel.world_triangle(i, t);
+                const glm::uvec3& v = mesh.triangles[t];
+                ASSERT_EQ(tri.v0, mesh.positions[v.x]) << "object " << i << " triangle " << t;
+                ASSERT_EQ(tri.v1, mesh.positions[v.y]) << "object " << i << " triangle " << t;
+                ASSERT_EQ(tri.v2, mesh.positions[v.z]) << "object " << i << " triangle " << t;
+            }
         }
+        // The occluder cache reads the group's triangles by the group's own numbering.
+        const std::uint32_t group = std::uint32_t(scene.objects.size());
+        const std::uint32_t first_of_second = std::uint32_t(scene.objects[0].mesh.triangles.size());
+        const std::optional<bvh::Triangle> t = accel.tree_triangle(group, first_of_second);
+        ASSERT_TRUE(t.has_value());
+        EXPECT_EQ(t->v0, scene.objects[1].mesh.positions[scene.objects[1].mesh.triangles[0].x]);
+        EXPECT_FALSE(accel.tree_triangle(group, std::uint32_t(statics)).has_value());
     }
-    // The occluder cache reads the group's triangles by the group's own numbering.
-    const std::uint32_t group = std::uint32_t(scene.objects.size());
-    const std::uint32_t first_of_second = std::uint32_t(scene.objects[0].mesh.triangles.size());
-    const std::optional<bvh::Triangle> t = accel.tree_triangle(group, first_of_second);
-    ASSERT_TRUE(t.has_value());
-    EXPECT_EQ(t->v0, scene.objects[1].mesh.positions[scene.objects[1].mesh.triangles[0].x]);
-    EXPECT_FALSE(accel.tree_triangle(group, std::uint32_t(statics)).has_value());
 }
 
 }  // namespace

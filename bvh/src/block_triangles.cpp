@@ -9,7 +9,7 @@
 
 namespace dynrt::bvh {
 
-BlockTriangles BlockTriangles::index(const TriangleBvh& tree, std::span<const Triangle> tris) {
+BlockTriangles BlockTriangles::index(const TriangleBvh& tree, const TriangleSource& tris) {
     BlockTriangles out;
     const std::vector<TriangleBlock, UninitializedAllocator<TriangleBlock>>& blocks = tree.wide.blocks;
     if (tree.wide.empty() && tris.size() != tree.degenerate_skipped) return out;

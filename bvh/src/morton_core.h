@@ -148,7 +148,7 @@ Bvh build_morton_from_prim_refs(const Ref* refs, std::size_t count,
 /// N children or every child is a leaf of at most `leaf_prims` triangles. `center_box` bounds
 /// the refs' centres; `count` >= 1 and < 2^31. The result does not depend on the thread count.
 /// Storage of `keys` and `recycled` is reused where large enough.
-WideBvh build_wide_morton(std::span<const Triangle> tris, const BoxCenterRef* refs,
+WideBvh build_wide_morton(const TriangleSource& tris, const BoxCenterRef* refs,
                           std::size_t count, const Aabb& center_box, std::uint32_t leaf_prims,
                           MortonKeys& keys, WideBvh&& recycled);
 

@@ -195,11 +195,11 @@ bool traverse_octant(const TriangleBvh& accel, const Ray& ray, Hit& hit, Travers
 
 }  // namespace
 
-TriangleBvh build_triangle_bvh(std::span<const Triangle> tris, const BuildConfig& config) {
+TriangleBvh build_triangle_bvh(const TriangleSource& tris, const BuildConfig& config) {
     return build_triangle_bvh(tris, config, TriangleBvh{});
 }
 
-TriangleBvh build_triangle_bvh(std::span<const Triangle> tris, const BuildConfig& config,
+TriangleBvh build_triangle_bvh(const TriangleSource& tris, const BuildConfig& config,
                                TriangleBvh&& recycled) {
     detail::check_config(config);
     // The result takes over the recycled vectors, emptied: their capacity is what is reused.
@@ -266,7 +266,7 @@ TriangleBvh build_triangle_bvh(std::span<const Triangle> tris, const BuildConfig
                 accel.skipped_ids[skipped_out++] = static_cast<std::uint32_t>(i);
                 continue;
             }
-            const Triangle& t = tris[i];
+            const Triangle t = tris[i];
             const glm::vec3 lo = glm::min(glm::min(t.v0, t.v1), t.v2);
             const glm::vec3 hi = glm::max(glm::max(t.v0, t.v1), t.v2);
             detail::BoxCenterRef& r = refs[out++];

@@ -68,7 +68,7 @@ struct Children {
 class WideMortonBuilder {
 public:
     /// `keys` sorted, `codes` room for their codes.
-    WideMortonBuilder(std::span<const Triangle> tris, const std::uint64_t* keys,
+    WideMortonBuilder(const TriangleSource& tris, const std::uint64_t* keys,
                       std::uint32_t* codes, std::uint32_t count, std::uint32_t leaf_prims)
         : tris_(tris), keys_(keys), codes_(codes), count_(count), leaf_prims_(leaf_prims) {}
 
@@ -259,12 +259,8 @@ private:
         BlockWriter writer(blocks_ + first_block);
         Aabb box;
         for (std::uint32_t k = r.begin; k < r.end; ++k) {
-            if (k + kPrefetchAhead < count_) {
-                const char* ahead = reinterpret_cast<const char*>(tris_.data() + id(k + kPrefetchAhead));
-                prefetch_line(ahead);
-                prefetch_line(ahead + sizeof(Triangle) - 1);
-            }
-            const Triangle& t = tris_[id(k)];
+            if (k + kPrefetchAhead < count_) tris_.prefetch(id(k + kPrefetchAhead));
+            const Triangle t = tris_[id(k)];
             box.extend(t.v0);
             box.extend(t.v1);
             box.extend(t.v2);
@@ -274,7 +270,7 @@ private:
         return box;
     }
 
-    std::span<const Triangle> tris_;
+    const TriangleSource& tris_;
     const std::uint64_t* keys_;
     std::uint32_t* codes_;
     std::uint32_t count_;
@@ -285,7 +281,7 @@ private:
 
 }  // namespace
 
-WideBvh build_wide_morton(std::span<const Triangle> tris, const BoxCenterRef* refs,
+WideBvh build_wide_morton(const TriangleSource& tris, const BoxCenterRef* refs,
                           std::size_t count, const Aabb& center_box, std::uint32_t leaf_prims,
                           MortonKeys& keys, WideBvh&& recycled) {
     // The key's low half is the triangle's own index: refs are in increasing index order, so

@@ -68,7 +68,7 @@ private:
         // The tree does not match the triangles just stored until the build completes: should
         // it throw, the next update must rebuild, not refit.
         object_.built = false;
-        build_tree(object_, config_, memory_);
+        build_tree(object_, object_.triangles, config_, memory_);
         stats_.rebuild_ms += clock_.lap_ms();
     }
     /// Gathers the triangles from the positions (timed as update_ms, evaluating the scene);
@@ -159,19 +159,26 @@ std::optional<RebuildReason> TreeUpdate::judge(const bvh::RefitResult& refit) {
 
 }  // namespace
 
-void build_tree(ObjectTree& object, const bvh::BuildConfig& config, CostMemory& memory) {
+void build_tree(ObjectTree& object, const bvh::TriangleSource& source, const bvh::BuildConfig& config,
+                CostMemory& memory) {
     const Stopwatch clock;
-    object.tree = bvh::build_triangle_bvh(object.triangles, config, std::move(object.tree));
+    object.tree = bvh::build_triangle_bvh(source, config, std::move(object.tree));
     const double ms = clock.elapsed_ms();
     object.measured = false;
     object.built = true;
     object.built_with = config.method;
-    memory.note_build(config.method, object.triangles.size(), ms, object.costs);
+    memory.note_build(config.method, source.size(), ms, object.costs);
 }
 
-void ObjectTree::drop_triangles() {
-    in_blocks = bvh::BlockTriangles::index(tree, triangles);
-    if (in_blocks.indexed()) std::vector<bvh::Triangle>().swap(triangles);
+void ObjectTree::read_triangles_from_blocks(const bvh::TriangleSource& source) {
+    std::vector<bvh::Triangle>().swap(triangles);
+    in_blocks = bvh::BlockTriangles::index(tree, source);
+    if (in_blocks.indexed()) return;
+    triangles.resize(source.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, triangles.size(), 4096),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                          for (std::size_t t = range.begin(); t < range.end(); ++t) triangles[t] = source[t];
+                      });
 }
 
 void ObjectTree::prefetch_triangle(std::uint32_t prim) const {

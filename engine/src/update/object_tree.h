@@ -26,11 +26,11 @@ namespace dynrt {
 
 struct ObjectTree {
     /// The triangles the tree was built or refitted from, in the mesh's order: world space
-    /// for static, deformable and exploding objects, object space for rigid ones. Empty once
-    /// drop_triangles() has left them to the tree's blocks.
+    /// for static, deformable and exploding objects, object space for rigid ones. The static
+    /// group keeps none (read_triangles_from_blocks).
     std::vector<bvh::Triangle> triangles;
     bvh::TriangleBvh tree;
-    /// After drop_triangles(): where the tree's blocks hold `triangles`.
+    /// After read_triangles_from_blocks(): where the tree's blocks hold its triangles.
     bvh::BlockTriangles in_blocks;
     anim::MotionClass motion_class = anim::MotionClass::static_;
     /// Rigid objects: object to world this frame, and its inverse (the identity otherwise).
@@ -52,13 +52,11 @@ struct ObjectTree {
     bvh::BuildMethod built_with = bvh::BuildMethod::binned_sah;
     ObjectCosts costs;
 
-    /// For a tree never refitted (the static group): frees `triangles` (36 bytes each) once
-    /// the tree is built, keeping an index into its blocks (4 bytes each) to read them back.
-    /// Keeps them when the tree has no blocks to read (a binary-only build). The next gather
-    /// into `triangles` must call keep_triangles() first.
-    void drop_triangles();
-    /// Undoes drop_triangles' index, before `triangles` are gathered again.
-    void keep_triangles() { in_blocks = {}; }
+    /// For a tree never refitted (the static group), just built from `source`: triangle()
+    /// reads its blocks through an index (4 bytes a triangle) instead of a copy of the
+    /// triangles (36 bytes). Where the tree has no blocks to read (a binary-only build) the
+    /// copy is gathered from `source` into `triangles` after all.
+    void read_triangles_from_blocks(const bvh::TriangleSource& source);
     /// Triangles the tree was built from.
     std::size_t triangle_count() const { return in_blocks.indexed() ? in_blocks.size() : triangles.size(); }
     /// Triangle `prim` (< triangle_count()) as the tree was built from it, bit for bit.
@@ -71,10 +69,11 @@ struct ObjectTree {
     std::size_t triangle_bytes() const;
 };
 
-/// Builds `object`'s tree from its triangles with `config`'s builder, and records the time in
-/// its costs and in `memory`. Its SAH cost and shape are measured later (measure_tree), outside
-/// the build's time.
-void build_tree(ObjectTree& object, const bvh::BuildConfig& config, CostMemory& memory);
+/// Builds `object`'s tree from `source` (its own triangles, or the static group's meshes) with
+/// `config`'s builder, and records the time in its costs and in `memory`. Its SAH cost and
+/// shape are measured later (measure_tree), outside the build's time.
+void build_tree(ObjectTree& object, const bvh::TriangleSource& source, const bvh::BuildConfig& config,
+                CostMemory& memory);
 
 /// After a build: records the new tree's SAH cost (what later refits are compared with, and
 /// what the automatic method predicts trace times from) and shape; a no-op for a tree measured

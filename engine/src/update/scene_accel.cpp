@@ -16,18 +16,17 @@ namespace dynrt {
 
 namespace {
 
-/// out[t] = the mesh's triangle t over `positions`, in parallel; returns their bounding box.
-/// Precondition: out.size() == mesh.triangles.size().
-bvh::Aabb gather(const Mesh& mesh, std::span<const glm::vec3> positions, std::span<bvh::Triangle> out) {
+/// The bounding box of the mesh's triangles over `positions`, in parallel (the vertices no
+/// triangle uses are left out).
+bvh::Aabb triangles_box(const Mesh& mesh, std::span<const glm::vec3> positions) {
     return tbb::parallel_reduce(
-        tbb::blocked_range<std::size_t>(0, out.size(), 4096), bvh::Aabb{},
+        tbb::blocked_range<std::size_t>(0, mesh.triangles.size(), 4096), bvh::Aabb{},
         [&](const tbb::blocked_range<std::size_t>& range, bvh::Aabb box) {
             for (std::size_t t = range.begin(); t < range.end(); ++t) {
                 const glm::uvec3& i = mesh.triangles[t];
-                out[t] = bvh::Triangle{positions[i.x], positions[i.y], positions[i.z]};
-                box.extend(out[t].v0);
-                box.extend(out[t].v1);
-                box.extend(out[t].v2);
+                box.extend(positions[i.x]);
+                box.extend(positions[i.y]);
+                box.extend(positions[i.z]);
             }
             return box;
         },
@@ -331,41 +330,45 @@ void SceneAccel::build_static_group(const Scene& scene, std::span<const ObjectSt
     static_objects_.clear();
     static_first_.clear();
     static_bucket_slot_.clear();
-    std::size_t total = 0;
-    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
-        if (states[i].motion_class == anim::MotionClass::static_) total += scene.objects[i].mesh.triangles.size();
-    }
-    // Gathered straight into the group's storage, boxes on the way; dropped after the build.
-    static_group_.keep_triangles();
-    std::vector<bvh::Triangle>& all = static_group_.triangles;
-    all.resize(total);
+    // The tree is built from the objects' vertices through their index triples, with no
+    // gathered copy of the triangles (36 bytes each at the build's peak). Vertices at the
+    // identity are the scene's own; those under a transform are made here and held until the
+    // build is done (12 bytes a vertex).
+    std::vector<bvh::TriangleSource::IndexedMesh> meshes;
+    std::vector<std::vector<glm::vec3>> transformed;
+    transformed.reserve(scene.objects.size());
     Stopwatch clock;
     static_group_known_ = true;
+    static_group_.triangles.clear();
+    static_group_.in_blocks = {};
     std::size_t first = 0;
     for (std::size_t i = 0; i < scene.objects.size(); ++i) {
         if (states[i].motion_class != anim::MotionClass::static_) continue;
         const Mesh& mesh = scene.objects[i].mesh;
-        const std::span<bvh::Triangle> out(all.data() + first, mesh.triangles.size());
-        object_boxes_[i] = gather(mesh, fixed.world(i, positions_), out);
+        std::vector<glm::vec3>& made = transformed.emplace_back();
+        const std::span<const glm::vec3> world = fixed.world(i, made);
+        if (world.data() != made.data()) std::vector<glm::vec3>().swap(made);
+        meshes.push_back(bvh::TriangleSource::IndexedMesh{world, mesh.triangles});
+        object_boxes_[i] = triangles_box(mesh, world);
         // Borrowed where FixedPositions holds them; copied where it made them in the scratch.
         const std::span<const glm::vec3> normals = fixed.world_normals(i, positions_);
         shading_.keep_static_normals(i, normals, normals.empty() || normals.data() != positions_.data());
         static_objects_.push_back(std::uint32_t(i));
         static_first_.push_back(std::uint32_t(first));
         objects_[i].group_first = std::uint32_t(first);
-        first += out.size();
+        first += mesh.triangles.size();
         stats.rebuilds.push_back(TreeRebuild{i, scene.objects[i].name, reason, 0.0, 0.0});
         ++stats.objects_rebuilt;
         stats.triangles_rebuilt += mesh.triangles.size();
     }
-    index_static_buckets(total);
+    index_static_buckets(first);
     stats.update_ms += clock.lap_ms();
     static_group_.motion_class = anim::MotionClass::static_;
-    build_tree(static_group_, config, costs_);
-    // The group is never refitted: its tree's blocks hold the triangles, and the gathered copy
-    // (36 bytes a triangle, as much as the blocks) is freed for an index into them. Timed
-    // with the build (it is the build's last step for this tree).
-    static_group_.drop_triangles();
+    const bvh::TriangleSource source(meshes);
+    build_tree(static_group_, source, config, costs_);
+    // The group is never refitted: shading reads a hit's corners back from the tree's own
+    // blocks (timed with the build, whose last step it is).
+    static_group_.read_triangles_from_blocks(source);
     stats.rebuild_ms += clock.lap_ms();
 }
 

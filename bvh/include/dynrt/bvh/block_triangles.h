@@ -11,6 +11,7 @@
 
 #include "dynrt/bvh/triangle.h"
 #include "dynrt/bvh/triangle_bvh.h"
+#include "dynrt/bvh/triangle_source.h"
 #include "dynrt/bvh/wide_bvh.h"
 
 #include <cstddef>
@@ -27,7 +28,7 @@ public:
     /// only for the degenerate triangles the tree left out, kept here as copies). Empty (not
     /// usable, see indexed()) when the tree has no wide blocks or more lanes than 32-bit
     /// indices reach: the caller then keeps its triangles.
-    static BlockTriangles index(const TriangleBvh& tree, std::span<const Triangle> tris);
+    static BlockTriangles index(const TriangleBvh& tree, const TriangleSource& tris);
 
     /// Whether the index was made (so the caller's triangles may be dropped).
     bool indexed() const { return indexed_; }

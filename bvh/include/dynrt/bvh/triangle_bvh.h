@@ -5,6 +5,7 @@
 #include "dynrt/bvh/binned_sah_builder.h"
 #include "dynrt/bvh/ray.h"
 #include "dynrt/bvh/triangle.h"
+#include "dynrt/bvh/triangle_source.h"
 #include "dynrt/bvh/wide_bvh.h"
 
 #include <cstddef>
@@ -67,13 +68,13 @@ BvhStats compute_stats(const TriangleBvh& accel);
 /// call), binning each triangle by the centre of its box. Hits report indices into `tris`.
 /// Triangles must be finite (check with is_finite first: the engine reports non-finite input as
 /// an error before building). Runs in parallel on the calling thread's oneTBB arena.
-TriangleBvh build_triangle_bvh(std::span<const Triangle> tris, const BuildConfig& config);
+TriangleBvh build_triangle_bvh(const TriangleSource& tris, const BuildConfig& config);
 
 /// The same tree, built into the storage of `recycled`, a tree no longer needed (such as the
 /// previous frame's tree of a mesh rebuilt every frame) wherever it is large enough. A fresh
 /// allocation of a million-triangle tree's 80 MB is faulted in and zeroed by the kernel page by
 /// page while the build fills it; reused storage skips that.
-TriangleBvh build_triangle_bvh(std::span<const Triangle> tris, const BuildConfig& config,
+TriangleBvh build_triangle_bvh(const TriangleSource& tris, const BuildConfig& config,
                                TriangleBvh&& recycled);
 
 /// Appends to `out` at most `max_parts` boxes that together hold every triangle of the tree:

@@ -21,6 +21,7 @@
 #include "dynrt/bvh/bvh.h"
 #include "dynrt/bvh/ray.h"
 #include "dynrt/bvh/triangle.h"
+#include "dynrt/bvh/triangle_source.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -169,7 +170,7 @@ WideBvhOf<N> collapse_to_wide(const Bvh& bvh, std::span<const Triangle> leaf_tri
 /// without a leaf-order copy of the triangles (36 bytes per triangle at a build's peak).
 /// Throws std::invalid_argument for a primitive id past `tris`.
 template <int N>
-WideBvhOf<N> collapse_to_wide_by_id(const Bvh& bvh, std::span<const Triangle> tris,
+WideBvhOf<N> collapse_to_wide_by_id(const Bvh& bvh, const TriangleSource& tris,
                                     const WideCosts& costs = {}, WideBvhOf<N>&& recycled = {});
 
 /// Refits the wide tree in place to `tris`, the caller's triangles after a move (indexed as

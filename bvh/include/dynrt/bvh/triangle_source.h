@@ -1,0 +1,103 @@
+#pragma once
+// What a build reads its triangles from: the caller's array of triangles, or indexed meshes
+// (vertices and index triples; several meshes are numbered one after another). A caller that
+// holds indexed geometry, as a scene does, can then build without first gathering a copy of
+// every triangle (36 bytes each, at the build's peak). Either way a triangle reads the same
+// floats, so the tree is the same bit for bit.
+
+#include "dynrt/bvh/prefetch.h"
+#include "dynrt/bvh/triangle.h"
+
+#include <glm/vec3.hpp>
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace dynrt::bvh {
+
+class TriangleSource {
+public:
+    /// One mesh: triangle t's corners are positions[triangles[t].x], .y and .z. Every index
+    /// must be within positions (the caller's to check, as for its own gathers).
+    struct IndexedMesh {
+        std::span<const glm::vec3> positions;
+        std::span<const glm::uvec3> triangles;
+    };
+
+    /// No triangles.
+    TriangleSource() = default;
+    /// The caller's triangles, viewed (they must outlive the source).
+    TriangleSource(std::span<const Triangle> tris) : tris_(tris), count_(tris.size()) {}
+    TriangleSource(const std::vector<Triangle>& tris) : TriangleSource(std::span<const Triangle>(tris)) {}
+    /// Meshes numbered one after another: mesh k's triangle t is triangle first(k) + t. The
+    /// meshes and what they view must outlive the source.
+    explicit TriangleSource(std::span<const IndexedMesh> meshes);
+
+    std::size_t size() const { return count_; }
+    /// Whether the triangles are read through index triples.
+    bool indexed() const { return !meshes_.empty(); }
+
+    Triangle operator[](std::size_t i) const {
+        if (meshes_.empty()) return tris_[i];
+        const std::size_t k = mesh_of(i);
+        const IndexedMesh& m = meshes_[k];
+        const glm::uvec3 v = m.triangles[i - first_[k]];
+        return Triangle{m.positions[v.x], m.positions[v.y], m.positions[v.z]};
+    }
+
+    /// Asks the cache for the corners operator[](i) reads: a triangle's lines, or an indexed
+    /// mesh's three vertices (reading the index triple, which should be cached by then, or
+    /// the wait is the caller's).
+    void prefetch_corners(std::size_t i) const {
+        if (meshes_.empty()) {
+            const char* p = reinterpret_cast<const char*>(tris_.data() + i);
+            prefetch_line(p);
+            prefetch_line(p + sizeof(Triangle) - 1);
+            return;
+        }
+        const std::size_t k = mesh_of(i);
+        const IndexedMesh& m = meshes_[k];
+        const glm::uvec3 v = m.triangles[i - first_[k]];
+        prefetch_line(m.positions.data() + v.x);
+        prefetch_line(m.positions.data() + v.y);
+        prefetch_line(m.positions.data() + v.z);
+    }
+
+    /// Asks the cache for what operator[](i) reads first (a triangle, or an index triple).
+    void prefetch(std::size_t i) const {
+        const char* p;
+        if (meshes_.empty()) {
+            p = reinterpret_cast<const char*>(tris_.data() + i);
+            prefetch_line(p + sizeof(Triangle) - 1);
+        } else {
+            const std::size_t k = mesh_of(i);
+            p = reinterpret_cast<const char*>(meshes_[k].triangles.data() + (i - first_[k]));
+        }
+        prefetch_line(p);
+    }
+
+private:
+    std::size_t mesh_of(std::size_t i) const {
+        if (first_.size() == 1) return 0;
+        return std::size_t(std::upper_bound(first_.begin(), first_.end(), i) - first_.begin()) - 1;
+    }
+
+    std::span<const Triangle> tris_;
+    std::span<const IndexedMesh> meshes_;
+    /// Mesh k's first triangle's number.
+    std::vector<std::size_t> first_;
+    std::size_t count_ = 0;
+};
+
+inline TriangleSource::TriangleSource(std::span<const IndexedMesh> meshes) : meshes_(meshes) {
+    first_.reserve(meshes.size());
+    for (const IndexedMesh& m : meshes) {
+        first_.push_back(count_);
+        count_ += m.triangles.size();
+    }
+}
+
+}  // namespace dynrt::bvh

@@ -351,10 +351,14 @@ public:
                                                       : convert(relocate(local[0], offset[slot])));
                 }
                 for (std::size_t slot = 0; slot < top_used; ++slot) {
-                    const std::vector<RawNode>& local = subtrees_[slot];
+                    std::vector<RawNode>& local = subtrees_[slot];
                     for (std::size_t k = 1; k < local.size(); ++k) {
                         bvh.nodes.push_back(convert(relocate(local[k], offset[slot])));
                     }
+                    // Freed as soon as copied: the subtrees and the final array are each as
+                    // large as the tree (32 bytes a node, about one node per triangle), and
+                    // holding both was the build's peak.
+                    std::vector<RawNode>().swap(local);
                 }
             },
             [&] {

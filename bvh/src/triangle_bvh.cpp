@@ -11,6 +11,7 @@
 #include "robust_box_test.h"
 #include "tree_checks.h"
 #include "watertight_kernel.h"
+#include "wide_collapse.h"
 
 #include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/parallel_for.h>
@@ -328,7 +329,7 @@ TriangleBvh build_triangle_bvh(const TriangleSource& tris, const BuildConfig& co
         // The references are done with: freed before the wide tree is made (32 bytes per
         // triangle off the build's peak).
         own_refs.reset();
-        accel.wide = collapse_to_wide_by_id<kWideWidth>(binary, tris, WideCosts{}, std::move(recycled_wide));
+        accel.wide = collapse_to_wide_consuming<kWideWidth>(std::move(binary), tris, WideCosts{}, std::move(recycled_wide));
     }
     return accel;
 }

@@ -17,16 +17,18 @@
 // the layout still does not depend on thread timing. Both arrays are allocated once at their
 // final size.
 
-#include "dynrt/bvh/wide_bvh.h"
+#include "wide_collapse.h"
 
 #include "block_writer.h"
 #include "huge_pages.h"
 
+#include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/parallel_invoke.h>
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <limits>
 #include <memory>
 #include <stdexcept>
@@ -61,9 +63,10 @@ template <int N>
 class Collapser {
 public:
     /// `by_id`: `tris` is in the caller's order (leaf position k's triangle is
-    /// tris[prim_ids[k]]), else in leaf order (tris[k]).
-    Collapser(const Bvh& bvh, TriangleSource tris, bool by_id, const WideCosts& costs)
-        : bvh_(bvh), tris_(tris), by_id_(by_id), costs_(costs),
+    /// tris[prim_ids[k]]), else in leaf order (tris[k]). `consumed`, when given, is `bvh`
+    /// itself, whose nodes the collapse may free once the wide nodes are made.
+    Collapser(const Bvh& bvh, TriangleSource tris, bool by_id, const WideCosts& costs, Bvh* consumed = nullptr)
+        : bvh_(bvh), consumed_(consumed), tris_(tris), by_id_(by_id), costs_(costs),
           choice_(std::make_unique_for_overwrite<Choices[]>(bvh.nodes.size())),
           size_as_node_(std::make_unique_for_overwrite<WideSize[]>(bvh.nodes.size())) {}
 
@@ -79,10 +82,18 @@ public:
         // is a single binary leaf), else over the best distribution of its children.
         const bool root_leaf = bvh_.nodes[0].is_leaf() || choice_[0][0] == kLeaf;
         const WideSize size = root_leaf ? WideSize{1, root.size[0].blocks} : size_as_node_[0];
+        // With the binary tree ours to free and every subtree over one run of leaf positions,
+        // the blocks are written after the binary nodes and the program's records are freed:
+        // those and the blocks (50 bytes a triangle) are then never held at once.
+        defer_blocks_ = consumed_ != nullptr && contiguous_.load(std::memory_order_relaxed);
         detail::resize_with_huge_pages(wide.nodes, size.nodes);
-        detail::resize_with_huge_pages(wide.blocks, size.blocks);
         nodes_ = wide.nodes.data();
-        blocks_ = wide.blocks.data();
+        if (defer_blocks_) {
+            leaf_ranges_ = std::make_unique_for_overwrite<LeafRange[]>(size.blocks);
+        } else {
+            detail::resize_with_huge_pages(wide.blocks, size.blocks);
+            blocks_ = wide.blocks.data();
+        }
         if (root_leaf) {
             nodes_[0] = WideNode<N>::empty();
             std::uint32_t next_node = 1, next_block = 0;
@@ -92,6 +103,15 @@ public:
         }
         wide.root_box = bvh_.nodes[0].box;
         wide.triangle_count = bvh_.prim_ids.size();
+        if (defer_blocks_) {
+            choice_.reset();
+            size_as_node_.reset();
+            std::vector<BvhNode>().swap(consumed_->nodes);
+            detail::resize_with_huge_pages(wide.blocks, size.blocks);
+            blocks_ = wide.blocks.data();
+            fill_deferred_leaves(wide.nodes.size());
+            leaf_ranges_.reset();
+        }
         return wide;
     }
 
@@ -108,6 +128,8 @@ private:
         Costs cost;
         std::array<WideSize, N> size;
         std::uint32_t prims = 0;
+        /// The leaf positions the subtree's leaves cover, when they are one run [first, end).
+        std::uint32_t first = 0, end = 0;
     };
 
     /// Runs the dynamic program over the subtree at `index`, recording the choices and, for
@@ -127,6 +149,8 @@ private:
             r.cost.fill(area * static_cast<float>(blocks_for(node.count)) * costs_.block);
             r.size.fill(WideSize{0, blocks_for(node.count)});
             r.prims = node.count;
+            r.first = node.first;
+            r.end = node.first + node.count;
             choice.fill(0);
             choice[0] = kLeaf;
             return r;
@@ -140,6 +164,9 @@ private:
             right = cost(node.first + 1, depth + 1);
         }
         r.prims = left.prims + right.prims;
+        r.first = left.first;
+        r.end = right.end;
+        if (left.end != right.first) contiguous_.store(false, std::memory_order_relaxed);
 
         // C_dist(n, j) for j = 2..N, each with its best k.
         Costs dist;
@@ -244,7 +271,14 @@ private:
         const BvhNode& node = bvh_.nodes[binary];
         parent.set_box(slot, node.box);
         if (node.is_leaf() || choice_[binary][0] == kLeaf) {
-            const std::uint32_t blocks = fill_leaf(blocks_ + next_block, binary);
+            std::uint32_t blocks;
+            if (defer_blocks_) {
+                const LeafRange range = range_of(binary);
+                leaf_ranges_[next_block] = range;
+                blocks = blocks_for(range.prims);
+            } else {
+                blocks = fill_leaf(blocks_ + next_block, binary);
+            }
             parent.child[slot] = next_block;
             parent.blocks[slot] = static_cast<std::uint16_t>(blocks);
             next_block += blocks;
@@ -262,6 +296,47 @@ private:
     /// Copies the triangles of the binary subtree at `index` into consecutive blocks; returns
     /// how many it filled.
     std::uint32_t fill_leaf(TriangleBlock* blocks, std::uint32_t index) const {
+        return write_leaf(blocks, [&](auto&& visit) { visit_leaves(index, visit); });
+    }
+
+    /// A wide leaf's run of leaf positions, for its blocks written later.
+    struct LeafRange {
+        std::uint32_t first, prims;
+    };
+
+    /// The run of leaf positions under the binary node `index` (from its leftmost leaf to its
+    /// rightmost; every subtree's is one run, contiguous_).
+    LeafRange range_of(std::uint32_t index) const {
+        std::uint32_t lo = index, hi = index;
+        while (!bvh_.nodes[lo].is_leaf()) lo = bvh_.nodes[lo].first;
+        while (!bvh_.nodes[hi].is_leaf()) hi = bvh_.nodes[hi].first + 1;
+        const BvhNode& first = bvh_.nodes[lo];
+        const BvhNode& last = bvh_.nodes[hi];
+        return LeafRange{first.first, last.first + last.count - first.first};
+    }
+
+    /// With defer_blocks_: every leaf slot's blocks, from the run recorded at its first block,
+    /// in the order fill_leaf would have written them (a run's positions ascending).
+    void fill_deferred_leaves(std::size_t node_count) {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, node_count, 256),
+                          [&](const tbb::blocked_range<std::size_t>& r) {
+                              for (std::size_t n = r.begin(); n < r.end(); ++n) {
+                                  const WideNode<N>& node = nodes_[n];
+                                  for (int i = 0; i < N; ++i) {
+                                      if (!node.is_leaf(i)) continue;
+                                      const LeafRange range = leaf_ranges_[node.child[i]];
+                                      write_leaf(blocks_ + node.child[i], [&](auto&& visit) {
+                                          for (std::uint32_t k = range.first; k < range.first + range.prims; ++k) visit(k);
+                                      });
+                                  }
+                              }
+                          });
+    }
+
+    /// Writes the triangles at the leaf positions `for_each_position` visits into consecutive
+    /// blocks; returns how many it filled.
+    template <class ForEachPosition>
+    std::uint32_t write_leaf(TriangleBlock* blocks, ForEachPosition&& for_each_position) const {
         detail::BlockWriter writer(blocks);
         const auto at = [&](std::uint32_t k) { return by_id_ ? bvh_.prim_ids[k] : k; };
         if (tris_.indexed()) {
@@ -269,10 +344,10 @@ private:
             // corners are two dependent reads (the index triple, then the vertices): every
             // one is asked for before any is read, so that the misses overlap. (Measured no
             // help for plain triangles, one read each: bm_build, soup_1M.)
-            visit_leaves(index, [&](std::uint32_t k) { tris_.prefetch(at(k)); });
-            visit_leaves(index, [&](std::uint32_t k) { tris_.prefetch_corners(at(k)); });
+            for_each_position([&](std::uint32_t k) { tris_.prefetch(at(k)); });
+            for_each_position([&](std::uint32_t k) { tris_.prefetch_corners(at(k)); });
         }
-        visit_leaves(index, [&](std::uint32_t k) { writer.add(tris_[at(k)], bvh_.prim_ids[k]); });
+        for_each_position([&](std::uint32_t k) { writer.add(tris_[at(k)], bvh_.prim_ids[k]); });
         return writer.finish();
     }
 
@@ -288,6 +363,7 @@ private:
     }
 
     const Bvh& bvh_;
+    Bvh* consumed_;
     TriangleSource tris_;
     bool by_id_;
     WideCosts costs_;
@@ -296,6 +372,12 @@ private:
     std::unique_ptr<WideSize[]> size_as_node_;
     WideNode<N>* nodes_ = nullptr;
     TriangleBlock* blocks_ = nullptr;
+    /// Whether every binary subtree's leaves are one run of leaf positions (the builders'
+    /// trees are: they partition their ranges in place), found by the program.
+    std::atomic<bool> contiguous_{true};
+    bool defer_blocks_ = false;
+    /// With defer_blocks_, per block: at a leaf's first block, the leaf's run.
+    std::unique_ptr<LeafRange[]> leaf_ranges_;
 };
 
 }  // namespace
@@ -323,6 +405,16 @@ WideBvhOf<N> collapse_to_wide_by_id(const Bvh& bvh, const TriangleSource& tris, 
     return Collapser<N>(bvh, tris, true, costs).run(std::move(recycled));
 }
 
+template <int N>
+WideBvhOf<N> collapse_to_wide_consuming(Bvh&& bvh, const TriangleSource& tris, const WideCosts& costs,
+                                        WideBvhOf<N>&& recycled) {
+    WideBvhOf<N> wide = Collapser<N>(bvh, tris, true, costs, &bvh).run(std::move(recycled));
+    bvh = Bvh{};
+    return wide;
+}
+
+template WideBvhOf<kWideWidth> collapse_to_wide_consuming<kWideWidth>(Bvh&&, const TriangleSource&, const WideCosts&,
+                                                                      WideBvhOf<kWideWidth>&&);
 template WideBvhOf<4> collapse_to_wide<4>(const Bvh&, std::span<const Triangle>, const WideCosts&,
                                           WideBvhOf<4>&&);
 template WideBvhOf<8> collapse_to_wide<8>(const Bvh&, std::span<const Triangle>, const WideCosts&,

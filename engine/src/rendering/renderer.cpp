@@ -66,6 +66,22 @@ bool all_finite(std::span<const glm::vec3> points) {
         [](bool a, bool b) { return a && b; });
 }
 
+/// Static or rigid object `object`'s world-space positions at the frame `posed` holds (posed
+/// with PoseSettings::skip_fixed_positions): a span into the poser's storage or into `scratch`.
+std::span<const glm::vec3> fixed_world(const anim::ScenePoser& poser, const anim::PosedScene& posed,
+                                       std::size_t object, std::vector<glm::vec3>& scratch) {
+    const std::vector<glm::vec3>& made = posed.objects[object].positions;
+    if (!made.empty()) return made;
+    // The usual static object, at the identity: transform * p in double gives every finite p
+    // back (as an equal value), so its own vertices serve, uncopied. Only a non-finite vertex
+    // takes the poser's path, which names it in its error.
+    // (A moving object is here only without vertices: it has no object space either.)
+    const std::span<const glm::vec3> local = poser.object_space_positions(object);
+    if (local.empty() || (posed.objects[object].transform == glm::dmat4(1.0) && all_finite(local))) return local;
+    poser.fixed_world_positions(object, posed, scratch);
+    return scratch;
+}
+
 /// A posed frame's static and rigid vertices, from the poser that evaluated it.
 class PoserPositions final : public FixedPositions {
 public:
@@ -76,15 +92,7 @@ public:
     }
     std::span<const glm::vec3> world(std::size_t object,
                                      std::vector<glm::vec3>& scratch) const override {
-        const std::vector<glm::vec3>& posed = posed_.objects[object].positions;
-        if (!posed.empty()) return posed;
-        // The usual static object, at the identity: transform * p in double gives every finite
-        // p back (as an equal value), so its own vertices serve, uncopied. Only a non-finite
-        // vertex takes the poser's path, which names it in its error.
-        const std::span<const glm::vec3> local = poser_.object_space_positions(object);
-        if (posed_.objects[object].transform == glm::dmat4(1.0) && all_finite(local)) return local;
-        poser_.fixed_world_positions(object, posed_, scratch);
-        return scratch;
+        return fixed_world(poser_, posed_, object, scratch);
     }
     std::span<const glm::vec3> object_space_normals(std::size_t object) const override {
         return poser_.object_space_normals(object);
@@ -104,10 +112,13 @@ private:
     const anim::PosedScene& posed_;
 };
 
-bvh::Aabb bounds_of(const anim::PosedScene& posed) {
+/// The box of every vertex of the frame `posed` holds (posed with skip_fixed_positions): the
+/// static and rigid objects' made one object at a time, as their trees' builds make them.
+bvh::Aabb bounds_of(const anim::ScenePoser& poser, const anim::PosedScene& posed) {
     bvh::Aabb bounds;
-    for (const anim::PosedObject& object : posed.objects) {
-        for (const glm::vec3& p : object.positions) bounds.extend(p);
+    std::vector<glm::vec3> scratch;
+    for (std::size_t i = 0; i < posed.objects.size(); ++i) {
+        for (const glm::vec3& p : fixed_world(poser, posed, i, scratch)) bounds.extend(p);
     }
     return bounds;
 }
@@ -124,7 +135,10 @@ bvh::Aabb scene_bounds(const Scene& scene) { return sequence_bounds(scene, {}, 0
 bvh::Aabb sequence_bounds(const Scene& scene, const anim::PoseSettings& pose, int first, int last,
                           int samples) {
     anim::PoseSettings settings = pose;
-    settings.skip_fixed_positions = false;
+    // Bounds need positions only, and never a posed copy of the fixed objects' (as large as
+    // the scene's own vertices: once the peak of a big static scene's start).
+    settings.skip_fixed_positions = true;
+    settings.normals = false;
     const anim::ScenePoser poser(scene, settings);
     const bool moves = !scene.clips.empty() || !scene.motions.empty();
     const int count = moves && last > first ? std::max(2, std::min(samples, last - first + 1)) : 1;
@@ -135,7 +149,7 @@ bvh::Aabb sequence_bounds(const Scene& scene, const anim::PoseSettings& pose, in
         const int frame =
             count == 1 ? first : first + int(std::int64_t(last - first) * i / (count - 1));
         poser.pose(frame, posed);
-        bounds.extend(bounds_of(posed));
+        bounds.extend(bounds_of(poser, posed));
     }
     return bounds;
 }

@@ -32,6 +32,10 @@
 #include <string>
 #include <vector>
 
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
 namespace dynrt::bvh {
 namespace detail {
 namespace {
@@ -310,6 +314,9 @@ template <class Ref>
     }
 }
 
+/// Trees whose subtrees took at least this many bytes return the freed ones to the system.
+constexpr std::size_t kTrimAfterBytes = std::size_t{64} << 20;
+
 template <class Ref>
 class Builder {
 public:
@@ -324,7 +331,8 @@ public:
           bin_count_max_(std::min(config.bin_count, kMaxBins)) {}
 
     Bvh build(std::size_t count, const Aabb& root_box, const Aabb& root_center_box,
-              const std::function<void()>& alongside_output, Bvh&& recycled) {
+              const std::function<void()>& alongside_output, const std::function<void()>& release_refs,
+              Bvh&& recycled) {
         build_node(0, ChildRange{0, count, Box4::from(root_box), Box4::from(root_center_box)}, 1);
 
         // Final layout: the top nodes at their slots, then each serial subtree's nodes (all but
@@ -339,28 +347,10 @@ public:
         Bvh bvh = std::move(recycled);
         bvh.nodes.clear();
         bvh.prim_ids.clear();
-        // Filling a fresh vector is one serial pass (the kernel faults its pages in as it goes);
-        // the node array, the primitive ids and the caller's own output (the triangle gather)
-        // each get one, side by side.
+        // The primitive ids and the caller's own output (the triangle gather) side by side,
+        // then, the refs released, the nodes: the refs (32 bytes a triangle), the subtrees and
+        // the final node array are never all held at once.
         tbb::parallel_invoke(
-            [&] {
-                reserve_with_huge_pages(bvh.nodes, total);
-                for (std::size_t slot = 0; slot < top_used; ++slot) {
-                    const std::vector<RawNode>& local = subtrees_[slot];
-                    bvh.nodes.push_back(local.empty() ? convert(top_[slot])
-                                                      : convert(relocate(local[0], offset[slot])));
-                }
-                for (std::size_t slot = 0; slot < top_used; ++slot) {
-                    std::vector<RawNode>& local = subtrees_[slot];
-                    for (std::size_t k = 1; k < local.size(); ++k) {
-                        bvh.nodes.push_back(convert(relocate(local[k], offset[slot])));
-                    }
-                    // Freed as soon as copied: the subtrees and the final array are each as
-                    // large as the tree (32 bytes a node, about one node per triangle), and
-                    // holding both was the build's peak.
-                    std::vector<RawNode>().swap(local);
-                }
-            },
             [&] {
                 resize_with_huge_pages(bvh.prim_ids, count);
                 tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 64 * 1024),
@@ -373,6 +363,31 @@ public:
             [&] {
                 if (alongside_output) alongside_output();
             });
+        if (release_refs) release_refs();
+        reserve_with_huge_pages(bvh.nodes, total);
+        for (std::size_t slot = 0; slot < top_used; ++slot) {
+            const std::vector<RawNode>& local = subtrees_[slot];
+            bvh.nodes.push_back(local.empty() ? convert(top_[slot])
+                                              : convert(relocate(local[0], offset[slot])));
+        }
+        for (std::size_t slot = 0; slot < top_used; ++slot) {
+            std::vector<RawNode>& local = subtrees_[slot];
+            for (std::size_t k = 1; k < local.size(); ++k) {
+                bvh.nodes.push_back(convert(relocate(local[k], offset[slot])));
+            }
+            // Freed as soon as copied: the subtrees and the final array are each as
+            // large as the tree (32 bytes a node, about one node per triangle), and
+            // holding both was the build's peak.
+            std::vector<RawNode>().swap(local);
+        }
+#if defined(__GLIBC__)
+        // The subtrees came from the allocator's arenas in pieces too small to be mapped on
+        // their own, so freeing them left their pages resident, unused by what comes next
+        // (the collapse's large arrays are mapped afresh): for a big tree they are handed
+        // back (13 bytes a triangle of resident peak on sphere:20000000). Small trees, rebuilt
+        // every frame, skip the arenas' walk.
+        if (total * sizeof(RawNode) >= kTrimAfterBytes) malloc_trim(0);
+#endif
         return bvh;
     }
 
@@ -655,17 +670,20 @@ std::size_t partition_node(BoxCenterRef* refs, std::size_t count, const BinnedSp
 template <class Ref>
 Bvh build_from_prim_refs(Ref* refs, std::size_t count, const Aabb& root_box,
                          const Aabb& root_center_box, const BuildConfig& config,
-                         const std::function<void()>& alongside_output, Bvh&& recycled) {
+                         const std::function<void()>& alongside_output, Bvh&& recycled,
+                         const std::function<void()>& release_refs) {
     Builder<Ref> builder(refs, count, config);
-    return builder.build(count, root_box, root_center_box, alongside_output, std::move(recycled));
+    return builder.build(count, root_box, root_center_box, alongside_output, release_refs, std::move(recycled));
 }
 
 template Bvh build_from_prim_refs<BoxCenterRef>(BoxCenterRef*, std::size_t, const Aabb&,
                                                 const Aabb&, const BuildConfig&,
-                                                const std::function<void()>&, Bvh&&);
+                                                const std::function<void()>&, Bvh&&,
+                                                const std::function<void()>&);
 template Bvh build_from_prim_refs<ExplicitCenterRef>(ExplicitCenterRef*, std::size_t, const Aabb&,
                                                      const Aabb&, const BuildConfig&,
-                                                     const std::function<void()>&, Bvh&&);
+                                                     const std::function<void()>&, Bvh&&,
+                                                     const std::function<void()>&);
 
 }  // namespace detail
 

@@ -23,11 +23,14 @@ namespace dynrt::bvh::detail {
 /// final order, concurrently with the filling of the result's vectors (the caller's own
 /// per-primitive output, such as triangles in leaf order, can overlap with it).
 /// The result's vectors reuse the storage of `recycled` (a tree no longer needed) where it is
-/// large enough. Instantiated for BoxCenterRef and ExplicitCenterRef.
+/// large enough. `release_refs`, when set, is called once the refs are read for the last time
+/// (after alongside_output), so that the caller may free them before the nodes are laid out.
+/// Instantiated for BoxCenterRef and ExplicitCenterRef.
 template <class Ref>
 Bvh build_from_prim_refs(Ref* refs, std::size_t count, const Aabb& root_box,
                          const Aabb& root_center_box, const BuildConfig& config,
-                         const std::function<void()>& alongside_output, Bvh&& recycled = {});
+                         const std::function<void()>& alongside_output, Bvh&& recycled = {},
+                         const std::function<void()>& release_refs = {});
 
 /// Throws std::invalid_argument unless cost_ratio > 0, leaf_size_max >= 1 and bin_count >= 2.
 void check_config(const BuildConfig& config);

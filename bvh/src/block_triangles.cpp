@@ -31,15 +31,10 @@ BlockTriangles BlockTriangles::index(const TriangleBvh& tree, const TriangleSour
     return out;
 }
 
-Triangle BlockTriangles::at(const TriangleBvh& tree, std::uint32_t prim) const {
-    const std::uint32_t slot = lane_[prim];
-    if (slot == kInvalidId) {
-        // Left out of the tree (degenerate): never hit by dynrt's tracers, but another backend
-        // may report one, so it is kept.
-        const auto it = std::lower_bound(tree.skipped_ids.begin(), tree.skipped_ids.end(), prim);
-        return skipped_[std::size_t(it - tree.skipped_ids.begin())];
-    }
-    return tree.wide.blocks[slot / kBlockLanes].triangle(int(slot % kBlockLanes));
+Triangle BlockTriangles::skipped(const TriangleBvh& tree, std::uint32_t prim) const {
+    // Never hit by dynrt's tracers, but another backend may report one, so it is kept.
+    const auto it = std::lower_bound(tree.skipped_ids.begin(), tree.skipped_ids.end(), prim);
+    return skipped_[std::size_t(it - tree.skipped_ids.begin())];
 }
 
 void BlockTriangles::prefetch(const TriangleBvh& tree, std::uint32_t prim) const {

@@ -152,7 +152,7 @@ std::size_t SceneAccel::memory_bytes() const {
     std::size_t bytes = held_bytes(objects_) + parts.tree_bytes + parts.build_triangle_bytes;
     bytes += held_bytes(static_first_) + held_bytes(static_objects_) + held_bytes(static_bucket_slot_);
     bytes += held_bytes(instance_trees_);
-    bytes += held_bytes(object_boxes_) + held_bytes(positions_) + held_bytes(history_) +
+    bytes += held_bytes(object_boxes_) + held_bytes(history_) +
              held_bytes(plan_.objects) + shading_.memory_bytes();
     return bytes;
 }
@@ -337,8 +337,11 @@ void SceneAccel::build_static_group(const Scene& scene, std::span<const ObjectSt
     std::vector<bvh::TriangleSource::IndexedMesh> meshes;
     std::vector<std::vector<glm::vec3>> transformed;
     transformed.reserve(scene.objects.size());
+    // World normals made under a transform, one object at a time (shading copies them).
+    std::vector<glm::vec3> normals_made;
     Stopwatch clock;
     static_group_known_ = true;
+    // No index into the old tree survives, should the build below throw.
     static_group_.triangles.clear();
     static_group_.in_blocks = {};
     std::size_t first = 0;
@@ -351,8 +354,8 @@ void SceneAccel::build_static_group(const Scene& scene, std::span<const ObjectSt
         meshes.push_back(bvh::TriangleSource::IndexedMesh{world, mesh.triangles});
         object_boxes_[i] = triangles_box(mesh, world);
         // Borrowed where FixedPositions holds them; copied where it made them in the scratch.
-        const std::span<const glm::vec3> normals = fixed.world_normals(i, positions_);
-        shading_.keep_static_normals(i, normals, normals.empty() || normals.data() != positions_.data());
+        const std::span<const glm::vec3> normals = fixed.world_normals(i, normals_made);
+        shading_.keep_static_normals(i, normals, normals.empty() || normals.data() != normals_made.data());
         static_objects_.push_back(std::uint32_t(i));
         static_first_.push_back(std::uint32_t(first));
         objects_[i].group_first = std::uint32_t(first);

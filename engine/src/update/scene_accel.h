@@ -199,8 +199,6 @@ private:
     std::vector<ObjectTree*> instance_trees_;
     bvh::TwoLevelBvh top_;
     std::vector<bvh::Aabb> object_boxes_;
-    /// Scratch for the vertex positions of static objects at their one build.
-    std::vector<glm::vec3> positions_;
     /// The planner's input and output, reused from frame to frame.
     std::vector<TreeHistory> history_;
     UpdatePlan plan_;

@@ -36,8 +36,12 @@ public:
     std::size_t size() const { return lane_.size(); }
 
     /// Triangle `prim` (< size()), exactly as it was given to the build. `tree` is the tree
-    /// indexed, unchanged since.
-    Triangle at(const TriangleBvh& tree, std::uint32_t prim) const;
+    /// indexed, unchanged since. (Inline: shading reads one per hit.)
+    Triangle at(const TriangleBvh& tree, std::uint32_t prim) const {
+        const std::uint32_t slot = lane_[prim];
+        if (slot == kInvalidId) return skipped(tree, prim);
+        return tree.wide.blocks[slot / kBlockLanes].triangle(int(slot % kBlockLanes));
+    }
     /// Asks the cache for the lines triangle `prim` is read from.
     void prefetch(const TriangleBvh& tree, std::uint32_t prim) const;
 
@@ -45,6 +49,9 @@ public:
     std::size_t bytes() const;
 
 private:
+    /// A degenerate triangle the tree left out, from its copy.
+    Triangle skipped(const TriangleBvh& tree, std::uint32_t prim) const;
+
     /// Per triangle: block * kBlockLanes + lane in tree.wide.blocks, or kInvalidId for a
     /// degenerate triangle the tree left out (kept in skipped_, in tree.skipped_ids' order).
     std::vector<std::uint32_t> lane_;

@@ -68,15 +68,12 @@ public:
 
     /// Asks the cache for what operator[](i) reads first (a triangle, or an index triple).
     void prefetch(std::size_t i) const {
-        const char* p;
-        if (meshes_.empty()) {
-            p = reinterpret_cast<const char*>(tris_.data() + i);
-            prefetch_line(p + sizeof(Triangle) - 1);
-        } else {
-            const std::size_t k = mesh_of(i);
-            p = reinterpret_cast<const char*>(meshes_[k].triangles.data() + (i - first_[k]));
+        if (!indexed()) {
+            prefetch_corners(i);
+            return;
         }
-        prefetch_line(p);
+        const std::size_t k = mesh_of(i);
+        prefetch_line(meshes_[k].triangles.data() + (i - first_[k]));
     }
 
 private:

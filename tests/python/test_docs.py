@@ -33,7 +33,7 @@ CLI = os.environ.get("DYNRT_CLI", "")
 # Benchmark, mpirun, pytest, Doxygen. A dynrt flag missing from --help is not to be added here.
 OTHER_PROGRAMS_FLAGS = {
     # scripts/frame_suite.py, scripts/frame_timing.py, scripts/fuzz.sh
-    "--reference", "--candidate", "--only", "--keep", "--regrouped", "--rounds",
+    "--reference", "--candidate", "--only", "--keep", "--regrouped", "--memory", "--rounds",
     # the examples (engine/examples, engine/python/examples)
     "--steps", "--order", "--azimuths", "--channels", "--check",
     # the stress suite (tests/stress)

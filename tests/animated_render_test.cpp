@@ -297,7 +297,7 @@ TEST(AnimatedRender, EditingASceneNeedsReset) {
     Renderer renderer(options);
     RenderedFrame before, after;
     renderer.render(scene, camera, 0, before);
-    for (glm::vec3& p : scene.objects[0].mesh.positions) p *= 0.5f;
+    for (glm::vec3& p : scene.objects[0].mesh.positions.edit()) p *= 0.5f;
     renderer.reset();
     renderer.render(scene, camera, 0, after);
     EXPECT_EQ(after.stats.objects_rebuilt, 1u);

@@ -382,15 +382,15 @@ TEST(CheckScene, AcceptsAValidScene) { EXPECT_NO_THROW(check_scene(one_triangle_
 
 TEST(CheckScene, RejectsBrokenScenesNamingTheObject) {
     Scene scene = one_triangle_scene();
-    scene.objects[0].mesh.triangles[0].z = 3;
+    scene.objects[0].mesh.triangles.edit()[0].z = 3;
     expect_check_error(scene, "object 'tri': triangle 0 index 3 out of range");
 
     scene = one_triangle_scene();
-    scene.objects[0].mesh.positions[1].y = std::numeric_limits<float>::quiet_NaN();
+    scene.objects[0].mesh.positions.edit()[1].y = std::numeric_limits<float>::quiet_NaN();
     expect_check_error(scene, "object 'tri': vertex 1 position");
 
     scene = one_triangle_scene();
-    scene.objects[0].mesh.positions[2].x = std::numeric_limits<float>::infinity();
+    scene.objects[0].mesh.positions.edit()[2].x = std::numeric_limits<float>::infinity();
     expect_check_error(scene, "object 'tri': vertex 2 position");
 
     scene = one_triangle_scene();

@@ -85,7 +85,7 @@ TEST(Renderer, DegenerateTrianglesAreSkippedAndCounted) {
 TEST(Renderer, NonFiniteGeometryNamesObjectAndFrame) {
     Scene scene = quad_scene();
     scene.objects[0].name = "broken quad";
-    scene.objects[0].mesh.positions[2].y = std::numeric_limits<float>::quiet_NaN();
+    scene.objects[0].mesh.positions.edit()[2].y = std::numeric_limits<float>::quiet_NaN();
     Renderer renderer(RenderOptions{});
     RenderedFrame frame;
     try {

@@ -27,7 +27,7 @@ Scene whitted_scene() {
     Scene scene = load_scene(
         "plane:4@0,-1,0,4+sphere:2000@0.9,-0.2,0,0.8+sphere:800@-1.2,-0.4,-1,0.6+plane:2@0,0,1.8,1.5");
     // The pane stands upright in the plane z = 1.8, before the right half of the view.
-    for (glm::vec3& p : scene.objects[3].mesh.positions) {
+    for (glm::vec3& p : scene.objects[3].mesh.positions.edit()) {
         p = glm::vec3(0.5f * p.x + 0.8f, 0.5f * (p.z - 1.8f) - 0.4f, 1.8f);
     }
     scene.materials.resize(4);

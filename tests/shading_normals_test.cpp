@@ -442,7 +442,7 @@ TEST(SmoothShading, NormalsAgainstTheWindingShadeAsNormalsAlongIt) {
     const SphereShot shot;
     SphereShot flipped;
     for (Object& object : flipped.scene.objects) {
-        for (glm::vec3& n : object.mesh.normals) n = -n;
+        for (glm::vec3& n : object.mesh.normals.edit()) n = -n;
     }
     const RenderedFrame a = shot.render(true), b = flipped.render(true);
     EXPECT_EQ(0, std::memcmp(a.color.data(), b.color.data(), a.color.size() * sizeof(glm::vec3)));

@@ -103,10 +103,10 @@ bool has_unshared_triangles(const Object& object) {
 void unshare_triangles(Object& object) {
     if (has_unshared_triangles(object)) return;
     const std::vector<glm::uvec3>& triangles = object.mesh.triangles;
-    std::vector<glm::vec3> positions = by_corner(object.mesh.positions, triangles);
+    std::vector<glm::vec3> positions = by_corner(object.mesh.positions.vector(), triangles);
     // Normals go with their corners, so the pieces keep the smooth shading of the whole.
-    if (!object.mesh.normals.empty()) object.mesh.normals = by_corner(object.mesh.normals, triangles);
-    if (!object.mesh.texcoords.empty()) object.mesh.texcoords = by_corner(object.mesh.texcoords, triangles);
+    if (!object.mesh.normals.empty()) object.mesh.normals = by_corner(object.mesh.normals.vector(), triangles);
+    if (!object.mesh.texcoords.empty()) object.mesh.texcoords = by_corner(object.mesh.texcoords.vector(), triangles);
     if (object.skin) {
         object.skin->joints = by_corner(object.skin->joints, triangles, object.skin->influences);
         object.skin->weights = by_corner(object.skin->weights, triangles, object.skin->influences);
@@ -120,9 +120,10 @@ void unshare_triangles(Object& object) {
         for (std::vector<glm::vec3>& deltas : object.morph->normal_deltas) deltas = by_corner(deltas, triangles);
     }
     object.mesh.positions = std::move(positions);
-    for (std::size_t i = 0; i < object.mesh.triangles.size(); ++i) {
+    std::vector<glm::uvec3>& corners = object.mesh.triangles.edit();
+    for (std::size_t i = 0; i < corners.size(); ++i) {
         const auto first = static_cast<std::uint32_t>(3 * i);
-        object.mesh.triangles[i] = glm::uvec3(first, first + 1, first + 2);
+        corners[i] = glm::uvec3(first, first + 1, first + 2);
     }
 }
 

@@ -268,7 +268,7 @@ TEST(DegenerateStress, NonFiniteCoordinatesGiveOneLineErrorsNamingObjectAndFrame
     for (const float bad : {kNaN, kInf, -kInf}) {
         for (int component = 0; component < 3; ++component) {
             Scene scene = one_quad("bad quad");
-            scene.objects[0].mesh.positions[2][component] = bad;
+            scene.objects[0].mesh.positions.edit()[2][component] = bad;
             expect_scene_error([&] { check_scene(scene); }, {"stress.gltf", "bad quad", "vertex 2"}, "check_scene");
             for (const Tracer tracer : {Tracer::packet, Tracer::single}) {
                 RenderOptions options;

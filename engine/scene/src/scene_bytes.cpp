@@ -12,11 +12,22 @@ std::size_t held(const Vector& v) {
     return v.capacity() * sizeof(typename Vector::value_type);
 }
 
-}  // namespace
+/// Bytes of `mesh`'s arrays but the shared ones `seen` holds already (which it then holds).
+std::size_t unseen_mesh_bytes(const Mesh& mesh, std::unordered_set<const void*>& seen) {
+    std::size_t bytes = 0;
+    const auto count = [&](const auto& array) {
+        if (array.holders() > 1 && !seen.insert(array.data()).second) return;
+        bytes += held(array);
+    };
+    count(mesh.positions);
+    count(mesh.triangles);
+    count(mesh.normals);
+    count(mesh.texcoords);
+    return bytes;
+}
 
-std::size_t object_bytes(const Object& object) {
-    const Mesh& mesh = object.mesh;
-    std::size_t bytes = held(mesh.positions) + held(mesh.triangles) + held(mesh.normals) + held(mesh.texcoords);
+std::size_t rig_bytes(const Object& object) {
+    std::size_t bytes = 0;
     if (object.skin) bytes += held(object.skin->joints) + held(object.skin->weights);
     if (object.morph) {
         const MorphTargets& m = *object.morph;
@@ -28,10 +39,24 @@ std::size_t object_bytes(const Object& object) {
     return bytes;
 }
 
+}  // namespace
+
+std::size_t object_bytes(const Object& object) {
+    ObjectBytes bytes;
+    bytes.add(object);
+    return bytes.total();
+}
+
+void ObjectBytes::add(const Object& object) {
+    total_ += unseen_mesh_bytes(object.mesh, shared_counted_) + rig_bytes(object);
+}
+
 std::size_t scene_bytes(const Scene& scene) {
     std::size_t bytes = held(scene.objects) + held(scene.materials) + held(scene.nodes) + held(scene.skins) +
                         held(scene.clips) + held(scene.textures);
-    for (const Object& object : scene.objects) bytes += object_bytes(object);
+    ObjectBytes objects;
+    for (const Object& object : scene.objects) objects.add(object);
+    bytes += objects.total();
     for (const Skin& skin : scene.skins) bytes += held(skin.joints) + held(skin.inverse_bind_matrices);
     for (const AnimationClip& clip : scene.clips) {
         bytes += held(clip.samplers) + held(clip.channels);

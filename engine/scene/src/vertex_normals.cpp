@@ -1,5 +1,8 @@
 #include "dynrt/scene/vertex_normals.h"
 
+#include <map>
+#include <utility>
+
 namespace dynrt {
 
 std::vector<glm::vec3> area_weighted_normals(std::span<const glm::vec3> positions,
@@ -20,10 +23,17 @@ std::vector<glm::vec3> area_weighted_normals(std::span<const glm::vec3> position
 }
 
 void add_missing_normals(Scene& scene) {
+    // Copies of one mesh (shared arrays) share the normals made for the first of them.
+    std::map<std::pair<const glm::vec3*, const glm::uvec3*>, const Mesh*> made;
     for (Object& object : scene.objects) {
         Mesh& mesh = object.mesh;
         if (!mesh.normals.empty() || mesh.positions.empty()) continue;
-        mesh.normals = area_weighted_normals(mesh.positions, mesh.triangles);
+        const auto [first, fresh] = made.try_emplace({mesh.positions.data(), mesh.triangles.data()}, &mesh);
+        if (fresh) {
+            mesh.normals = area_weighted_normals(mesh.positions, mesh.triangles);
+        } else {
+            mesh.normals = first->second->normals;
+        }
     }
 }
 

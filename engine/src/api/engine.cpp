@@ -273,7 +273,7 @@ struct Engine::Impl final : FixedPositions {
     /// still reads them (SceneAccel borrows them until its next update), so they are freed
     /// only once an update has succeeded.
     std::vector<std::vector<glm::vec3>> retired_normals;
-    std::vector<std::vector<glm::uvec3>> retired_triangles;
+    std::vector<SharedArray<glm::uvec3>> retired_triangles;
 
     AccessGuard guard;
     mutable std::mutex render_mutex;
@@ -561,9 +561,10 @@ MeshId Engine::add_mesh(const MeshDesc& desc) {
     Object object;
     object.name = name;
     object.mesh.texcoords = std::move(texcoords);
-    object.mesh.triangles.resize(desc.indices.size() / 3);
-    for (std::size_t t = 0; t < object.mesh.triangles.size(); ++t) {
-        object.mesh.triangles[t] = {desc.indices[3 * t], desc.indices[3 * t + 1],
+    std::vector<glm::uvec3>& corners = object.mesh.triangles.edit();
+    corners.resize(desc.indices.size() / 3);
+    for (std::size_t t = 0; t < corners.size(); ++t) {
+        corners[t] = {desc.indices[3 * t], desc.indices[3 * t + 1],
                                     desc.indices[3 * t + 2]};
     }
     mesh.computed_normals = desc.normals.empty();
@@ -714,7 +715,7 @@ std::size_t Engine::Impl::memory_bytes() const {
     }
     bytes += held_bytes(retired_normals) + held_bytes(retired_triangles);
     for (const std::vector<glm::vec3>& normals : retired_normals) bytes += held_bytes(normals);
-    for (const std::vector<glm::uvec3>& triangles : retired_triangles) bytes += held_bytes(triangles);
+    for (const SharedArray<glm::uvec3>& triangles : retired_triangles) bytes += held_bytes(triangles);
     bytes += held_bytes(states) + held_bytes(dropping) + ids.memory_bytes();
     return bytes + pipeline.memory_bytes();
 }

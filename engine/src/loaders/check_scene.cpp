@@ -10,7 +10,9 @@
 
 #include "message_text.h"
 
+#include <array>
 #include <cmath>
+#include <set>
 #include <sstream>
 
 namespace dynrt {
@@ -87,6 +89,11 @@ void check_object(const Scene& scene, const Object& object) {
             fail(scene, &object, "transform is not finite");
         }
     }
+}
+
+/// The object's mesh: finite vertices, normals and texture coordinates, one per vertex, and
+/// corners that index them.
+void check_mesh(const Scene& scene, const Object& object) {
     const std::vector<glm::vec3>& positions = object.mesh.positions;
     for (std::size_t v = 0; v < positions.size(); ++v) {
         if (!is_finite(positions[v])) {
@@ -127,7 +134,16 @@ void check_object(const Scene& scene, const Object& object) {
 
 void check_scene(const Scene& scene) {
     if (scene.materials.empty()) fail(scene, nullptr, "scene has no materials");
-    for (const Object& object : scene.objects) check_object(scene, object);
+    // Copies of one mesh (shared arrays) are checked once: the first copy names the problem.
+    std::set<std::array<const void*, 4>> meshes_checked;
+    for (const Object& object : scene.objects) {
+        check_object(scene, object);
+        const Mesh& m = object.mesh;
+        const std::array<const void*, 4> arrays{m.positions.data(), m.normals.data(), m.texcoords.data(),
+                                                m.triangles.data()};
+        if (m.positions.holders() > 1 && !meshes_checked.insert(arrays).second) continue;
+        check_mesh(scene, object);
+    }
     // Materials no object uses yet (a caller may assign them later): named without an object.
     for (std::size_t m = 0; m < scene.materials.size(); ++m) {
         if (const std::string problem = material_problem(scene.materials[m], m); !problem.empty()) {

@@ -31,6 +31,7 @@
 #include <cmath>
 #include <numeric>
 #include <optional>
+#include <unordered_map>
 
 namespace dynrt {
 
@@ -345,24 +346,16 @@ private:
         object.transform = transform;
         object.node = owner.scene_node;
         try {
-            object.mesh.positions = read_positions(model_, position->second);
-            std::vector<std::uint32_t> indices;
-            if (primitive.indices >= 0) {
-                indices = read_indices(model_, primitive.indices, object.mesh.positions.size());
+            // A primitive that another node's instance read already: its arrays are shared
+            // (Mesh, SharedArray), so a mesh many nodes reference is held once. Morph targets
+            // shape a mesh by its node's weights, so morphed primitives are read per node.
+            const bool morphed = !primitive.targets.empty();
+            if (const auto read = meshes_read_.find(&primitive); !morphed && read != meshes_read_.end()) {
+                object.mesh = read->second;
             } else {
-                indices.resize(object.mesh.positions.size());
-                std::iota(indices.begin(), indices.end(), 0u);
+                read_mesh(primitive, position->second, *topology, name, owner, object);
+                if (!morphed) meshes_read_.emplace(&primitive, object.mesh);
             }
-            object.mesh.triangles = assemble_triangles(*topology, indices);
-            // NORMAL (glTF 2.0 section 3.7.2.1): unit vectors, renormalised as read (quantised
-            // ones are not exactly unit). Without it add_missing_normals computes them below.
-            if (const auto normal = primitive.attributes.find("NORMAL"); normal != primitive.attributes.end()) {
-                object.mesh.normals =
-                    read_vec3_attribute(model_, normal->second, object.mesh.positions.size(), "NORMAL");
-                for (glm::vec3& n : object.mesh.normals) n = normalize_or_zero(n);
-            }
-            add_morph_targets(primitive, owner, object);
-            read_texcoords(primitive, name, object);
             if (owner.skin) {
                 object.skin = skins.read_weights(primitive, *owner.skin, scene.skins, object.mesh.positions.size());
                 if (primitive.attributes.count("JOINTS_2") != 0) {
@@ -404,13 +397,38 @@ private:
         object.morph = read_morph_targets(model_, owner.node, owner.mesh, primitive, object.mesh.positions,
                                           object.mesh.normals);
         if (!object.morph) return;
-        for (std::size_t v = 0; v < object.mesh.positions.size(); ++v) {
-            object.mesh.positions[v] = glm::vec3(anim::morphed_position(*object.morph, object.morph->default_weights, v));
+        std::vector<glm::vec3>& positions = object.mesh.positions.edit();
+        for (std::size_t v = 0; v < positions.size(); ++v) {
+            positions[v] = glm::vec3(anim::morphed_position(*object.morph, object.morph->default_weights, v));
         }
         if (object.morph->normal_deltas.empty()) return;
-        for (std::size_t v = 0; v < object.mesh.normals.size(); ++v) {
-            object.mesh.normals[v] = glm::vec3(anim::morphed_normal(*object.morph, object.morph->default_weights, v));
+        std::vector<glm::vec3>& normals = object.mesh.normals.edit();
+        for (std::size_t v = 0; v < normals.size(); ++v) {
+            normals[v] = glm::vec3(anim::morphed_normal(*object.morph, object.morph->default_weights, v));
         }
+    }
+
+    /// The primitive's vertices, corners, normals, morph targets and texture coordinates, into
+    /// `object`'s mesh.
+    void read_mesh(const tinygltf::Primitive& primitive, int position_accessor, TriangleTopology topology,
+                   const std::string& name, const PrimitiveOwner& owner, Object& object) {
+        object.mesh.positions = read_positions(model_, position_accessor);
+        std::vector<std::uint32_t> indices;
+        if (primitive.indices >= 0) {
+            indices = read_indices(model_, primitive.indices, object.mesh.positions.size());
+        } else {
+            indices.resize(object.mesh.positions.size());
+            std::iota(indices.begin(), indices.end(), 0u);
+        }
+        object.mesh.triangles = assemble_triangles(topology, indices);
+        // NORMAL (glTF 2.0 section 3.7.2.1): unit vectors, renormalised as read (quantised
+        // ones are not exactly unit). Without it add_missing_normals computes them below.
+        if (const auto normal = primitive.attributes.find("NORMAL"); normal != primitive.attributes.end()) {
+            object.mesh.normals = read_vec3_attribute(model_, normal->second, object.mesh.positions.size(), "NORMAL");
+            for (glm::vec3& n : object.mesh.normals.edit()) n = normalize_or_zero(n);
+        }
+        add_morph_targets(primitive, owner, object);
+        read_texcoords(primitive, name, object);
     }
 
     /// TEXCOORD_0 (glTF 2.0 section 3.7.2.1: FLOAT, or normalised UNSIGNED_BYTE or
@@ -426,9 +444,10 @@ private:
             if (st.size() != 2 * vertices) {
                 throw GltfDataError(cat("has ", st.size() / 2, " elements for ", vertices, " positions"));
             }
-            object.mesh.texcoords.resize(vertices);
+            std::vector<glm::vec2>& texcoords = object.mesh.texcoords.edit();
+            texcoords.resize(vertices);
             for (std::size_t v = 0; v < vertices; ++v) {
-                object.mesh.texcoords[v] = glm::vec2(float(st[2 * v]), float(st[2 * v + 1]));
+                texcoords[v] = glm::vec2(float(st[2 * v]), float(st[2 * v + 1]));
             }
         } catch (const GltfDataError& e) {
             object.mesh.texcoords.clear();
@@ -577,6 +596,9 @@ private:
 
     const tinygltf::Model& model_;
     std::size_t skipped_ = 0;
+    /// The mesh of every primitive read so far without morph targets: a later node that
+    /// references the same glTF mesh shares its arrays.
+    std::unordered_map<const tinygltf::Primitive*, Mesh> meshes_read_;
 };
 
 }  // namespace

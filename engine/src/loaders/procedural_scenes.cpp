@@ -8,6 +8,9 @@
 #include "message_text.h"
 #include "procedural_meshes.h"
 
+#include <glm/common.hpp>
+
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -25,11 +28,18 @@ struct Placement {
     float x = 0.0f, y = 0.0f, z = 0.0f, scale = 1.0f;
 };
 
-/// One `kind:N[@x,y,z[,s]][#rrggbb]` part, parsed but not yet built.
+/// At most this many copies of one part (`*K`): a million objects' records, pose and
+/// instances are some hundreds of megabytes.
+constexpr std::uint64_t kMaxCopies = 1'000'000;
+
+/// One `kind:N[*K][@x,y,z[,s]][#rrggbb]` part, parsed but not yet built.
 struct PartSpec {
     std::string_view text;
     MeshKind kind = MeshKind::sphere;
     std::uint64_t count = 0;
+    /// Objects made of the one mesh (`*K`), laid out on a grid; 1 without.
+    std::uint64_t copies = 1;
+    /// Of the one mesh: copies share it.
     std::uint64_t triangles = 0;
     std::optional<Placement> placement;
     std::optional<glm::vec3> colour;
@@ -132,9 +142,9 @@ PartSpec parse_part(std::string_view spec, std::string_view text, std::uint64_t 
     }
     part.kind = *parsed_kind;
 
-    // Suffixes '@...' and '#...' may follow N in either order, each at most once.
+    // '*K' may follow N; suffixes '@...' and '#...' follow, in either order, each at most once.
     std::string_view rest = text.substr(colon + 1);
-    const std::size_t count_end = rest.find_first_of("@#");
+    const std::size_t count_end = rest.find_first_of("*@#");
     const std::string_view count_text = rest.substr(0, count_end);
     const std::optional<std::uint64_t> count = parse_count(count_text);
     if (!count || *count == 0) {
@@ -145,11 +155,22 @@ PartSpec parse_part(std::string_view spec, std::string_view text, std::uint64_t 
     }
     part.count = *count;
     rest = count_end == std::string_view::npos ? std::string_view() : rest.substr(count_end);
+    if (!rest.empty() && rest.front() == '*') {
+        const std::size_t copies_end = rest.find_first_of("@#");
+        const std::string_view copies_text = rest.substr(1, copies_end == std::string_view::npos ? copies_end : copies_end - 1);
+        const std::optional<std::uint64_t> copies = parse_count(copies_text);
+        if (!copies || *copies == 0 || *copies > kMaxCopies) {
+            fail(spec, text, cat("copies '*", copies_text, "' must be an integer from 1 to ", kMaxCopies));
+        }
+        part.copies = *copies;
+        rest = copies_end == std::string_view::npos ? std::string_view() : rest.substr(copies_end);
+    }
 
     while (!rest.empty()) {
         const char marker = rest.front();
-        const std::size_t end = rest.find_first_of("@#", 1);
+        const std::size_t end = rest.find_first_of("*@#", 1);
         const std::string_view body = rest.substr(1, end == std::string_view::npos ? end : end - 1);
+        if (marker == '*') fail(spec, text, "copies '*K' must follow the count directly");
         if (marker == '@') {
             if (part.placement) fail(spec, text, "placement '@' given twice");
             part.placement = parse_placement(spec, text, body);
@@ -199,6 +220,32 @@ glm::mat4 placement_matrix(const Placement& p) {
     return m;
 }
 
+/// Copy k of `copies` of a mesh `extent` wide: on a square grid in the y = 0 plane centred on
+/// the origin, one and a half extents apart, turned about +y by k golden angles (so that no two
+/// neighbours face the same way): translate(grid position) * rotate_y(k * 137.5 degrees).
+glm::mat4 copy_matrix(std::uint64_t k, std::uint64_t copies, float extent) {
+    const auto side = std::uint64_t(std::ceil(std::sqrt(double(copies))));
+    const float spacing = 1.5f * extent;
+    const float centre = 0.5f * float(side - 1);
+    const float angle = float(double(k) * 2.399963229728653);
+    const float c = std::cos(angle), s = std::sin(angle);
+    glm::mat4 m(1.0f);
+    m[0] = glm::vec4(c, 0.0f, -s, 0.0f);
+    m[2] = glm::vec4(s, 0.0f, c, 0.0f);
+    m[3] = glm::vec4((float(k % side) - centre) * spacing, 0.0f, (float(k / side) - centre) * spacing, 1.0f);
+    return m;
+}
+
+/// The widest side of the box of `mesh`'s vertices in x and z.
+float footprint(const Mesh& mesh) {
+    glm::vec3 lo(INFINITY), hi(-INFINITY);
+    for (const glm::vec3& p : mesh.positions) {
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+    }
+    return mesh.positions.empty() ? 1.0f : std::max({hi.x - lo.x, hi.z - lo.z, 1e-3f});
+}
+
 }  // namespace
 
 Scene make_procedural_scene(const std::string& spec, std::uint64_t max_triangles) {
@@ -227,7 +274,22 @@ Scene make_procedural_scene(const std::string& spec, std::uint64_t max_triangles
             object.material = static_cast<std::uint32_t>(scene.materials.size());
             scene.materials.push_back(Material{.name = object.name, .diffuse = *part.colour});
         }
-        scene.objects.push_back(std::move(object));
+        if (part.copies == 1) {
+            scene.objects.push_back(std::move(object));
+            continue;
+        }
+        // Copies share the one mesh's arrays (normals included, made once): each costs an
+        // object's record, not its triangles.
+        object.mesh.normals = area_weighted_normals(object.mesh.positions, object.mesh.triangles);
+        const float extent = footprint(object.mesh);
+        const glm::mat4 placement = object.transform;
+        scene.objects.reserve(scene.objects.size() + part.copies);
+        for (std::uint64_t k = 0; k < part.copies; ++k) {
+            Object copy = object;
+            copy.name = cat(part.text, "[", k, "]");
+            copy.transform = placement * copy_matrix(k, part.copies, extent);
+            scene.objects.push_back(std::move(copy));
+        }
     }
     // Area-weighted vertex normals: the sphere's shared vertices make it smooth, the plane
     // stays flat and the soup's unshared triangles keep their facets.

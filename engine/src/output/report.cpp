@@ -305,12 +305,18 @@ void print_memory(std::ostream& out, const std::vector<FrameStats>& frames) {
     const FrameStats& last = frames.back();
     if (last.renderer_bytes == 0 && last.peak_rss_bytes == 0) return;
     const double triangles = double(std::max<std::size_t>(last.triangles, 1));
-    const auto per = [&](std::size_t bytes) { return double(bytes) / triangles; };
+    // Whole bytes, but two decimals below 10 (instanced triangles cost a fraction of a byte).
+    const auto per = [&](std::size_t bytes) {
+        const double value = double(bytes) / triangles;
+        std::ostringstream text;
+        text << std::fixed << std::setprecision(value < 10.0 ? 2 : 0) << value;
+        return text.str();
+    };
     std::size_t peak = 0;
     for (const FrameStats& f : frames) peak = std::max(peak, f.peak_rss_bytes);
-    out << std::fixed << std::setprecision(0) << "memory per triangle: scene " << per(last.scene_bytes)
-        << " B, trees " << per(last.tree_bytes) << " B, build triangles " << per(last.build_triangle_bytes)
-        << " B, renderer in all " << per(last.renderer_bytes) << " B; resident peak " << per(peak) << " B ("
+    out << "memory per triangle: scene " << per(last.scene_bytes) << " B, trees " << per(last.tree_bytes)
+        << " B, build triangles " << per(last.build_triangle_bytes) << " B, renderer in all "
+        << per(last.renderer_bytes) << " B; resident peak " << per(peak) << " B (" << std::fixed
         << std::setprecision(1) << double(peak) / 1e9 << " GB)\n";
     if (last.largest.size() < 2) return;  // one holder: the line above says it all
     out << "largest:";

@@ -324,16 +324,17 @@ namespace {
 /// MemoryStats::kLargestHolders of them, largest first.
 std::vector<ObjectMemory> largest_holders(const Scene& scene, std::span<const ObjectState> states,
                                           std::vector<ObjectMemory> holders) {
-    std::size_t statics = 0, static_bytes = 0;
+    std::size_t statics = 0;
+    ObjectBytes static_bytes;
     for (std::size_t i = 0; i < states.size() && i < scene.objects.size(); ++i) {
         if (states[i].motion_class != anim::MotionClass::static_) continue;
         ++statics;
-        static_bytes += object_bytes(scene.objects[i]);
+        static_bytes.add(scene.objects[i]);
     }
     for (ObjectMemory& h : holders) {
         if (h.object < 0) {
             h.name = "static objects (" + std::to_string(statics) + ")";
-            h.scene_bytes = static_bytes;
+            h.scene_bytes = static_bytes.total();
         } else {
             h.name = scene.objects[std::size_t(h.object)].name;
             h.scene_bytes = object_bytes(scene.objects[std::size_t(h.object)]);

@@ -48,6 +48,15 @@ struct ObjectTree {
     std::uint32_t group_first = 0;
     /// An update has seen the object (so motion_class is the last update's).
     bool known = false;
+    /// Rigid objects: the object-space vertices and corners its tree was built from, by
+    /// address, so that another object holding the very same arrays carries this tree
+    /// instead of building its own (shares_tree_of).
+    const glm::vec3* built_from_positions = nullptr;
+    const glm::uvec3* built_from_corners = nullptr;
+    /// Rigid objects holding the same arrays as an earlier built one: that object's index,
+    /// whose tree this object's instance carries (its own tree and triangles stay empty);
+    /// -1 for an object with a tree of its own.
+    std::int64_t shares_tree_of = -1;
     /// The builder of its current tree, and what its builds and refits measured.
     bvh::BuildMethod built_with = bvh::BuildMethod::binned_sah;
     ObjectCosts costs;

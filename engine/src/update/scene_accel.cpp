@@ -73,17 +73,28 @@ void SceneAccel::clear() {
     top_ = bvh::TwoLevelBvh{};
     object_boxes_.clear();
     shading_.clear();
+    rigid_trees_.clear();
+}
+
+void SceneAccel::forget_sharers_of(std::size_t owner) {
+    for (ObjectTree& object : objects_) {
+        if (object.shares_tree_of != std::int64_t(owner)) continue;
+        object.shares_tree_of = -1;
+        object.built = false;
+    }
 }
 
 void SceneAccel::invalidate(std::size_t object) {
     if (object >= objects_.size()) return;  // not built yet: the next update builds it anyway
     ObjectTree& tree = objects_[object];
     tree.built = false;
+    forget_sharers_of(object);
     if (tree.known && tree.motion_class == anim::MotionClass::static_) static_group_.built = false;
 }
 
 void SceneAccel::release(std::size_t object) {
     if (object >= objects_.size()) return;
+    forget_sharers_of(object);
     const ObjectTree& old = objects_[object];
     ObjectTree emptied;
     emptied.known = old.known;
@@ -99,6 +110,7 @@ void SceneAccel::renew(std::size_t object) {
     if (object >= objects_.size()) return;  // new to the planner anyway
     // A static one leaves the group's list at the group's next build; until then it holds no
     // triangles there (it was released), so no hit resolves to it.
+    forget_sharers_of(object);
     objects_[object] = ObjectTree{};
     shading_.forget(object);
 }
@@ -160,7 +172,9 @@ std::size_t SceneAccel::memory_bytes() const {
 /// One update's inputs, as every object's step reads them.
 struct SceneAccel::Update {
     const Scene& scene;
+    /// The states the trees follow (instancing_states), and the classes the objects have.
     std::span<const ObjectState> states;
+    std::span<const ObjectState> declared;
     const FixedPositions& fixed;
     const UpdatePolicy& policy;
     /// The build settings of exploding objects (their own cost ratio).
@@ -173,9 +187,24 @@ void SceneAccel::update(const Scene& scene, std::span<const ObjectState> states,
     const std::size_t count = scene.objects.size();
     // Objects removed: start afresh. Objects added at the end: new to the planner.
     if (objects_.size() > count) clear();
+    const std::span<const ObjectState> declared = states;
+    states = instancing_states(scene, declared, policy);
     history_.resize(objects_.size());
     for (std::size_t i = 0; i < objects_.size(); ++i) {
-        const ObjectTree& object = objects_[i];
+        ObjectTree& object = objects_[i];
+        // A copy carries another object's tree only while both stay rigid and that tree is
+        // still the one built from their shared arrays.
+        if (object.shares_tree_of >= 0) {
+            const auto owner = std::size_t(object.shares_tree_of);
+            const bool carried = owner < objects_.size() && objects_[owner].built &&
+                                 objects_[owner].shares_tree_of < 0 &&
+                                 states[owner].motion_class == anim::MotionClass::rigid &&
+                                 states[i].motion_class == anim::MotionClass::rigid;
+            if (!carried) {
+                object.shares_tree_of = -1;
+                object.built = false;
+            }
+        }
         history_[i] = TreeHistory{object.known, object.motion_class, object.built};
     }
     plan_update(history_, StaticGroupHistory{static_group_known_, static_group_.built}, states,
@@ -187,7 +216,7 @@ void SceneAccel::update(const Scene& scene, std::span<const ObjectState> states,
         objects_[i].known = true;
     }
 
-    Update run{scene, states, fixed, policy, policy.build};
+    Update run{scene, states, declared, fixed, policy, policy.build};
     run.exploding_build.cost_ratio = policy.exploding_cost_ratio;
     if (plan_.rebuild_static_group) {
         build_static_group(scene, states, fixed, policy.build, plan_.static_group_reason, stats);
@@ -204,7 +233,7 @@ void SceneAccel::update_object(std::size_t i, const Update& run, UpdateStats& st
     const ObjectState& pose = run.states[i];
     const ObjectPlan& planned = plan_.objects[i];
     const Mesh& mesh = run.scene.objects[i].mesh;
-    count_class(pose.motion_class, mesh.triangles.size(), stats);
+    count_class(run.declared[i].motion_class, mesh.triangles.size(), stats);
     const bool rigid = pose.motion_class == anim::MotionClass::rigid;
     if (rigid) {
         // Written whatever the action: the transform is composed in double, its inverse
@@ -227,7 +256,71 @@ void SceneAccel::update_object(std::size_t i, const Update& run, UpdateStats& st
             update.trace = costs_.trace_cost(object_boxes_[i], object.sah, object.built_sah, object.measured);
         }
     }
+    const bool rigid_build = rigid && planned.action == TreeAction::rebuild;
+    if (rigid_build) {
+        // A copy of a mesh whose tree is built already carries that tree: the same arrays
+        // give the same tree, bit for bit.
+        if (const std::optional<std::size_t> owner = tree_to_share(i, update.positions, mesh)) {
+            object.triangles = {};
+            object.tree = bvh::TriangleBvh{};
+            object.in_blocks = {};
+            object.shares_tree_of = std::int64_t(*owner);
+            object.built = true;
+            object.measured = true;
+            ++stats.objects_skipped;
+            return;
+        }
+        object.shares_tree_of = -1;
+    }
     update_tree(object, update, run.policy, costs_, stats);
+    if (rigid_build && object.built && !update.positions.empty()) {
+        object.built_from_positions = update.positions.data();
+        object.built_from_corners = mesh.triangles.data();
+        rigid_trees_[SourceKey{object.built_from_positions, object.built_from_corners, update.positions.size()}] = i;
+    }
+}
+
+std::optional<std::size_t> SceneAccel::tree_to_share(std::size_t object, std::span<const glm::vec3> positions,
+                                                     const Mesh& mesh) const {
+    if (positions.empty()) return std::nullopt;
+    const SourceKey key{positions.data(), mesh.triangles.data(), positions.size()};
+    const auto found = rigid_trees_.find(key);
+    if (found == rigid_trees_.end() || found->second == object || found->second >= objects_.size()) {
+        return std::nullopt;
+    }
+    // The record may be stale (that object since rebuilt from other arrays, or freed).
+    const ObjectTree& owner = objects_[found->second];
+    const bool same = owner.built && owner.shares_tree_of < 0 &&
+                      owner.motion_class == anim::MotionClass::rigid &&
+                      owner.built_from_positions == key.positions && owner.built_from_corners == key.corners &&
+                      owner.triangles.size() == mesh.triangles.size();
+    if (!same) return std::nullopt;
+    return found->second;
+}
+
+std::span<const ObjectState> SceneAccel::instancing_states(const Scene& scene, std::span<const ObjectState> states,
+                                                           const UpdatePolicy& policy) {
+    std::size_t static_triangles = 0;
+    for (std::size_t i = 0; i < states.size(); ++i) {
+        if (states[i].motion_class == anim::MotionClass::static_) static_triangles += scene.objects[i].mesh.triangles.size();
+    }
+    if (static_triangles <= policy.static_group_limit) return states;
+    // Copies: objects whose mesh's positions another static or rigid object holds too.
+    std::unordered_map<const glm::vec3*, std::size_t> holders;
+    for (std::size_t i = 0; i < states.size(); ++i) {
+        const anim::MotionClass c = states[i].motion_class;
+        const glm::vec3* positions = scene.objects[i].mesh.positions.data();
+        if (positions && (c == anim::MotionClass::static_ || c == anim::MotionClass::rigid)) ++holders[positions];
+    }
+    instancing_states_.assign(states.begin(), states.end());
+    for (std::size_t i = 0; i < states.size(); ++i) {
+        const Object& object = scene.objects[i];
+        // A skinned or morphed object's object space is a shape of its own, never shared.
+        if (states[i].motion_class != anim::MotionClass::static_ || object.skin || object.morph) continue;
+        const auto found = holders.find(object.mesh.positions.data());
+        if (found != holders.end() && found->second > 1) instancing_states_[i].motion_class = anim::MotionClass::rigid;
+    }
+    return instancing_states_;
 }
 
 void SceneAccel::build_top(UpdateStats& stats) {
@@ -245,14 +338,15 @@ void SceneAccel::build_top(UpdateStats& stats) {
     for (std::size_t i = 0; i < objects_.size(); ++i) {
         ObjectTree& object = objects_[i];
         if (object.motion_class == anim::MotionClass::static_) continue;
+        ObjectTree& carried = object.shares_tree_of >= 0 ? objects_[std::size_t(object.shares_tree_of)] : object;
         bvh::Instance instance;
-        instance.blas = &object.tree;
+        instance.blas = &carried.tree;
         instance.identity = object.motion_class != anim::MotionClass::rigid;
         instance.object_to_world = object.object_to_world;
         instance.world_to_object = object.world_to_object;
         instance.object = std::uint32_t(i);
         instances.push_back(instance);
-        instance_trees_.push_back(&object);
+        instance_trees_.push_back(&carried);
     }
     bvh::build_top_level(top_, std::move(instances));
     stats.top_level_ms = clock.elapsed_ms();
@@ -283,12 +377,15 @@ void SceneAccel::measure(const bvh::SahCosts& costs, TreeShape& shape) {
         if (root_area > 0.0 && !box.is_empty()) sah += double(box.half_area()) / root_area * object.sah;
         nodes += object.shape.nodes;
         leaves += object.shape.leaves;
+        leaf_max = std::max(leaf_max, object.shape.leaf_prims_max);
+        depth = std::max(depth, object.shape.depth);
+        // A tree that several instances carry is held once.
+        const std::uint32_t id = top_.instances[k].object;
+        if (id != static_group_id() && objects_[id].shares_tree_of >= 0) continue;
         shape.binary_tree_bytes += object.tree.bvh.nodes.size() * sizeof(bvh::BvhNode) +
                                    object.tree.bvh.prim_ids.size() * sizeof(std::uint32_t) +
                                    object.tree.tris.size() * sizeof(bvh::Triangle);
         shape.wide_tree_bytes += object.tree.wide.bytes();
-        leaf_max = std::max(leaf_max, object.shape.leaf_prims_max);
-        depth = std::max(depth, object.shape.depth);
     }
     costs_.note_scene(sah, root_area);
     const bvh::BvhStats top_shape = bvh::compute_stats(top_.top);
@@ -379,6 +476,7 @@ void SceneAccel::build_static_group(const Scene& scene, std::span<const ObjectSt
 std::pair<const ObjectTree*, std::uint32_t> SceneAccel::holder_of(std::size_t object) const {
     const ObjectTree& o = objects_[object];
     if (o.motion_class == anim::MotionClass::static_) return {&static_group_, o.group_first};
+    if (o.shares_tree_of >= 0) return {&objects_[std::size_t(o.shares_tree_of)], 0};
     return {&o, 0};
 }
 
@@ -393,8 +491,9 @@ std::optional<bvh::Triangle> SceneAccel::tree_triangle(std::uint32_t object, std
         return static_group_.triangle(prim);
     }
     if (object >= objects_.size()) return std::nullopt;
-    const ObjectTree& o = objects_[object];
-    if (o.motion_class == anim::MotionClass::static_ || prim >= o.triangle_count()) return std::nullopt;
+    if (objects_[object].motion_class == anim::MotionClass::static_) return std::nullopt;
+    const ObjectTree& o = *holder_of(object).first;
+    if (prim >= o.triangle_count()) return std::nullopt;
     return o.triangle(prim);
 }
 
@@ -402,9 +501,10 @@ bvh::Triangle SceneAccel::world_triangle(std::size_t object, std::uint32_t prim)
     const auto [tree, first] = holder_of(object);
     const bvh::Triangle t = tree->triangle(first + prim);
     if (tree->motion_class != anim::MotionClass::rigid) return t;
-    return bvh::Triangle{transform_point(tree->object_to_world, t.v0),
-                         transform_point(tree->object_to_world, t.v1),
-                         transform_point(tree->object_to_world, t.v2)};
+    // The object's own transform: the tree may be another copy's.
+    const glm::mat4& to_world = objects_[object].object_to_world;
+    return bvh::Triangle{transform_point(to_world, t.v0), transform_point(to_world, t.v1),
+                         transform_point(to_world, t.v2)};
 }
 
 void SceneAccel::object_world_parts(std::size_t i, std::size_t max_parts,
@@ -412,14 +512,14 @@ void SceneAccel::object_world_parts(std::size_t i, std::size_t max_parts,
     if (i >= object_boxes_.size() || object_boxes_[i].is_empty()) return;
     const bool own_tree = i < objects_.size() && objects_[i].built &&
                           objects_[i].motion_class != anim::MotionClass::static_ &&
-                          !objects_[i].tree.empty();
+                          !holder_of(i).first->tree.empty();
     if (!own_tree || max_parts <= 1) {
         out.push_back(object_boxes_[i]);
         return;
     }
     const ObjectTree& o = objects_[i];
     std::vector<bvh::Aabb> parts;
-    bvh::cover_boxes(o.tree, max_parts, parts);
+    bvh::cover_boxes(holder_of(i).first->tree, max_parts, parts);
     const bool rigid = o.motion_class == anim::MotionClass::rigid;
     for (const bvh::Aabb& box : parts) {
         if (!rigid) {

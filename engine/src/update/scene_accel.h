@@ -10,6 +10,12 @@
 // Static objects share one tree (the static group), built in world space at the first
 // update, so a scene of static objects traces exactly one tree over all its triangles.
 //
+// Instancing: objects that hold copies of one mesh (Mesh's arrays are shared, SharedArray) and
+// stay rigid carry one tree, built for the first of them in object space; the others' instances
+// point at it, each with its own transform, so a copy costs bytes, not triangles. Static copies
+// join them once merging every static triangle would pass UpdatePolicy::static_group_limit
+// (a forest of a billion instanced triangles cannot be one world-space tree).
+//
 // An object whose ObjectState::changed is false costs nothing, so a frame that repeats the
 // previous one does no update work at all. Hits report the object index (scene order) and the
 // triangle index within the object.
@@ -32,6 +38,7 @@
 #include <cstddef>
 #include <optional>
 #include <span>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -174,9 +181,21 @@ private:
     void build_static_group(const Scene& scene, std::span<const ObjectState> objects,
                             const FixedPositions& fixed, const bvh::BuildConfig& config,
                             RebuildReason reason, UpdateStats& stats);
-    /// The tree holding object `object`'s triangles (the static group for a static object),
-    /// and the index of its triangle 0 there.
+    /// The tree holding object `object`'s triangles (the static group for a static object, the
+    /// tree it carries for a copy of another object's mesh), and the index of its triangle 0
+    /// there.
     std::pair<const ObjectTree*, std::uint32_t> holder_of(std::size_t object) const;
+    /// The states the trees are updated by: `states`, except that static copies of shared
+    /// meshes are rigid when the static group would pass the policy's limit (Instancing).
+    std::span<const ObjectState> instancing_states(const Scene& scene, std::span<const ObjectState> states,
+                                                   const UpdatePolicy& policy);
+    /// For a rigid object about to be built from `positions`: an object already built from
+    /// the very same arrays, whose tree it can carry.
+    std::optional<std::size_t> tree_to_share(std::size_t object, std::span<const glm::vec3> positions,
+                                             const Mesh& mesh) const;
+    /// Objects carrying object `owner`'s tree carry it no more (it is rebuilt or freed): their
+    /// next update builds or finds another.
+    void forget_sharers_of(std::size_t owner);
     /// Fills static_bucket_slot_ for the static group's `total` triangles.
     void index_static_buckets(std::size_t total);
     /// The instance id of the static group: one past the last object index, so it collides
@@ -203,6 +222,22 @@ private:
     std::vector<TreeHistory> history_;
     UpdatePlan plan_;
     bool static_group_known_ = false;
+    /// Where rigid trees were built from (ObjectTree::built_from_positions), to the object that
+    /// built it; checked against that object's record when read.
+    struct SourceKey {
+        const glm::vec3* positions;
+        const glm::uvec3* corners;
+        std::size_t vertices;
+        bool operator==(const SourceKey&) const = default;
+    };
+    struct SourceKeyHash {
+        std::size_t operator()(const SourceKey& k) const {
+            return std::hash<const void*>()(k.positions) ^ (std::hash<const void*>()(k.corners) * 31u) ^ k.vertices;
+        }
+    };
+    std::unordered_map<SourceKey, std::size_t, SourceKeyHash> rigid_trees_;
+    /// The states of the last update with static copies made rigid (instancing_states).
+    std::vector<ObjectState> instancing_states_;
     /// What the automatic update method remembers across frames.
     CostMemory costs_;
     /// The objects' corners and vertex normals, refreshed by every update.

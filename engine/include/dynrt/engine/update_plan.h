@@ -58,6 +58,12 @@ struct UpdatePolicy {
     double rebuild_threshold = 0.3;
     /// How deformable and exploding objects are updated (update_cost.h).
     UpdateMethod method = UpdateMethod::automatic;
+    /// Static objects are merged into one world-space tree (the static group) while it would
+    /// hold at most this many triangles. Past it, static copies of a shared mesh (Mesh,
+    /// SharedArray: a forest of one tree, a glTF mesh many nodes reference) stay instances of
+    /// one tree in object space, as rigid objects are, so that each copy costs bytes, not
+    /// triangles; the others are merged still.
+    std::size_t static_group_limit = std::size_t(1) << 24;
 };
 
 /// One object at one update, as the planner and SceneAccel read it: what a PosedScene says of
@@ -67,7 +73,9 @@ struct ObjectState {
     /// False when nothing about the object changed since the previous update: it is then
     /// skipped without reading its vertices (unless its tree must be built).
     bool changed = true;
-    /// Rigid objects: object to world at this update, in double (ignored for other classes).
+    /// Static and rigid objects: object to world at this update, in double (ignored for the
+    /// other classes; read for a static object only when it stays an instance,
+    /// UpdatePolicy::static_group_limit).
     glm::dmat4 transform{1.0};
     /// Deformable and exploding objects: world-space positions at this update, indexed as the
     /// mesh's positions (borrowed for the call; ignored for static and rigid objects).

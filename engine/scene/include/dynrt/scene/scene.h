@@ -12,6 +12,7 @@
 #include "dynrt/scene/procedural_motion.h"
 #include "dynrt/scene/scene_camera.h"
 #include "dynrt/scene/scene_setup.h"
+#include "dynrt/scene/shared_array.h"
 #include "dynrt/scene/skin.h"
 
 #include <glm/mat4x4.hpp>
@@ -126,19 +127,24 @@ struct Material {
 };
 
 /// A triangle mesh in object space. `triangles` index into `positions`.
+///
+/// Copies share their arrays until one is written (SharedArray): objects that hold copies of
+/// one mesh (a glTF mesh referenced by several nodes, the trees of a procedural forest) cost
+/// its bytes once, and the engine builds one tree for all of them where their classes allow
+/// (dynrt/engine/renderer.h, "Instancing").
 struct Mesh {
-    std::vector<glm::vec3> positions;
-    std::vector<glm::uvec3> triangles;
+    SharedArray<glm::vec3> positions;
+    SharedArray<glm::uvec3> triangles;
     /// Per-vertex shading normals in object space, indexed as `positions` (unit length, or 0
     /// where none could be made), or empty: then the object is shaded with its triangles'
     /// geometric normals. The loaders fill them from the file (glTF NORMAL, BART's normals)
     /// or, where the file has none, with area_weighted_normals (vertex_normals.h); the
     /// renderer interpolates them at each hit (dynrt/engine/renderer.h, "Shading normals").
-    std::vector<glm::vec3> normals;
+    SharedArray<glm::vec3> normals;
     /// Per-vertex texture coordinates (s, t), indexed as `positions`, or empty. s runs to the
     /// right and t down an image from its top-left corner (glTF's TEXCOORD_0 convention, and
     /// OpenImageIO's), one unit across the image.
-    std::vector<glm::vec2> texcoords;
+    SharedArray<glm::vec2> texcoords;
 };
 
 /// One traceable thing. Unanimated and unskinned, its world-space triangles are

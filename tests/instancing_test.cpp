@@ -1,0 +1,209 @@
+// Instancing (issue 43): a mesh's arrays shared by its copies (SharedArray), the procedural
+// `kind:N*K` copies that share one mesh, the scene's bytes counting a shared array once, and
+// the renderer carrying one tree for every rigid copy, and for static copies once the static
+// group would pass its limit, with images that match the exact reference and, for rigid
+// copies, the images of the same scene with every copy's tree built on its own.
+
+#include "dynrt/reference/image_comparison.h"
+#include "dynrt/reference/reference_renderer.h"
+#include "dynrt/reference/reference_tracer.h"
+
+#include "dynrt/anim/posed_scene.h"
+#include "dynrt/anim/procedural_motion.h"
+#include "dynrt/engine/camera.h"
+#include "dynrt/engine/renderer.h"
+#include "dynrt/engine/scene_loading.h"
+#include "dynrt/scene/scene_bytes.h"
+#include "dynrt/scene/scene_error.h"
+#include "dynrt/scene/shared_array.h"
+
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+namespace dynrt::reference {
+namespace {
+
+TEST(SharedArray, CopiesShareUntilOneIsWritten) {
+    SharedArray<int> a = std::vector<int>{1, 2, 3};
+    SharedArray<int> b = a;
+    EXPECT_TRUE(a.shares_storage_with(b));
+    EXPECT_EQ(a.holders(), 2);
+    EXPECT_EQ(b.data(), a.data());
+    // A read through a non-const array copies nothing.
+    int sum = 0;
+    for (const int v : b) sum += v;
+    EXPECT_EQ(sum + b[1], 8);
+    EXPECT_TRUE(a.shares_storage_with(b));
+    // A write gives the writer its own copy; the other keeps the old elements.
+    b.edit()[0] = 7;
+    EXPECT_FALSE(a.shares_storage_with(b));
+    EXPECT_EQ(a[0], 1);
+    EXPECT_EQ(b[0], 7);
+    b.push_back(4);
+    EXPECT_EQ(b.size(), 4u);
+    EXPECT_EQ(a.size(), 3u);
+    // An unshared array is written in place.
+    const int* before = b.data();
+    b.edit()[1] = 9;
+    EXPECT_EQ(b.data(), before);
+    // Empty arrays hold nothing and share nothing.
+    SharedArray<int> none;
+    EXPECT_TRUE(none.empty());
+    EXPECT_EQ(none.data(), nullptr);
+    EXPECT_FALSE(none.shares_storage_with(SharedArray<int>()));
+    EXPECT_TRUE(none.vector().empty());
+    none.insert(none.end(), {5, 6});
+    EXPECT_EQ(none, (SharedArray<int>{5, 6}));
+}
+
+TEST(SceneBytes, ASharedMeshCountsOnce) {
+    Scene scene;
+    Object& a = scene.objects.emplace_back();
+    a.mesh.positions.resize(10);
+    a.mesh.triangles.resize(4);
+    scene.objects.push_back(scene.objects[0]);
+    scene.objects.push_back(scene.objects[0]);
+    const std::size_t mesh = 10 * 12 + 4 * 12;
+    const std::size_t records = scene.objects.capacity() * sizeof(Object);
+    EXPECT_EQ(scene_bytes(scene), mesh + records);
+    // Each object's own figure is the whole mesh it holds.
+    EXPECT_EQ(object_bytes(scene.objects[2]), mesh);
+    // One copy written: its positions are its own now, and counted.
+    scene.objects[1].mesh.positions.edit()[0].x = 1.0f;
+    EXPECT_EQ(scene_bytes(scene), mesh + 10 * 12 + records);
+}
+
+TEST(ProceduralCopies, ShareOneMeshOnAGrid) {
+    const Scene scene = load_scene("plane:1@0,-1,0,8+sphere:200*5#c04030");
+    ASSERT_EQ(scene.objects.size(), 6u);
+    const Object& first = scene.objects[1];
+    EXPECT_EQ(first.name, "sphere:200*5#c04030[0]");
+    EXPECT_EQ(scene.objects[5].name, "sphere:200*5#c04030[4]");
+    EXPECT_FALSE(first.mesh.normals.empty());
+    std::vector<glm::vec3> origins;
+    for (std::size_t i = 1; i < scene.objects.size(); ++i) {
+        const Object& copy = scene.objects[i];
+        EXPECT_TRUE(copy.mesh.positions.shares_storage_with(first.mesh.positions));
+        EXPECT_TRUE(copy.mesh.triangles.shares_storage_with(first.mesh.triangles));
+        EXPECT_TRUE(copy.mesh.normals.shares_storage_with(first.mesh.normals));
+        EXPECT_EQ(copy.material, first.material);
+        const glm::vec3 origin(copy.transform[3]);
+        for (const glm::vec3& other : origins) EXPECT_GT(glm::length(origin - other), 2.0f);
+        origins.push_back(origin);
+    }
+    // The scene's triangles count every copy; its bytes one mesh.
+    EXPECT_EQ(scene.triangle_count(), 2u + 5 * first.mesh.triangles.size());
+    const Scene one = load_scene("plane:1@0,-1,0,8+sphere:200#c04030");
+    EXPECT_LT(scene_bytes(scene), scene_bytes(one) + 5 * sizeof(Object));
+}
+
+TEST(ProceduralCopies, BadCountsAreNamed) {
+    for (const std::string spec : {"sphere:10*0", "sphere:10*1000001", "sphere:10*x", "sphere:10*",
+                                   "sphere:10@0,0,0*3", "sphere:10#ffffff*3"}) {
+        SCOPED_TRACE(spec);
+        try {
+            load_scene(spec);
+            ADD_FAILURE() << "accepted";
+        } catch (const SceneError& e) {
+            EXPECT_NE(std::string(e.what()).find("'" + spec + "'"), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find("copies"), std::string::npos) << e.what();
+        }
+    }
+}
+
+/// `scene` with every copy's arrays made its own: the same triangles, no sharing.
+Scene unshared(Scene scene) {
+    for (Object& object : scene.objects) {
+        object.mesh.positions.edit();
+        object.mesh.triangles.edit();
+        object.mesh.normals.edit();
+    }
+    return scene;
+}
+
+struct Rendered {
+    RenderedFrame frame;
+};
+
+Rendered render(const Scene& scene, const RenderOptions& options, int frame_number) {
+    Renderer renderer(options);
+    Rendered out;
+    renderer.render(scene, default_camera(scene_bounds(scene)), frame_number, out.frame);
+    return out;
+}
+
+void expect_matches_reference(const Scene& scene, const RenderOptions& options, int f, const RenderedFrame& frame) {
+    anim::PosedScene posed;
+    anim::pose_scene(scene, options.pose, f, posed);
+    const ReferenceTracer tracer(scene, posed);
+    const Camera camera = default_camera(scene_bounds(scene));
+    const ReferenceFrame ref = render_reference(scene, tracer, camera, options.width, options.height,
+                                                shading_from(scene, options));
+    const ImageComparison cmp = compare_images(frame, ref);
+    EXPECT_TRUE(cmp.passed()) << cmp.summary();
+    EXPECT_GT(cmp.pixels - cmp.hit_mismatches, cmp.pixels / 4);
+}
+
+TEST(Instancing, RigidCopiesCarryOneTreeAndDrawAsIfEachHadItsOwn) {
+    Scene scene = load_scene("plane:1@0,-1,0,8+soup:400*6#40c060");
+    std::vector<std::string> motions;
+    for (std::size_t i = 1; i < scene.objects.size(); ++i) motions.push_back("rigid:" + scene.objects[i].name);
+    anim::add_procedural_motions(scene, motions);
+    const Scene separate = unshared(scene);
+    RenderOptions options;
+    options.width = 64;
+    options.height = 48;
+    for (const Tracer tracer : {Tracer::packet, Tracer::single}) {
+        options.tracer = tracer;
+        for (const int f : {0, 5}) {
+            SCOPED_TRACE("frame " + std::to_string(f));
+            const Rendered shared = render(scene, options, f);
+            const Rendered own = render(separate, options, f);
+            // The same tree, bit for bit, under each copy's transform: the same image.
+            EXPECT_EQ(shared.frame.color, own.frame.color);
+            EXPECT_EQ(shared.frame.depth, own.frame.depth);
+            EXPECT_EQ(shared.frame.object, own.frame.object);
+            EXPECT_EQ(shared.frame.prim, own.frame.prim);
+            EXPECT_EQ(shared.frame.stats.rigid_objects, 6u);
+            EXPECT_EQ(shared.frame.stats.objects_rebuilt + 5, own.frame.stats.objects_rebuilt);
+            // One soup's tree and triangles instead of six.
+            const std::size_t soup_tree = (own.frame.stats.tree_bytes - shared.frame.stats.tree_bytes) / 5;
+            EXPECT_GT(soup_tree, 400u * 36);
+            EXPECT_EQ(shared.frame.stats.triangles, own.frame.stats.triangles);
+            expect_matches_reference(scene, options, f, shared.frame);
+        }
+    }
+}
+
+TEST(Instancing, StaticCopiesPastTheLimitStayInstancesAndMatchTheReference) {
+    const Scene scene = load_scene("plane:1@0,-1,0,8+soup:300*9#40c060");
+    RenderOptions options;
+    options.width = 64;
+    options.height = 48;
+    const Rendered merged = render(scene, options, 0);
+    options.static_group_limit = 100;  // less than the copies hold: they stay instances
+    for (const Tracer tracer : {Tracer::packet, Tracer::single}) {
+        options.tracer = tracer;
+        const Rendered kept = render(scene, options, 0);
+        const FrameStats& s = kept.frame.stats;
+        // Counted as the static objects they are, built once for nine.
+        EXPECT_EQ(s.static_objects, 10u);
+        EXPECT_EQ(s.rigid_objects, 0u);
+        EXPECT_EQ(s.triangles, merged.frame.stats.triangles);
+        EXPECT_LT(s.tree_bytes, merged.frame.stats.tree_bytes / 4);
+        expect_matches_reference(scene, options, 0, kept.frame);
+        // Held still: the next frames build nothing.
+        Renderer renderer(options);
+        RenderedFrame frame;
+        const Camera camera = default_camera(scene_bounds(scene));
+        renderer.render(scene, camera, 0, frame);
+        renderer.render(scene, camera, 1, frame);
+        EXPECT_EQ(frame.stats.objects_rebuilt, 0u);
+        EXPECT_EQ(frame.stats.objects_refitted, 0u);
+    }
+}
+
+}  // namespace
+}  // namespace dynrt::reference

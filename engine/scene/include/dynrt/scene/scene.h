@@ -131,7 +131,7 @@ struct Material {
 /// Copies share their arrays until one is written (SharedArray): objects that hold copies of
 /// one mesh (a glTF mesh referenced by several nodes, the trees of a procedural forest) cost
 /// its bytes once, and the engine builds one tree for all of them where their classes allow
-/// (dynrt/engine/renderer.h, "Instancing").
+/// (docs/animation.md, "Instancing").
 struct Mesh {
     SharedArray<glm::vec3> positions;
     SharedArray<glm::uvec3> triangles;

@@ -74,6 +74,7 @@ void SceneAccel::clear() {
     object_boxes_.clear();
     shading_.clear();
     rigid_trees_.clear();
+    top_current_ = false;
 }
 
 void SceneAccel::forget_sharers_of(std::size_t owner) {
@@ -88,6 +89,7 @@ void SceneAccel::invalidate(std::size_t object) {
     if (object >= objects_.size()) return;  // not built yet: the next update builds it anyway
     ObjectTree& tree = objects_[object];
     tree.built = false;
+    top_current_ = false;
     forget_sharers_of(object);
     if (tree.known && tree.motion_class == anim::MotionClass::static_) static_group_.built = false;
 }
@@ -95,6 +97,7 @@ void SceneAccel::invalidate(std::size_t object) {
 void SceneAccel::release(std::size_t object) {
     if (object >= objects_.size()) return;
     forget_sharers_of(object);
+    top_current_ = false;
     const ObjectTree& old = objects_[object];
     ObjectTree emptied;
     emptied.known = old.known;
@@ -111,6 +114,7 @@ void SceneAccel::renew(std::size_t object) {
     // A static one leaves the group's list at the group's next build; until then it holds no
     // triangles there (it was released), so no hit resolves to it.
     forget_sharers_of(object);
+    top_current_ = false;
     objects_[object] = ObjectTree{};
     shading_.forget(object);
 }
@@ -223,7 +227,12 @@ void SceneAccel::update(const Scene& scene, std::span<const ObjectState> states,
     }
     for (std::size_t i = 0; i < count; ++i) update_object(i, run, stats);
     shading_.refresh(scene, states, fixed);
-    build_top(stats);
+    // A frame in which no tree was touched and nothing moved keeps the top level it has (a
+    // still frame of a forest of copies would otherwise rebuild it over every instance).
+    const bool still = top_current_ && !plan_.rebuild_static_group &&
+                       std::all_of(plan_.objects.begin(), plan_.objects.end(),
+                                   [](const ObjectPlan& p) { return p.action == TreeAction::keep; });
+    if (!still) build_top(stats);
     stats.build_ms = stats.refit_ms + stats.rebuild_ms + stats.top_level_ms;
     measure(policy.build.sah_costs(), shape);
 }
@@ -349,6 +358,7 @@ void SceneAccel::build_top(UpdateStats& stats) {
         instance_trees_.push_back(&carried);
     }
     bvh::build_top_level(top_, std::move(instances));
+    top_current_ = true;
     stats.top_level_ms = clock.elapsed_ms();
     for (std::size_t k = 0; k < top_.instances.size(); ++k) {
         const std::uint32_t id = top_.instances[k].object;

@@ -236,6 +236,9 @@ private:
         }
     };
     std::unordered_map<SourceKey, std::size_t, SourceKeyHash> rigid_trees_;
+    /// top_ is over the trees and transforms the objects have now: false from construction
+    /// and after anything that touches a tree outside an update.
+    bool top_current_ = false;
     /// The states of the last update with static copies made rigid (instancing_states).
     std::vector<ObjectState> instancing_states_;
     /// What the automatic update method remembers across frames.

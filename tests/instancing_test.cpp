@@ -19,6 +19,8 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -110,6 +112,52 @@ TEST(ProceduralCopies, BadCountsAreNamed) {
             EXPECT_NE(std::string(e.what()).find("'" + spec + "'"), std::string::npos) << e.what();
             EXPECT_NE(std::string(e.what()).find("copies"), std::string::npos) << e.what();
         }
+    }
+}
+
+TEST(FileCopies, ShareTheFilesMeshesOnAGrid) {
+    const std::filesystem::path obj = std::filesystem::path(::testing::TempDir()) / "instancing_two_quads.obj";
+    {
+        std::ofstream out(obj);
+        out << "o first\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n"
+               "o second\nv 0 0 1\nv 1 0 1\nv 1 1 1\nf 5 6 7\n";
+    }
+    const Scene one = load_scene(obj.string());
+    const Scene scene = load_scene(obj.string() + "*9");
+    ASSERT_EQ(scene.objects.size(), 9 * one.objects.size());
+    EXPECT_EQ(scene.triangle_count(), 9 * one.triangle_count());
+    for (std::size_t k = 0; k < 9; ++k) {
+        for (std::size_t i = 0; i < one.objects.size(); ++i) {
+            const Object& copy = scene.objects[k * one.objects.size() + i];
+            EXPECT_EQ(copy.name, one.objects[i].name + "[" + std::to_string(k) + "]");
+            EXPECT_EQ(copy.node, -1);
+            EXPECT_EQ(copy.mesh.positions, one.objects[i].mesh.positions);
+            EXPECT_TRUE(copy.mesh.positions.shares_storage_with(scene.objects[i].mesh.positions));
+            // The copies stand apart: their boxes' centres at least a box apart.
+            if (k > 0) {
+                const glm::vec3 a(copy.transform[3]), b(scene.objects[i].transform[3]);
+                EXPECT_GT(glm::length(glm::vec2(a.x - b.x, a.z - b.z)), 1.0f);
+            }
+        }
+    }
+    EXPECT_LT(scene_bytes(scene), scene_bytes(one) + 18 * sizeof(Object));
+    // Counts out of range, and a file that animates, are refused by name.
+    for (const std::string& bad : {obj.string() + "*0", obj.string() + "*1000001",
+                                  obj.string() + "*99999999999999999999999"}) {
+        SCOPED_TRACE(bad);
+        try {
+            load_scene(bad);
+            ADD_FAILURE() << "accepted";
+        } catch (const SceneError& e) {
+            EXPECT_NE(std::string(e.what()).find("copies"), std::string::npos) << e.what();
+        }
+    }
+    const std::string animated = std::string(DYNRT_SOURCE_DIR) + "/tests/data/animated_cube.fbx*2";
+    try {
+        load_scene(animated);
+        ADD_FAILURE() << "accepted";
+    } catch (const SceneError& e) {
+        EXPECT_NE(std::string(e.what()).find("clips, skins or morph targets"), std::string::npos) << e.what();
     }
 }
 

@@ -135,7 +135,9 @@ public:
     EmbreeSequenceTracer(const Scene& scene, const RenderOptions& options, BuildQuality quality)
         : scene_(scene), width_(options.width), height_(options.height),
           lights_(effective_lights(scene, options)), quality_(quality),
-          poser_(scene, full_pose(options.pose)) {}
+          poser_(scene, full_pose(options.pose)) {
+        check_embree_fits(scene);  // before the first frame poses every vertex
+    }
 
     std::string name() const override { return std::string("embree ") + quality_name(quality_); }
 

@@ -19,6 +19,7 @@
 
 
 #include <algorithm>
+#include <fstream>
 #include <span>
 #include <functional>
 #include <iomanip>
@@ -108,6 +109,34 @@ void for_each_block(const packet::Tile& tile, Body&& body) {
 }
 
 }  // namespace
+
+void check_embree_fits(const Scene& scene) {
+    std::size_t vertices = 0, triangles = 0;
+    for (const Object& object : scene.objects) {
+        vertices += object.mesh.positions.size();
+        triangles += object.mesh.triangles.size();
+    }
+    // The posed positions and Embree's copy (12 bytes a vertex each), the index copies (12
+    // bytes a triangle each), and Embree's tree at its lowest (about 40 bytes a triangle).
+    const double needed = 24.0 * double(vertices) + 64.0 * double(triangles);
+    std::ifstream meminfo("/proc/meminfo");
+    std::string key;
+    double available_kb = 0.0;
+    while (meminfo >> key) {
+        if (key == "MemAvailable:") {
+            meminfo >> available_kb;
+            break;
+        }
+        meminfo.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
+    }
+    if (available_kb <= 0.0 || needed <= available_kb * 1024.0) return;
+    std::ostringstream text;
+    text << std::fixed << std::setprecision(1) << scene.source << ": Embree would hold every object's "
+         << triangles << " triangles in world space (copies of a shared mesh each in full), about "
+         << needed / 1e9 << " GB, and " << available_kb * 1024.0 / 1e9
+         << " GB are available: trace it with dynrt, which instances copies";
+    throw std::runtime_error(text.str());
+}
 
 const char* quality_name(BuildQuality quality) {
     switch (quality) {
@@ -241,6 +270,7 @@ void EmbreeTracer::State::update_object(std::size_t object, std::span<const glm:
 }
 
 double EmbreeTracer::build(const Scene& scene, BuildQuality quality) {
+    check_embree_fits(scene);
     State& s = *state_;
     anim::pose_scene(scene, 0, s.own_posed);
     // ---- Buffers: created and filled outside the timed part ----
@@ -557,6 +587,7 @@ FrameLoad EmbreeTracer::load_geometry(const Scene& scene, const FrameGeometry& g
     FrameLoad load;
     Stopwatch clock;
     if (!s.scene || s.quality != quality || s.indices.size() != scene.objects.size()) {
+        check_embree_fits(scene);
         s.create_from(
             scene,
             [&](std::size_t i, std::vector<glm::vec3>& scratch) { return geometry.world_positions(i, scratch); },

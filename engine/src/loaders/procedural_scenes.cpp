@@ -7,6 +7,7 @@
 
 #include "message_text.h"
 #include "procedural_meshes.h"
+#include "scene_copies.h"
 
 #include <glm/common.hpp>
 
@@ -27,10 +28,6 @@ enum class MeshKind { sphere, soup, plane };
 struct Placement {
     float x = 0.0f, y = 0.0f, z = 0.0f, scale = 1.0f;
 };
-
-/// At most this many copies of one part (`*K`): a million objects' records, pose and
-/// instances are some hundreds of megabytes.
-constexpr std::uint64_t kMaxCopies = 1'000'000;
 
 /// One `kind:N[*K][@x,y,z[,s]][#rrggbb]` part, parsed but not yet built.
 struct PartSpec {
@@ -220,32 +217,6 @@ glm::mat4 placement_matrix(const Placement& p) {
     return m;
 }
 
-/// Copy k of `copies` of a mesh `extent` wide: on a square grid in the y = 0 plane centred on
-/// the origin, one and a half extents apart, turned about +y by k golden angles (so that no two
-/// neighbours face the same way): translate(grid position) * rotate_y(k * 137.5 degrees).
-glm::mat4 copy_matrix(std::uint64_t k, std::uint64_t copies, float extent) {
-    const auto side = std::uint64_t(std::ceil(std::sqrt(double(copies))));
-    const float spacing = 1.5f * extent;
-    const float centre = 0.5f * float(side - 1);
-    const float angle = float(double(k) * 2.399963229728653);
-    const float c = std::cos(angle), s = std::sin(angle);
-    glm::mat4 m(1.0f);
-    m[0] = glm::vec4(c, 0.0f, -s, 0.0f);
-    m[2] = glm::vec4(s, 0.0f, c, 0.0f);
-    m[3] = glm::vec4((float(k % side) - centre) * spacing, 0.0f, (float(k / side) - centre) * spacing, 1.0f);
-    return m;
-}
-
-/// The widest side of the box of `mesh`'s vertices in x and z.
-float footprint(const Mesh& mesh) {
-    glm::vec3 lo(INFINITY), hi(-INFINITY);
-    for (const glm::vec3& p : mesh.positions) {
-        lo = glm::min(lo, p);
-        hi = glm::max(hi, p);
-    }
-    return mesh.positions.empty() ? 1.0f : std::max({hi.x - lo.x, hi.z - lo.z, 1e-3f});
-}
-
 }  // namespace
 
 Scene make_procedural_scene(const std::string& spec, std::uint64_t max_triangles) {
@@ -281,13 +252,17 @@ Scene make_procedural_scene(const std::string& spec, std::uint64_t max_triangles
         // Copies share the one mesh's arrays (normals included, made once): each costs an
         // object's record, not its triangles.
         object.mesh.normals = area_weighted_normals(object.mesh.positions, object.mesh.triangles);
-        const float extent = footprint(object.mesh);
+        glm::vec3 lo(INFINITY), hi(-INFINITY);
+        for (const glm::vec3& p : object.mesh.positions) {
+            lo = glm::min(lo, p);
+            hi = glm::max(hi, p);
+        }
         const glm::mat4 placement = object.transform;
         scene.objects.reserve(scene.objects.size() + part.copies);
         for (std::uint64_t k = 0; k < part.copies; ++k) {
             Object copy = object;
             copy.name = cat(part.text, "[", k, "]");
-            copy.transform = placement * copy_matrix(k, part.copies, extent);
+            copy.transform = placement * copy_matrix(k, part.copies, lo, hi);
             scene.objects.push_back(std::move(copy));
         }
     }

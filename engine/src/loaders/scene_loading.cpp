@@ -7,6 +7,7 @@
 #include "gltf_file.h"
 #include "message_text.h"
 #include "read_files.h"
+#include "scene_copies.h"
 #include "scene_file_kind.h"
 
 #include "dynrt/scene/scene_error.h"
@@ -42,6 +43,13 @@ Scene load_scene(const std::string& source) {
     // Every loader ends with check_scene, so the result already meets the contract.
     std::error_code ec;
     if (!std::filesystem::exists(source, ec)) {
+        // FILE*K: K copies of a scene file on a grid, sharing its meshes.
+        if (const std::optional<CopiesSpec> copies = parse_copies_spec(source);
+            copies && std::filesystem::is_regular_file(copies->file, ec)) {
+            Scene scene = load_scene(copies->file);
+            make_copies(scene, copies->copies, source);
+            return scene;
+        }
         if (is_gltf_path(source) || is_aff_path(source) || looks_like_file_path(source)) {
             throw SceneError(cat(source, ": no such file"));
         }

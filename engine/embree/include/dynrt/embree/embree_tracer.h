@@ -48,6 +48,13 @@ struct PixelHits {
     std::vector<float> v;
 };
 
+/// Embree here holds every object's triangles in world space, copies of a shared mesh each in
+/// full (it has no instancing in dynrt's use of it), besides the posed frame it reads them
+/// from. Throws std::runtime_error naming the scene when that would need more memory than the
+/// machine has available (Linux's MemAvailable; no check elsewhere): a forest of a billion
+/// instanced triangles is traced by dynrt alone, not run out of memory.
+void check_embree_fits(const Scene& scene);
+
 /// One Embree device and scene holding frame 0 of a dynrt scene, one triangle geometry per
 /// object (geomID = object index, primID = triangle index in the object). Owns its Embree
 /// handles. Not thread-safe to rebuild; the trace calls run in parallel over 16x16 tiles on

@@ -12,6 +12,7 @@
 #include "dynrt/anim/procedural_motion.h"
 #include "dynrt/bench/hit_agreement.h"
 #include "dynrt/embree/embree_backend.h"
+#include "dynrt/embree/embree_tracer.h"
 #include "dynrt/engine/renderer.h"
 #include "dynrt/engine/scene_loading.h"
 
@@ -162,6 +163,26 @@ TEST(EmbreeBackend, TheCheckCatchesABackendThatLosesHits) {
     Renderer(options).render(scene, looking_at(scene), 0, theirs);
     const std::size_t pixels = std::size_t(options.width) * std::size_t(options.height);
     EXPECT_GT(difference(ours, theirs).object, pixels / 20);  // ten times any bound above
+}
+
+// Copies share one mesh in dynrt, but Embree would hold each in full: a scene of a hundred
+// billion instanced triangles is refused by name before anything is posed, and a small one
+// passes the same check.
+TEST(EmbreeBackend, AScenePastTheMemoryItWouldFlattenToIsRefusedByName) {
+    Scene scene = load_scene("sphere:200");
+    scene.source = "huge forest";
+    std::vector<glm::uvec3> corners(1'000'000, scene.objects[0].mesh.triangles[0]);
+    scene.objects[0].mesh.triangles = std::move(corners);
+    const Object copy = scene.objects[0];
+    scene.objects.resize(100'000, copy);
+    try {
+        check_embree_fits(scene);
+        ADD_FAILURE() << "accepted";
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("huge forest"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("100000000000 triangles"), std::string::npos) << e.what();
+    }
+    EXPECT_NO_THROW(check_embree_fits(load_scene("sphere:200*4")));
 }
 
 }  // namespace

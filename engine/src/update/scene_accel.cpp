@@ -167,7 +167,8 @@ std::size_t SceneAccel::memory_bytes() const {
     memory_figures(parts);
     std::size_t bytes = held_bytes(objects_) + parts.tree_bytes + parts.build_triangle_bytes;
     bytes += held_bytes(static_first_) + held_bytes(static_objects_) + held_bytes(static_bucket_slot_);
-    bytes += held_bytes(instance_trees_);
+    bytes += held_bytes(instance_trees_) + held_bytes(instancing_states_);
+    bytes += rigid_trees_.size() * (sizeof(SourceKey) + sizeof(std::size_t) + 2 * sizeof(void*));
     bytes += held_bytes(object_boxes_) + held_bytes(history_) +
              held_bytes(plan_.objects) + shading_.memory_bytes();
     return bytes;

@@ -1,8 +1,11 @@
-// Instancing (issue 43): a mesh's arrays shared by its copies (SharedArray), the procedural
-// `kind:N*K` copies that share one mesh, the scene's bytes counting a shared array once, and
-// the renderer carrying one tree for every rigid copy, and for static copies once the static
-// group would pass its limit, with images that match the exact reference and, for rigid
-// copies, the images of the same scene with every copy's tree built on its own.
+// Instancing (issue 43): a mesh's arrays shared by its copies (SharedArray); the procedural
+// `kind:N*K` copies, glTF nodes that reference one mesh and `FILE*K` copies sharing it; the
+// scene's bytes counting a shared array once; and the renderer carrying one tree for every
+// rigid copy, and for static copies once the static group would pass its limit, with images
+// that match the exact reference and, for rigid copies, the images of the same scene with
+// every copy's tree built on its own.
+
+#include "gltf_test_file.h"
 
 #include "dynrt/reference/image_comparison.h"
 #include "dynrt/reference/reference_renderer.h"
@@ -26,6 +29,8 @@
 
 namespace dynrt::reference {
 namespace {
+
+void expect_matches_reference(const Scene& scene, const RenderOptions& options, int f, const RenderedFrame& frame);
 
 TEST(SharedArray, CopiesShareUntilOneIsWritten) {
     SharedArray<int> a = std::vector<int>{1, 2, 3};
@@ -113,6 +118,31 @@ TEST(ProceduralCopies, BadCountsAreNamed) {
             EXPECT_NE(std::string(e.what()).find("copies"), std::string::npos) << e.what();
         }
     }
+}
+
+TEST(GltfInstancing, NodesThatReferenceOneMeshShareItsArrays) {
+    test::GltfTestFile file;
+    const int mesh = file.add_mesh({0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0});
+    file.add_node({{"name", "a"}, {"mesh", mesh}});
+    file.add_node({{"name", "b"}, {"mesh", mesh}, {"translation", {3.0, 0.0, 0.0}}});
+    file.add_node({{"name", "c"}, {"mesh", mesh}, {"scale", {2.0, 2.0, 2.0}}});
+    const Scene scene = load_scene(file.write("instancing_shared_mesh.gltf").string());
+    ASSERT_EQ(scene.objects.size(), 3u);
+    for (const Object& object : scene.objects) {
+        EXPECT_TRUE(object.mesh.positions.shares_storage_with(scene.objects[0].mesh.positions)) << object.name;
+        EXPECT_TRUE(object.mesh.triangles.shares_storage_with(scene.objects[0].mesh.triangles)) << object.name;
+        // Normals made for the first copy serve them all.
+        EXPECT_TRUE(object.mesh.normals.shares_storage_with(scene.objects[0].mesh.normals)) << object.name;
+    }
+    EXPECT_NE(scene.objects[1].transform, scene.objects[0].transform);
+    // Drawn as three meshes of their own would be: the reference agrees.
+    RenderOptions options;
+    options.width = 48;
+    options.height = 32;
+    Renderer renderer(options);
+    RenderedFrame frame;
+    renderer.render(scene, default_camera(scene_bounds(scene)), 0, frame);
+    expect_matches_reference(scene, options, 0, frame);
 }
 
 TEST(FileCopies, ShareTheFilesMeshesOnAGrid) {

@@ -2,8 +2,9 @@
 // The acceleration structure of a scene over the frames of a sequence: one bottom-level tree
 // per object, kept from frame to frame and brought up to date by the action the update planner
 // chose for it (dynrt/engine/update_plan.h: what each class gets, and why), and a top level
-// over the objects, rebuilt every frame (it holds a handful of boxes). SceneAccel carries a
-// plan out, each object's step in object_tree.h (gather its triangles, build or refit, judge
+// over the objects, rebuilt every frame in which a tree or a transform changed (kept when
+// nothing did: a still forest of copies would rebuild it over every instance). SceneAccel
+// carries a plan out, each object's step in object_tree.h (gather its triangles, build or refit, judge
 // the refit), times each stage and reports it; beside the trees it keeps the cost model's
 // memory (cost_memory.h) and what shading reads of the objects (shading_geometry.h).
 //

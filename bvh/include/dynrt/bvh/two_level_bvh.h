@@ -1,6 +1,6 @@
 #pragma once
 // Two-level BVH: bottom-level trees (TriangleBvh) per object, built or refitted by their owner,
-// and a small top-level tree over the placed instances, rebuilt every frame (Wald, Benthin and
+// and a top-level tree over the placed instances, rebuilt every frame they move (Wald, Benthin and
 // Slusallek 2003, "Distributed Interactive Ray Tracing of Dynamic Scenes"; the scheme of
 // Embree's and OptiX's instances). Rays reach a transformed instance's tree in its object
 // space, so a rigid object that moves costs a matrix per frame instead of a refit or rebuild.
@@ -68,8 +68,8 @@ struct TwoLevelBvh {
     float origin_pad_rel = 0.0f;
 };
 
-/// Rebuilds the top level over `instances` (taken by value: move it in). Call every frame;
-/// costs O(n log n) in instances. Every tree must be non-null and made by build_triangle_bvh
+/// Rebuilds the top level over `instances` (taken by value: move it in). Call every frame in
+/// which an instance's tree or transform changed; costs O(n log n) in instances. Every tree must be non-null and made by build_triangle_bvh
 /// (possibly refitted since); transformed instances need finite, invertible matrices. Runs on
 /// the calling thread's oneTBB arena. Not thread-safe on one `tlas`.
 void build_top_level(TwoLevelBvh& tlas, std::vector<Instance> instances);

@@ -4,8 +4,8 @@
 // chose for it (dynrt/engine/update_plan.h: what each class gets, and why), and a top level
 // over the objects, rebuilt every frame in which a tree or a transform changed (kept when
 // nothing did: a still forest of copies would rebuild it over every instance). SceneAccel
-// carries a plan out, each object's step in object_tree.h (gather its triangles, build or refit, judge
-// the refit), times each stage and reports it; beside the trees it keeps the cost model's
+// carries a plan out, each object's step in object_tree.h (gather its triangles, build or
+// refit, judge the refit), times each stage and reports it; beside the trees it keeps the cost model's
 // memory (cost_memory.h) and what shading reads of the objects (shading_geometry.h).
 //
 // Static objects share one tree (the static group), built in world space at the first

@@ -6,12 +6,10 @@
 // every copy's tree built on its own.
 
 #include "gltf_test_file.h"
+#include "reference_shot.h"
 
 #include "dynrt/reference/image_comparison.h"
-#include "dynrt/reference/reference_renderer.h"
-#include "dynrt/reference/reference_tracer.h"
 
-#include "dynrt/anim/posed_scene.h"
 #include "dynrt/anim/procedural_motion.h"
 #include "dynrt/engine/camera.h"
 #include "dynrt/engine/renderer.h"
@@ -30,6 +28,7 @@
 namespace dynrt::reference {
 namespace {
 
+RenderedFrame render(const Scene& scene, const RenderOptions& options, int f);
 void expect_matches_reference(const Scene& scene, const RenderOptions& options, int f, const RenderedFrame& frame);
 
 TEST(SharedArray, CopiesShareUntilOneIsWritten) {
@@ -139,10 +138,7 @@ TEST(GltfInstancing, NodesThatReferenceOneMeshShareItsArrays) {
     RenderOptions options;
     options.width = 48;
     options.height = 32;
-    Renderer renderer(options);
-    RenderedFrame frame;
-    renderer.render(scene, default_camera(scene_bounds(scene)), 0, frame);
-    expect_matches_reference(scene, options, 0, frame);
+    expect_matches_reference(scene, options, 0, render(scene, options, 0));
 }
 
 TEST(FileCopies, ShareTheFilesMeshesOnAGrid) {
@@ -201,25 +197,14 @@ Scene unshared(Scene scene) {
     return scene;
 }
 
-struct Rendered {
-    RenderedFrame frame;
-};
-
-Rendered render(const Scene& scene, const RenderOptions& options, int frame_number) {
-    Renderer renderer(options);
-    Rendered out;
-    renderer.render(scene, default_camera(scene_bounds(scene)), frame_number, out.frame);
-    return out;
+/// dynrt's frame `f` of `scene` from its default camera.
+RenderedFrame render(const Scene& scene, const RenderOptions& options, int f) {
+    return test::renderer_shot(scene, default_camera(scene_bounds(scene)), options, f);
 }
 
 void expect_matches_reference(const Scene& scene, const RenderOptions& options, int f, const RenderedFrame& frame) {
-    anim::PosedScene posed;
-    anim::pose_scene(scene, options.pose, f, posed);
-    const ReferenceTracer tracer(scene, posed);
-    const Camera camera = default_camera(scene_bounds(scene));
-    const ReferenceFrame ref = render_reference(scene, tracer, camera, options.width, options.height,
-                                                shading_from(scene, options));
-    const ImageComparison cmp = compare_images(frame, ref);
+    const ImageComparison cmp =
+        compare_images(frame, test::reference_shot(scene, default_camera(scene_bounds(scene)), options, nullptr, f));
     EXPECT_TRUE(cmp.passed()) << cmp.summary();
     EXPECT_GT(cmp.pixels - cmp.hit_mismatches, cmp.pixels / 4);
 }
@@ -237,20 +222,20 @@ TEST(Instancing, RigidCopiesCarryOneTreeAndDrawAsIfEachHadItsOwn) {
         options.tracer = tracer;
         for (const int f : {0, 5}) {
             SCOPED_TRACE("frame " + std::to_string(f));
-            const Rendered shared = render(scene, options, f);
-            const Rendered own = render(separate, options, f);
+            const RenderedFrame shared = render(scene, options, f);
+            const RenderedFrame own = render(separate, options, f);
             // The same tree, bit for bit, under each copy's transform: the same image.
-            EXPECT_EQ(shared.frame.color, own.frame.color);
-            EXPECT_EQ(shared.frame.depth, own.frame.depth);
-            EXPECT_EQ(shared.frame.object, own.frame.object);
-            EXPECT_EQ(shared.frame.prim, own.frame.prim);
-            EXPECT_EQ(shared.frame.stats.rigid_objects, 6u);
-            EXPECT_EQ(shared.frame.stats.objects_rebuilt + 5, own.frame.stats.objects_rebuilt);
+            EXPECT_EQ(shared.color, own.color);
+            EXPECT_EQ(shared.depth, own.depth);
+            EXPECT_EQ(shared.object, own.object);
+            EXPECT_EQ(shared.prim, own.prim);
+            EXPECT_EQ(shared.stats.rigid_objects, 6u);
+            EXPECT_EQ(shared.stats.objects_rebuilt + 5, own.stats.objects_rebuilt);
             // One soup's tree and triangles instead of six.
-            const std::size_t soup_tree = (own.frame.stats.tree_bytes - shared.frame.stats.tree_bytes) / 5;
+            const std::size_t soup_tree = (own.stats.tree_bytes - shared.stats.tree_bytes) / 5;
             EXPECT_GT(soup_tree, 400u * 36);
-            EXPECT_EQ(shared.frame.stats.triangles, own.frame.stats.triangles);
-            expect_matches_reference(scene, options, f, shared.frame);
+            EXPECT_EQ(shared.stats.triangles, own.stats.triangles);
+            expect_matches_reference(scene, options, f, shared);
         }
     }
 }
@@ -260,18 +245,18 @@ TEST(Instancing, StaticCopiesPastTheLimitStayInstancesAndMatchTheReference) {
     RenderOptions options;
     options.width = 64;
     options.height = 48;
-    const Rendered merged = render(scene, options, 0);
+    const RenderedFrame merged = render(scene, options, 0);
     options.static_group_limit = 100;  // less than the copies hold: they stay instances
     for (const Tracer tracer : {Tracer::packet, Tracer::single}) {
         options.tracer = tracer;
-        const Rendered kept = render(scene, options, 0);
-        const FrameStats& s = kept.frame.stats;
+        const RenderedFrame kept = render(scene, options, 0);
+        const FrameStats& s = kept.stats;
         // Counted as the static objects they are, built once for nine.
         EXPECT_EQ(s.static_objects, 10u);
         EXPECT_EQ(s.rigid_objects, 0u);
-        EXPECT_EQ(s.triangles, merged.frame.stats.triangles);
-        EXPECT_LT(s.tree_bytes, merged.frame.stats.tree_bytes / 4);
-        expect_matches_reference(scene, options, 0, kept.frame);
+        EXPECT_EQ(s.triangles, merged.stats.triangles);
+        EXPECT_LT(s.tree_bytes, merged.stats.tree_bytes / 4);
+        expect_matches_reference(scene, options, 0, kept);
         // Held still: the next frames build nothing.
         Renderer renderer(options);
         RenderedFrame frame;

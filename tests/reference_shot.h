@@ -12,23 +12,25 @@
 
 namespace dynrt::test {
 
-/// The reference's frame 0 of `scene` from `camera` at options' size, shaded as options say
-/// (reference::shading_from), or with `shading` when given.
+/// The reference's frame `frame` of `scene` from `camera` at options' size, shaded as options
+/// say (reference::shading_from), or with `shading` when given.
 inline reference::ReferenceFrame reference_shot(const Scene& scene, const Camera& camera, const RenderOptions& options,
-                                                const reference::ReferenceShading* shading = nullptr) {
+                                                const reference::ReferenceShading* shading = nullptr,
+                                                int frame = 0) {
     anim::PosedScene posed;
-    anim::pose_scene(scene, options.pose, 0, posed);
+    anim::pose_scene(scene, options.pose, frame, posed);
     const reference::ReferenceTracer tracer(scene, posed);
     return reference::render_reference(scene, tracer, camera, options.width, options.height,
                                        shading != nullptr ? *shading : reference::shading_from(scene, options));
 }
 
-/// dynrt's frame 0 of `scene` from `camera` under `options`.
-inline RenderedFrame renderer_shot(const Scene& scene, const Camera& camera, const RenderOptions& options) {
+/// dynrt's frame `frame` of `scene` from `camera` under `options`, from a Renderer of its own.
+inline RenderedFrame renderer_shot(const Scene& scene, const Camera& camera, const RenderOptions& options,
+                                   int frame = 0) {
     Renderer renderer(options);
-    RenderedFrame frame;
-    renderer.render(scene, camera, 0, frame);
-    return frame;
+    RenderedFrame out;
+    renderer.render(scene, camera, frame, out);
+    return out;
 }
 
 }  // namespace dynrt::test

@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <fstream>
 #include <sstream>
 #include <vector>
 #include <string>
@@ -155,6 +156,18 @@ TEST(ResidentMemory, ReadsTheProcessAndRestartsItsPeak) {
         EXPECT_LT(after.peak, before.current + (32u << 20)) << "the peak did not start over";
     }
 #endif
+}
+
+TEST(ResidentMemory, ReadsWhatTheMachineHasAvailable) {
+    // Some memory is available, and no more than the machine has, as /proc/meminfo says.
+    const std::size_t available = available_memory();
+    EXPECT_GT(available, 0u);
+    std::ifstream meminfo("/proc/meminfo");
+    std::string key;
+    std::size_t total_kb = 0;
+    while (meminfo >> key >> total_kb && key != "MemTotal:") meminfo.ignore(256, '\n');
+    EXPECT_LE(available, total_kb * 1024);
+    EXPECT_GE(available, resident_memory().current / 1024) << "read in kilobytes, not bytes";
 }
 #endif
 

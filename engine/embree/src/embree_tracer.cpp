@@ -7,6 +7,7 @@
 #include "dynrt/packet/pinhole.h"
 #include "dynrt/packet/ray_packet.h"
 #include "dynrt/packet/tiling.h"
+#include "dynrt/engine/resident_memory.h"
 #include "dynrt/engine/shadow_ray_offset.h"
 #include "dynrt/engine/stopwatch.h"
 
@@ -19,7 +20,6 @@
 
 
 #include <algorithm>
-#include <fstream>
 #include <span>
 #include <functional>
 #include <iomanip>
@@ -119,21 +119,12 @@ void check_embree_fits(const Scene& scene) {
     // The posed positions and Embree's copy (12 bytes a vertex each), the index copies (12
     // bytes a triangle each), and Embree's tree at its lowest (about 40 bytes a triangle).
     const double needed = 24.0 * double(vertices) + 64.0 * double(triangles);
-    std::ifstream meminfo("/proc/meminfo");
-    std::string key;
-    double available_kb = 0.0;
-    while (meminfo >> key) {
-        if (key == "MemAvailable:") {
-            meminfo >> available_kb;
-            break;
-        }
-        meminfo.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
-    }
-    if (available_kb <= 0.0 || needed <= available_kb * 1024.0) return;
+    const auto available = double(available_memory());
+    if (available <= 0.0 || needed <= available) return;
     std::ostringstream text;
     text << std::fixed << std::setprecision(1) << scene.source << ": Embree would hold every object's "
          << triangles << " triangles in world space (copies of a shared mesh each in full), about "
-         << needed / 1e9 << " GB, and " << available_kb * 1024.0 / 1e9
+         << needed / 1e9 << " GB, and " << available / 1e9
          << " GB are available: trace it with dynrt, which instances copies";
     throw std::runtime_error(text.str());
 }

@@ -51,8 +51,8 @@ struct PixelHits {
 /// Embree here holds every object's triangles in world space, copies of a shared mesh each in
 /// full (it has no instancing in dynrt's use of it), besides the posed frame it reads them
 /// from. Throws std::runtime_error naming the scene when that would need more memory than the
-/// machine has available (Linux's MemAvailable; no check elsewhere): a forest of a billion
-/// instanced triangles is traced by dynrt alone, not run out of memory.
+/// machine has available (available_memory; no check where that is unknown): a forest of a
+/// billion instanced triangles is traced by dynrt alone, not run out of memory.
 void check_embree_fits(const Scene& scene);
 
 /// One Embree device and scene holding frame 0 of a dynrt scene, one triangle geometry per

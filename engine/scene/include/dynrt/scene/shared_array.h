@@ -75,9 +75,7 @@ public:
     template <typename... Args>
     T& emplace_back(Args&&... args) { return edit().emplace_back(std::forward<Args>(args)...); }
     void resize(std::size_t n) { edit().resize(n); }
-    void resize(std::size_t n, const T& value) { edit().resize(n, value); }
     void reserve(std::size_t n) { edit().reserve(n); }
-    void assign(std::size_t n, const T& value) { edit().assign(n, value); }
     template <typename It>
     void assign(It first, It last) { edit().assign(first, last); }
     /// Inserts [first, last) before `position` (an address from begin() .. end()).
@@ -92,9 +90,6 @@ public:
     }
     /// Lets go of the block (freeing it when no other array holds it).
     void clear() { block_.reset(); }
-    void shrink_to_fit() {
-        if (block_ && block_.use_count() == 1) block_->shrink_to_fit();
-    }
 
 private:
     static const std::vector<T>& empty_vector() {

@@ -313,6 +313,34 @@ TEST(BvhBuilder, SmallerCostRatioGivesBiggerLeavesAndShallowerTrees) {
     EXPECT_LT(cheap.nodes, costly.nodes);
 }
 
+TEST(BvhBuilder, LeafSizeMinMakesEveryNodeThatSmallALeaf) {
+    // Over 100k primitives: the parallel and serial paths, and the small nodes' exhaustive one.
+    const std::vector<Aabb> boxes = boxes_of(random_soup(12, 100000, 1.0f, 0.01f));
+    const Bvh plain = build_boxes(boxes, binary_config_with(8));
+    BuildConfig config = binary_config_with(8);
+    config.leaf_size_min = 4;
+    const Bvh coarse = build_boxes(boxes, config);
+    EXPECT_EQ(validate(coarse, boxes, config.leaf_size_max), "");
+    // No inner node over four primitives or fewer.
+    int small_inner = 0;
+    const auto prims_below = [&](auto&& self, std::uint32_t i) -> std::uint32_t {
+        const BvhNode& n = coarse.nodes[i];
+        if (n.is_leaf()) return n.count;
+        const std::uint32_t below = self(self, n.first) + self(self, n.first + 1);
+        small_inner += below <= 4 ? 1 : 0;
+        return below;
+    };
+    EXPECT_EQ(prims_below(prims_below, 0), boxes.size());
+    EXPECT_EQ(small_inner, 0);
+    EXPECT_LT(coarse.nodes.size(), plain.nodes.size() * 7 / 10);
+    // Above leaf_size_max it is leaf_size_max; 0 is refused.
+    config.leaf_size_min = 20;
+    const Bvh capped = build_boxes(boxes, config);
+    EXPECT_EQ(validate(capped, boxes, config.leaf_size_max), "");
+    config.leaf_size_min = 0;
+    EXPECT_THROW(build_boxes(boxes, config), std::invalid_argument);
+}
+
 TEST(BvhBuilder, SahCostOfAHandBuiltTree) {
     // Root [0,2]x[0,1]x[0,1] (half area 5) over two unit cubes (half area 3 each), the left
     // leaf with two primitives, the right with one.

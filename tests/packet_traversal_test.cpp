@@ -336,12 +336,20 @@ INSTANTIATE_TEST_SUITE_P(
 /// Leaf sizes and cost ratios change the tree's shape, and with it which rays share leaves.
 TEST(PacketTraversal, AgreesUnderOtherBuildConfigs) {
     const Scene scene = load_scene(kComposition);
-    for (auto [leaf, ratio] : {std::pair{1u, 1.0f}, std::pair{16u, 0.1f}, std::pair{4u, 4.0f}}) {
+    struct Variant {
+        unsigned leaf;
+        float ratio;
+        bool compact;  // compact leaves (the corners read through the triangles' indices)
+    };
+    for (const Variant v : {Variant{1u, 1.0f, false}, Variant{16u, 0.1f, false}, Variant{4u, 4.0f, false},
+                            Variant{8u, 1.0f, true}, Variant{16u, 0.1f, true}}) {
         bvh::BuildConfig config;
-        config.leaf_size_max = leaf;
-        config.cost_ratio = ratio;
+        config.leaf_size_max = v.leaf;
+        config.cost_ratio = v.ratio;
+        config.compact_leaves = v.compact;
         const Accel a = build_accel(scene, config);
-        SCOPED_TRACE("leaf " + std::to_string(leaf));
+        ASSERT_EQ(a.bvh.wide.compact, v.compact);
+        SCOPED_TRACE("leaf " + std::to_string(v.leaf) + (v.compact ? ", compact" : ""));
         Totals totals;
         check_camera(a, default_camera(a.bounds), 37, 23, glm::vec3(2, 8, 3), all_configs(), totals);
         check_camera(a, look(glm::vec3(0, 0.2f, 0), glm::vec3(1, 0, 0), 120.0f), 20, 20,

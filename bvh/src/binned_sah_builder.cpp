@@ -328,6 +328,7 @@ public:
           subtrees_(top_capacity_),
           cost_ratio_(config.cost_ratio),
           leaf_size_max_(config.leaf_size_max),
+          leaf_size_min_(std::min(config.leaf_size_min, config.leaf_size_max)),
           bin_count_max_(std::min(config.bin_count, kMaxBins)) {}
 
     Bvh build(std::size_t count, const Aabb& root_box, const Aabb& root_center_box,
@@ -419,9 +420,10 @@ private:
         // for the children; at equality only median splits (or a leaf) may follow. This keeps
         // every leaf at depth <= kMaxDepth for any n < 2^32.
         const bool median_only = depth + levels_needed(n) >= kMaxDepth;
-        if (n == 1) {
+        if (n <= leaf_size_min_) {
+            // Fewer nodes at the build's peak (BuildConfig::leaf_size_min).
             node.first = static_cast<std::uint32_t>(range.begin);
-            node.count = 1;
+            node.count = static_cast<std::uint32_t>(n);
             return false;
         }
         const float area = range.box.half_area();
@@ -629,6 +631,7 @@ private:
     std::vector<std::vector<RawNode>> subtrees_;
     float cost_ratio_;
     std::uint32_t leaf_size_max_;
+    std::uint32_t leaf_size_min_;
     std::uint32_t bin_count_max_;
 };
 
@@ -641,6 +644,9 @@ void check_config(const BuildConfig& config) {
     }
     if (config.leaf_size_max < 1) {
         throw std::invalid_argument("BuildConfig: leaf_size_max must be >= 1");
+    }
+    if (config.leaf_size_min < 1) {
+        throw std::invalid_argument("BuildConfig: leaf_size_min must be >= 1");
     }
     if (config.bin_count < 2) {
         throw std::invalid_argument("BuildConfig: bin_count must be >= 2, got " +

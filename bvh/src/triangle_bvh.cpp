@@ -212,6 +212,9 @@ TriangleBvh build_triangle_bvh(const TriangleSource& tris, const BuildConfig& co
     accel.bvh = Bvh{};
     WideBvh recycled_wide = std::move(accel.wide);
     accel.wide = WideBvh{};
+    // The wide builders write the kind of blocks the tree they are handed says.
+    recycled_wide.compact = config.compact_leaves;
+    recycled_wide.source = config.compact_leaves ? tris : TriangleSource{};
     const std::size_t n = tris.size();
     if (n == 0) return accel;
     if (n >= (std::size_t{1} << 31)) {

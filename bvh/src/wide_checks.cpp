@@ -16,9 +16,9 @@ namespace {
 template <int N>
 std::uint32_t leaf_prims(const WideBvhOf<N>& wide, const WideNode<N>& node, int slot) {
     // Only the last block of a leaf may have unused lanes.
-    const TriangleBlock& last = wide.blocks[node.child[slot] + node.blocks[slot] - 1];
+    const std::size_t last = node.child[slot] + node.blocks[slot] - 1;
     std::uint32_t used = 0;
-    for (std::uint32_t prim : last.prim) used += prim != kInvalidId ? 1 : 0;
+    for (int lane = 0; lane < kBlockLanes; ++lane) used += wide.prim(last, lane) != kInvalidId ? 1 : 0;
     return (node.blocks[slot] - 1u) * kBlockLanes + used;
 }
 
@@ -64,7 +64,7 @@ template <int N>
 std::string validate(const WideBvhOf<N>& wide, std::span<const Triangle> tris,
                      std::span<const std::uint32_t> prims) {
     if (wide.empty()) {
-        if (!wide.blocks.empty()) return "empty tree but " + std::to_string(wide.blocks.size()) + " blocks";
+        if (wide.block_count() != 0) return "empty tree but " + std::to_string(wide.block_count()) + " blocks";
         if (!prims.empty()) return "empty tree for " + std::to_string(prims.size()) + " primitives";
         if (wide.triangle_count != 0) return "empty tree of triangle_count " + std::to_string(wide.triangle_count);
         return {};
@@ -77,7 +77,15 @@ std::string validate(const WideBvhOf<N>& wide, std::span<const Triangle> tris,
     }
     std::vector<std::uint8_t> seen_prim(tris.size(), 0);
     std::vector<std::uint8_t> seen_node(wide.nodes.size(), 0);
-    std::vector<std::uint8_t> seen_block(wide.blocks.size(), 0);
+    if (wide.compact ? !wide.blocks.empty() : !wide.prim_blocks.empty()) {
+        return "blocks of the other kind than the tree's leaves";
+    }
+    if (wide.compact && wide.source.size() != tris.size()) {
+        return "compact leaves over " + std::to_string(wide.source.size()) + " triangles, " +
+               std::to_string(tris.size()) + " given";
+    }
+    const std::size_t block_count = wide.block_count();
+    std::vector<std::uint8_t> seen_block(block_count, 0);
     std::size_t prims_found = 0;
 
     struct Entry {
@@ -115,17 +123,16 @@ std::string validate(const WideBvhOf<N>& wide, std::span<const Triangle> tris,
                 continue;
             }
             const std::size_t first = node.child[i];
-            if (first > wide.blocks.size() || node.blocks[i] > wide.blocks.size() - first) {
+            if (first > block_count || node.blocks[i] > block_count - first) {
                 return slot + " has blocks outside the block array";
             }
             for (std::size_t b = first; b < first + node.blocks[i]; ++b) {
                 const std::string block_name = "block " + std::to_string(b);
                 if (seen_block[b]) return block_name + " is in two leaves";
                 seen_block[b] = 1;
-                const TriangleBlock& block = wide.blocks[b];
                 int lanes = 0;
                 for (int lane = 0; lane < kBlockLanes; ++lane) {
-                    const std::uint32_t prim = block.prim[lane];
+                    const std::uint32_t prim = wide.prim(b, lane);
                     if (prim == kInvalidId) continue;
                     ++lanes;
                     const std::string lane_name = block_name + " lane " + std::to_string(lane);
@@ -134,9 +141,10 @@ std::string validate(const WideBvhOf<N>& wide, std::span<const Triangle> tris,
                     if (seen_prim[prim]) return "primitive " + std::to_string(prim) + " is in two lanes";
                     seen_prim[prim] = 1;
                     ++prims_found;
-                    const Triangle t = block.triangle(lane);
+                    // A compact lane reads its corners from the source: checked the same way.
+                    const Triangle t = wide.triangle(b, lane);
                     if (std::memcmp(&t, &tris[prim], sizeof(Triangle)) != 0) {
-                        return lane_name + " is not a copy of triangle " + std::to_string(prim);
+                        return lane_name + " is not triangle " + std::to_string(prim);
                     }
                     if (!box.contains(t.bounds())) return lane_name + "'s triangle is outside its leaf box";
                 }
@@ -148,7 +156,7 @@ std::string validate(const WideBvhOf<N>& wide, std::span<const Triangle> tris,
     for (std::size_t i = 0; i < wide.nodes.size(); ++i) {
         if (!seen_node[i]) return "node " + std::to_string(i) + " is not reached from the root";
     }
-    for (std::size_t b = 0; b < wide.blocks.size(); ++b) {
+    for (std::size_t b = 0; b < block_count; ++b) {
         if (!seen_block[b]) return "block " + std::to_string(b) + " is in no leaf";
     }
     std::size_t expected_count = 0;
@@ -168,7 +176,7 @@ template <int N>
 WideStats compute_stats(const WideBvhOf<N>& wide) {
     WideStats s;
     s.nodes = wide.nodes.size();
-    s.blocks = wide.blocks.size();
+    s.blocks = wide.block_count();
     s.bytes = wide.bytes();
     std::size_t slots = 0;
     for (const WideNode<N>& node : wide.nodes) {
@@ -179,8 +187,8 @@ WideStats compute_stats(const WideBvhOf<N>& wide) {
         }
     }
     std::size_t lanes = 0;
-    for (const TriangleBlock& block : wide.blocks) {
-        for (int lane = 0; lane < kBlockLanes; ++lane) lanes += block.prim[lane] != kInvalidId ? 1 : 0;
+    for (std::size_t b = 0; b < s.blocks; ++b) {
+        for (int lane = 0; lane < kBlockLanes; ++lane) lanes += wide.prim(b, lane) != kInvalidId ? 1 : 0;
     }
     s.block_fill = s.blocks ? static_cast<double>(lanes) / static_cast<double>(s.blocks * kBlockLanes) : 0.0;
     s.children_mean = s.nodes ? static_cast<double>(slots) / static_cast<double>(s.nodes) : 0.0;

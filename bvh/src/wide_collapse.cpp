@@ -74,6 +74,7 @@ public:
         WideBvhOf<N> wide = std::move(recycled);
         wide.nodes.clear();
         wide.blocks.clear();
+        wide.prim_blocks.clear();
         wide.root_box = Aabb{};
         wide.triangle_count = 0;
         if (bvh_.nodes.empty()) return wide;
@@ -91,8 +92,7 @@ public:
         if (defer_blocks_) {
             leaf_ranges_ = std::make_unique_for_overwrite<LeafRange[]>(size.blocks);
         } else {
-            detail::resize_with_huge_pages(wide.blocks, size.blocks);
-            blocks_ = wide.blocks.data();
+            blocks_ = detail::allocate_blocks(wide, size.blocks);
         }
         if (root_leaf) {
             nodes_[0] = WideNode<N>::empty();
@@ -107,8 +107,7 @@ public:
             choice_.reset();
             size_as_node_.reset();
             std::vector<BvhNode>().swap(consumed_->nodes);
-            detail::resize_with_huge_pages(wide.blocks, size.blocks);
-            blocks_ = wide.blocks.data();
+            blocks_ = detail::allocate_blocks(wide, size.blocks);
             fill_deferred_leaves(wide.nodes.size());
             leaf_ranges_.reset();
         }
@@ -295,7 +294,7 @@ private:
 
     /// Copies the triangles of the binary subtree at `index` into consecutive blocks; returns
     /// how many it filled.
-    std::uint32_t fill_leaf(TriangleBlock* blocks, std::uint32_t index) const {
+    std::uint32_t fill_leaf(detail::BlockTarget blocks, std::uint32_t index) const {
         return write_leaf(blocks, [&](auto&& visit) { visit_leaves(index, visit); });
     }
 
@@ -336,8 +335,12 @@ private:
     /// Writes the triangles at the leaf positions `for_each_position` visits into consecutive
     /// blocks; returns how many it filled.
     template <class ForEachPosition>
-    std::uint32_t write_leaf(TriangleBlock* blocks, ForEachPosition&& for_each_position) const {
+    std::uint32_t write_leaf(detail::BlockTarget blocks, ForEachPosition&& for_each_position) const {
         detail::BlockWriter writer(blocks);
+        if (!blocks.wants_triangles()) {
+            for_each_position([&](std::uint32_t k) { writer.add_prim(bvh_.prim_ids[k]); });
+            return writer.finish();
+        }
         const auto at = [&](std::uint32_t k) { return by_id_ ? bvh_.prim_ids[k] : k; };
         if (tris_.indexed()) {
             // The leaf's triangles lie anywhere in the caller's order, and an indexed mesh's
@@ -371,7 +374,7 @@ private:
     /// Per binary inner node, the wide subtree it gives as a wide node.
     std::unique_ptr<WideSize[]> size_as_node_;
     WideNode<N>* nodes_ = nullptr;
-    TriangleBlock* blocks_ = nullptr;
+    detail::BlockTarget blocks_;
     /// Whether every binary subtree's leaves are one run of leaf positions (the builders'
     /// trees are: they partition their ranges in place), found by the program.
     std::atomic<bool> contiguous_{true};

@@ -75,7 +75,6 @@ public:
     WideBvh run(WideBvh&& recycled) {
         WideBvh wide = std::move(recycled);
         wide.nodes.clear();
-        wide.blocks.clear();
         // The codes on their own, half the bytes for the splits' searches to read.
         tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, count_, kMortonBlock),
                           [&](const tbb::blocked_range<std::uint32_t>& r) {
@@ -89,9 +88,8 @@ public:
         const std::unique_ptr<Planned> root = root_leaf ? nullptr : plan(all, 1);
         const Size total = root_leaf ? Size{1, blocks_of(all)} : size_of(*root);
         resize_with_huge_pages(wide.nodes, total.nodes);
-        resize_with_huge_pages(wide.blocks, total.blocks);
         nodes_ = wide.nodes.data();
-        blocks_ = wide.blocks.data();
+        blocks_ = allocate_blocks(wide, total.blocks);
         if (root_leaf) {
             Children one;
             one.range[0] = all;
@@ -276,7 +274,7 @@ private:
     std::uint32_t count_;
     std::uint32_t leaf_prims_;
     Node* nodes_ = nullptr;
-    TriangleBlock* blocks_ = nullptr;
+    BlockTarget blocks_;
 };
 
 }  // namespace

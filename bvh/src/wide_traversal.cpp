@@ -61,15 +61,18 @@ __attribute__((always_inline)) inline std::uint32_t hit_children(
 constexpr int kStackSize = 8 * static_cast<int>(kMaxDepth);
 
 /// Starts fetching what a visit of `ref` reads first: an inner node's four cache lines, or a
-/// leaf's first block (two and a half lines). Issued for every child of a node that the ray
-/// hits when there are several, so that their misses overlap each other and the visit of the
-/// nearest one (Embree's traverser does the same); on a million incoherent rays half of the
-/// time was the first read of a node or block.
+/// leaf's first block (two and a half lines; a compact block's indices, one line). Issued for
+/// every child of a node that the ray hits when there are several, so that their misses
+/// overlap each other and the visit of the nearest one (Embree's traverser does the same); on
+/// a million incoherent rays half of the time was the first read of a node or block.
 template <int N>
-__attribute__((always_inline)) inline void prefetch_child(const WideNode<N>* nodes,
-                                                          const TriangleBlock* blocks, ChildRef ref) {
-    const char* p = ref.blocks == 0 ? reinterpret_cast<const char*>(nodes + ref.child)
-                                    : reinterpret_cast<const char*>(blocks + ref.child);
+__attribute__((always_inline)) inline void prefetch_child(const WideBvhOf<N>& wide, ChildRef ref) {
+    if (ref.blocks != 0 && wide.compact) {
+        prefetch_line(wide.prim_blocks.data() + ref.child);
+        return;
+    }
+    const char* p = ref.blocks == 0 ? reinterpret_cast<const char*>(wide.nodes.data() + ref.child)
+                                    : reinterpret_cast<const char*>(wide.blocks.data() + ref.child);
     constexpr int kLines = int(sizeof(WideNode<N>) / 64);
     static_assert(sizeof(TriangleBlock) <= 3 * 64);
     for (int k = 0; k < (ref.blocks == 0 ? kLines : 3); ++k) prefetch_line(p + 64 * k);
@@ -83,7 +86,6 @@ bool traverse(const WideBvhOf<N>& wide, ChildRef current, bool from_root, const 
               Hit& hit, WideTraversalStats* stats) {
     using F = typename detail::WideLanes<N>::F;
     const WideNode<N>* nodes = wide.nodes.data();
-    const TriangleBlock* blocks = wide.blocks.data();
     const detail::BoxRay box_ray(ray);
     const BoxRayN<N> wide_ray(box_ray);
     const detail::BlockRay tri_ray{WatertightRay(ray)};
@@ -121,10 +123,10 @@ bool traverse(const WideBvhOf<N>& wide, ChildRef current, bool from_root, const 
                     current = ChildRef{node.child[first], node.blocks[first]};
                     continue;
                 }
-                prefetch_child(nodes, blocks, ChildRef{node.child[first], node.blocks[first]});
+                prefetch_child(wide, ChildRef{node.child[first], node.blocks[first]});
                 for (std::uint32_t m = mask; m != 0; m &= m - 1) {
                     const int i = __builtin_ctz(m);
-                    prefetch_child(nodes, blocks, ChildRef{node.child[i], node.blocks[i]});
+                    prefetch_child(wide, ChildRef{node.child[i], node.blocks[i]});
                 }
                 if constexpr (kAnyHit) {
                     // Any order finds an occluder; push the others as they come.
@@ -161,9 +163,11 @@ bool traverse(const WideBvhOf<N>& wide, ChildRef current, bool from_root, const 
             }
         } else {
             if constexpr (kCount) ++stats->leaves_visited;
-            const TriangleBlock* block = blocks + current.child;
-            const TriangleBlock* end = block + current.blocks;
-            for (; block != end; ++block) {
+            // A compact leaf's blocks are gathered here, one at a time, as they are tested.
+            wide.prefetch_leaf(current.child, current.blocks);
+            TriangleBlock gathered;
+            for (std::uint32_t b = current.child; b != current.child + current.blocks; ++b) {
+                const TriangleBlock* block = &wide.block(b, gathered);
                 if constexpr (kCount) {
                     for (int lane = 0; lane < kBlockLanes; ++lane) {
                         stats->triangles_tested += block->prim[lane] != kInvalidId ? 1 : 0;

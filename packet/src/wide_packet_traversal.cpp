@@ -120,13 +120,15 @@ public:
             const NodePlanes np(box, beam);
             const int n = this->template select_leaf_lanes<BM>(box, np, first, last);
             if (n == 0) continue;
-            const bvh::TriangleBlock* blocks = wide_.blocks.data() + below.child;
+            wide_.prefetch_leaf(below.child, below.blocks);
             this->template intersect_leaf<TM>(
                 n, below.blocks * bvh::kBlockLanes, [&](std::uint32_t k, bvh::Triangle& tri) {
-                    const bvh::TriangleBlock& block = blocks[k / bvh::kBlockLanes];
+                    const std::uint32_t b = below.child + k / bvh::kBlockLanes;
                     const int lane = int(k % bvh::kBlockLanes);
-                    tri = block.triangle(lane);
-                    return block.prim[lane];
+                    // A compact leaf's unused lanes are not read (their prim says so first).
+                    const std::uint32_t prim = wide_.prim(b, lane);
+                    if (prim != bvh::kInvalidId) tri = wide_.triangle(b, lane);
+                    return prim;
                 });
             if constexpr (kAnyHit) {
                 if (w_.active_lanes == 0) return;  // every ray is occluded
@@ -260,7 +262,11 @@ private:
     void prefetch_child(const Node& node, int i) const {
         const char* p;
         int lines;
-        if (node.is_leaf(i)) {
+        if (node.is_leaf(i) && wide_.compact) {
+            // A compact leaf's indices (its corners are read as they are tested).
+            p = reinterpret_cast<const char*>(wide_.prim_blocks.data() + node.child[i]);
+            lines = int(node.blocks[i] * sizeof(bvh::PrimBlock) + 63) / 64;
+        } else if (node.is_leaf(i)) {
             p = reinterpret_cast<const char*>(wide_.blocks.data() + node.child[i]);
             lines = int(node.blocks[i] * sizeof(bvh::TriangleBlock) + 63) / 64;
             lines = lines < 10 ? lines : 10;

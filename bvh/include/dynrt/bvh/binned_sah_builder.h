@@ -27,6 +27,12 @@ struct BuildConfig {
     /// Hard upper bound on primitives per leaf; a node above it is always split, by the best
     /// binned split or, when no bin separates the primitives, by the median. Must be >= 1.
     std::uint32_t leaf_size_max = 8;
+    /// Binned SAH only: a node of at most this many primitives (and at most leaf_size_max) is
+    /// a leaf, no split tried. The default 1 leaves it to the SAH; 4 makes about half the
+    /// nodes (32 bytes each, held at the build's peak) for a coarser binary tree, which the
+    /// wide collapse regroups into its blocks of four anyway (the engine's compact static
+    /// group, UpdatePolicy::compact_static_group). Must be >= 1.
+    std::uint32_t leaf_size_min = 1;
     /// Number of bins per axis for large nodes. Must be >= 2; values above 64 act as 64. A node
     /// of n primitives uses min(bin_count, 4 + n/20) bins (Embree's rule: fewer bins where
     /// clearing and sweeping them would cost more than binning), and nodes of at most four
@@ -40,6 +46,11 @@ struct BuildConfig {
     /// build_triangle_bvh only: the builder. BuildMethod::morton ignores cost_ratio and
     /// bin_count (its leaves hold at most min(8, leaf_size_max) primitives).
     BuildMethod method = BuildMethod::binned_sah;
+    /// build_triangle_bvh with the wide tree only: compact leaves (WideBvhOf::compact), which
+    /// hold the triangles' indices and read their corners from the build's TriangleSource at
+    /// the trace. That source, and what it views, must then outlive the tree unchanged. About
+    /// 40 bytes a triangle fewer; the same hits bit for bit. Such a tree cannot be refitted.
+    bool compact_leaves = false;
 
     SahCosts sah_costs() const { return SahCosts{1.0f, cost_ratio}; }
 };

@@ -15,7 +15,8 @@
 // t, then smallest primitive index).
 //
 // Memory: one node is 128 bytes (N = 4) or 256 bytes (N = 8), one block 160 bytes for up to
-// four triangles (vertices and the caller's index). bytes() reports both.
+// four triangles (vertices and the caller's index), or 16 with compact leaves (the index only,
+// PrimBlock). bytes() reports them.
 
 #include "dynrt/bvh/aabb.h"
 #include "dynrt/bvh/bvh.h"
@@ -55,6 +56,17 @@ struct alignas(16) TriangleBlock {
     }
 };
 static_assert(sizeof(TriangleBlock) == 160);
+
+/// A compact leaf block (BuildConfig::compact_leaves): only each lane's caller index
+/// (kInvalidId for an unused lane). The trace reads the corners from the triangles the tree was
+/// built from (WideBvhOf::source) as it reaches the block: 16 bytes for up to four triangles
+/// instead of 160, for two dependent reads per lane (an index triple, then its vertices).
+/// Embree's compact mode makes the same trade (RTC_SCENE_FLAG_COMPACT, triangles read through
+/// the application's index buffer).
+struct alignas(16) PrimBlock {
+    std::uint32_t prim[kBlockLanes];
+};
+static_assert(sizeof(PrimBlock) == 16);
 
 /// The largest binary leaf the wide tree can hold: a leaf slot counts its blocks in 16 bits.
 inline constexpr std::uint32_t kWideLeafSizeMax = 0xffffu * kBlockLanes;
@@ -127,7 +139,16 @@ struct UninitializedAllocator : std::allocator<T> {
 template <int N>
 struct WideBvhOf {
     std::vector<WideNode<N>, UninitializedAllocator<WideNode<N>>> nodes;
+    /// The leaves' blocks (a leaf slot's child indexes this array)...
     std::vector<TriangleBlock, UninitializedAllocator<TriangleBlock>> blocks;
+    /// ... or, with compact leaves, theirs (the same indices, one PrimBlock per block).
+    std::vector<PrimBlock, UninitializedAllocator<PrimBlock>> prim_blocks;
+    /// Whether the leaves are compact (prim_blocks and source) rather than full blocks.
+    bool compact = false;
+    /// With compact leaves, the triangles the tree was built from, viewed: whoever holds the
+    /// tree keeps them alive and unchanged while it is traced (a tree over moving triangles
+    /// is not compact: refit_wide refuses one).
+    TriangleSource source;
     /// The root's box (the union of its children's), for callers that cull whole trees.
     Aabb root_box;
     /// Triangles in the tree (the used lanes of the blocks).
@@ -135,7 +156,59 @@ struct WideBvhOf {
 
     bool empty() const { return nodes.empty(); }
     std::size_t bytes() const {
-        return nodes.size() * sizeof(WideNode<N>) + blocks.size() * sizeof(TriangleBlock);
+        return nodes.size() * sizeof(WideNode<N>) + blocks.size() * sizeof(TriangleBlock) +
+               prim_blocks.size() * sizeof(PrimBlock) + source.bytes();
+    }
+    /// The number of leaf blocks, full or compact.
+    std::size_t block_count() const { return compact ? prim_blocks.size() : blocks.size(); }
+    /// The caller index of block `b`'s lane (kInvalidId for an unused lane).
+    std::uint32_t prim(std::size_t b, int lane) const {
+        return compact ? prim_blocks[b].prim[lane] : blocks[b].prim[lane];
+    }
+    /// Block `b` as the triangle test reads it: the stored block, or with compact leaves its
+    /// corners gathered into `scratch` (the same floats, so the same hits bit for bit).
+    const TriangleBlock& block(std::size_t b, TriangleBlock& scratch) const {
+        if (!compact) return blocks[b];
+        gather_block(prim_blocks[b], scratch);
+        return scratch;
+    }
+    /// With compact leaves, asks the cache for the corners of the leaf of blocks [first,
+    /// first + count) before they are gathered: every lane's index triple first, then every
+    /// lane's vertices, so that the leaf's misses overlap instead of following one another
+    /// (soup:4000000 at 512x512, whose triangles lie in random order: primary rays 77 -> 66 ms;
+    /// no change measured on scenes that fit the caches).
+    void prefetch_leaf(std::uint32_t first, std::uint32_t count) const {
+        if (!compact) return;
+        const PrimBlock* leaf = prim_blocks.data() + first;
+        for (std::uint32_t b = 0; b < count; ++b) {
+            for (const std::uint32_t prim : leaf[b].prim) {
+                if (prim != kInvalidId) source.prefetch(prim);
+            }
+        }
+        for (std::uint32_t b = 0; b < count; ++b) {
+            for (const std::uint32_t prim : leaf[b].prim) {
+                if (prim != kInvalidId) source.prefetch_corners(prim);
+            }
+        }
+    }
+    /// Lane `lane`'s triangle of block `b` (a used lane).
+    Triangle triangle(std::size_t b, int lane) const {
+        return compact ? source[prim_blocks[b].prim[lane]] : blocks[b].triangle(lane);
+    }
+
+private:
+    void gather_block(const PrimBlock& p, TriangleBlock& out) const {
+        for (int lane = 0; lane < kBlockLanes; ++lane) {
+            const std::uint32_t prim = p.prim[lane];
+            out.prim[lane] = prim;
+            // An unused lane repeats lane 0, as a full block's does (the test masks it out).
+            const Triangle t = source[prim != kInvalidId ? prim : p.prim[0]];
+            for (int axis = 0; axis < 3; ++axis) {
+                out.v0[axis][lane] = t.v0[axis];
+                out.v1[axis][lane] = t.v1[axis];
+                out.v2[axis][lane] = t.v2[axis];
+            }
+        }
     }
 };
 

@@ -1,0 +1,195 @@
+// Compact leaves (BuildConfig::compact_leaves, bvh/include/dynrt/bvh/wide_bvh.h): a wide tree
+// whose leaves keep only their triangles' indices and read the corners from the build's
+// source as the trace reaches them. Against the same build with full blocks: the very same
+// nodes byte for byte, the same indices in the same lanes, and the same hits bit for bit
+// (t, u, v and primitive) for closest and any hit, from both builders, over indexed meshes
+// (shared vertices, a soup, an empty mesh, a degenerate triangle) and plain triangles. The
+// packets' agreement is in packet_traversal_test.cpp.
+
+#include "dynrt/bvh/refit.h"
+#include "dynrt/bvh/triangle_bvh.h"
+#include "dynrt/bvh/triangle_source.h"
+#include "dynrt/bvh/wide_bvh.h"
+
+#include "bvh_test_geometry.h"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace dynrt::bvh {
+namespace {
+
+using testing::make_ray;
+using testing::random_direction;
+using testing::random_point;
+
+/// A bumpy grid of shared vertices, an empty mesh and a soup with one zero-area triangle.
+struct Meshes {
+    std::vector<std::vector<glm::vec3>> positions;
+    std::vector<std::vector<glm::uvec3>> triangles;
+    std::vector<TriangleSource::IndexedMesh> views;
+    std::vector<Triangle> gathered;
+};
+
+Meshes make_meshes() {
+    Meshes m;
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> bump(-0.3f, 0.3f);
+    {
+        const int n = 40;
+        std::vector<glm::vec3>& p = m.positions.emplace_back();
+        std::vector<glm::uvec3>& t = m.triangles.emplace_back();
+        for (int y = 0; y <= n; ++y) {
+            for (int x = 0; x <= n; ++x) p.push_back(glm::vec3(float(x) * 0.5f, bump(rng), float(y) * 0.5f));
+        }
+        for (int y = 0; y < n; ++y) {
+            for (int x = 0; x < n; ++x) {
+                const unsigned v = unsigned(y * (n + 1) + x), w = unsigned(n + 1);
+                t.emplace_back(v, v + 1, v + w);
+                t.emplace_back(v + 1, v + w + 1, v + w);
+            }
+        }
+    }
+    m.positions.emplace_back();
+    m.triangles.emplace_back();
+    {
+        const std::vector<Triangle> soup = testing::random_soup(9, 1500, 20.0f, 0.8f, glm::vec3(0.0f, -4.0f, 0.0f));
+        std::vector<glm::vec3>& p = m.positions.emplace_back();
+        std::vector<glm::uvec3>& t = m.triangles.emplace_back();
+        for (const Triangle& s : soup) {
+            const unsigned v = unsigned(p.size());
+            p.insert(p.end(), {s.v0, s.v1, s.v2});
+            t.emplace_back(v, v + 1, v + 2);
+        }
+        t[31] = glm::uvec3(t[31].x, t[31].x, t[31].z);  // zero area: left out of the tree
+    }
+    for (std::size_t k = 0; k < m.positions.size(); ++k) {
+        m.views.push_back(TriangleSource::IndexedMesh{m.positions[k], m.triangles[k]});
+        for (const glm::uvec3& t : m.triangles[k]) {
+            m.gathered.push_back(Triangle{m.positions[k][t.x], m.positions[k][t.y], m.positions[k][t.z]});
+        }
+    }
+    return m;
+}
+
+bool same_hit(const Hit& a, const Hit& b) {
+    return a.prim == b.prim && std::memcmp(&a.t, &b.t, sizeof a.t) == 0 &&
+           std::memcmp(&a.u, &b.u, sizeof a.u) == 0 && std::memcmp(&a.v, &b.v, sizeof a.v) == 0;
+}
+
+/// Random rays from inside and outside the triangles' box, some with a short segment; counts
+/// the ones that hit, so the comparison is known to compare hits.
+struct Rays {
+    std::vector<Ray> rays;
+};
+
+Rays random_rays(const Aabb& box, int count) {
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    const glm::vec3 pad = 0.5f * box.extent();
+    Rays r;
+    for (int i = 0; i < count; ++i) {
+        const glm::vec3 org = random_point(rng, box.lo - pad, box.hi + pad);
+        // Half aimed at a point of the box (they mostly hit), half anywhere.
+        const glm::vec3 dir = i % 2 == 0 ? glm::normalize(random_point(rng, box.lo, box.hi) - org) : random_direction(rng);
+        const float tmax = i % 5 == 0 ? 3.0f * unit(rng) : testing::kInf;
+        r.rays.push_back(make_ray(org, dir, 0.0f, tmax));
+    }
+    return r;
+}
+
+struct Case {
+    BuildMethod method;
+    bool indexed;
+};
+
+class CompactLeaves : public ::testing::TestWithParam<Case> {};
+
+TEST_P(CompactLeaves, KeepTheFullTreesNodesAndLanesAndGiveItsHitsBitForBit) {
+    const Meshes m = make_meshes();
+    const TriangleSource source = GetParam().indexed ? TriangleSource(m.views) : TriangleSource(m.gathered);
+    BuildConfig config;
+    config.method = GetParam().method;
+    const TriangleBvh full = build_triangle_bvh(source, config);
+    config.compact_leaves = true;
+    const TriangleBvh compact = build_triangle_bvh(source, config);
+
+    ASSERT_FALSE(full.wide.compact);
+    ASSERT_TRUE(compact.wide.compact);
+    EXPECT_TRUE(compact.wide.blocks.empty());
+    EXPECT_TRUE(full.wide.prim_blocks.empty());
+    EXPECT_EQ(compact.degenerate_skipped, 1u);
+    EXPECT_EQ(validate(compact, m.gathered, config.leaf_size_max), "");
+    // The same nodes, and every block's lanes the same indices.
+    ASSERT_EQ(compact.wide.nodes.size(), full.wide.nodes.size());
+    EXPECT_EQ(std::memcmp(compact.wide.nodes.data(), full.wide.nodes.data(),
+                          full.wide.nodes.size() * sizeof(full.wide.nodes[0])),
+              0);
+    ASSERT_EQ(compact.wide.prim_blocks.size(), full.wide.blocks.size());
+    for (std::size_t b = 0; b < full.wide.blocks.size(); ++b) {
+        for (int lane = 0; lane < kBlockLanes; ++lane) {
+            ASSERT_EQ(compact.wide.prim_blocks[b].prim[lane], full.wide.blocks[b].prim[lane]) << b << " " << lane;
+        }
+    }
+    // A tenth of the blocks' bytes.
+    EXPECT_LT(compact.wide.bytes() - compact.wide.nodes.size() * sizeof(compact.wide.nodes[0]),
+              (full.wide.bytes() - full.wide.nodes.size() * sizeof(full.wide.nodes[0])) / 8);
+
+    const Rays rays = random_rays(compact.root_box(), 3000);
+    int hits = 0, occluded = 0;
+    for (std::size_t i = 0; i < rays.rays.size(); ++i) {
+        const Ray& ray = rays.rays[i];
+        WideTraversalStats full_work, compact_work;
+        const Hit expected = intersect_closest(full.wide, ray, full_work);
+        const Hit got = intersect_closest(compact.wide, ray, compact_work);
+        ASSERT_TRUE(same_hit(got, expected)) << "ray " << i << ": prim " << got.prim << " t " << got.t
+                                             << ", full blocks: prim " << expected.prim << " t " << expected.t;
+        EXPECT_EQ(compact_work.triangles_tested, full_work.triangles_tested) << "ray " << i;
+        hits += expected.is_hit() ? 1 : 0;
+        const bool any = intersect_any(full.wide, ray);
+        ASSERT_EQ(intersect_any(compact.wide, ray), any) << "ray " << i;
+        occluded += any ? 1 : 0;
+    }
+    EXPECT_GT(hits, 600);
+    EXPECT_GT(occluded, 600);
+}
+
+INSTANTIATE_TEST_SUITE_P(Builders, CompactLeaves,
+                         ::testing::Values(Case{BuildMethod::binned_sah, true}, Case{BuildMethod::binned_sah, false},
+                                           Case{BuildMethod::morton, true}, Case{BuildMethod::morton, false}),
+                         [](const ::testing::TestParamInfo<Case>& info) {
+                             return std::string(build_method_name(info.param.method)) +
+                                    (info.param.indexed ? "_indexed" : "_triangles");
+                         });
+
+TEST(CompactLeavesChecks, RefitIsRefusedAndAMovedSourceIsCaught) {
+    Meshes m = make_meshes();
+    BuildConfig config;
+    config.compact_leaves = true;
+    const TriangleSource source(m.views);
+    TriangleBvh tree = build_triangle_bvh(source, config);
+    ASSERT_EQ(validate(tree, m.gathered, config.leaf_size_max), "");
+    try {
+        refit_wide(tree.wide, m.gathered, config.sah_costs());
+        ADD_FAILURE() << "a compact tree was refitted";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("compact"), std::string::npos) << e.what();
+    }
+    // The leaves read the source as it is now: a vertex moved under the tree is what the
+    // check sees (the engine holds the static group's vertices unchanged for this reason).
+    m.positions[0][7] += glm::vec3(0.0f, 0.25f, 0.0f);
+    EXPECT_NE(validate(tree, m.gathered, config.leaf_size_max), "");
+    // Without the wide tree there is nothing compact: the binary tree keeps its copy.
+    config.wide = false;
+    const TriangleBvh binary = build_triangle_bvh(source, config);
+    EXPECT_FALSE(binary.wide.compact);
+    EXPECT_EQ(binary.tris.size(), binary.bvh.prim_ids.size());
+}
+
+}  // namespace
+}  // namespace dynrt::bvh

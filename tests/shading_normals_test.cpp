@@ -74,6 +74,16 @@ TEST(VertexNormals, SharedVerticesAreSmoothedByAreaAndUnsharedOnesKeepTheirFacet
         for (int k = 0; k < 3; ++k) EXPECT_TRUE(near(flat[3 * t + std::size_t(k)], face, 1e-6f));
     }
     EXPECT_EQ(flat.back(), glm::vec3(0.0f));
+    // A soup skips the sums (each vertex has one triangle): the very normals the sums give,
+    // which a triangle that uses a vertex of its own three times brings back.
+    std::vector<glm::vec3> summed_soup = soup;
+    std::vector<glm::uvec3> summed_tris = soup_tris;
+    const auto extra = std::uint32_t(summed_soup.size());
+    summed_soup.push_back(glm::vec3(7.0f));
+    summed_tris.push_back({extra, extra, extra});
+    const std::vector<glm::vec3> summed = area_weighted_normals(summed_soup, summed_tris);
+    ASSERT_EQ(summed.size(), flat.size() + 1);
+    EXPECT_EQ(std::memcmp(summed.data(), flat.data(), flat.size() * sizeof(glm::vec3)), 0);
 }
 
 TEST(VertexNormals, CofactorMatrixKeepsNormalsPerpendicularEvenThroughAMirror) {

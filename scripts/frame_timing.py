@@ -10,11 +10,18 @@ medians too. Scenes from ../shared/scenes are skipped when absent.
 
     /usr/bin/python3 scripts/frame_timing.py --reference OLD_DYNRT [--candidate NEW_DYNRT]
         [--rounds 3] [--only NAME]
+
+Or one binary under two sets of flags (a mode against the default, e.g. issue 43's compact
+leaves):
+
+    /usr/bin/python3 scripts/frame_timing.py --reference build/release/engine/dynrt \
+        --candidate-flags="--leaves compact" --only sphere1M-still --only metalrough --only kitchen
 """
 
 import argparse
 import json
 import os
+import shlex
 import statistics
 import subprocess
 import sys
@@ -33,6 +40,8 @@ CASES = [
     ("museum", "shared:bart/museum/museum5.aff", ["--frames", "0-7", "--reuse", "off"]),
     ("cesiumman", "shared:cesiumman/CesiumMan.glb", ["--frames", "0-15", "--reuse", "off"]),
     ("fox", "shared:fox/Fox.glb", ["--frames", "0-15", "--reuse", "off"]),
+    ("metalrough", "shared:metalroughspheresnotextures/MetalRoughSpheresNoTextures.glb",
+     ["--frames", "0-7", "--reuse", "off"]),
     ("sphere1M-still", "sphere:1000000", ["--frames", "0-7", "--reuse", "off"]),
     ("sphere1M-wave", "sphere:1000000", ["--frames", "0-7", "--anim", "wave"]),
     ("sphere1M-explode", "sphere:1000000", ["--frames", "0-7", "--anim", "explode"]),
@@ -53,26 +62,29 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--reference", required=True)
     parser.add_argument("--candidate", default=os.path.join(ROOT, "build", "release", "engine", "dynrt"))
+    parser.add_argument("--reference-flags", default="", help="flags added to the reference's renders")
+    parser.add_argument("--candidate-flags", default="", help="flags added to the candidate's renders")
     parser.add_argument("--rounds", type=int, default=3)
     parser.add_argument("--only", action="append", default=[])
     args = parser.parse_args()
     work = tempfile.mkdtemp(prefix="dynrt_frame_timing_")
+    sides = [("reference", args.reference, shlex.split(args.reference_flags)),
+             ("candidate", args.candidate, shlex.split(args.candidate_flags))]
     for name, scene, flags in selected_cases(CASES, args.only):
-        totals = {args.reference: [], args.candidate: []}
-        stages = {args.reference: [], args.candidate: []}
+        totals = {label: [] for label, _, _ in sides}
+        stages = {label: [] for label, _, _ in sides}
         for r in range(args.rounds):
-            order = (args.reference, args.candidate) if r % 2 == 0 else (args.candidate, args.reference)
-            for binary in order:
-                total, per_stage = run(binary, scene, flags, work)
-                totals[binary].append(total)
-                stages[binary].append(per_stage)
-        before, after = statistics.median(totals[args.reference]), statistics.median(totals[args.candidate])
+            for label, binary, extra in (sides if r % 2 == 0 else sides[::-1]):
+                total, per_stage = run(binary, scene, flags + extra, work)
+                totals[label].append(total)
+                stages[label].append(per_stage)
+        before, after = statistics.median(totals["reference"]), statistics.median(totals["candidate"])
         spread = lambda v: f"{min(v):.1f}-{max(v):.1f}"
-        print(f"{name:18s} reference {before:8.1f} ms ({spread(totals[args.reference])})  candidate "
-              f"{after:8.1f} ms ({spread(totals[args.candidate])})  candidate/reference {after / before:.3f}")
-        for label, binary in (("reference", args.reference), ("candidate", args.candidate)):
+        print(f"{name:18s} reference {before:8.1f} ms ({spread(totals['reference'])})  candidate "
+              f"{after:8.1f} ms ({spread(totals['candidate'])})  candidate/reference {after / before:.3f}")
+        for label, _, _ in sides:
             print(f"    {label}: " + " ".join(
-                f"{k[:-3]}={statistics.median(s[k] for s in stages[binary]):.1f}" for k in STAGES))
+                f"{k[:-3]}={statistics.median(s[k] for s in stages[label]):.1f}" for k in STAGES))
         sys.stdout.flush()
     return 0
 

@@ -170,6 +170,7 @@ dynrt::RenderOptions render_options(const FrameArgs& args) {
     options.build.cost_ratio = args.cost_ratio;
     options.build.leaf_size_max = args.leaf_size;
     options.build.wide = args.bvh == "wide";
+    options.compact_static_group = args.leaves == "compact";
     options.build.method =
         args.builder == "morton" ? dynrt::bvh::BuildMethod::morton : dynrt::bvh::BuildMethod::binned_sah;
     for (const std::string& light : args.lights) options.lights.push_back(parse_light(light));

@@ -30,6 +30,8 @@ struct FrameArgs {
     /// The tracer behind the trace seam: dynrt, or embree[-QUALITY] (RenderOptions::backend).
     std::string backend = "dynrt";
     std::string bvh = "wide";
+    /// The static group's leaves: full (triangles copied into SIMD blocks) or compact.
+    std::string leaves = "full";
     std::string packet_culling = "all";
     float adaptive = 0.0f;
     /// Shading normals (TraceSettings::smooth_normals): smooth (the vertex normals) or flat.

@@ -139,6 +139,12 @@ int main(int argc, char** argv) {
                         "Tree packets and single rays trace: wide (8 children per node, "
                         "triangles in SIMD blocks of 4) or binary; the same hits either way")
             ->check(CLI::IsMember({"wide", "binary"}))->capture_default_str();
+        cmd->add_option("--leaves", args.leaves,
+                        "Leaves of the static objects' tree: full (each triangle's corners copied "
+                        "into the tree's SIMD blocks) or compact (its index only, the corners read "
+                        "from the scene's vertices: about 40 bytes a triangle fewer); the same "
+                        "hits either way")
+            ->check(CLI::IsMember({"full", "compact"}))->capture_default_str();
         cmd->add_option("--packet-culling", args.packet_culling,
                         "Packet culling stages: ab,bp,edge,nf (any subset), all or none")
             ->capture_default_str();

@@ -3,6 +3,7 @@
 #include "dynrt/bvh/prefetch.h"
 #include "dynrt/bvh/refit.h"
 #include "dynrt/engine/stopwatch.h"
+#include "update/held_bytes.h"
 
 #include <tbb/parallel_for.h>
 
@@ -170,8 +171,30 @@ void build_tree(ObjectTree& object, const bvh::TriangleSource& source, const bvh
     memory.note_build(config.method, source.size(), ms, object.costs);
 }
 
+std::span<const glm::vec3> LeafGeometry::hold(const Mesh& mesh, std::span<const glm::vec3> world,
+                                               std::vector<glm::vec3>& made_here) {
+    scene_corners.push_back(mesh.triangles);
+    if (world.data() == mesh.positions.data() && world.size() == mesh.positions.size()) {
+        scene_positions.push_back(mesh.positions);
+        return world;
+    }
+    if (world.data() != made_here.data()) made_here.assign(world.begin(), world.end());
+    return made.emplace_back(std::move(made_here));
+}
+
+std::size_t LeafGeometry::bytes() const {
+    std::size_t total = held_bytes(meshes) + held_bytes(scene_positions) + held_bytes(scene_corners) +
+                        held_bytes(made);
+    for (const std::vector<glm::vec3>& m : made) total += held_bytes(m);
+    return total;
+}
+
 void ObjectTree::read_triangles_from_blocks(const bvh::TriangleSource& source) {
     std::vector<bvh::Triangle>().swap(triangles);
+    in_blocks = {};
+    if (tree.wide.compact) return;
+    // Full blocks (or none): the compact leaves' geometry is not read.
+    leaf_geometry = {};
     in_blocks = bvh::BlockTriangles::index(tree, source);
     if (in_blocks.indexed()) return;
     triangles.resize(source.size());
@@ -182,6 +205,10 @@ void ObjectTree::read_triangles_from_blocks(const bvh::TriangleSource& source) {
 }
 
 void ObjectTree::prefetch_triangle(std::uint32_t prim) const {
+    if (tree.wide.compact) {
+        tree.wide.source.prefetch(prim);
+        return;
+    }
     if (in_blocks.indexed()) {
         in_blocks.prefetch(tree, prim);
         return;
@@ -192,7 +219,7 @@ void ObjectTree::prefetch_triangle(std::uint32_t prim) const {
 }
 
 std::size_t ObjectTree::triangle_bytes() const {
-    return triangles.capacity() * sizeof(bvh::Triangle) + in_blocks.bytes();
+    return triangles.capacity() * sizeof(bvh::Triangle) + in_blocks.bytes() + leaf_geometry.bytes();
 }
 
 void measure_tree(ObjectTree& object, const bvh::SahCosts& costs) {

@@ -24,6 +24,33 @@
 
 namespace dynrt {
 
+/// What a tree with compact leaves reads its corners from (the static group under
+/// UpdatePolicy::compact_static_group), held as long as the tree: the meshes' views, the
+/// scene's arrays they view (held, so that a later edit of the scene copies them instead of
+/// changing them under the tree) and vertices made under a transform.
+struct LeafGeometry {
+    LeafGeometry() = default;
+    // Moved with its tree (the views' storage moves along); a copy's tree would still view
+    // the original's meshes.
+    LeafGeometry(LeafGeometry&&) = default;
+    LeafGeometry& operator=(LeafGeometry&&) = default;
+    LeafGeometry(const LeafGeometry&) = delete;
+    LeafGeometry& operator=(const LeafGeometry&) = delete;
+
+    std::vector<bvh::TriangleSource::IndexedMesh> meshes;
+    std::vector<SharedArray<glm::vec3>> scene_positions;
+    std::vector<SharedArray<glm::uvec3>> scene_corners;
+    std::vector<std::vector<glm::vec3>> made;
+
+    /// Holds `mesh`'s corners and `world`, its world-space vertices: the mesh's own array, or
+    /// `made` (taken), or storage the caller keeps only until the next update (copied).
+    /// Returns the vertices held.
+    std::span<const glm::vec3> hold(const Mesh& mesh, std::span<const glm::vec3> world,
+                                    std::vector<glm::vec3>& made);
+    /// Heap bytes held of its own (the scene's arrays not counted).
+    std::size_t bytes() const;
+};
+
 struct ObjectTree {
     /// The triangles the tree was built or refitted from, in the mesh's order: world space
     /// for static, deformable and exploding objects, object space for rigid ones. The static
@@ -32,6 +59,8 @@ struct ObjectTree {
     bvh::TriangleBvh tree;
     /// After read_triangles_from_blocks(): where the tree's blocks hold its triangles.
     bvh::BlockTriangles in_blocks;
+    /// With compact leaves (tree.wide.compact): what they read.
+    LeafGeometry leaf_geometry;
     anim::MotionClass motion_class = anim::MotionClass::static_;
     /// Rigid objects: object to world this frame, and its inverse (the identity otherwise).
     glm::mat4 object_to_world{1.0f};
@@ -63,18 +92,23 @@ struct ObjectTree {
 
     /// For a tree never refitted (the static group), just built from `source`: triangle()
     /// reads its blocks through an index (4 bytes a triangle) instead of a copy of the
-    /// triangles (36 bytes). Where the tree has no blocks to read (a binary-only build) the
+    /// triangles (36 bytes), or with compact leaves reads what they read (leaf_geometry,
+    /// nothing more held). Where the tree has no blocks to read (a binary-only build) the
     /// copy is gathered from `source` into `triangles` after all.
     void read_triangles_from_blocks(const bvh::TriangleSource& source);
     /// Triangles the tree was built from.
-    std::size_t triangle_count() const { return in_blocks.indexed() ? in_blocks.size() : triangles.size(); }
+    std::size_t triangle_count() const {
+        if (tree.wide.compact) return tree.wide.source.size();
+        return in_blocks.indexed() ? in_blocks.size() : triangles.size();
+    }
     /// Triangle `prim` (< triangle_count()) as the tree was built from it, bit for bit.
     bvh::Triangle triangle(std::uint32_t prim) const {
+        if (tree.wide.compact) return tree.wide.source[prim];
         return in_blocks.indexed() ? in_blocks.at(tree, prim) : triangles[prim];
     }
     /// Asks the cache for triangle `prim`'s lines, before triangle() reads it.
     void prefetch_triangle(std::uint32_t prim) const;
-    /// Heap bytes of `triangles` or of the index that replaced them.
+    /// Heap bytes of `triangles` or of the index that replaced them (or of leaf_geometry).
     std::size_t triangle_bytes() const;
 };
 

@@ -121,11 +121,16 @@ void SceneAccel::renew(std::size_t object) {
 
 namespace {
 
+/// Static groups of at least this many triangles are built with leaf_size_min 4 when their
+/// leaves are compact (build_static_group).
+constexpr std::size_t kLeanBuildTriangles = std::size_t(1) << 20;
+
 std::size_t tree_bytes(const bvh::TriangleBvh& tree) {
     // The Morton builder's scratch (TriangleBvh::morton_scratch) is private to bvh/ and left
     // out: the library API's updates build with binned SAH only.
     return held_bytes(tree.bvh.nodes) + held_bytes(tree.bvh.prim_ids) + held_bytes(tree.wide.nodes) +
-           held_bytes(tree.wide.blocks) + held_bytes(tree.tris) + held_bytes(tree.skipped_ids);
+           held_bytes(tree.wide.blocks) + held_bytes(tree.wide.prim_blocks) + tree.wide.source.bytes() +
+           held_bytes(tree.tris) + held_bytes(tree.skipped_ids);
 }
 
 }  // namespace
@@ -224,7 +229,9 @@ void SceneAccel::update(const Scene& scene, std::span<const ObjectState> states,
     Update run{scene, states, declared, fixed, policy, policy.build};
     run.exploding_build.cost_ratio = policy.exploding_cost_ratio;
     if (plan_.rebuild_static_group) {
-        build_static_group(scene, states, fixed, policy.build, plan_.static_group_reason, stats);
+        bvh::BuildConfig config = policy.build;
+        config.compact_leaves = policy.compact_static_group;
+        build_static_group(scene, states, fixed, config, plan_.static_group_reason, stats);
     }
     for (std::size_t i = 0; i < count; ++i) update_object(i, run, stats);
     shading_.refresh(scene, states, fixed);
@@ -258,6 +265,8 @@ void SceneAccel::update_object(std::size_t i, const Update& run, UpdateStats& st
     // Builds are binned SAH unless the method says otherwise: the fast method always uses the
     // Morton builder, the automatic one where it predicts a lower cost (object_tree.cpp).
     if (run.policy.method == UpdateMethod::fast) update.config.method = bvh::BuildMethod::morton;
+    // An object's tree may be refitted, which compact leaves cannot be.
+    update.config.compact_leaves = false;
     if (planned.action == TreeAction::rebuild || planned.action == TreeAction::refit) {
         // Read only when the triangles are (the library API checks a borrowed buffer as it
         // reads it). A rigid object's are in object space; the planner never refits one.
@@ -442,7 +451,11 @@ void SceneAccel::build_static_group(const Scene& scene, std::span<const ObjectSt
     // gathered copy of the triangles (36 bytes each at the build's peak). Vertices at the
     // identity are the scene's own; those under a transform are made here and held until the
     // build is done (12 bytes a vertex).
-    std::vector<bvh::TriangleSource::IndexedMesh> meshes;
+    // With compact leaves the group keeps the views, and what they view, for the tree to read.
+    static_group_.leaf_geometry = {};
+    std::vector<bvh::TriangleSource::IndexedMesh> own_meshes;
+    std::vector<bvh::TriangleSource::IndexedMesh>& meshes =
+        config.compact_leaves ? static_group_.leaf_geometry.meshes : own_meshes;
     std::vector<std::vector<glm::vec3>> transformed;
     transformed.reserve(scene.objects.size());
     // World normals made under a transform, one object at a time (shading copies them).
@@ -457,8 +470,9 @@ void SceneAccel::build_static_group(const Scene& scene, std::span<const ObjectSt
         if (states[i].motion_class != anim::MotionClass::static_) continue;
         const Mesh& mesh = scene.objects[i].mesh;
         std::vector<glm::vec3>& made = transformed.emplace_back();
-        const std::span<const glm::vec3> world = fixed.world(i, made);
+        std::span<const glm::vec3> world = fixed.world(i, made);
         if (world.data() != made.data()) std::vector<glm::vec3>().swap(made);
+        if (config.compact_leaves) world = static_group_.leaf_geometry.hold(mesh, world, made);
         meshes.push_back(bvh::TriangleSource::IndexedMesh{world, mesh.triangles});
         object_boxes_[i] = triangles_box(mesh, world);
         // Borrowed where FixedPositions holds them; copied where it made them in the scratch.
@@ -476,9 +490,18 @@ void SceneAccel::build_static_group(const Scene& scene, std::span<const ObjectSt
     stats.update_ms += clock.lap_ms();
     static_group_.motion_class = anim::MotionClass::static_;
     const bvh::TriangleSource source(meshes);
-    build_tree(static_group_, source, config, costs_);
+    bvh::BuildConfig build = config;
+    if (build.compact_leaves && first >= kLeanBuildTriangles) {
+        // Built for memory too: binary leaves of up to four triangles, about half the build's
+        // nodes at its peak, which the collapse regroups into blocks of four anyway. Measured
+        // 5% of MetalRoughSpheres' frame, so smaller groups (whose build peaks at tens of MB)
+        // keep the finer tree.
+        build.leaf_size_min = std::max(build.leaf_size_min, 4u);
+    }
+    build_tree(static_group_, source, build, costs_);
     // The group is never refitted: shading reads a hit's corners back from the tree's own
-    // blocks (timed with the build, whose last step it is).
+    // blocks, or with compact leaves from what they read (timed with the build, whose last
+    // step it is).
     static_group_.read_triangles_from_blocks(source);
     stats.rebuild_ms += clock.lap_ms();
 }

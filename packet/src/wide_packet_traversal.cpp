@@ -120,16 +120,25 @@ public:
             const NodePlanes np(box, beam);
             const int n = this->template select_leaf_lanes<BM>(box, np, first, last);
             if (n == 0) continue;
-            wide_.prefetch_leaf(below.child, below.blocks);
-            this->template intersect_leaf<TM>(
-                n, below.blocks * bvh::kBlockLanes, [&](std::uint32_t k, bvh::Triangle& tri) {
-                    const std::uint32_t b = below.child + k / bvh::kBlockLanes;
-                    const int lane = int(k % bvh::kBlockLanes);
-                    // A compact leaf's unused lanes are not read (their prim says so first).
-                    const std::uint32_t prim = wide_.prim(b, lane);
-                    if (prim != bvh::kInvalidId) tri = wide_.triangle(b, lane);
+            const std::uint32_t slots = below.blocks * bvh::kBlockLanes;
+            if (wide_.compact) {
+                // The corners read through the source; an unused lane's are not read at all.
+                wide_.prefetch_leaf(below.child, below.blocks);
+                const bvh::PrimBlock* blocks = wide_.prim_blocks.data() + below.child;
+                this->template intersect_leaf<TM>(n, slots, [&](std::uint32_t k, bvh::Triangle& tri) {
+                    const std::uint32_t prim = blocks[k / bvh::kBlockLanes].prim[k % bvh::kBlockLanes];
+                    if (prim != bvh::kInvalidId) tri = wide_.source[prim];
                     return prim;
                 });
+            } else {
+                const bvh::TriangleBlock* blocks = wide_.blocks.data() + below.child;
+                this->template intersect_leaf<TM>(n, slots, [&](std::uint32_t k, bvh::Triangle& tri) {
+                    const bvh::TriangleBlock& block = blocks[k / bvh::kBlockLanes];
+                    const int lane = int(k % bvh::kBlockLanes);
+                    tri = block.triangle(lane);
+                    return block.prim[lane];
+                });
+            }
             if constexpr (kAnyHit) {
                 if (w_.active_lanes == 0) return;  // every ray is occluded
             }

@@ -3,7 +3,7 @@
 // source as the trace reaches them. Against the same build with full blocks: the very same
 // nodes byte for byte, the same indices in the same lanes, and the same hits bit for bit
 // (t, u, v and primitive) for closest and any hit, from both builders, over indexed meshes
-// (shared vertices, a soup, an empty mesh, a degenerate triangle) and plain triangles. The
+// (indexed_meshes.h: shared vertices, a soup, an empty mesh, a degenerate triangle) and plain triangles. The
 // packets' agreement is in packet_traversal_test.cpp.
 
 #include "dynrt/bvh/refit.h"
@@ -12,6 +12,7 @@
 #include "dynrt/bvh/wide_bvh.h"
 
 #include "bvh_test_geometry.h"
+#include "indexed_meshes.h"
 
 #include <gtest/gtest.h>
 
@@ -28,54 +29,8 @@ using testing::make_ray;
 using testing::random_direction;
 using testing::random_point;
 
-/// A bumpy grid of shared vertices, an empty mesh and a soup with one zero-area triangle.
-struct Meshes {
-    std::vector<std::vector<glm::vec3>> positions;
-    std::vector<std::vector<glm::uvec3>> triangles;
-    std::vector<TriangleSource::IndexedMesh> views;
-    std::vector<Triangle> gathered;
-};
-
-Meshes make_meshes() {
-    Meshes m;
-    std::mt19937 rng(5);
-    std::uniform_real_distribution<float> bump(-0.3f, 0.3f);
-    {
-        const int n = 40;
-        std::vector<glm::vec3>& p = m.positions.emplace_back();
-        std::vector<glm::uvec3>& t = m.triangles.emplace_back();
-        for (int y = 0; y <= n; ++y) {
-            for (int x = 0; x <= n; ++x) p.push_back(glm::vec3(float(x) * 0.5f, bump(rng), float(y) * 0.5f));
-        }
-        for (int y = 0; y < n; ++y) {
-            for (int x = 0; x < n; ++x) {
-                const unsigned v = unsigned(y * (n + 1) + x), w = unsigned(n + 1);
-                t.emplace_back(v, v + 1, v + w);
-                t.emplace_back(v + 1, v + w + 1, v + w);
-            }
-        }
-    }
-    m.positions.emplace_back();
-    m.triangles.emplace_back();
-    {
-        const std::vector<Triangle> soup = testing::random_soup(9, 1500, 20.0f, 0.8f, glm::vec3(0.0f, -4.0f, 0.0f));
-        std::vector<glm::vec3>& p = m.positions.emplace_back();
-        std::vector<glm::uvec3>& t = m.triangles.emplace_back();
-        for (const Triangle& s : soup) {
-            const unsigned v = unsigned(p.size());
-            p.insert(p.end(), {s.v0, s.v1, s.v2});
-            t.emplace_back(v, v + 1, v + 2);
-        }
-        t[31] = glm::uvec3(t[31].x, t[31].x, t[31].z);  // zero area: left out of the tree
-    }
-    for (std::size_t k = 0; k < m.positions.size(); ++k) {
-        m.views.push_back(TriangleSource::IndexedMesh{m.positions[k], m.triangles[k]});
-        for (const glm::uvec3& t : m.triangles[k]) {
-            m.gathered.push_back(Triangle{m.positions[k][t.x], m.positions[k][t.y], m.positions[k][t.z]});
-        }
-    }
-    return m;
-}
+using testing::Meshes;
+using testing::three_meshes;
 
 bool same_hit(const Hit& a, const Hit& b) {
     return a.prim == b.prim && std::memcmp(&a.t, &b.t, sizeof a.t) == 0 &&
@@ -111,7 +66,7 @@ struct Case {
 class CompactLeaves : public ::testing::TestWithParam<Case> {};
 
 TEST_P(CompactLeaves, KeepTheFullTreesNodesAndLanesAndGiveItsHitsBitForBit) {
-    const Meshes m = make_meshes();
+    const Meshes m = three_meshes();
     const TriangleSource source = GetParam().indexed ? TriangleSource(m.views) : TriangleSource(m.gathered);
     BuildConfig config;
     config.method = GetParam().method;
@@ -168,7 +123,7 @@ INSTANTIATE_TEST_SUITE_P(Builders, CompactLeaves,
                          });
 
 TEST(CompactLeavesChecks, RefitIsRefusedAndAMovedSourceIsCaught) {
-    Meshes m = make_meshes();
+    Meshes m = three_meshes();
     BuildConfig config;
     config.compact_leaves = true;
     const TriangleSource source(m.views);

@@ -193,15 +193,18 @@ void ObjectTree::read_triangles_from_blocks(const bvh::TriangleSource& source) {
     std::vector<bvh::Triangle>().swap(triangles);
     in_blocks = {};
     if (tree.wide.compact) return;
-    // Full blocks (or none): the compact leaves' geometry is not read.
-    leaf_geometry = {};
     in_blocks = bvh::BlockTriangles::index(tree, source);
-    if (in_blocks.indexed()) return;
-    triangles.resize(source.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, triangles.size(), 4096),
-                      [&](const tbb::blocked_range<std::size_t>& range) {
-                          for (std::size_t t = range.begin(); t < range.end(); ++t) triangles[t] = source[t];
-                      });
+    if (!in_blocks.indexed()) {
+        triangles.resize(source.size());
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, triangles.size(), 4096),
+                          [&](const tbb::blocked_range<std::size_t>& range) {
+                              for (std::size_t t = range.begin(); t < range.end(); ++t) triangles[t] = source[t];
+                          });
+    }
+    // Full blocks, or none (compact leaves were asked for a tree without the wide one): what
+    // compact leaves would have read is no longer needed, once `source` (which may view it)
+    // has been read.
+    leaf_geometry = {};
 }
 
 void ObjectTree::prefetch_triangle(std::uint32_t prim) const {

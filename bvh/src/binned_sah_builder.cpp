@@ -28,6 +28,7 @@
 #include <functional>
 #include <limits>
 #include <memory>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -314,8 +315,13 @@ template <class Ref>
     }
 }
 
-/// Trees whose subtrees took at least this many bytes return the freed ones to the system.
+/// Trees whose subtrees took at least this many bytes return the freed ones to the system; a
+/// build over at least this many bytes of references the caller lets go of
+/// (build_from_prim_refs' release_refs) returns them as it goes (Builder::release_below).
 constexpr std::size_t kTrimAfterBytes = std::size_t{64} << 20;
+/// The references are returned in runs of about this many bytes (a huge page; there are a few
+/// hundred runs in a 20M-triangle build, one madvise each).
+constexpr std::size_t kReleaseRunBytes = std::size_t{2} << 20;
 
 template <class Ref>
 class Builder {
@@ -332,8 +338,18 @@ public:
           bin_count_max_(std::min(config.bin_count, kMaxBins)) {}
 
     Bvh build(std::size_t count, const Aabb& root_box, const Aabb& root_center_box,
-              const std::function<void()>& alongside_output, const std::function<void()>& release_refs,
-              Bvh&& recycled) {
+              const std::function<void(std::span<const std::uint32_t>)>& alongside_output,
+              const std::function<void()>& release_refs, Bvh&& recycled) {
+        Bvh bvh = std::move(recycled);
+        bvh.nodes.clear();
+        bvh.prim_ids.clear();
+        // The primitive ids are written as the subtrees are finished, each range once its
+        // references are in their final order, so that a big build can hand the references'
+        // pages back as it goes (32 bytes a primitive off its peak, when the caller lets go of
+        // them): the references, the subtrees and the final node array are never all held.
+        resize_with_huge_pages(bvh.prim_ids, count);
+        prim_ids_ = bvh.prim_ids.data();
+        release_refs_early_ = release_refs && count * sizeof(Ref) >= kTrimAfterBytes;
         build_node(0, ChildRange{0, count, Box4::from(root_box), Box4::from(root_center_box)}, 1);
 
         // Final layout: the top nodes at their slots, then each serial subtree's nodes (all but
@@ -345,25 +361,9 @@ public:
             offset[slot] = static_cast<std::uint32_t>(total);
             if (!subtrees_[slot].empty()) total += subtrees_[slot].size() - 1;
         }
-        Bvh bvh = std::move(recycled);
-        bvh.nodes.clear();
-        bvh.prim_ids.clear();
-        // The primitive ids and the caller's own output (the triangle gather) side by side,
-        // then, the refs released, the nodes: the refs (32 bytes a triangle), the subtrees and
-        // the final node array are never all held at once.
-        tbb::parallel_invoke(
-            [&] {
-                resize_with_huge_pages(bvh.prim_ids, count);
-                tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 64 * 1024),
-                                  [&](const tbb::blocked_range<std::size_t>& r) {
-                                      for (std::size_t i = r.begin(); i < r.end(); ++i) {
-                                          bvh.prim_ids[i] = refs_[i].id;
-                                      }
-                                  });
-            },
-            [&] {
-                if (alongside_output) alongside_output();
-            });
+        // The caller's own output in leaf order (the triangle gather), then, the refs released,
+        // the nodes.
+        if (alongside_output) alongside_output(bvh.prim_ids);
         if (release_refs) release_refs();
         reserve_with_huge_pages(bvh.nodes, total);
         for (std::size_t slot = 0; slot < top_used; ++slot) {
@@ -535,6 +535,7 @@ private:
         ChildRange left, right;
         if (!split_node(range, depth, true, node, left, right)) {
             top_[slot] = node;
+            write_prim_ids(range);
             return;
         }
         const std::uint32_t child = top_used_.fetch_add(2, std::memory_order_relaxed);
@@ -542,6 +543,27 @@ private:
         top_[slot] = node;
         tbb::parallel_invoke([&] { build_node(child, left, depth + 1); },
                              [&] { build_node(child + 1, right, depth + 1); });
+        release_below(range, left, right);
+    }
+
+    /// Writes the ids of a finished subtree's range (its references in their final order).
+    void write_prim_ids(const ChildRange& range) const {
+        for (std::size_t i = range.begin; i < range.end; ++i) prim_ids_[i] = refs_[i].id;
+    }
+
+    /// After both children of `range` are built: hands back the references of each child
+    /// under kReleaseRunBytes, whose ids are written and which nothing reads again. A child
+    /// at least that big has handed back its own children's; a range under it is handed back
+    /// with the first ancestor's child that is, so every reference goes back once, in runs
+    /// of kReleaseRunBytes / 2 or more (builds under kTrimAfterBytes keep theirs, for the
+    /// caller to free).
+    void release_below(const ChildRange& range, const ChildRange& left, const ChildRange& right) const {
+        if (!release_refs_early_ || range.size() * sizeof(Ref) < kReleaseRunBytes) return;
+        for (const ChildRange* child : {&left, &right}) {
+            if (child->size() * sizeof(Ref) < kReleaseRunBytes) {
+                release_pages(refs_ + child->begin, child->size() * sizeof(Ref));
+            }
+        }
     }
 
     /// Builds a small subtree on this thread, in depth-first order with local indices (root
@@ -556,6 +578,7 @@ private:
         local.resize(1);
         build_local(0, range, depth, local);
         subtrees_[slot].assign(local.begin(), local.end());
+        write_prim_ids(range);
     }
 
     void build_local(std::uint32_t index, const ChildRange& range, std::uint32_t depth,
@@ -632,6 +655,10 @@ private:
     float cost_ratio_;
     std::uint32_t leaf_size_max_;
     std::uint32_t leaf_size_min_;
+    /// bvh.prim_ids, written range by range (write_prim_ids).
+    std::uint32_t* prim_ids_ = nullptr;
+    /// Whether finished ranges of references are handed back during the build.
+    bool release_refs_early_ = false;
     std::uint32_t bin_count_max_;
 };
 
@@ -676,20 +703,20 @@ std::size_t partition_node(BoxCenterRef* refs, std::size_t count, const BinnedSp
 template <class Ref>
 Bvh build_from_prim_refs(Ref* refs, std::size_t count, const Aabb& root_box,
                          const Aabb& root_center_box, const BuildConfig& config,
-                         const std::function<void()>& alongside_output, Bvh&& recycled,
-                         const std::function<void()>& release_refs) {
+                         const std::function<void(std::span<const std::uint32_t>)>& alongside_output,
+                         Bvh&& recycled, const std::function<void()>& release_refs) {
     Builder<Ref> builder(refs, count, config);
     return builder.build(count, root_box, root_center_box, alongside_output, release_refs, std::move(recycled));
 }
 
 template Bvh build_from_prim_refs<BoxCenterRef>(BoxCenterRef*, std::size_t, const Aabb&,
                                                 const Aabb&, const BuildConfig&,
-                                                const std::function<void()>&, Bvh&&,
-                                                const std::function<void()>&);
+                                                const std::function<void(std::span<const std::uint32_t>)>&,
+                                                Bvh&&, const std::function<void()>&);
 template Bvh build_from_prim_refs<ExplicitCenterRef>(ExplicitCenterRef*, std::size_t, const Aabb&,
                                                      const Aabb&, const BuildConfig&,
-                                                     const std::function<void()>&, Bvh&&,
-                                                     const std::function<void()>&);
+                                                     const std::function<void(std::span<const std::uint32_t>)>&,
+                                                     Bvh&&, const std::function<void()>&);
 
 }  // namespace detail
 

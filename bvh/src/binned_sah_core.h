@@ -19,17 +19,20 @@ namespace dynrt::bvh::detail {
 /// Builds the tree over `refs[0, count)`, reordering them in place (they end in leaf order).
 /// `root_box` must be the union of the refs' boxes and `root_center_box` the bounds of their
 /// centres. `count` must be >= 1 and < 2^31. `config` must already be checked. Runs on the
-/// calling thread's oneTBB arena. `alongside_output`, when set, runs once the refs are in their
-/// final order, concurrently with the filling of the result's vectors (the caller's own
-/// per-primitive output, such as triangles in leaf order, can overlap with it).
-/// The result's vectors reuse the storage of `recycled` (a tree no longer needed) where it is
-/// large enough. `release_refs`, when set, is called once the refs are read for the last time
-/// (after alongside_output), so that the caller may free them before the nodes are laid out.
+/// calling thread's oneTBB arena. `alongside_output`, when set, runs once the primitive ids are
+/// in leaf order (it gets them), before the nodes are laid out (the caller's own per-primitive
+/// output, such as triangles in leaf order). The result's vectors reuse the storage of
+/// `recycled` (a tree no longer needed) where it is large enough. `release_refs`, when set, says
+/// the caller lets go of the refs: it is called once they are read for the last time (before
+/// the nodes are laid out), so that the caller may free them, and a build over 64 MB of refs
+/// or more hands their pages back to the system range by range as it finishes with them
+/// (they then read as zeros: the caller must not read them after the call).
 /// Instantiated for BoxCenterRef and ExplicitCenterRef.
 template <class Ref>
 Bvh build_from_prim_refs(Ref* refs, std::size_t count, const Aabb& root_box,
                          const Aabb& root_center_box, const BuildConfig& config,
-                         const std::function<void()>& alongside_output, Bvh&& recycled = {},
+                         const std::function<void(std::span<const std::uint32_t>)>& alongside_output,
+                         Bvh&& recycled = {},
                          const std::function<void()>& release_refs = {});
 
 /// Throws std::invalid_argument unless cost_ratio > 0, leaf_size_max >= 1 and bin_count >= 2.

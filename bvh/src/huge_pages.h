@@ -28,6 +28,21 @@ inline void advise_huge_pages(const void* p, std::size_t bytes) {
 #endif
 }
 
+/// Hands the whole pages inside [p, p + bytes) back to the system: they read as zeros after,
+/// and are resident again only if written. For scratch a builder has read for the last time,
+/// while the rest of its block is still in use.
+inline void release_pages(const void* p, std::size_t bytes) {
+#if defined(__linux__) && defined(MADV_DONTNEED)
+    constexpr std::uintptr_t kPage = 4096;
+    const std::uintptr_t begin = (reinterpret_cast<std::uintptr_t>(p) + kPage - 1) & ~(kPage - 1);
+    const std::uintptr_t end = (reinterpret_cast<std::uintptr_t>(p) + bytes) & ~(kPage - 1);
+    if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_DONTNEED);
+#else
+    (void)p;
+    (void)bytes;
+#endif
+}
+
 /// Allocates storage for `count` trivially constructible objects, uninitialised, with huge
 /// pages advised.
 template <class T>

@@ -322,12 +322,13 @@ TriangleBvh build_triangle_bvh(const TriangleSource& tris, const BuildConfig& co
             },
             accel.morton_scratch->buffers, std::move(binary));
     } else {
-        const detail::BoxCenterRef* leaf_order = refs;
-        // The references are freed as soon as the builder is done with them, before it lays
-        // out its nodes (32 bytes a triangle off the build's peak).
+        // The references are handed back as the builder finishes with them, and freed before
+        // it lays out its nodes (32 bytes a triangle off the build's peak).
         binary = detail::build_from_prim_refs(
             refs, count, root_box, root_centers, config,
-            [&] { gather_leaf_order([leaf_order](std::size_t i) { return leaf_order[i].id; }); },
+            [&](std::span<const std::uint32_t> ids) {
+                gather_leaf_order([ids](std::size_t i) { return ids[i]; });
+            },
             std::move(binary), [&] { own_refs.reset(); });
     }
     if (wide) {

@@ -6,7 +6,7 @@ import pytest
 
 import dynrt
 
-from conftest import grid_indices, wave_positions
+from conftest import grid_indices, view, wave_positions
 
 
 def test_add_update_remove_cycles_give_the_bytes_back():
@@ -40,3 +40,17 @@ def test_add_update_remove_cycles_give_the_bytes_back():
     with pytest.raises(dynrt.InvalidArgument, match=f"id {ids[0]} \\(it was removed\\)"):
         engine.motion(ids[0])
     assert engine.motion(ground) == "static"
+
+
+def test_compact_leaves_draw_the_same_frame_in_fewer_bytes():
+    """Engine(compact_leaves=True): the static meshes' leaves read their vertices (issue 43);
+    the frame is the default engine's bit for bit, and the engine holds fewer bytes."""
+    engines = [dynrt.Engine(), dynrt.Engine(compact_leaves=True)]
+    for engine in engines:
+        engine.add_mesh(wave_positions(32, size=6.0) - np.float32([0, 1, 0]), grid_indices(32), name="ground")
+        engine.add_mesh(wave_positions(16, phase=0.3), grid_indices(16), motion="deformable", name="cloth")
+        engine.update()
+    frames = [engine.render(view(), 48, 32, reuse_pixels=False) for engine in engines]
+    assert frames[0].shape == (32, 48, 3)
+    assert np.array_equal(frames[0].view(np.uint32), frames[1].view(np.uint32))
+    assert engines[1].memory_bytes() < engines[0].memory_bytes()

@@ -491,6 +491,7 @@ Engine::Engine(const EngineOptions& options) : impl_(std::make_unique<Impl>()) {
     s.policy.build.leaf_size_max = std::uint32_t(options.leaf_size);
     s.policy.exploding_cost_ratio = options.cost_ratio_exploding;
     s.policy.rebuild_threshold = options.rebuild_threshold;
+    s.policy.compact_static_group = options.compact_leaves;
     // The API documents its rebuilds by the threshold (EngineOptions::rebuild_threshold), and
     // raises a mesh whose refits keep degrading past it to exploding.
     s.policy.method = UpdateMethod::threshold;

@@ -13,15 +13,22 @@
 
 namespace dynrt::bvh::detail {
 
+#if defined(__linux__)
+/// Gives `advice` to the kernel for the whole `align`-byte pages inside [p, p + bytes) (none
+/// for a range that holds no whole page).
+inline void advise_whole_pages(const void* p, std::size_t bytes, std::uintptr_t align, int advice) {
+    const std::uintptr_t begin = (reinterpret_cast<std::uintptr_t>(p) + align - 1) & ~(align - 1);
+    const std::uintptr_t end = (reinterpret_cast<std::uintptr_t>(p) + bytes) & ~(align - 1);
+    if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, advice);
+}
+#endif
+
 /// Advises huge pages for the whole 2 MB pages inside [p, p + bytes). A hint only: does
 /// nothing for small buffers, on systems without the feature, or when the kernel declines.
 /// Call it before the buffer is first written, so the first touch already faults huge pages.
 inline void advise_huge_pages(const void* p, std::size_t bytes) {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
-    constexpr std::uintptr_t kHuge = std::uintptr_t{2} << 20;
-    const std::uintptr_t begin = (reinterpret_cast<std::uintptr_t>(p) + kHuge - 1) & ~(kHuge - 1);
-    const std::uintptr_t end = (reinterpret_cast<std::uintptr_t>(p) + bytes) & ~(kHuge - 1);
-    if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
+    advise_whole_pages(p, bytes, std::uintptr_t{2} << 20, MADV_HUGEPAGE);
 #else
     (void)p;
     (void)bytes;
@@ -33,10 +40,7 @@ inline void advise_huge_pages(const void* p, std::size_t bytes) {
 /// while the rest of its block is still in use.
 inline void release_pages(const void* p, std::size_t bytes) {
 #if defined(__linux__) && defined(MADV_DONTNEED)
-    constexpr std::uintptr_t kPage = 4096;
-    const std::uintptr_t begin = (reinterpret_cast<std::uintptr_t>(p) + kPage - 1) & ~(kPage - 1);
-    const std::uintptr_t end = (reinterpret_cast<std::uintptr_t>(p) + bytes) & ~(kPage - 1);
-    if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_DONTNEED);
+    advise_whole_pages(p, bytes, 4096, MADV_DONTNEED);
 #else
     (void)p;
     (void)bytes;

@@ -69,9 +69,10 @@ struct TwoLevelBvh {
 };
 
 /// Rebuilds the top level over `instances` (taken by value: move it in). Call every frame in
-/// which an instance's tree or transform changed; costs O(n log n) in instances. Every tree must be non-null and made by build_triangle_bvh
-/// (possibly refitted since); transformed instances need finite, invertible matrices. Runs on
-/// the calling thread's oneTBB arena. Not thread-safe on one `tlas`.
+/// which an instance's tree or transform changed; costs O(n log n) in instances. Every tree
+/// must be non-null and made by build_triangle_bvh (possibly refitted since); transformed
+/// instances need finite, invertible matrices. Runs on the calling thread's oneTBB arena. Not
+/// thread-safe on one `tlas`.
 void build_top_level(TwoLevelBvh& tlas, std::vector<Instance> instances);
 
 /// The object-space ray of a world ray for a transformed instance (identity: the ray itself):

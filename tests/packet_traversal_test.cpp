@@ -339,23 +339,43 @@ TEST(PacketTraversal, AgreesUnderOtherBuildConfigs) {
     struct Variant {
         unsigned leaf;
         float ratio;
-        bool compact;  // compact leaves (the corners read through the triangles' indices)
+        bool compact;    // compact leaves (the corners read through the triangles' indices)
+        bool quantized;  // quantised nodes (the boxes decoded from 8-bit planes)
     };
-    for (const Variant v : {Variant{1u, 1.0f, false}, Variant{16u, 0.1f, false}, Variant{4u, 4.0f, false},
-                            Variant{8u, 1.0f, true}, Variant{16u, 0.1f, true}}) {
+    for (const Variant v : {Variant{1u, 1.0f, false, false}, Variant{16u, 0.1f, false, false},
+                            Variant{4u, 4.0f, false, false}, Variant{8u, 1.0f, true, false},
+                            Variant{16u, 0.1f, true, false}, Variant{8u, 1.0f, false, true},
+                            Variant{1u, 1.0f, true, true}}) {
         bvh::BuildConfig config;
         config.leaf_size_max = v.leaf;
         config.cost_ratio = v.ratio;
         config.compact_leaves = v.compact;
+        config.quantized_nodes = v.quantized;
         const Accel a = build_accel(scene, config);
         ASSERT_EQ(a.bvh.wide.compact, v.compact);
-        SCOPED_TRACE("leaf " + std::to_string(v.leaf) + (v.compact ? ", compact" : ""));
+        ASSERT_EQ(a.bvh.wide.quantized, v.quantized);
+        SCOPED_TRACE("leaf " + std::to_string(v.leaf) + (v.compact ? ", compact" : "") +
+                     (v.quantized ? ", quantised" : ""));
         Totals totals;
         check_camera(a, default_camera(a.bounds), 37, 23, glm::vec3(2, 8, 3), all_configs(), totals);
         check_camera(a, look(glm::vec3(0, 0.2f, 0), glm::vec3(1, 0, 0), 120.0f), 20, 20,
                      glm::vec3(2, 8, 3), all_configs(), totals);
         if (HasFatalFailure()) return;
     }
+}
+
+/// Quantised nodes far from the origin (1500 units out, where a float's step is 1/8192 and the
+/// planes' grid is coarser still): packets and single rays agree with the exact reference.
+TEST(PacketTraversal, AgreesWithQuantizedNodesFarFromTheOrigin) {
+    const Scene scene = load_scene(kFarComposition);
+    bvh::BuildConfig config;
+    config.quantized_nodes = true;
+    const Accel a = build_accel(scene, config);
+    ASSERT_TRUE(a.bvh.wide.quantized);
+    Totals totals;
+    check_camera(a, default_camera(a.bounds), 29, 31, glm::vec3(1500, -900, -650), all_configs(), totals);
+    EXPECT_GT(totals.hits, totals.rays / 10);
+    EXPECT_GT(totals.occluded, 0u);
 }
 
 /// A one-leaf scene where each culling stage must remove something, seen by one 16x16 packet

@@ -53,14 +53,16 @@ void cover_boxes(const TriangleBvh& accel, std::size_t max_parts, std::vector<Aa
     if (accel.empty() || max_parts == 0) return;
     std::vector<Part> cut;
     if (!accel.wide.empty()) {
-        const auto& nodes = accel.wide.nodes;
         cut.push_back(Part{accel.wide.root_box, 0});
-        cut_best_first(cut, max_parts, [&](std::uint32_t index, std::vector<Part>& below) {
-            const WideNode<kWideWidth>& node = nodes[index];
-            for (int i = 0; i < kWideWidth; ++i) {
-                if (node.is_empty(i)) continue;
-                below.push_back(Part{node.box(i), node.is_leaf(i) ? kInvalidId : node.child[i]});
-            }
+        // A quantised node's decoded boxes hold the exact ones: the cover stays a cover.
+        accel.wide.visit_nodes([&](const auto* nodes) {
+            cut_best_first(cut, max_parts, [&](std::uint32_t index, std::vector<Part>& below) {
+                const auto& node = nodes[index];
+                for (int i = 0; i < kWideWidth; ++i) {
+                    if (node.is_empty(i)) continue;
+                    below.push_back(Part{node.box(i), node.is_leaf(i) ? kInvalidId : node.child[i]});
+                }
+            });
         });
     } else {
         const auto& nodes = accel.bvh.nodes;

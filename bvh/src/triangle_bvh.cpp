@@ -215,6 +215,9 @@ TriangleBvh build_triangle_bvh(const TriangleSource& tris, const BuildConfig& co
     // The wide builders write the kind of blocks the tree they are handed says.
     recycled_wide.compact = config.compact_leaves;
     recycled_wide.source = config.compact_leaves ? tris : TriangleSource{};
+    // ... and the collapse the kind of nodes (the Morton builder writes float nodes, which
+    // quantize_nodes replaces at the end).
+    recycled_wide.quantized = config.quantized_nodes;
     const std::size_t n = tris.size();
     if (n == 0) return accel;
     if (n >= (std::size_t{1} << 31)) {
@@ -292,6 +295,7 @@ TriangleBvh build_triangle_bvh(const TriangleSource& tris, const BuildConfig& co
         accel.wide = detail::build_wide_morton(
             tris, refs, count, root_centers, std::min(kWideMortonLeafPrims, config.leaf_size_max),
             accel.morton_scratch->buffers.keys, std::move(recycled_wide));
+        if (config.quantized_nodes) quantize_nodes(accel.wide);
         return accel;
     }
     // The binary tree: the result itself without the wide tree (with its triangles copied in

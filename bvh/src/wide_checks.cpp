@@ -7,14 +7,15 @@
 #include <algorithm>
 #include <cstring>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace dynrt::bvh {
 namespace {
 
 /// The used lanes of a leaf.
-template <int N>
-std::uint32_t leaf_prims(const WideBvhOf<N>& wide, const WideNode<N>& node, int slot) {
+template <int N, class Node>
+std::uint32_t leaf_prims(const WideBvhOf<N>& wide, const Node& node, int slot) {
     // Only the last block of a leaf may have unused lanes.
     const std::size_t last = node.child[slot] + node.blocks[slot] - 1;
     std::uint32_t used = 0;
@@ -31,11 +32,12 @@ struct WideFigures {
     std::uint32_t depth = 0;
 };
 
-/// Walks a valid tree (as built or refitted) below node `index` at `depth`.
-template <int N>
-WideFigures walk(const WideBvhOf<N>& wide, std::uint32_t index, std::uint32_t depth,
-                 const SahCosts& costs) {
-    const WideNode<N>& node = wide.nodes[index];
+/// Walks a valid tree (as built or refitted) below node `index` at `depth`; `nodes` is its
+/// node array of either kind (the SAH of a quantised tree is that of its decoded boxes).
+template <int N, class Node>
+WideFigures walk(const WideBvhOf<N>& wide, const Node* nodes, std::uint32_t index,
+                 std::uint32_t depth, const SahCosts& costs) {
+    const Node& node = nodes[index];
     WideFigures f;
     f.depth = depth;
     for (int i = 0; i < N; ++i) {
@@ -48,7 +50,7 @@ WideFigures walk(const WideBvhOf<N>& wide, std::uint32_t index, std::uint32_t de
             f.leaf_prims_max = std::max(f.leaf_prims_max, prims);
             continue;
         }
-        const WideFigures below = walk(wide, node.child[i], depth + 1, costs);
+        const WideFigures below = walk(wide, nodes, node.child[i], depth + 1, costs);
         detail::add_wide_slot(f.sah, node.box(i), false, 0, below.sah, costs);
         f.leaves += below.leaves;
         f.leaf_prims += below.leaf_prims;
@@ -60,9 +62,13 @@ WideFigures walk(const WideBvhOf<N>& wide, std::uint32_t index, std::uint32_t de
 
 }  // namespace
 
-template <int N>
-std::string validate(const WideBvhOf<N>& wide, std::span<const Triangle> tris,
-                     std::span<const std::uint32_t> prims) {
+/// validate on the tree's node array of either kind. A float node's child boxes nest in their
+/// parent's; a quantised node's need not (quantized_node.h), so there each triangle is checked
+/// against every box on its path instead.
+template <int N, class Node>
+std::string validate_nodes(const WideBvhOf<N>& wide, const Node* nodes,
+                           std::span<const Triangle> tris, std::span<const std::uint32_t> prims) {
+    constexpr bool kQuantized = !std::is_same_v<Node, WideNode<N>>;
     if (wide.empty()) {
         if (wide.block_count() != 0) return "empty tree but " + std::to_string(wide.block_count()) + " blocks";
         if (!prims.empty()) return "empty tree for " + std::to_string(prims.size()) + " primitives";
@@ -76,7 +82,11 @@ std::string validate(const WideBvhOf<N>& wide, std::span<const Triangle> tris,
         expected[id] = 1;
     }
     std::vector<std::uint8_t> seen_prim(tris.size(), 0);
-    std::vector<std::uint8_t> seen_node(wide.nodes.size(), 0);
+    const std::size_t node_count = wide.node_count();
+    std::vector<std::uint8_t> seen_node(node_count, 0);
+    if (wide.quantized ? !wide.nodes.empty() : !wide.quantized_nodes.empty()) {
+        return "nodes of the other kind than the tree's";
+    }
     if (wide.compact ? !wide.blocks.empty() : !wide.prim_blocks.empty()) {
         return "blocks of the other kind than the tree's leaves";
     }
@@ -90,18 +100,20 @@ std::string validate(const WideBvhOf<N>& wide, std::span<const Triangle> tris,
 
     struct Entry {
         std::uint32_t node, depth;
-        Aabb bound;  // the parent's slot box (the root box for the root)
+        // The parent's slot box (the root box for the root); quantised, the intersection of
+        // every slot box on the path.
+        Aabb bound;
     };
     std::vector<Entry> stack{{0, 1, wide.root_box}};
     while (!stack.empty()) {
         const Entry e = stack.back();
         stack.pop_back();
         const std::string where = "node " + std::to_string(e.node);
-        if (e.node >= wide.nodes.size()) return where + " is out of range";
+        if (e.node >= node_count) return where + " is out of range";
         if (seen_node[e.node]) return where + " is reached twice";
         seen_node[e.node] = 1;
         if (e.depth > kMaxDepth) return where + " is deeper than kMaxDepth";
-        const WideNode<N>& node = wide.nodes[e.node];
+        const Node& node = nodes[e.node];
         bool ended = false;
         int used = 0;
         for (int i = 0; i < N; ++i) {
@@ -114,9 +126,13 @@ std::string validate(const WideBvhOf<N>& wide, std::span<const Triangle> tris,
             }
             if (ended) return slot + " is used after an empty slot";
             ++used;
-            const Aabb box = node.box(i);
+            Aabb box = node.box(i);
             if (box.is_empty()) return slot + " has an empty box";
-            if (!e.bound.contains(box)) return slot + "'s box is not inside its parent's";
+            if constexpr (kQuantized) {
+                box = Aabb{glm::max(box.lo, e.bound.lo), glm::min(box.hi, e.bound.hi)};
+            } else if (!e.bound.contains(box)) {
+                return slot + "'s box is not inside its parent's";
+            }
             if (!node.is_leaf(i)) {
                 if (node.child[i] <= e.node) return slot + " points back to node " + std::to_string(node.child[i]);
                 stack.push_back(Entry{node.child[i], e.depth + 1, box});
@@ -146,14 +162,17 @@ std::string validate(const WideBvhOf<N>& wide, std::span<const Triangle> tris,
                     if (std::memcmp(&t, &tris[prim], sizeof(Triangle)) != 0) {
                         return lane_name + " is not triangle " + std::to_string(prim);
                     }
-                    if (!box.contains(t.bounds())) return lane_name + "'s triangle is outside its leaf box";
+                    if (!box.contains(t.bounds())) {
+                        return lane_name + "'s triangle is outside its leaf box" +
+                               (kQuantized ? " or a box above it" : "");
+                    }
                 }
                 if (lanes == 0) return block_name + " has no triangle";
             }
         }
         if (used == 0) return where + " has no children";
     }
-    for (std::size_t i = 0; i < wide.nodes.size(); ++i) {
+    for (std::size_t i = 0; i < node_count; ++i) {
         if (!seen_node[i]) return "node " + std::to_string(i) + " is not reached from the root";
     }
     for (std::size_t b = 0; b < block_count; ++b) {
@@ -173,19 +192,27 @@ std::string validate(const WideBvhOf<N>& wide, std::span<const Triangle> tris,
 }
 
 template <int N>
+std::string validate(const WideBvhOf<N>& wide, std::span<const Triangle> tris,
+                     std::span<const std::uint32_t> prims) {
+    return wide.visit_nodes([&](const auto* nodes) { return validate_nodes(wide, nodes, tris, prims); });
+}
+
+template <int N>
 WideStats compute_stats(const WideBvhOf<N>& wide) {
     WideStats s;
-    s.nodes = wide.nodes.size();
+    s.nodes = wide.node_count();
     s.blocks = wide.block_count();
     s.bytes = wide.bytes();
     std::size_t slots = 0;
-    for (const WideNode<N>& node : wide.nodes) {
-        for (int i = 0; i < N; ++i) {
-            if (node.is_empty(i)) continue;
-            ++slots;
-            if (node.is_leaf(i)) ++s.leaves;
+    wide.visit_nodes([&](const auto* nodes) {
+        for (std::size_t n = 0; n < s.nodes; ++n) {
+            for (int i = 0; i < N; ++i) {
+                if (nodes[n].is_empty(i)) continue;
+                ++slots;
+                if (nodes[n].is_leaf(i)) ++s.leaves;
+            }
         }
-    }
+    });
     std::size_t lanes = 0;
     for (std::size_t b = 0; b < s.blocks; ++b) {
         for (int lane = 0; lane < kBlockLanes; ++lane) lanes += wide.prim(b, lane) != kInvalidId ? 1 : 0;
@@ -193,7 +220,7 @@ WideStats compute_stats(const WideBvhOf<N>& wide) {
     s.block_fill = s.blocks ? static_cast<double>(lanes) / static_cast<double>(s.blocks * kBlockLanes) : 0.0;
     s.children_mean = s.nodes ? static_cast<double>(slots) / static_cast<double>(s.nodes) : 0.0;
     if (!wide.empty()) {
-        const WideFigures f = walk(wide, 0, 1, SahCosts{});
+        const WideFigures f = wide.visit_nodes([&](const auto* nodes) { return walk(wide, nodes, 0, 1, SahCosts{}); });
         s.leaf_prims_max = f.leaf_prims_max;
         s.leaf_prims_mean = f.leaves ? static_cast<double>(f.leaf_prims) / static_cast<double>(f.leaves) : 0.0;
         s.depth = f.depth;
@@ -204,7 +231,8 @@ WideStats compute_stats(const WideBvhOf<N>& wide) {
 template <int N>
 double sah_cost(const WideBvhOf<N>& wide, const SahCosts& costs) {
     if (wide.empty()) return 0.0;
-    return detail::wide_sah_total(walk(wide, 0, 1, costs).sah, wide.root_box, costs);
+    const WideFigures f = wide.visit_nodes([&](const auto* nodes) { return walk(wide, nodes, 0, 1, costs); });
+    return detail::wide_sah_total(f.sah, wide.root_box, costs);
 }
 
 template std::string validate<4>(const WideBvhOf<4>&, std::span<const Triangle>, std::span<const std::uint32_t>);

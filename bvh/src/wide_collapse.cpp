@@ -20,6 +20,7 @@
 #include "wide_collapse.h"
 
 #include "block_writer.h"
+#include "node_target.h"
 #include "huge_pages.h"
 
 #include <oneapi/tbb/blocked_range.h>
@@ -72,7 +73,12 @@ public:
 
     WideBvhOf<N> run(WideBvhOf<N>&& recycled) {
         WideBvhOf<N> wide = std::move(recycled);
+        // Quantised nodes when the tree handed in says so (as it says compact leaves) and the
+        // root box can be: each node is then quantised as it is written.
+        const bool quantize = wide.quantized && !bvh_.nodes.empty() && can_quantize(bvh_.nodes[0].box);
         wide.nodes.clear();
+        wide.quantized = false;
+        wide.quantized_nodes.clear();
         wide.blocks.clear();
         wide.prim_blocks.clear();
         wide.root_box = Aabb{};
@@ -87,17 +93,17 @@ public:
         // the blocks are written after the binary nodes and the program's records are freed:
         // those and the blocks (50 bytes a triangle) are then never held at once.
         defer_blocks_ = consumed_ != nullptr && contiguous_.load(std::memory_order_relaxed);
-        detail::resize_with_huge_pages(wide.nodes, size.nodes);
-        nodes_ = wide.nodes.data();
+        nodes_ = detail::allocate_nodes(wide, size.nodes, quantize);
         if (defer_blocks_) {
             leaf_ranges_ = std::make_unique_for_overwrite<LeafRange[]>(size.blocks);
         } else {
             blocks_ = detail::allocate_blocks(wide, size.blocks);
         }
         if (root_leaf) {
-            nodes_[0] = WideNode<N>::empty();
+            WideNode<N> root = WideNode<N>::empty();
             std::uint32_t next_node = 1, next_block = 0;
-            fill_slot(nodes_[0], 0, 0, next_node, next_block, nullptr);
+            fill_slot(root, 0, 0, next_node, next_block, nullptr);
+            nodes_.store(0, root);
         } else {
             emit_node(0, 0, 0, 1);
         }
@@ -108,7 +114,7 @@ public:
             size_as_node_.reset();
             std::vector<BvhNode>().swap(consumed_->nodes);
             blocks_ = detail::allocate_blocks(wide, size.blocks);
-            fill_deferred_leaves(wide.nodes.size());
+            fill_deferred_leaves(wide.node_count());
             leaf_ranges_.reset();
         }
         return wide;
@@ -230,8 +236,7 @@ private:
     /// of the top levels as parallel tasks.
     void emit_node(std::uint32_t index, std::uint32_t at, std::uint32_t first_block,
                    std::uint32_t depth) {
-        WideNode<N>& wide_node = nodes_[at];
-        wide_node = WideNode<N>::empty();
+        WideNode<N> wide_node = WideNode<N>::empty();
         // The node's children share its N slots by the best split of C_dist(n, N).
         const BvhNode& node = bvh_.nodes[index];
         const int k = choice_[index][N];
@@ -254,6 +259,7 @@ private:
                 jobs[job_count++] = job;
             }
         }
+        nodes_.store(at, wide_node);
         auto run = [&](int j) { emit_node(jobs[j].binary, jobs[j].at, jobs[j].first_block, depth + 1); };
         if (depth < kParallelEmitDepth<N> && job_count > 1) {
             tbb::parallel_for(0, job_count, run);
@@ -320,11 +326,11 @@ private:
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, node_count, 256),
                           [&](const tbb::blocked_range<std::size_t>& r) {
                               for (std::size_t n = r.begin(); n < r.end(); ++n) {
-                                  const WideNode<N>& node = nodes_[n];
                                   for (int i = 0; i < N; ++i) {
-                                      if (!node.is_leaf(i)) continue;
-                                      const LeafRange range = leaf_ranges_[node.child[i]];
-                                      write_leaf(blocks_ + node.child[i], [&](auto&& visit) {
+                                      if (nodes_.blocks(n, i) == 0) continue;  // not a leaf
+                                      const std::uint32_t first = nodes_.child(n, i);
+                                      const LeafRange range = leaf_ranges_[first];
+                                      write_leaf(blocks_ + first, [&](auto&& visit) {
                                           for (std::uint32_t k = range.first; k < range.first + range.prims; ++k) visit(k);
                                       });
                                   }
@@ -373,7 +379,7 @@ private:
     std::unique_ptr<Choices[]> choice_;
     /// Per binary inner node, the wide subtree it gives as a wide node.
     std::unique_ptr<WideSize[]> size_as_node_;
-    WideNode<N>* nodes_ = nullptr;
+    detail::NodeTarget<N> nodes_;
     detail::BlockTarget blocks_;
     /// Whether every binary subtree's leaves are one run of leaf positions (the builders'
     /// trees are: they partition their ranges in place), found by the program.

@@ -75,6 +75,8 @@ public:
     WideBvh run(WideBvh&& recycled) {
         WideBvh wide = std::move(recycled);
         wide.nodes.clear();
+        wide.quantized = false;  // the builder writes float nodes (quantize_nodes may follow)
+        wide.quantized_nodes.clear();
         // The codes on their own, half the bytes for the splits' searches to read.
         tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, count_, kMortonBlock),
                           [&](const tbb::blocked_range<std::uint32_t>& r) {

@@ -37,10 +37,14 @@ public:
 
     /// Refits the tree; returns its SAH cost.
     double run() {
-        if (wide_.nodes.empty()) return 0.0;
+        if (wide_.empty()) return 0.0;
         if (wide_.compact) {
             // Its leaves read the triangles it was built from, which must not move.
             throw std::invalid_argument("refit_wide: a tree with compact leaves cannot be refitted");
+        }
+        if (wide_.quantized) {
+            // Its boxes were rounded against the exact ones it no longer holds.
+            throw std::invalid_argument("refit_wide: a tree with quantised nodes cannot be refitted");
         }
         const Subtree root = refit_node(0, 1);
         if (root.prims != wide_.triangle_count) {

@@ -35,57 +35,62 @@ struct BoxRayN {
           far_scale(detail::splat<N>(kFarScale)) {}
 };
 
-/// hit_box for the N children of `node` at once: returns the mask of children met within
-/// [tmin, tmax] and their entry distances in `tnear`, bit for bit hit_box's.
-template <int N, int kOctant>
+/// hit_box for the N children of `node` (a WideNode or a QuantizedWideNode) at once: returns
+/// the mask of children met within [tmin, tmax] and their entry distances in `tnear`, bit for
+/// bit hit_box's on the node's (decoded) boxes.
+template <int N, int kOctant, class Node>
 __attribute__((always_inline)) inline std::uint32_t hit_children(
-    const WideNode<N>& node, const BoxRayN<N>& r, typename detail::WideLanes<N>::F tmin,
+    const Node& node, const BoxRayN<N>& r, typename detail::WideLanes<N>::F tmin,
     typename detail::WideLanes<N>::F far_limit, typename detail::WideLanes<N>::F& tnear) {
     using F = typename detail::WideLanes<N>::F;
     constexpr bool kNegX = (kOctant & 1) != 0;
     constexpr bool kNegY = (kOctant & 2) != 0;
     constexpr bool kNegZ = (kOctant & 4) != 0;
-    const F t0x = (detail::load_lanes<N>(kNegX ? node.hi_x : node.lo_x) - r.org_x) * r.inv_x;
-    const F t1x = (detail::load_lanes<N>(kNegX ? node.lo_x : node.hi_x) - r.org_x) * r.inv_x;
-    const F t0y = (detail::load_lanes<N>(kNegY ? node.hi_y : node.lo_y) - r.org_y) * r.inv_y;
-    const F t1y = (detail::load_lanes<N>(kNegY ? node.lo_y : node.hi_y) - r.org_y) * r.inv_y;
-    const F t0z = (detail::load_lanes<N>(kNegZ ? node.hi_z : node.lo_z) - r.org_z) * r.inv_z;
-    const F t1z = (detail::load_lanes<N>(kNegZ ? node.lo_z : node.hi_z) - r.org_z) * r.inv_z;
+    F lo[3], hi[3];
+    child_box_lanes<F>(node, lo, hi);
+    const F t0x = ((kNegX ? hi[0] : lo[0]) - r.org_x) * r.inv_x;
+    const F t1x = ((kNegX ? lo[0] : hi[0]) - r.org_x) * r.inv_x;
+    const F t0y = ((kNegY ? hi[1] : lo[1]) - r.org_y) * r.inv_y;
+    const F t1y = ((kNegY ? lo[1] : hi[1]) - r.org_y) * r.inv_y;
+    const F t0z = ((kNegZ ? hi[2] : lo[2]) - r.org_z) * r.inv_z;
+    const F t1z = ((kNegZ ? lo[2] : hi[2]) - r.org_z) * r.inv_z;
     F tn = tmin;
     F tf = far_limit;
     detail::clip_to_slabs(t0x, t1x, t0y, t1y, t0z, t1z, tn, tf);
     tnear = tn;
-    return detail::lane_mask<N>(tn <= tf * r.far_scale);
+    return detail::lane_mask<N>(tn <= tf * r.far_scale) & used_slots_filter(node);
 }
 
 constexpr int kStackSize = 8 * static_cast<int>(kMaxDepth);
 
-/// Starts fetching what a visit of `ref` reads first: an inner node's four cache lines, or a
+/// Starts fetching what a visit of `ref` reads first: an inner node's cache lines (four, two
+/// when quantised), or a
 /// leaf's first block (two and a half lines; a compact block's indices, one line). Issued for
 /// every child of a node that the ray hits when there are several, so that their misses
 /// overlap each other and the visit of the nearest one (Embree's traverser does the same); on
 /// a million incoherent rays half of the time was the first read of a node or block.
-template <int N>
-__attribute__((always_inline)) inline void prefetch_child(const WideBvhOf<N>& wide, ChildRef ref) {
+template <int N, class Node>
+__attribute__((always_inline)) inline void prefetch_child(const WideBvhOf<N>& wide,
+                                                          const Node* nodes, ChildRef ref) {
     if (ref.blocks != 0 && wide.compact) {
         prefetch_line(wide.prim_blocks.data() + ref.child);
         return;
     }
-    const char* p = ref.blocks == 0 ? reinterpret_cast<const char*>(wide.nodes.data() + ref.child)
+    const char* p = ref.blocks == 0 ? reinterpret_cast<const char*>(nodes + ref.child)
                                     : reinterpret_cast<const char*>(wide.blocks.data() + ref.child);
-    constexpr int kLines = int(sizeof(WideNode<N>) / 64);
+    constexpr int kLines = int(sizeof(Node) / 64);
     static_assert(sizeof(TriangleBlock) <= 3 * 64);
     for (int k = 0; k < (ref.blocks == 0 ? kLines : 3); ++k) prefetch_line(p + 64 * k);
 }
 
 /// Traverses from `current`: the root node (`from_root`, which first tests the root box), or
 /// a subtree whose box the caller knows the ray meets. Improves on `hit` (closest hit; ray.tmax
-/// is its t while there is one); true when a hit was found below `current`.
-template <int N, bool kAnyHit, bool kCount, int kOctant>
-bool traverse(const WideBvhOf<N>& wide, ChildRef current, bool from_root, const Ray& ray,
-              Hit& hit, WideTraversalStats* stats) {
+/// is its t while there is one); true when a hit was found below `current`. `nodes` is the
+/// tree's node array, of either kind (WideBvhOf::visit_nodes).
+template <int N, bool kAnyHit, bool kCount, int kOctant, class Node>
+bool traverse(const WideBvhOf<N>& wide, const Node* nodes, ChildRef current, bool from_root,
+              const Ray& ray, Hit& hit, WideTraversalStats* stats) {
     using F = typename detail::WideLanes<N>::F;
-    const WideNode<N>* nodes = wide.nodes.data();
     const detail::BoxRay box_ray(ray);
     const BoxRayN<N> wide_ray(box_ray);
     const detail::BlockRay tri_ray{WatertightRay(ray)};
@@ -112,7 +117,7 @@ bool traverse(const WideBvhOf<N>& wide, ChildRef current, bool from_root, const 
     }
     while (true) {
         if (current.blocks == 0) {
-            const WideNode<N>& node = nodes[current.child];
+            const Node& node = nodes[current.child];
             if constexpr (kCount) ++stats->nodes_visited;
             F tnear;
             std::uint32_t mask = hit_children<N, kOctant>(node, wide_ray, tmin_n, tmax_n, tnear);
@@ -123,10 +128,10 @@ bool traverse(const WideBvhOf<N>& wide, ChildRef current, bool from_root, const 
                     current = ChildRef{node.child[first], node.blocks[first]};
                     continue;
                 }
-                prefetch_child(wide, ChildRef{node.child[first], node.blocks[first]});
+                prefetch_child(wide, nodes, ChildRef{node.child[first], node.blocks[first]});
                 for (std::uint32_t m = mask; m != 0; m &= m - 1) {
                     const int i = __builtin_ctz(m);
-                    prefetch_child(wide, ChildRef{node.child[i], node.blocks[i]});
+                    prefetch_child(wide, nodes, ChildRef{node.child[i], node.blocks[i]});
                 }
                 if constexpr (kAnyHit) {
                     // Any order finds an occluder; push the others as they come.
@@ -214,33 +219,35 @@ bool traverse(const WideBvhOf<N>& wide, ChildRef current, bool from_root, const 
     }
 }
 
-template <int N, bool kAnyHit, bool kCount>
-bool traverse_octant(const WideBvhOf<N>& wide, ChildRef start, bool from_root, const Ray& ray,
-                     Hit& hit, WideTraversalStats* stats) {
+template <int N, bool kAnyHit, bool kCount, class Node>
+bool traverse_octant(const WideBvhOf<N>& wide, const Node* nodes, ChildRef start, bool from_root,
+                     const Ray& ray, Hit& hit, WideTraversalStats* stats) {
     switch (detail::octant_of(ray.dir)) {
-        case 0: return traverse<N, kAnyHit, kCount, 0>(wide, start, from_root, ray, hit, stats);
-        case 1: return traverse<N, kAnyHit, kCount, 1>(wide, start, from_root, ray, hit, stats);
-        case 2: return traverse<N, kAnyHit, kCount, 2>(wide, start, from_root, ray, hit, stats);
-        case 3: return traverse<N, kAnyHit, kCount, 3>(wide, start, from_root, ray, hit, stats);
-        case 4: return traverse<N, kAnyHit, kCount, 4>(wide, start, from_root, ray, hit, stats);
-        case 5: return traverse<N, kAnyHit, kCount, 5>(wide, start, from_root, ray, hit, stats);
-        case 6: return traverse<N, kAnyHit, kCount, 6>(wide, start, from_root, ray, hit, stats);
-        default: return traverse<N, kAnyHit, kCount, 7>(wide, start, from_root, ray, hit, stats);
+        case 0: return traverse<N, kAnyHit, kCount, 0>(wide, nodes, start, from_root, ray, hit, stats);
+        case 1: return traverse<N, kAnyHit, kCount, 1>(wide, nodes, start, from_root, ray, hit, stats);
+        case 2: return traverse<N, kAnyHit, kCount, 2>(wide, nodes, start, from_root, ray, hit, stats);
+        case 3: return traverse<N, kAnyHit, kCount, 3>(wide, nodes, start, from_root, ray, hit, stats);
+        case 4: return traverse<N, kAnyHit, kCount, 4>(wide, nodes, start, from_root, ray, hit, stats);
+        case 5: return traverse<N, kAnyHit, kCount, 5>(wide, nodes, start, from_root, ray, hit, stats);
+        case 6: return traverse<N, kAnyHit, kCount, 6>(wide, nodes, start, from_root, ray, hit, stats);
+        default: return traverse<N, kAnyHit, kCount, 7>(wide, nodes, start, from_root, ray, hit, stats);
     }
 }
 
-/// traverse_octant with counting when `stats` is given.
+/// traverse_octant on the tree's nodes of either kind, with counting when `stats` is given.
 template <int N, bool kAnyHit>
 bool traverse_counted(const WideBvhOf<N>& wide, ChildRef start, bool from_root, const Ray& ray,
                       Hit& hit, WideTraversalStats* stats) {
-    if (stats) return traverse_octant<N, kAnyHit, true>(wide, start, from_root, ray, hit, stats);
-    return traverse_octant<N, kAnyHit, false>(wide, start, from_root, ray, hit, nullptr);
+    return wide.visit_nodes([&](const auto* nodes) {
+        if (stats) return traverse_octant<N, kAnyHit, true>(wide, nodes, start, from_root, ray, hit, stats);
+        return traverse_octant<N, kAnyHit, false>(wide, nodes, start, from_root, ray, hit, nullptr);
+    });
 }
 
 /// A query of the whole tree: none when the ray misses the root box.
 template <int N, bool kAnyHit>
 bool traverse_tree(const WideBvhOf<N>& wide, const Ray& ray, Hit& hit, WideTraversalStats* stats) {
-    return !wide.nodes.empty() && traverse_counted<N, kAnyHit>(wide, ChildRef{0, 0}, true, ray, hit, stats);
+    return !wide.empty() && traverse_counted<N, kAnyHit>(wide, ChildRef{0, 0}, true, ray, hit, stats);
 }
 
 /// A query below one subtree, for a ray that meets its box.

@@ -34,6 +34,7 @@
 
 #include <bit>
 #include <cstdint>
+#include <type_traits>
 
 namespace dynrt::packet::detail {
 namespace {
@@ -41,7 +42,9 @@ namespace {
 constexpr int N = bvh::kWideWidth;
 constexpr int kStackSize = N * static_cast<int>(bvh::kMaxDepth) + 1;
 
-template <int W, bool kAnyHit, bool kCount>
+/// The traversal of one packet over a tree whose nodes are of type Node (bvh::WideNode or
+/// bvh::QuantizedWideNode: bvh::child_box_lanes reads the boxes of either).
+template <int W, bool kAnyHit, bool kCount, class Node>
 class WideTraversal : RangeTracer<W, kAnyHit, kCount> {
     using Base = RangeTracer<W, kAnyHit, kCount>;
     using Base::w_;
@@ -50,16 +53,15 @@ class WideTraversal : RangeTracer<W, kAnyHit, kCount> {
     /// N lanes, one per child of a node.
     using C = simd::Lanes<N>;
     using CF = typename C::F;
-    using Node = bvh::WideNode<N>;
 
 public:
-    WideTraversal(const bvh::WideBvh& wide, const RayPacket& packet, Work& w,
+    WideTraversal(const bvh::WideBvh& wide, const Node* nodes, const RayPacket& packet, Work& w,
                   const PacketConfig& config, PacketStats* stats, LaneMask* occluded,
                   std::span<const PrimTriangle> first = {})
-        : Base(w, config, stats, occluded), wide_(wide), packet_(packet), first_(first) {}
+        : Base(w, config, stats, occluded), wide_(wide), nodes_(nodes), packet_(packet), first_(first) {}
 
     void run() {
-        if (wide_.nodes.empty() || w_.first_chunk > w_.last_chunk) return;
+        if (wide_.empty() || w_.first_chunk > w_.last_chunk) return;
         traverse_in_modes(w_.beam, *this);
     }
 
@@ -77,7 +79,7 @@ public:
     /// The traversal in one pair of modes (traverse_in_modes picks them).
     template <BoxMode BM, TriMode TM>
     void traverse() {
-        const Node* nodes = wide_.nodes.data();
+        const Node* nodes = nodes_;
         const Beam& beam = w_.beam;
         if constexpr (kAnyHit) {
             if (!first_.empty() && this->template intersect_first<TM>(first_)) return;
@@ -149,27 +151,30 @@ private:
     /// Tests the children of inner node `index` for the chunks [first, last] (early hit, then
     /// early miss) and pushes the ones to visit, nearest on top.
     void push_children(std::uint32_t index, int first, int last) {
-        const Node& node = wide_.nodes[index];
+        const Node& node = nodes_[index];
         std::uint32_t used = 0;
         for (int i = 0; i < N; ++i) used |= node.is_empty(i) ? 0u : 1u << i;
+        // The child boxes, loaded (or decoded) once for every test below.
+        CF lo[3], hi[3];
+        bvh::child_box_lanes<CF>(node, lo, hi);
         // The range's first and last active rays: children both hit are entered with the
         // range as it is (it cannot narrow: its end chunks hit); children one of them hits are
         // visited, and narrowed when popped.
         const std::uint32_t first_bits = w_.chunk_bits[first], last_bits = w_.chunk_bits[last];
         const std::uint32_t hit_first =
-            first_bits != 0 ? children_hit_by_lane(node, first * W + std::countr_zero(first_bits)) & used
+            first_bits != 0 ? children_hit_by_lane(lo, hi, first * W + std::countr_zero(first_bits)) & used
                             : 0u;
         const int last_lane = last * W + 31 - std::countl_zero(last_bits);
         const std::uint32_t hit_last =
             last_bits == 0 ? 0u
             : last_lane == first * W + std::countr_zero(first_bits) ? hit_first
-                                                                    : children_hit_by_lane(node, last_lane) & used;
+                                                                    : children_hit_by_lane(lo, hi, last_lane) & used;
         const std::uint32_t entered = hit_first & hit_last;
         std::uint32_t visit = used;
         const std::uint32_t undecided = used & ~(hit_first | hit_last);
         if (undecided != 0 && (last - first + 1) * W >= kBeamMinLanes) {
             const float tfar_hi = kAnyHit ? w_.beam.tmax_hi : this->range_tfar_max(first, last);
-            const std::uint32_t missed = children_missed_by_beam(node, tfar_hi) & undecided;
+            const std::uint32_t missed = children_missed_by_beam(lo, hi, tfar_hi) & undecided;
             visit &= ~missed;
             if constexpr (kCount) stats_->early_misses += std::popcount(missed);
         }
@@ -178,9 +183,8 @@ private:
         // Order along the packet's mean direction: the sum of a child's box corners projected
         // on it (twice the centre's projection), farthest pushed first.
         const float* mean = w_.beam.mean_dir;
-        const CF key = (C::load(node.lo_x) + C::load(node.hi_x)) * C::splat(mean[0]) +
-                       (C::load(node.lo_y) + C::load(node.hi_y)) * C::splat(mean[1]) +
-                       (C::load(node.lo_z) + C::load(node.hi_z)) * C::splat(mean[2]);
+        const CF key = (lo[0] + hi[0]) * C::splat(mean[0]) + (lo[1] + hi[1]) * C::splat(mean[1]) +
+                       (lo[2] + hi[2]) * C::splat(mean[2]);
         // Any hit for rays that converge at their ends (Beam::ends_converge): the other way.
         const bool far_first = kAnyHit && w_.beam.ends_converge;
         int slots[N];
@@ -202,26 +206,22 @@ private:
         }
     }
 
-    /// The children of `node` whose boxes `lane` hits (its own Ize box test, lane_hits_boxes on
-    /// N children at once; an early hit only enters a child, so it needs no exactness
-    /// argument).
-    std::uint32_t children_hit_by_lane(const Node& node, int lane) const {
+    /// The children whose boxes (lo, hi: a node's, child_box_lanes) `lane` hits (its own Ize
+    /// box test, lane_hits_boxes on N children at once; an early hit only enters a child, so it
+    /// needs no exactness argument).
+    std::uint32_t children_hit_by_lane(const CF (&lo)[3], const CF (&hi)[3], int lane) const {
         if constexpr (kCount) stats_->ray_box_tests += N;
-        const CF lo[3] = {C::load(node.lo_x), C::load(node.lo_y), C::load(node.lo_z)};
-        const CF hi[3] = {C::load(node.hi_x), C::load(node.hi_y), C::load(node.hi_z)};
         return C::bits(lane_hits_boxes<CF>(w_, lane, lo, hi));
     }
 
     /// The children no active ray can hit: beam_misses_boxes (packet_kernels.h) on N children
     /// at once, with each axis's near and far planes by its common sign.
-    std::uint32_t children_missed_by_beam(const Node& node, float tfar_hi) const {
+    std::uint32_t children_missed_by_beam(const CF (&lo)[3], const CF (&hi)[3], float tfar_hi) const {
         const Beam& b = w_.beam;
-        const float* lo[3] = {node.lo_x, node.lo_y, node.lo_z};
-        const float* hi[3] = {node.hi_x, node.hi_y, node.hi_z};
         CF near[3], far[3];
         for (int a = 0; a < 3; ++a) {
-            near[a] = C::load(b.negative[a] ? hi[a] : lo[a]);
-            far[a] = C::load(b.negative[a] ? lo[a] : hi[a]);
+            near[a] = b.negative[a] ? hi[a] : lo[a];
+            far[a] = b.negative[a] ? lo[a] : hi[a];
         }
         return C::bits(beam_misses_boxes<CF>(b, near, far, tfar_hi));
     }
@@ -267,7 +267,8 @@ private:
         }
     }
 
-    /// Starts fetching what child i's visit reads: its node (four cache lines) or its blocks.
+    /// Starts fetching what child i's visit reads: its node (four cache lines, two when
+    /// quantised) or its blocks.
     void prefetch_child(const Node& node, int i) const {
         const char* p;
         int lines;
@@ -280,13 +281,14 @@ private:
             lines = int(node.blocks[i] * sizeof(bvh::TriangleBlock) + 63) / 64;
             lines = lines < 10 ? lines : 10;
         } else {
-            p = reinterpret_cast<const char*>(wide_.nodes.data() + node.child[i]);
+            p = reinterpret_cast<const char*>(nodes_ + node.child[i]);
             lines = int(sizeof(Node) / 64);
         }
         for (int k = 0; k < lines; ++k) bvh::prefetch_line(p + 64 * k);
     }
 
     const bvh::WideBvh& wide_;
+    const Node* nodes_;  ///< wide_'s nodes, of their kind
     const RayPacket& packet_;
     std::span<const PrimTriangle> first_;  ///< any hit: triangles tested before the traversal
     Entry stack_[kStackSize];
@@ -298,22 +300,28 @@ private:
 template <int W>
 void wide_closest(const bvh::WideBvh& wide, const RayPacket& packet, Work& w,
                   const PacketConfig& config, PacketStats* stats) {
-    if (stats) {
-        WideTraversal<W, false, true>(wide, packet, w, config, stats, nullptr).run();
-    } else {
-        WideTraversal<W, false, false>(wide, packet, w, config, nullptr, nullptr).run();
-    }
+    wide.visit_nodes([&](const auto* nodes) {
+        using Node = std::remove_cvref_t<decltype(*nodes)>;
+        if (stats) {
+            WideTraversal<W, false, true, Node>(wide, nodes, packet, w, config, stats, nullptr).run();
+        } else {
+            WideTraversal<W, false, false, Node>(wide, nodes, packet, w, config, nullptr, nullptr).run();
+        }
+    });
 }
 
 template <int W>
 void wide_any(const bvh::WideBvh& wide, const RayPacket& packet, Work& w,
               const PacketConfig& config, PacketStats* stats, LaneMask& occluded,
               std::span<const PrimTriangle> first) {
-    if (stats) {
-        WideTraversal<W, true, true>(wide, packet, w, config, stats, &occluded, first).run();
-    } else {
-        WideTraversal<W, true, false>(wide, packet, w, config, nullptr, &occluded, first).run();
-    }
+    wide.visit_nodes([&](const auto* nodes) {
+        using Node = std::remove_cvref_t<decltype(*nodes)>;
+        if (stats) {
+            WideTraversal<W, true, true, Node>(wide, nodes, packet, w, config, stats, &occluded, first).run();
+        } else {
+            WideTraversal<W, true, false, Node>(wide, nodes, packet, w, config, nullptr, &occluded, first).run();
+        }
+    });
 }
 
 template void wide_closest<1>(const bvh::WideBvh&, const RayPacket&, Work&, const PacketConfig&,

@@ -14,12 +14,14 @@
 // and hits are the very same (the same watertight arithmetic and the same tie rule: smallest
 // t, then smallest primitive index).
 //
-// Memory: one node is 128 bytes (N = 4) or 256 bytes (N = 8), one block 160 bytes for up to
-// four triangles (vertices and the caller's index), or 16 with compact leaves (the index only,
+// Memory: one node is 128 bytes (N = 4) or 256 bytes (N = 8), or half that with quantised
+// child boxes (QuantizedWideNode, quantized_node.h); one block 160 bytes for up to four
+// triangles (vertices and the caller's index), or 16 with compact leaves (the index only,
 // PrimBlock). bytes() reports them.
 
 #include "dynrt/bvh/aabb.h"
 #include "dynrt/bvh/bvh.h"
+#include "dynrt/bvh/quantized_node.h"
 #include "dynrt/bvh/ray.h"
 #include "dynrt/bvh/triangle.h"
 #include "dynrt/bvh/triangle_source.h"
@@ -139,6 +141,11 @@ struct UninitializedAllocator : std::allocator<T> {
 template <int N>
 struct WideBvhOf {
     std::vector<WideNode<N>, UninitializedAllocator<WideNode<N>>> nodes;
+    /// ... or, with quantised nodes (quantize_nodes), the same nodes with their child boxes
+    /// quantised, and `nodes` empty. visit_nodes hands either to a generic reader.
+    std::vector<QuantizedWideNode<N>, UninitializedAllocator<QuantizedWideNode<N>>> quantized_nodes;
+    /// Whether the nodes are quantized_nodes rather than nodes.
+    bool quantized = false;
     /// The leaves' blocks (a leaf slot's child indexes this array)...
     std::vector<TriangleBlock, UninitializedAllocator<TriangleBlock>> blocks;
     /// ... or, with compact leaves, theirs (the same indices, one PrimBlock per block).
@@ -154,10 +161,21 @@ struct WideBvhOf {
     /// Triangles in the tree (the used lanes of the blocks).
     std::size_t triangle_count = 0;
 
-    bool empty() const { return nodes.empty(); }
+    bool empty() const { return node_count() == 0; }
+    std::size_t node_count() const { return quantized ? quantized_nodes.size() : nodes.size(); }
     std::size_t bytes() const {
-        return nodes.size() * sizeof(WideNode<N>) + blocks.size() * sizeof(TriangleBlock) +
-               prim_blocks.size() * sizeof(PrimBlock) + source.bytes();
+        return nodes.size() * sizeof(WideNode<N>) +
+               quantized_nodes.size() * sizeof(QuantizedWideNode<N>) +
+               blocks.size() * sizeof(TriangleBlock) + prim_blocks.size() * sizeof(PrimBlock) +
+               source.bytes();
+    }
+    /// Calls f(nodes) with the node array the tree is traced by, as a pointer to its first
+    /// element: const WideNode<N>* or const QuantizedWideNode<N>* (the one code path of a
+    /// reader, instantiated for each).
+    template <class F>
+    decltype(auto) visit_nodes(F&& f) const {
+        if (quantized) return f(static_cast<const QuantizedWideNode<N>*>(quantized_nodes.data()));
+        return f(static_cast<const WideNode<N>*>(nodes.data()));
     }
     /// The number of leaf blocks, full or compact.
     std::size_t block_count() const { return compact ? prim_blocks.size() : blocks.size(); }
@@ -216,6 +234,25 @@ private:
 /// AVX2 development machine (benchmarks/README.md, "Wide trees").
 inline constexpr int kWideWidth = 8;
 using WideBvh = WideBvhOf<kWideWidth>;
+
+/// Whether every node of a tree inside `root` can be quantised (quantize_node): `root` is
+/// finite and at most 2^126 across on each axis (half the widest grid, 255 * 2^119, so that
+/// no rounding of the planes can fall short).
+bool can_quantize(const Aabb& root);
+
+/// Quantises `node`'s child boxes into `out` (quantized_node.h): every decoded box contains
+/// the exact one. False, with `out` unspecified, when a box is not finite or spans more than
+/// 255 * 2^119 on an axis (no 8-bit grid covers it).
+template <int N>
+bool quantize_node(const WideNode<N>& node, QuantizedWideNode<N>& out);
+
+/// Replaces `wide`'s float nodes with quantised ones (WideBvhOf::quantized), in parallel. When
+/// the root box cannot be quantised (can_quantize) the tree keeps its float nodes and this
+/// returns false. A tree with quantised nodes cannot be refitted (refit_wide refuses it). The
+/// collapse writes quantised nodes itself when the tree it is handed is marked quantized
+/// (build_triangle_bvh with BuildConfig::quantized_nodes), without the float nodes at all.
+template <int N>
+bool quantize_nodes(WideBvhOf<N>& wide);
 
 /// Relative costs of the collapse's SAH, in units of one wide node test. A block of four
 /// triangles costs a little more than a node test (more arithmetic, same one SIMD pass).

@@ -1,8 +1,10 @@
 // The static group with compact leaves (UpdatePolicy::compact_static_group, `--leaves
-// compact`): every frame the same as with full blocks bit for bit (colour, depth, object,
+// compact`), quantised nodes (UpdatePolicy::quantized_static_group, `--nodes quantized`) or
+// both: every frame the same as with full blocks and float nodes bit for bit (colour, depth, object,
 // triangle and normal of every pixel), for packets and single rays, over static objects at the
 // identity (their leaves read the scene's own vertices) and under transforms (vertices the group
-// makes and holds), on later frames too; and the tree's bytes fall by the blocks' vertices.
+// makes and holds), on later frames too; and the tree's bytes fall by the blocks' vertices or
+// half the nodes.
 // Matched against the exact reference as well, so that "the same as full blocks" cannot hide
 // an error both share.
 
@@ -49,23 +51,38 @@ TEST(CompactStaticGroup, DrawsEveryFrameAsFullBlocksDoAndHoldsFewerBytes) {
         options.height = 60;
         for (const Tracer tracer : {Tracer::packet, Tracer::single}) {
             options.tracer = tracer;
-            options.compact_static_group = false;
             Renderer full_renderer(options);
-            options.compact_static_group = true;
-            Renderer compact_renderer(options);
-            for (int f : {0, 1, 5}) {
-                SCOPED_TRACE("frame " + std::to_string(f));
-                RenderedFrame full, compact;
-                full_renderer.render(scene, camera, f, full);
-                compact_renderer.render(scene, camera, f, compact);
-                expect_same_frame(compact, full);
-                EXPECT_GT(compact.stats.static_objects, 0u);
-                EXPECT_EQ(compact.stats.triangles, full.stats.triangles);
-                if (f == 0) {
-                    // The blocks' 36 bytes of corners a triangle (less the unused lanes' share)
-                    // are gone, the scene's vertices read instead.
-                    EXPECT_LT(compact.stats.tree_bytes + 30 * compact.stats.static_triangles,
-                              full.stats.tree_bytes);
+            // Compact leaves, quantised nodes (`--nodes quantized`) and both.
+            struct Layout {
+                bool compact, quantized;
+            };
+            for (const Layout layout : {Layout{true, false}, Layout{false, true}, Layout{true, true}}) {
+                SCOPED_TRACE(std::string(layout.compact ? "compact leaves" : "full blocks") +
+                             (layout.quantized ? ", quantised nodes" : ""));
+                RenderOptions other = options;
+                other.compact_static_group = layout.compact;
+                other.quantized_static_group = layout.quantized;
+                Renderer compact_renderer(other);
+                for (int f : {0, 1, 5}) {
+                    SCOPED_TRACE("frame " + std::to_string(f));
+                    RenderedFrame full, compact;
+                    full_renderer.render(scene, camera, f, full);
+                    compact_renderer.render(scene, camera, f, compact);
+                    expect_same_frame(compact, full);
+                    EXPECT_GT(compact.stats.static_objects, 0u);
+                    EXPECT_EQ(compact.stats.triangles, full.stats.triangles);
+                    if (f != 0) continue;
+                    if (layout.compact) {
+                        // The blocks' 36 bytes of corners a triangle (less the unused lanes'
+                        // share) are gone, the scene's vertices read instead.
+                        EXPECT_LT(compact.stats.tree_bytes + 30 * compact.stats.static_triangles,
+                                  full.stats.tree_bytes);
+                    } else {
+                        // Half of each node's 256 bytes: at least 128 bytes per 32 triangles
+                        // (eight leaves of four a node at best).
+                        EXPECT_LE(compact.stats.tree_bytes + 4 * compact.stats.static_triangles,
+                                  full.stats.tree_bytes);
+                    }
                     const reference::ImageComparison cmp = reference::compare_images(compact, test::reference_shot(scene, camera, options));
                     EXPECT_TRUE(cmp.passed()) << cmp.summary();
                 }

@@ -171,6 +171,7 @@ dynrt::RenderOptions render_options(const FrameArgs& args) {
     options.build.leaf_size_max = args.leaf_size;
     options.build.wide = args.bvh == "wide";
     options.compact_static_group = args.leaves == "compact";
+    options.quantized_static_group = args.nodes == "quantized";
     options.build.method =
         args.builder == "morton" ? dynrt::bvh::BuildMethod::morton : dynrt::bvh::BuildMethod::binned_sah;
     for (const std::string& light : args.lights) options.lights.push_back(parse_light(light));

@@ -32,6 +32,8 @@ struct FrameArgs {
     std::string bvh = "wide";
     /// The static group's leaves: full (triangles copied into SIMD blocks) or compact.
     std::string leaves = "full";
+    /// The static group's nodes: float or quantized.
+    std::string nodes = "float";
     std::string packet_culling = "all";
     float adaptive = 0.0f;
     /// Shading normals (TraceSettings::smooth_normals): smooth (the vertex normals) or flat.

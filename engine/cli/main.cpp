@@ -145,6 +145,11 @@ int main(int argc, char** argv) {
                         "from the scene's vertices: about 40 bytes a triangle fewer); the same "
                         "hits either way")
             ->check(CLI::IsMember({"full", "compact"}))->capture_default_str();
+        cmd->add_option("--nodes", args.nodes,
+                        "Nodes of the static objects' tree: float (child boxes as floats, 256 "
+                        "bytes a node) or quantized (8-bit planes on each node's own grid, 128 "
+                        "bytes); the same hits either way")
+            ->check(CLI::IsMember({"float", "quantized"}))->capture_default_str();
         cmd->add_option("--packet-culling", args.packet_culling,
                         "Packet culling stages: ab,bp,edge,nf (any subset), all or none")
             ->capture_default_str();

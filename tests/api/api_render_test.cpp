@@ -215,49 +215,58 @@ TEST(ApiRender, SameFrameAsTheRendererPixelForPixel) {
     EXPECT_EQ(mesh_only.mesh, full.mesh);
 }
 
-// EngineOptions::compact_leaves: the static meshes' leaves read their vertices instead of a
-// copy. Frames and ray hits are the default engine's bit for bit, before and after a static
-// mesh is removed (also in the render between remove_mesh and update, which still shows it),
-// in fewer bytes.
-TEST(ApiRender, CompactLeavesGiveTheSameFramesAndHitsInFewerBytes) {
+// EngineOptions::compact_leaves (the static meshes' leaves read their vertices instead of a
+// copy) and EngineOptions::quantized_nodes (their tree's boxes in 8-bit planes), apart and
+// together. Frames and ray hits are the default engine's bit for bit, before and after a
+// static mesh is removed (also in the render between remove_mesh and update, which still shows
+// it), in fewer bytes.
+TEST(ApiRender, CompactLeavesAndQuantizedNodesGiveTheSameFramesAndHitsInFewerBytes) {
     const std::vector<Piece> ps = pieces();
-    EngineOptions options;
-    Engine full(options);
-    options.compact_leaves = true;
-    Engine compact(options);
-    for (Engine* engine : {&full, &compact}) add_pieces(*engine, ps);
     const View view{{1.0f, 2.0f, 6.0f}, {0.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, 50.0f};
     std::mt19937 rng(3);
     const std::vector<Ray> rays = coherent_rays(rng, {1.0f, 2.0f, 6.0f}, {0.0f, 0.0f, 0.0f}, 0.5f, 2000);
-    const auto expect_same = [&](const char* when) {
-        SCOPED_TRACE(when);
-        Image a(kWidth, kHeight), b(kWidth, kHeight);
-        full.render(view, ImageView{kWidth, kHeight, a.rgb, a.depth, a.mesh});
-        compact.render(view, ImageView{kWidth, kHeight, b.rgb, b.depth, b.mesh});
-        EXPECT_EQ(std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)), 0);
-        EXPECT_EQ(std::memcmp(a.depth.data(), b.depth.data(), a.depth.size() * sizeof(float)), 0);
-        EXPECT_EQ(a.mesh, b.mesh);
-        std::vector<RayHit> ha(rays.size()), hb(rays.size());
-        full.intersect(rays, ha);
-        compact.intersect(rays, hb);
-        int hits = 0;
-        for (std::size_t i = 0; i < rays.size(); ++i) {
-            ASSERT_TRUE(identical(ha[i], hb[i])) << describe(rays[i]) << ": " << describe(ha[i]) << " / " << describe(hb[i]);
-            hits += ha[i].hit() ? 1 : 0;
-        }
-        EXPECT_GT(hits, 500);
+    struct Layout {
+        bool compact, quantized;
     };
-    full.update();
-    compact.update();
-    expect_same("after the first update");
-    EXPECT_LT(compact.memory_bytes(), full.memory_bytes());
-    // The static ball (mesh 1) goes: still drawn until the update, then gone from both.
-    full.remove_mesh(MeshId{1});  // ids count from 0 in the order added
-    compact.remove_mesh(MeshId{1});
-    expect_same("between remove_mesh and update");
-    full.update();
-    compact.update();
-    expect_same("after the update");
+    for (const Layout layout : {Layout{true, false}, Layout{false, true}, Layout{true, true}}) {
+        SCOPED_TRACE(std::string(layout.compact ? "compact leaves" : "full blocks") +
+                     (layout.quantized ? ", quantised nodes" : ""));
+        EngineOptions options;
+        Engine full(options);
+        options.compact_leaves = layout.compact;
+        options.quantized_nodes = layout.quantized;
+        Engine compact(options);
+        for (Engine* engine : {&full, &compact}) add_pieces(*engine, ps);
+        const auto expect_same = [&](const char* when) {
+            SCOPED_TRACE(when);
+            Image a(kWidth, kHeight), b(kWidth, kHeight);
+            full.render(view, ImageView{kWidth, kHeight, a.rgb, a.depth, a.mesh});
+            compact.render(view, ImageView{kWidth, kHeight, b.rgb, b.depth, b.mesh});
+            EXPECT_EQ(std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)), 0);
+            EXPECT_EQ(std::memcmp(a.depth.data(), b.depth.data(), a.depth.size() * sizeof(float)), 0);
+            EXPECT_EQ(a.mesh, b.mesh);
+            std::vector<RayHit> ha(rays.size()), hb(rays.size());
+            full.intersect(rays, ha);
+            compact.intersect(rays, hb);
+            int hits = 0;
+            for (std::size_t i = 0; i < rays.size(); ++i) {
+                ASSERT_TRUE(identical(ha[i], hb[i])) << describe(rays[i]) << ": " << describe(ha[i]) << " / " << describe(hb[i]);
+                hits += ha[i].hit() ? 1 : 0;
+            }
+            EXPECT_GT(hits, 500);
+        };
+        full.update();
+        compact.update();
+        expect_same("after the first update");
+        EXPECT_LT(compact.memory_bytes(), full.memory_bytes());
+        // The static ball (mesh 1) goes: still drawn until the update, then gone from both.
+        full.remove_mesh(MeshId{1});  // ids count from 0 in the order added
+        compact.remove_mesh(MeshId{1});
+        expect_same("between remove_mesh and update");
+        full.update();
+        compact.update();
+        expect_same("after the update");
+    }
 }
 
 // Engine::cancel_render from another thread stops a render in progress; the next render is

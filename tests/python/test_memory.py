@@ -42,10 +42,13 @@ def test_add_update_remove_cycles_give_the_bytes_back():
     assert engine.motion(ground) == "static"
 
 
-def test_compact_leaves_draw_the_same_frame_in_fewer_bytes():
-    """Engine(compact_leaves=True): the static meshes' leaves read their vertices (issue 43);
-    the frame is the default engine's bit for bit, and the engine holds fewer bytes."""
-    engines = [dynrt.Engine(), dynrt.Engine(compact_leaves=True)]
+@pytest.mark.parametrize("layout", [{"compact_leaves": True}, {"quantized_nodes": True},
+                                    {"compact_leaves": True, "quantized_nodes": True}])
+def test_compact_layouts_draw_the_same_frame_in_fewer_bytes(layout):
+    """Engine(compact_leaves=True): the static meshes' leaves read their vertices;
+    Engine(quantized_nodes=True): their tree's boxes are 8-bit planes (issue 43). The frame is
+    the default engine's bit for bit, and the engine holds fewer bytes."""
+    engines = [dynrt.Engine(), dynrt.Engine(**layout)]
     for engine in engines:
         engine.add_mesh(wave_positions(32, size=6.0) - np.float32([0, 1, 0]), grid_indices(32), name="ground")
         engine.add_mesh(wave_positions(16, phase=0.3), grid_indices(16), motion="deformable", name="cloth")

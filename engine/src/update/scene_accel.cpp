@@ -129,8 +129,9 @@ std::size_t tree_bytes(const bvh::TriangleBvh& tree) {
     // The Morton builder's scratch (TriangleBvh::morton_scratch) is private to bvh/ and left
     // out: the library API's updates build with binned SAH only.
     return held_bytes(tree.bvh.nodes) + held_bytes(tree.bvh.prim_ids) + held_bytes(tree.wide.nodes) +
-           held_bytes(tree.wide.blocks) + held_bytes(tree.wide.prim_blocks) + tree.wide.source.bytes() +
-           held_bytes(tree.tris) + held_bytes(tree.skipped_ids);
+           held_bytes(tree.wide.quantized_nodes) + held_bytes(tree.wide.blocks) +
+           held_bytes(tree.wide.prim_blocks) + tree.wide.source.bytes() + held_bytes(tree.tris) +
+           held_bytes(tree.skipped_ids);
 }
 
 }  // namespace
@@ -231,6 +232,7 @@ void SceneAccel::update(const Scene& scene, std::span<const ObjectState> states,
     if (plan_.rebuild_static_group) {
         bvh::BuildConfig config = policy.build;
         config.compact_leaves = policy.compact_static_group;
+        config.quantized_nodes = policy.quantized_static_group;
         build_static_group(scene, states, fixed, config, plan_.static_group_reason, stats);
     }
     for (std::size_t i = 0; i < count; ++i) update_object(i, run, stats);
@@ -265,8 +267,9 @@ void SceneAccel::update_object(std::size_t i, const Update& run, UpdateStats& st
     // Builds are binned SAH unless the method says otherwise: the fast method always uses the
     // Morton builder, the automatic one where it predicts a lower cost (object_tree.cpp).
     if (run.policy.method == UpdateMethod::fast) update.config.method = bvh::BuildMethod::morton;
-    // An object's tree may be refitted, which compact leaves cannot be.
+    // An object's tree may be refitted, which compact leaves and quantised nodes cannot be.
     update.config.compact_leaves = false;
+    update.config.quantized_nodes = false;
     if (planned.action == TreeAction::rebuild || planned.action == TreeAction::refit) {
         // Read only when the triangles are (the library API checks a borrowed buffer as it
         // reads it). A rigid object's are in object space; the planner never refits one.

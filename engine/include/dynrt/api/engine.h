@@ -171,6 +171,10 @@ struct EngineOptions {
     /// the same hits bit for bit, slower rays (1.08-1.16x on our scenes; `--leaves compact`,
     /// docs/animation.md "Compact leaves"). Borrowed static vertices are then copied once.
     bool compact_leaves = false;
+    /// The static meshes' tree keeps its child boxes in 8-bit planes: 128 bytes a node instead
+    /// of 256, the same hits bit for bit (`--nodes quantized`, docs/animation.md "Quantised
+    /// nodes").
+    bool quantized_nodes = false;
 };
 
 /// A caller-owned image the engine renders into. Row-major, y = 0 the top row.

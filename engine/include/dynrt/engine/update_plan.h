@@ -71,6 +71,10 @@ struct UpdatePolicy {
     /// the build's nodes at its peak). Other trees, which may be refitted, always keep full
     /// blocks (build.compact_leaves is ignored).
     bool compact_static_group = false;
+    /// The static group's tree with quantised nodes (bvh::BuildConfig::quantized_nodes): its
+    /// child boxes in 8-bit planes, 128 bytes a node instead of 256, the same images bit for
+    /// bit (`--nodes quantized`). Other trees, which may be refitted, keep float nodes.
+    bool quantized_static_group = false;
 };
 
 /// One object at one update, as the planner and SceneAccel read it: what a PosedScene says of

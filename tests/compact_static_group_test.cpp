@@ -1,12 +1,11 @@
 // The static group with compact leaves (UpdatePolicy::compact_static_group, `--leaves
 // compact`), quantised nodes (UpdatePolicy::quantized_static_group, `--nodes quantized`) or
-// both: every frame the same as with full blocks and float nodes bit for bit (colour, depth, object,
-// triangle and normal of every pixel), for packets and single rays, over static objects at the
-// identity (their leaves read the scene's own vertices) and under transforms (vertices the group
-// makes and holds), on later frames too; and the tree's bytes fall by the blocks' vertices or
-// half the nodes.
-// Matched against the exact reference as well, so that "the same as full blocks" cannot hide
-// an error both share.
+// both: every frame the same as with full blocks and float nodes bit for bit (colour, depth,
+// object, triangle and normal of every pixel), for packets and single rays, over static objects
+// at the identity (their leaves read the scene's own vertices) and under transforms (vertices
+// the group makes and holds), on later frames too; and the tree's bytes fall by the blocks'
+// vertices or half the nodes. Matched against the exact reference as well, so that "the same
+// as full blocks" cannot hide an error both share.
 
 #include "dynrt/reference/image_comparison.h"
 

@@ -10,7 +10,6 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <bit>
 #include <atomic>
 #include <cmath>
 
@@ -20,7 +19,7 @@ namespace {
 /// The float the traversal decodes plane q to, with step 2^e from `origin`
 /// (QuantizedWideNode::plane).
 float decoded(float origin, int e, int q) {
-    return origin + static_cast<float>(q) * std::bit_cast<float>(static_cast<std::uint32_t>(e + 127) << 23);
+    return origin + static_cast<float>(q) * quantized_step(e);
 }
 
 /// The exponent of the smallest step whose plane 255 reaches `hi` from `origin`, or
@@ -73,10 +72,12 @@ bool quantize_node(const WideNode<N>& node, QuantizedWideNode<N>& out) {
             const float lo = box.lo[a], hi = box.hi[a];
             // The estimates from exact division, then moved until the decoded floats hold the
             // box (plane 0 is the origin, at or below every lo; plane 255 reaches every hi).
-            int q_lo = static_cast<int>(std::clamp(std::floor((double(lo) - origin) / step), 0.0, 255.0));
+            int q_lo = static_cast<int>(
+                std::clamp(std::floor((double(lo) - origin) / step), 0.0, 255.0));
             while (q_lo > 0 && decoded(origin, e, q_lo) > lo) --q_lo;
             while (q_lo < 255 && decoded(origin, e, q_lo + 1) <= lo) ++q_lo;
-            int q_hi = static_cast<int>(std::clamp(std::ceil((double(hi) - origin) / step), 0.0, 255.0));
+            int q_hi = static_cast<int>(
+                std::clamp(std::ceil((double(hi) - origin) / step), 0.0, 255.0));
             while (q_hi < 255 && decoded(origin, e, q_hi) < hi) ++q_hi;
             while (q_hi > 0 && decoded(origin, e, q_hi - 1) >= hi) --q_hi;
             out.lo[a][i] = static_cast<std::uint8_t>(q_lo);
@@ -96,7 +97,9 @@ bool quantize_nodes(WideBvhOf<N>& wide) {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 4096),
                       [&](const tbb::blocked_range<std::size_t>& r) {
                           for (std::size_t i = r.begin(); i != r.end(); ++i) {
-                              if (!quantize_node(wide.nodes[i], quantized[i])) ok.store(false, std::memory_order_relaxed);
+                              if (!quantize_node(wide.nodes[i], quantized[i])) {
+                                  ok.store(false, std::memory_order_relaxed);
+                              }
                           }
                       });
     if (!ok.load()) return false;

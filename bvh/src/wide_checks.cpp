@@ -62,6 +62,8 @@ WideFigures walk(const WideBvhOf<N>& wide, const Node* nodes, std::uint32_t inde
 
 }  // namespace
 
+namespace {
+
 /// validate on the tree's node array of either kind. A float node's child boxes nest in their
 /// parent's; a quantised node's need not (quantized_node.h), so there each triangle is checked
 /// against every box on its path instead.
@@ -191,10 +193,13 @@ std::string validate_nodes(const WideBvhOf<N>& wide, const Node* nodes,
     return {};
 }
 
+}  // namespace
+
 template <int N>
 std::string validate(const WideBvhOf<N>& wide, std::span<const Triangle> tris,
                      std::span<const std::uint32_t> prims) {
-    return wide.visit_nodes([&](const auto* nodes) { return validate_nodes(wide, nodes, tris, prims); });
+    return wide.visit_nodes(
+        [&](const auto* nodes) { return validate_nodes(wide, nodes, tris, prims); });
 }
 
 template <int N>
@@ -220,7 +225,8 @@ WideStats compute_stats(const WideBvhOf<N>& wide) {
     s.block_fill = s.blocks ? static_cast<double>(lanes) / static_cast<double>(s.blocks * kBlockLanes) : 0.0;
     s.children_mean = s.nodes ? static_cast<double>(slots) / static_cast<double>(s.nodes) : 0.0;
     if (!wide.empty()) {
-        const WideFigures f = wide.visit_nodes([&](const auto* nodes) { return walk(wide, nodes, 0, 1, SahCosts{}); });
+        const WideFigures f =
+            wide.visit_nodes([&](const auto* nodes) { return walk(wide, nodes, 0, 1, SahCosts{}); });
         s.leaf_prims_max = f.leaf_prims_max;
         s.leaf_prims_mean = f.leaves ? static_cast<double>(f.leaf_prims) / static_cast<double>(f.leaves) : 0.0;
         s.depth = f.depth;
@@ -231,7 +237,8 @@ WideStats compute_stats(const WideBvhOf<N>& wide) {
 template <int N>
 double sah_cost(const WideBvhOf<N>& wide, const SahCosts& costs) {
     if (wide.empty()) return 0.0;
-    const WideFigures f = wide.visit_nodes([&](const auto* nodes) { return walk(wide, nodes, 0, 1, costs); });
+    const WideFigures f =
+        wide.visit_nodes([&](const auto* nodes) { return walk(wide, nodes, 0, 1, costs); });
     return detail::wide_sah_total(f.sah, wide.root_box, costs);
 }
 

@@ -75,7 +75,8 @@ public:
         WideBvhOf<N> wide = std::move(recycled);
         // Quantised nodes when the tree handed in says so (as it says compact leaves) and the
         // root box can be: each node is then quantised as it is written.
-        const bool quantize = wide.quantized && !bvh_.nodes.empty() && can_quantize(bvh_.nodes[0].box);
+        const bool quantize =
+            wide.quantized && !bvh_.nodes.empty() && can_quantize(bvh_.nodes[0].box);
         wide.nodes.clear();
         wide.quantized = false;
         wide.quantized_nodes.clear();

@@ -35,6 +35,11 @@ namespace dynrt::bvh {
 inline constexpr int kQuantizedExponentMin = -126;
 inline constexpr int kQuantizedExponentMax = 119;
 
+/// 2^exponent, built from its bits (exponent within the two bounds above).
+__attribute__((always_inline)) inline float quantized_step(int exponent) {
+    return std::bit_cast<float>(static_cast<std::uint32_t>(exponent + 127) << 23);
+}
+
 /// One node of an N-wide tree with quantised child boxes. child and blocks mean what they mean
 /// in WideNode (an empty slot has blocks 0 and child kInvalidId).
 template <int N>
@@ -55,10 +60,8 @@ struct alignas(64) QuantizedWideNode {
 
     bool is_empty(int i) const { return blocks[i] == 0 && child[i] == kInvalidId; }
     bool is_leaf(int i) const { return blocks[i] != 0; }
-    /// 2^exponent[axis], built from its bits.
-    __attribute__((always_inline)) float scale(int axis) const {
-        return std::bit_cast<float>(static_cast<std::uint32_t>(exponent[axis] + 127) << 23);
-    }
+    /// 2^exponent[axis].
+    __attribute__((always_inline)) float scale(int axis) const { return quantized_step(exponent[axis]); }
     /// Plane q on `axis`, as the traversal decodes it.
     __attribute__((always_inline)) float plane(int axis, std::uint8_t q) const {
         return origin[axis] + static_cast<float>(q) * scale(axis);

@@ -183,8 +183,8 @@ TEST(QuantizedTreeChecks, APlaneMovedInwardsIsCaughtAndRefitIsRefused) {
     bool moved = false;
     for (QuantizedWideNode<8>& node : tree.wide.quantized_nodes) {
         for (int i = 0; i < 8; ++i) {
-            if (node.is_leaf(i) && node.hi[0][i] > node.lo[0][i]) {
-                --node.hi[0][i];
+            if (node.is_leaf(i) && node.axis[0].hi[i] > node.axis[0].lo[i]) {
+                --node.axis[0].hi[i];
                 moved = true;
             }
         }

@@ -80,8 +80,8 @@ bool quantize_node(const WideNode<N>& node, QuantizedWideNode<N>& out) {
                 std::clamp(std::ceil((double(hi) - origin) / step), 0.0, 255.0));
             while (q_hi < 255 && decoded(origin, e, q_hi) < hi) ++q_hi;
             while (q_hi > 0 && decoded(origin, e, q_hi - 1) >= hi) --q_hi;
-            out.lo[a][i] = static_cast<std::uint8_t>(q_lo);
-            out.hi[a][i] = static_cast<std::uint8_t>(q_hi);
+            out.axis[a].lo[i] = static_cast<std::uint8_t>(q_lo);
+            out.axis[a].hi[i] = static_cast<std::uint8_t>(q_hi);
         }
     }
     return true;

@@ -52,9 +52,13 @@ struct alignas(64) QuantizedWideNode {
     /// Bit i set when slot i holds a child: the decoded box of an empty slot may be hit (its
     /// planes are 0), so traversal masks the slots with this.
     std::uint8_t used;
-    /// Child i's box, lo[axis][i] and hi[axis][i] steps above the origin.
-    std::uint8_t lo[3][N];
-    std::uint8_t hi[3][N];
+    /// Child i's box on each axis, lo[i] and hi[i] steps above the origin; an axis's lower
+    /// and upper planes side by side, decoded as one vector of 2N lanes where the ISA has
+    /// them (AVX-512).
+    struct AxisPlanes {
+        std::uint8_t lo[N];
+        std::uint8_t hi[N];
+    } axis[3];
     std::uint32_t child[N];
     std::uint16_t blocks[N];
 
@@ -70,11 +74,34 @@ struct alignas(64) QuantizedWideNode {
     /// box of every child they pop.
     __attribute__((always_inline)) Aabb box(int i) const {
         if (is_empty(i)) return Aabb{};
-        return Aabb{{plane(0, lo[0][i]), plane(1, lo[1][i]), plane(2, lo[2][i])},
-                    {plane(0, hi[0][i]), plane(1, hi[1][i]), plane(2, hi[2][i])}};
+        return Aabb{{plane(0, axis[0].lo[i]), plane(1, axis[1].lo[i]), plane(2, axis[2].lo[i])},
+                    {plane(0, axis[0].hi[i]), plane(1, axis[1].hi[i]), plane(2, axis[2].hi[i])}};
     }
 };
 static_assert(sizeof(QuantizedWideNode<4>) == 64 && sizeof(QuantizedWideNode<8>) == 128);
+
+/// An axis's 2N plane bytes and their floats, for N = 8 and N = 4.
+typedef std::uint8_t PlaneBytes16 __attribute__((vector_size(16)));
+typedef float PlaneFloats16 __attribute__((vector_size(64)));
+typedef std::uint8_t PlaneBytes8 __attribute__((vector_size(8)));
+typedef float PlaneFloats8 __attribute__((vector_size(32)));
+
+/// Decodes axis `a` of `node` into its lower and upper planes' N-lane vectors.
+template <class Q2, class F2, class Node, class F>
+__attribute__((always_inline)) inline void decode_axis(const Node& node, int a, F& lo, F& hi) {
+    static_assert(sizeof(Q2) == sizeof(node.axis[0]) && sizeof(F2) == 2 * sizeof(F));
+    // x - (+0) lane-wise broadcasts (wide_simd.h's splat).
+    const F2 scale = node.scale(a) - F2{};
+    const F2 origin = node.origin[a] - F2{};
+    Q2 q;
+    std::memcpy(&q, &node.axis[a], sizeof q);
+    // Bytes to 32-bit integers, then to floats: two vector instructions (vpmovzxbd,
+    // vcvtdq2ps). Converted straight to float, GCC converts each byte on its own.
+    typedef std::int32_t I2 __attribute__((vector_size(sizeof(F2))));
+    const F2 planes = origin + __builtin_convertvector(__builtin_convertvector(q, I2), F2) * scale;
+    std::memcpy(&lo, &planes, sizeof(F));
+    std::memcpy(&hi, reinterpret_cast<const char*>(&planes) + sizeof(F), sizeof(F));
+}
 
 /// The child boxes of a node as N-lane vectors F (GCC/Clang vector extensions of N floats):
 /// lo[axis] and hi[axis] lane i are child i's planes. A float node's are loaded; a quantised
@@ -88,16 +115,15 @@ __attribute__((always_inline)) inline void child_box_lanes(const Node& node, F l
             std::memcpy(&hi[a], planes[3 + a], sizeof(F));
         }
     } else {
-        typedef std::uint8_t Q __attribute__((vector_size(sizeof(F) / sizeof(float))));
+        // Both planes of an axis at once: 2N lanes (one AVX-512 register for N = 8; the
+        // compiler splits them where registers are narrower).
+        static_assert(sizeof(F) == 32 || sizeof(F) == 16, "four or eight lanes");
         for (int a = 0; a < 3; ++a) {
-            // x - (+0) lane-wise broadcasts (wide_simd.h's splat).
-            const F scale = node.scale(a) - F{};
-            const F origin = node.origin[a] - F{};
-            Q q_lo, q_hi;
-            std::memcpy(&q_lo, node.lo[a], sizeof q_lo);
-            std::memcpy(&q_hi, node.hi[a], sizeof q_hi);
-            lo[a] = origin + __builtin_convertvector(q_lo, F) * scale;
-            hi[a] = origin + __builtin_convertvector(q_hi, F) * scale;
+            if constexpr (sizeof(F) == 32) {
+                decode_axis<PlaneBytes16, PlaneFloats16>(node, a, lo[a], hi[a]);
+            } else {
+                decode_axis<PlaneBytes8, PlaneFloats8>(node, a, lo[a], hi[a]);
+            }
         }
     }
 }

@@ -270,7 +270,9 @@ struct WideCosts {
 /// the calling thread's oneTBB arena; the result does not depend on thread timing. An empty
 /// tree gives an empty wide tree. Throws std::length_error when a binary leaf needs more than
 /// 65535 blocks (leaf_size_max above 262,140). `recycled`, a wide tree no longer needed, lends
-/// its storage (a tree rebuilt every frame then writes memory that is already faulted in).
+/// its storage (a tree rebuilt every frame then writes memory that is already faulted in), and
+/// says the kind of tree to make: `compact` leaves over its `source`, `quantized` nodes
+/// (written quantised as they are made, when can_quantize accepts the root box).
 template <int N>
 WideBvhOf<N> collapse_to_wide(const Bvh& bvh, std::span<const Triangle> leaf_tris,
                               const WideCosts& costs = {}, WideBvhOf<N>&& recycled = {});

@@ -6,11 +6,12 @@
 
 #include "dynrt/bvh/wide_bvh.h"
 
+#include "node_target.h"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 
 namespace dynrt::bvh {
@@ -93,16 +94,15 @@ bool quantize_nodes(WideBvhOf<N>& wide) {
     if (!can_quantize(wide.root_box)) return false;
     const std::size_t count = wide.nodes.size();
     decltype(wide.quantized_nodes) quantized(count);
-    std::atomic<bool> ok{true};
+    // Every node lies in the root box can_quantize accepted: the collapse's writer quantises
+    // each (and would throw on a refusal, which that check rules out).
+    const detail::NodeTarget<N> target{nullptr, quantized.data()};
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 4096),
                       [&](const tbb::blocked_range<std::size_t>& r) {
                           for (std::size_t i = r.begin(); i != r.end(); ++i) {
-                              if (!quantize_node(wide.nodes[i], quantized[i])) {
-                                  ok.store(false, std::memory_order_relaxed);
-                              }
+                              target.store(i, wide.nodes[i]);
                           }
                       });
-    if (!ok.load()) return false;
     wide.quantized_nodes = std::move(quantized);
     wide.quantized = true;
     decltype(wide.nodes)().swap(wide.nodes);  // the float nodes' memory goes back

@@ -60,10 +60,6 @@ WideFigures walk(const WideBvhOf<N>& wide, const Node* nodes, std::uint32_t inde
     return f;
 }
 
-}  // namespace
-
-namespace {
-
 /// validate on the tree's node array of either kind. A float node's child boxes nest in their
 /// parent's; a quantised node's need not (quantized_node.h), so there each triangle is checked
 /// against every box on its path instead.

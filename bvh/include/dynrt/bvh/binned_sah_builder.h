@@ -53,8 +53,9 @@ struct BuildConfig {
     bool compact_leaves = false;
     /// build_triangle_bvh with the wide tree only: quantised nodes (quantize_nodes,
     /// quantized_node.h), 128 bytes instead of 256 for the same tree, whose boxes hold the exact
-    /// ones; the same hits bit for bit. A tree none of whose boxes fits the 8-bit grid (a
-    /// coordinate span beyond 10^38) keeps float nodes. Such a tree cannot be refitted.
+    /// ones; the same hits bit for bit. A tree whose root box is not finite or spans more than
+    /// 2^126 (about 8.5e37) on an axis keeps float nodes (can_quantize). A quantised tree
+    /// cannot be refitted.
     bool quantized_nodes = false;
 
     SahCosts sah_costs() const { return SahCosts{1.0f, cost_ratio}; }

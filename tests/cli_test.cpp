@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <sys/wait.h>
 
@@ -57,6 +58,35 @@ TEST(Cli, RenderWritesImageAovsAndReport) {
     // plane:2 is 2x2 quads; sphere:500 has S = round((1 + sqrt(501)) / 2) = 12 stacks, 24 slices.
     EXPECT_EQ(doc["frames"][0]["triangles"].get<int>(), 2 * 2 * 2 + 2 * 24 * (12 - 1));
     EXPECT_NE(run.output.find("build"), std::string::npos);  // the printed table
+}
+
+// --memory-budget picks the static objects' layout: a budget below what the process holds
+// already gets the smallest, reported with its prediction; a large one the full layout. The
+// image is the same either way.
+TEST(Cli, AMemoryBudgetChoosesTheStaticLayoutAndSaysWhy) {
+    const fs::path dir = fresh_dir("memory_budget");
+    std::string images[2];
+    const char* budgets[2] = {"1M", "1T"};
+    const char* chosen[2] = {"compact leaves, quantized nodes", "full leaves, float nodes"};
+    for (int i = 0; i < 2; ++i) {
+        SCOPED_TRACE(budgets[i]);
+        const fs::path image = dir / (std::string(budgets[i]) + ".png");
+        const fs::path report_path = dir / (std::string(budgets[i]) + ".json");
+        const CliRun run = run_dynrt("render sphere:2000 --res 32x24 --memory-budget " + std::string(budgets[i]) +
+                                     " --out " + image.string() + " --report " + report_path.string());
+        ASSERT_EQ(run.exit_code, 0) << run.output;
+        EXPECT_NE(run.output.find(std::string("static objects' tree with ") + chosen[i]), std::string::npos)
+            << run.output;
+        std::ifstream report(report_path);
+        const nlohmann::json doc = nlohmann::json::parse(report);
+        const nlohmann::json& layout = doc["frames"][0]["static_layout"];
+        EXPECT_EQ(layout["chosen"], chosen[i]);
+        EXPECT_GT(layout["predicted_peak_bytes"].get<std::size_t>(), 0u);
+        std::ifstream png(image, std::ios::binary);
+        images[i].assign(std::istreambuf_iterator<char>(png), {});
+    }
+    EXPECT_FALSE(images[0].empty());
+    EXPECT_EQ(images[0], images[1]);
 }
 
 TEST(Cli, BackgroundColoursThePixelsThatSeeNothing) {
@@ -576,6 +606,10 @@ INSTANTIATE_TEST_SUITE_P(
                     BadCall{"render sphere:10 --environment-lights 8", "environment lights need an environment map"},
                     BadCall{"render sphere:10 --environment-lights 300", "--environment-lights"},
                     BadCall{"render sphere:10 --spp 0", "--spp"},
+                    BadCall{"render sphere:10 --memory-budget 2x", "--memory-budget '2x': expected a size"},
+                    BadCall{"render sphere:10 --memory-budget 10K", "at least 1M"},
+                    BadCall{"render sphere:10 --memory-budget -2G", "--memory-budget '-2G'"},
+                    BadCall{"render sphere:10 --memory-budget 2G --nodes quantized", "excludes"},
                     BadCall{"render sphere:10 --background 1,2", "--background '1,2': expected r,g,b"},
                     BadCall{"render sphere:10 --background 0,-1,0", "three finite numbers >= 0"},
                     BadCall{"render sphere:10 --spp 5000", "--spp"},

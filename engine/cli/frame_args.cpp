@@ -18,6 +18,7 @@
 #include <glm/trigonometric.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -67,6 +68,38 @@ void parse_resolution(const std::string& text, int& width, int& height) {
     }
     width = w;
     height = h;
+}
+
+std::size_t parse_memory_budget(const std::string& text) {
+    // A number, then an optional K, M, G or T (powers of 1000, as the report's GB) and B.
+    const auto bad = [&] {
+        return std::invalid_argument("--memory-budget '" + text +
+                                     "': expected a size such as 2G, 1500M or 800000000 (bytes), at least 1M");
+    };
+    double number = 0;
+    const char* const end = text.data() + text.size();
+    const auto [rest, ec] = std::from_chars(text.data(), end, number);
+    if (ec != std::errc() || !std::isfinite(number)) throw bad();
+    std::string suffix(rest, end);
+    for (char& c : suffix) c = char(std::toupper(static_cast<unsigned char>(c)));
+    if (suffix.size() > 1 && suffix.back() == 'B') suffix.pop_back();
+    double scale = 1;
+    if (suffix == "K") {
+        scale = 1e3;
+    } else if (suffix == "M") {
+        scale = 1e6;
+    } else if (suffix == "G") {
+        scale = 1e9;
+    } else if (suffix == "T") {
+        scale = 1e12;
+    } else if (!suffix.empty() && suffix != "B") {
+        throw bad();
+    }
+    const double bytes = number * scale;
+    // Below a megabyte no layout could matter (the process's libraries alone take more); past
+    // 2^60 the count would not fit.
+    if (!(bytes >= 1e6 && bytes < 0x1p60)) throw bad();
+    return std::size_t(bytes);
 }
 
 dynrt::PointLight parse_light(const std::string& text) {
@@ -172,6 +205,7 @@ dynrt::RenderOptions render_options(const FrameArgs& args) {
     options.build.wide = args.bvh == "wide";
     options.compact_static_group = args.leaves == "compact";
     options.quantized_static_group = args.nodes == "quantized";
+    if (!args.memory_budget.empty()) options.memory_budget = parse_memory_budget(args.memory_budget);
     options.build.method =
         args.builder == "morton" ? dynrt::bvh::BuildMethod::morton : dynrt::bvh::BuildMethod::binned_sah;
     for (const std::string& light : args.lights) options.lights.push_back(parse_light(light));

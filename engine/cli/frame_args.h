@@ -34,6 +34,9 @@ struct FrameArgs {
     std::string leaves = "full";
     /// The static group's nodes: float or quantized.
     std::string nodes = "float";
+    /// A budget for resident memory that picks the static group's layout (empty: none; then
+    /// leaves and nodes say it).
+    std::string memory_budget;
     std::string packet_culling = "all";
     float adaptive = 0.0f;
     /// Shading normals (TraceSettings::smooth_normals): smooth (the vertex normals) or flat.
@@ -115,6 +118,10 @@ std::vector<float> parse_floats(const std::string& text, const std::string& what
 
 /// Parses --res WIDTHxHEIGHT (each 1..16384).
 void parse_resolution(const std::string& text, int& width, int& height);
+
+/// Parses --memory-budget: a byte count with an optional K, M, G or T (powers of 1000), at
+/// least 1M.
+std::size_t parse_memory_budget(const std::string& text);
 
 /// Parses --light x,y,z[,intensity][:OPTION]...: a point light there, changed by each option:
 /// sphere=RADIUS or quad=UX,UY,UZ,VX,VY,VZ (an area light centred there), spot=DX,DY,DZ,INNER,OUTER

@@ -23,7 +23,7 @@ namespace dynrt::cli {
 // A field added to FrameArgs or RenderArgs must be classified in job_settings() below (part of
 // the job, or not) before this compiles again; then update these counts. RenderArgs counts
 // its FrameArgs base as one field.
-static_assert(field_count<FrameArgs>() == 37,
+static_assert(field_count<FrameArgs>() == 38,
               "a FrameArgs field was added or removed: classify it in job_settings()");
 static_assert(field_count<RenderArgs>() == 1 + 8,
               "a RenderArgs field was added or removed: classify it in job_settings()");
@@ -102,6 +102,8 @@ std::vector<JobSetting> job_settings(const RenderArgs& args, const dynrt::Render
     job("--bvh", args.bvh);
     job("--leaves", args.leaves);  // the same image, other memory and times
     job("--nodes", args.nodes);    // the same image, other memory and times
+    // A machine's resource, as --threads: it picks the layout, which changes no pixel.
+    not_job("--memory-budget", args.memory_budget.empty() ? "none" : args.memory_budget);
     job("--packet-culling", dynrt::packet::PacketCulling::parse(args.packet_culling).to_string());
     job("--adaptive", number_text(args.adaptive));
     job("--normals", args.normals);

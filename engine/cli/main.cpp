@@ -139,17 +139,25 @@ int main(int argc, char** argv) {
                         "Tree packets and single rays trace: wide (8 children per node, "
                         "triangles in SIMD blocks of 4) or binary; the same hits either way")
             ->check(CLI::IsMember({"wide", "binary"}))->capture_default_str();
-        cmd->add_option("--leaves", args.leaves,
+        CLI::Option* leaves = cmd->add_option("--leaves", args.leaves,
                         "Leaves of the static objects' tree: full (each triangle's corners copied "
                         "into the tree's SIMD blocks) or compact (its index only, the corners read "
                         "from the scene's vertices: about 40 bytes a triangle fewer); the same "
                         "hits either way")
             ->check(CLI::IsMember({"full", "compact"}))->capture_default_str();
-        cmd->add_option("--nodes", args.nodes,
+        CLI::Option* nodes = cmd->add_option("--nodes", args.nodes,
                         "Nodes of the static objects' tree: float (child boxes as floats, 256 "
                         "bytes a node) or quantized (8-bit planes on each node's own grid, 128 "
                         "bytes); the same hits either way")
             ->check(CLI::IsMember({"float", "quantized"}))->capture_default_str();
+        cmd->add_option("--memory-budget", args.memory_budget,
+                        "Resident memory the render may take, e.g. 2G, 1500M (powers of 1000): "
+                        "the static objects' tree is built with the fastest layout (full, then "
+                        "compact leaves, then compact leaves and quantized nodes) whose build is "
+                        "predicted to stay within it; the report gives the choice and the "
+                        "prediction. Replaces --leaves and --nodes")
+            ->excludes(leaves)
+            ->excludes(nodes);
         cmd->add_option("--packet-culling", args.packet_culling,
                         "Packet culling stages: ab,bp,edge,nf (any subset), all or none")
             ->capture_default_str();

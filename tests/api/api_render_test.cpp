@@ -269,6 +269,54 @@ TEST(ApiRender, CompactLeavesAndQuantizedNodesGiveTheSameFramesAndHitsInFewerByt
     }
 }
 
+// EngineOptions::memory_budget picks the static meshes' layout: a budget below what any
+// layout is predicted to need gives the smallest (compact leaves, quantised nodes: the bytes of
+// an engine asked for them), an ample one the full layout (the default engine's bytes); the
+// frames are the default engine's bit for bit. The choice is reported on the update that built
+// the static meshes' tree, and only then.
+TEST(ApiRender, AMemoryBudgetChoosesTheStaticLayoutAndReportsIt) {
+    const std::vector<Piece> ps = pieces();
+    const View view{{1.0f, 2.0f, 6.0f}, {0.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, 50.0f};
+    EngineOptions options;
+    Engine full(options);
+    options.compact_leaves = options.quantized_nodes = true;
+    Engine smallest(options);
+    options = EngineOptions{};
+    options.memory_budget = 1'000'000;  // less than the process already holds
+    Engine tight(options);
+    options.memory_budget = std::size_t(1) << 50;
+    Engine ample(options);
+    for (Engine* engine : {&full, &smallest, &tight, &ample}) {
+        add_pieces(*engine, ps);
+        const FrameStats stats = engine->update();
+        if (engine == &tight) {
+            EXPECT_EQ(stats.static_layout, "compact leaves, quantized nodes");
+            EXPECT_NE(stats.static_layout_why.find("over the budget even with the smallest layout"), std::string::npos)
+                << stats.static_layout_why;
+            EXPECT_GT(stats.static_layout_predicted_peak, std::size_t(1'000'000));
+        } else if (engine == &ample) {
+            EXPECT_EQ(stats.static_layout, "full leaves, float nodes");
+            EXPECT_EQ(stats.static_layout_why.find("over the budget"), std::string::npos) << stats.static_layout_why;
+        } else {
+            EXPECT_EQ(stats.static_layout, "");  // no budget, no choice
+        }
+    }
+    EXPECT_EQ(tight.memory_bytes(), smallest.memory_bytes());
+    EXPECT_EQ(ample.memory_bytes(), full.memory_bytes());
+    EXPECT_LT(tight.memory_bytes(), full.memory_bytes());
+    Image want(kWidth, kHeight);
+    full.render(view, ImageView{kWidth, kHeight, want.rgb, want.depth, want.mesh});
+    for (Engine* engine : {&tight, &ample}) {
+        Image got(kWidth, kHeight);
+        engine->render(view, ImageView{kWidth, kHeight, got.rgb, got.depth, got.mesh});
+        EXPECT_EQ(std::memcmp(want.rgb.data(), got.rgb.data(), want.rgb.size() * sizeof(float)), 0);
+        EXPECT_EQ(std::memcmp(want.depth.data(), got.depth.data(), want.depth.size() * sizeof(float)), 0);
+        EXPECT_EQ(want.mesh, got.mesh);
+    }
+    // The next update keeps the static tree: nothing is chosen.
+    EXPECT_EQ(tight.update().static_layout, "");
+}
+
 // Engine::cancel_render from another thread stops a render in progress; the next render is
 // whole (the same as one never stopped).
 TEST(ApiRender, ARenderStoppedFromAnotherThreadReturnsAndTheNextIsWhole) {

@@ -57,3 +57,26 @@ def test_compact_layouts_draw_the_same_frame_in_fewer_bytes(layout):
     assert frames[0].shape == (32, 48, 3)
     assert np.array_equal(frames[0].view(np.uint32), frames[1].view(np.uint32))
     assert engines[1].memory_bytes() < engines[0].memory_bytes()
+
+
+def test_a_memory_budget_chooses_the_static_layout_and_reports_it():
+    """Engine(memory_budget=BYTES): the static meshes' tree gets the fastest layout whose build
+    is predicted to stay within the budget; update() reports the choice. A budget below what
+    the process holds already gets the smallest layout (an engine asked for it holds the same
+    bytes); the frame is the default engine's bit for bit."""
+    engines = [dynrt.Engine(), dynrt.Engine(compact_leaves=True, quantized_nodes=True),
+               dynrt.Engine(memory_budget=1_000_000)]
+    reports = []
+    for engine in engines:
+        engine.add_mesh(wave_positions(32, size=6.0) - np.float32([0, 1, 0]), grid_indices(32), name="ground")
+        reports.append(engine.update())
+    assert "static_layout" not in reports[0]
+    chosen = reports[2]["static_layout"]
+    assert chosen["chosen"] == "compact leaves, quantized nodes"
+    assert "over the budget" in chosen["why"]
+    assert chosen["predicted_peak_bytes"] > 1_000_000
+    assert engines[2].memory_bytes() == engines[1].memory_bytes() < engines[0].memory_bytes()
+    frames = [engine.render(view(), 48, 32, reuse_pixels=False) for engine in (engines[0], engines[2])]
+    assert np.array_equal(frames[0].view(np.uint32), frames[1].view(np.uint32))
+    with pytest.raises(TypeError):
+        dynrt.Engine(memory_budget=-1)

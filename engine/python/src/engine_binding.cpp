@@ -331,7 +331,8 @@ call update(), and render() a view or intersect() / occluded() a batch of rays. 
 rules of the C++ API hold: between two update() calls the engine is read-only, and render,
 intersect and occluded may run from several threads at once (they release the GIL).)");
     engine.def(py::init([](int threads, float cost_ratio, int leaf_size, float cost_ratio_exploding,
-                           double rebuild_threshold, bool compact_leaves, bool quantized_nodes) {
+                           double rebuild_threshold, bool compact_leaves, bool quantized_nodes,
+                           std::size_t memory_budget) {
                    EngineOptions o;
                    o.threads = threads;
                    o.cost_ratio = cost_ratio;
@@ -340,11 +341,13 @@ intersect and occluded may run from several threads at once (they release the GI
                    o.rebuild_threshold = rebuild_threshold;
                    o.compact_leaves = compact_leaves;
                    o.quantized_nodes = quantized_nodes;
+                   o.memory_budget = memory_budget;
                    return std::make_shared<PyEngine>(o);
                }),
                py::kw_only(), py::arg("threads") = 0, py::arg("cost_ratio") = 1.0f, py::arg("leaf_size") = 8,
                py::arg("cost_ratio_exploding") = 0.3f, py::arg("rebuild_threshold") = 0.3,
-               py::arg("compact_leaves") = false, py::arg("quantized_nodes") = false);
+               py::arg("compact_leaves") = false, py::arg("quantized_nodes") = false,
+               py::arg("memory_budget") = 0);
 
     engine.def("add_mesh", &PyEngine::add_mesh, py::arg("positions"), py::arg("indices"), py::kw_only(),
                py::arg("motion") = "automatic", py::arg("transform") = py::none(),

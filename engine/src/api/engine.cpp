@@ -493,6 +493,7 @@ Engine::Engine(const EngineOptions& options) : impl_(std::make_unique<Impl>()) {
     s.policy.rebuild_threshold = options.rebuild_threshold;
     s.policy.compact_static_group = options.compact_leaves;
     s.policy.quantized_static_group = options.quantized_nodes;
+    s.policy.memory_budget = options.memory_budget;
     // The API documents its rebuilds by the threshold (EngineOptions::rebuild_threshold), and
     // raises a mesh whose refits keep degrading past it to exploding.
     s.policy.method = UpdateMethod::threshold;

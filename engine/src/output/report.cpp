@@ -134,6 +134,12 @@ nlohmann::ordered_json frame_json(const FrameStats& s) {
         j["choices"].push_back(
             {{"object", c.object}, {"name", c.name}, {"chosen", c.chosen}, {"why", c.why}});
     }
+    // The static group's layout chosen by a memory budget (only on a frame that built it so).
+    if (!s.static_layout.empty()) {
+        j["static_layout"] = {{"chosen", s.static_layout},
+                              {"why", s.static_layout_why},
+                              {"predicted_peak_bytes", s.static_layout_predicted_peak}};
+    }
     // Memory after the frame (an object of its own: reports written before it lack it).
     nlohmann::ordered_json& memory = j["memory"];
     for_each_memory_field(static_cast<const MemoryStats&>(s), [&](const char* key, const auto& value) { memory[key] = value; });
@@ -191,6 +197,12 @@ FrameStats frame_from_json(const nlohmann::json& j) {
                                        choice.at("name").get<std::string>(),
                                        choice.at("chosen").get<std::string>(),
                                        choice.at("why").get<std::string>()});
+    }
+    if (j.contains("static_layout")) {
+        const nlohmann::json& layout = j.at("static_layout");
+        layout.at("chosen").get_to(s.static_layout);
+        layout.at("why").get_to(s.static_layout_why);
+        layout.at("predicted_peak_bytes").get_to(s.static_layout_predicted_peak);
     }
     s.backend = j.value("backend", std::string("dynrt"));
     s.backend_load_ms = j.value("backend_load_ms", 0.0);
@@ -318,6 +330,13 @@ void print_memory(std::ostream& out, const std::vector<FrameStats>& frames) {
         << " B, build triangles " << per(last.build_triangle_bytes) << " B, renderer in all "
         << per(last.renderer_bytes) << " B; resident peak " << per(peak) << " B (" << std::fixed
         << std::setprecision(1) << double(peak) / 1e9 << " GB)\n";
+    // The last layout a memory budget chose, its prediction beside the measured peak.
+    for (auto f = frames.rbegin(); f != frames.rend(); ++f) {
+        if (f->static_layout.empty()) continue;
+        out << "memory budget, frame " << f->frame << ": static objects' tree with " << f->static_layout << " ("
+            << f->static_layout_why << "; measured peak " << std::setprecision(2) << double(peak) / 1e9 << " GB)\n";
+        break;
+    }
     if (last.largest.size() < 2) return;  // one holder: the line above says it all
     out << "largest:";
     for (std::size_t i = 0; i < last.largest.size(); ++i) {

@@ -1,7 +1,10 @@
 #include "update/scene_accel.h"
 
 #include "dynrt/engine/stopwatch.h"
+#include "dynrt/engine/resident_memory.h"
+#include "dynrt/scene/scene_bytes.h"
 #include "update/held_bytes.h"
+#include "update/static_group_layout.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>
@@ -233,6 +236,7 @@ void SceneAccel::update(const Scene& scene, std::span<const ObjectState> states,
         bvh::BuildConfig config = policy.build;
         config.compact_leaves = policy.compact_static_group;
         config.quantized_nodes = policy.quantized_static_group;
+        if (policy.memory_budget != 0) choose_static_layout(scene, states, policy.memory_budget, config, stats);
         build_static_group(scene, states, fixed, config, plan_.static_group_reason, stats);
     }
     for (std::size_t i = 0; i < count; ++i) update_object(i, run, stats);
@@ -438,6 +442,24 @@ void SceneAccel::index_static_buckets(std::size_t total) {
         while (k + 1 < static_first_.size() && static_first_[k + 1] <= prim) ++k;
         static_bucket_slot_[b] = std::uint32_t(k);
     }
+}
+
+void SceneAccel::choose_static_layout(const Scene& scene, std::span<const ObjectState> states,
+                                      std::size_t budget, bvh::BuildConfig& config, UpdateStats& stats) {
+    std::size_t triangles = 0;
+    for (std::size_t i = 0; i < states.size(); ++i) {
+        if (states[i].motion_class == anim::MotionClass::static_) triangles += scene.objects[i].mesh.triangles.size();
+    }
+    // What is resident now (the scene model, the libraries, trees kept from earlier frames);
+    // where it cannot be read, the scene model at least.
+    std::size_t resident = resident_memory().current;
+    if (resident == 0) resident = scene_bytes(scene);
+    const StaticLayoutChoice choice = choose_static_group_layout(triangles, resident, budget);
+    config.compact_leaves = choice.layout.compact_leaves;
+    config.quantized_nodes = choice.layout.quantized_nodes;
+    stats.static_layout = choice.layout.name();
+    stats.static_layout_why = choice.why;
+    stats.static_layout_predicted_peak = choice.predicted_peak;
 }
 
 void SceneAccel::build_static_group(const Scene& scene, std::span<const ObjectState> states,

@@ -179,6 +179,10 @@ private:
     /// Measures the trees built this update, the scene's SAH cost for the cost model, and the
     /// whole structure's shape into `shape`.
     void measure(const bvh::SahCosts& costs, TreeShape& shape);
+    /// Under a memory budget, sets `config`'s static group layout to the one
+    /// choose_static_group_layout picks for the static triangles of `objects`, and reports it.
+    void choose_static_layout(const Scene& scene, std::span<const ObjectState> objects, std::size_t budget,
+                              bvh::BuildConfig& config, UpdateStats& stats);
     void build_static_group(const Scene& scene, std::span<const ObjectState> objects,
                             const FixedPositions& fixed, const bvh::BuildConfig& config,
                             RebuildReason reason, UpdateStats& stats);

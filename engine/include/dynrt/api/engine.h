@@ -175,6 +175,11 @@ struct EngineOptions {
     /// of 256, the same hits bit for bit (`--nodes quantized`, docs/animation.md "Quantised
     /// nodes").
     bool quantized_nodes = false;
+    /// A budget for the process's resident memory, in bytes (0: none): the static meshes'
+    /// tree is then built with the fastest layout whose build is predicted to stay within it,
+    /// and compact_leaves and quantized_nodes are ignored. update()'s stats give the choice
+    /// (static_layout, static_layout_why; `--memory-budget`, docs/animation.md "Memory budget").
+    std::size_t memory_budget = 0;
 };
 
 /// A caller-owned image the engine renders into. Row-major, y = 0 the top row.

@@ -99,6 +99,12 @@ struct UpdateStats {
     std::vector<TreeRebuild> rebuilds;
     /// The automatic method's choices this frame, with the predictions behind them.
     std::vector<TreeChoice> choices;
+    /// When the static group was built this frame under a memory budget
+    /// (UpdatePolicy::memory_budget): the layout chosen, e.g. "compact leaves, float nodes",
+    /// why, and the peak resident bytes predicted for its build; empty and 0 otherwise.
+    std::string static_layout;
+    std::string static_layout_why;
+    std::size_t static_layout_predicted_peak = 0;
 };
 
 /// The shape of the trees after the update (SAH cost and size of the two levels as one tree).

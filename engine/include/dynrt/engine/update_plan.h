@@ -75,6 +75,12 @@ struct UpdatePolicy {
     /// child boxes in 8-bit planes, 128 bytes a node instead of 256, the same images bit for
     /// bit (`--nodes quantized`). Other trees, which may be refitted, keep float nodes.
     bool quantized_static_group = false;
+    /// A budget for the process's resident memory, in bytes (0: none; `--memory-budget`): the
+    /// static group is then built with the fastest layout whose build is predicted to stay
+    /// within it (engine/src/update/static_group_layout.h), and compact_static_group and
+    /// quantized_static_group are ignored. The choice and its prediction are reported
+    /// (UpdateStats::static_layout).
+    std::size_t memory_budget = 0;
 };
 
 /// One object at one update, as the planner and SceneAccel read it: what a PosedScene says of

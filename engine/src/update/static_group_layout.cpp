@@ -1,0 +1,64 @@
+#include "update/static_group_layout.h"
+
+#include <array>
+#include <cstdio>
+
+namespace dynrt {
+
+namespace {
+
+/// The ladder, fastest (and largest) first.
+constexpr std::array<StaticGroupLayout, 3> kLadder{{
+    {false, false},
+    {true, false},
+    {true, true},
+}};
+
+std::string gigabytes(std::size_t bytes) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.2f GB", double(bytes) / 1e9);
+    return text;
+}
+
+std::size_t predicted_peak(const StaticGroupLayout& layout, std::size_t triangles, std::size_t resident) {
+    return resident + triangles * layout_peak_bytes_per_triangle(layout);
+}
+
+}  // namespace
+
+std::string StaticGroupLayout::name() const {
+    return std::string(compact_leaves ? "compact" : "full") + " leaves, " +
+           (quantized_nodes ? "quantized" : "float") + " nodes";
+}
+
+std::size_t layout_peak_bytes_per_triangle(const StaticGroupLayout& layout) {
+    if (!layout.compact_leaves) return 110;
+    return layout.quantized_nodes ? 52 : 60;
+}
+
+StaticLayoutChoice choose_static_group_layout(std::size_t triangles, std::size_t resident, std::size_t budget) {
+    StaticLayoutChoice choice;
+    choice.layout = kLadder.back();
+    choice.fits = false;
+    for (const StaticGroupLayout& layout : kLadder) {
+        if (predicted_peak(layout, triangles, resident) <= budget) {
+            choice.layout = layout;
+            choice.fits = true;
+            break;
+        }
+    }
+    choice.predicted_peak = predicted_peak(choice.layout, triangles, resident);
+    choice.why = "budget " + gigabytes(budget) + ": predicted peak " + gigabytes(choice.predicted_peak) + " (" +
+                 gigabytes(resident) + " resident + " + std::to_string(triangles) + " triangles x " +
+                 std::to_string(layout_peak_bytes_per_triangle(choice.layout)) + " B)";
+    if (!choice.fits) {
+        choice.why += ", over the budget even with the smallest layout";
+    } else if (choice.layout.compact_leaves) {
+        const StaticGroupLayout& faster = kLadder[choice.layout.quantized_nodes ? 1 : 0];
+        choice.why += "; " + faster.name() + " would peak at " +
+                      gigabytes(predicted_peak(faster, triangles, resident));
+    }
+    return choice;
+}
+
+}  // namespace dynrt

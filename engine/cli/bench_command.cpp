@@ -322,7 +322,7 @@ int run_bench(const BenchArgs& args) {
     dynrt::RenderOptions base = still_frame_options(args);
     const std::string source = scene_source(args);
     const dynrt::Stopwatch load_clock;
-    const dynrt::Scene scene = dynrt::load_scene(source);
+    const dynrt::Scene scene = load_scene_with_progress(source);
     const double load_ms = load_clock.elapsed_ms();
     apply_scene_setup(scene, args, base);
     // Culling items (if swept) vary slowest, then the build sweeps as expand_sweeps orders them.

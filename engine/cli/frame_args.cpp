@@ -7,6 +7,7 @@
 #endif
 
 #include "command_warnings.h"
+#include "stage_progress.h"
 
 #include "dynrt/anim/clip_selection.h"
 #include "dynrt/anim/motion_class.h"
@@ -280,9 +281,14 @@ void refuse_overlapping_clips(const dynrt::Scene& scene, const std::vector<std::
 
 }  // namespace
 
+dynrt::Scene load_scene_with_progress(const std::string& source) {
+    const dynrt::cli::StageProgress progress("loading " + source);
+    return dynrt::load_scene(source);
+}
+
 dynrt::Scene load_animated_scene(const FrameArgs& args, const std::string& source,
                                  dynrt::RenderOptions& options) {
-    dynrt::Scene scene = dynrt::load_scene(source);
+    dynrt::Scene scene = load_scene_with_progress(source);
     apply_scene_setup(scene, args, options);
     dynrt::anim::add_procedural_motions(scene, args.anims);
     options.pose.class_overrides = dynrt::anim::parse_class_overrides(scene, args.treats);

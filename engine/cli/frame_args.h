@@ -140,6 +140,10 @@ void apply_scene_setup(const dynrt::Scene& scene, const FrameArgs& args, dynrt::
 /// Parses --background r,g,b: three finite numbers >= 0.
 glm::vec3 parse_background(const std::string& text);
 
+/// dynrt::load_scene, telling on stderr how long it has taken and the memory it holds when it
+/// is slow ("loading SOURCE: 6 s, 1.3 GB resident"; stage_progress.h).
+dynrt::Scene load_scene_with_progress(const std::string& source);
+
 /// The scene with the user's procedural motions added, and the pose settings that name its
 /// objects and clips (class overrides and clip choices are checked against this scene); the
 /// options the flags left open are filled from the scene (apply_scene_setup).

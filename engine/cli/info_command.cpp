@@ -120,7 +120,7 @@ void print_textures(const dynrt::Scene& scene) {
 }  // namespace
 
 int run_info(const std::string& source) {
-    const dynrt::Scene scene = dynrt::load_scene(source);
+    const dynrt::Scene scene = load_scene_with_progress(source);
     dynrt::anim::PosedScene posed;
     dynrt::anim::pose_scene(scene, 0, posed);
     std::cout << source << "\n";

@@ -14,6 +14,7 @@
 #include "distributed/distributed_render.h"
 
 #include "command_warnings.h"
+#include "stage_progress.h"
 
 #include "distributed/cluster.h"
 #include "distributed/render_journal.h"
@@ -445,6 +446,14 @@ int run_distributed_render(const RenderArgs& args, Cluster& cluster) {
         try {
             Renderer renderer(options);
             RenderedFrame image;
+            bool first_frame = true;
+            const auto render_frame = [&](int f) {
+                // The first frame builds every tree: on a big scene the run's longest wait.
+                std::optional<StageProgress> progress;
+                if (first_frame && ranks == 1) progress.emplace("frame " + std::to_string(f) + " (building the trees)");
+                first_frame = false;
+                renderer.render(scene, f, view, image);
+            };
             if (!tiles) {
                 cluster.start_handout(todo, keep);
                 while (!stopping()) {
@@ -461,7 +470,7 @@ int run_distributed_render(const RenderArgs& args, Cluster& cluster) {
                     for (const int f : run) {
                         if (stopping()) break;
                         frame = f;
-                        renderer.render(scene, f, view, image);
+                        render_frame(f);
                         slow_down(f);
                         image.stats.rank = mpi_job ? rank : -1;
                         image.stats.handout_ms = ask_ms;
@@ -476,7 +485,7 @@ int run_distributed_render(const RenderArgs& args, Cluster& cluster) {
                 for (const int f : todo) {
                     if (stopping()) break;
                     frame = f;
-                    renderer.render(scene, f, view, image);
+                    render_frame(f);
                     slow_down(f);
                     if (!gather_shares(cluster, options, image)) continue;
                     hand_over(image);

@@ -39,8 +39,10 @@ StageProgress::~StageProgress() {
     }
     wake_.notify_all();
     if (watcher_.joinable()) watcher_.join();
-    // Unwinding: the stage failed, and its error follows.
-    if (wrote_) write(std::uncaught_exceptions() > exceptions_ ? "stopped after" : "done in");
+    // A stage that ran past quiet_for closes its lines (also when the watcher, starved of the
+    // CPU, wrote none yet). Unwinding: the stage failed, and its error follows.
+    if (Clock::now() - start_ < quiet_for_ || verbosity() == Verbosity::quiet) return;
+    write(std::uncaught_exceptions() > exceptions_ ? "stopped after" : "done in");
 }
 
 void StageProgress::watch() {
@@ -49,7 +51,6 @@ void StageProgress::watch() {
     if (verbosity() == Verbosity::quiet) return;
     for (;;) {
         write(nullptr);
-        wrote_ = true;
         if (wake_.wait_for(lock, every_, [this] { return done_; })) return;
     }
 }

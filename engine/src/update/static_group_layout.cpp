@@ -37,24 +37,20 @@ std::size_t layout_peak_bytes_per_triangle(const StaticGroupLayout& layout) {
 }
 
 StaticLayoutChoice choose_static_group_layout(std::size_t triangles, std::size_t resident, std::size_t budget) {
+    // The first layout that fits, else the last (the smallest).
+    std::size_t chosen = 0;
+    while (chosen + 1 < kLadder.size() && predicted_peak(kLadder[chosen], triangles, resident) > budget) ++chosen;
     StaticLayoutChoice choice;
-    choice.layout = kLadder.back();
-    choice.fits = false;
-    for (const StaticGroupLayout& layout : kLadder) {
-        if (predicted_peak(layout, triangles, resident) <= budget) {
-            choice.layout = layout;
-            choice.fits = true;
-            break;
-        }
-    }
+    choice.layout = kLadder[chosen];
     choice.predicted_peak = predicted_peak(choice.layout, triangles, resident);
+    choice.fits = choice.predicted_peak <= budget;
     choice.why = "budget " + gigabytes(budget) + ": predicted peak " + gigabytes(choice.predicted_peak) + " (" +
                  gigabytes(resident) + " resident + " + std::to_string(triangles) + " triangles x " +
                  std::to_string(layout_peak_bytes_per_triangle(choice.layout)) + " B)";
     if (!choice.fits) {
         choice.why += ", over the budget even with the smallest layout";
-    } else if (choice.layout.compact_leaves) {
-        const StaticGroupLayout& faster = kLadder[choice.layout.quantized_nodes ? 1 : 0];
+    } else if (chosen > 0) {
+        const StaticGroupLayout& faster = kLadder[chosen - 1];
         choice.why += "; " + faster.name() + " would peak at " +
                       gigabytes(predicted_peak(faster, triangles, resident));
     }

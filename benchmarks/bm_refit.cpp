@@ -67,13 +67,32 @@ const WavedScene& waved(const SceneInput& input) {
     return *slot;
 }
 
+/// The triangles' corners, three a triangle in order: a soup's vertices, read in place
+/// (bvh::TriangleSource::soup) as the engine reads a moving soup's.
+std::vector<glm::vec3> corners_of(const std::vector<bvh::Triangle>& tris) {
+    std::vector<glm::vec3> corners;
+    corners.reserve(3 * tris.size());
+    for (const bvh::Triangle& t : tris) corners.insert(corners.end(), {t.v0, t.v1, t.v2});
+    return corners;
+}
+
 /// `refit` of a TriangleBvh: of its wide tree (blocks and node boxes), or with `wide` false of
 /// its binary tree (leaf-order triangle copies and node boxes). `threads` 0 runs
-/// on the default arena (the whole machine), otherwise in an arena of that many threads.
+/// on the default arena (the whole machine), otherwise in an arena of that many threads. With
+/// `soup`, the triangles are read as a soup's corners rather than as triangles (the same bytes
+/// in the same order, so the difference is the reading code's).
 void BM_RefitTriangleBvh(benchmark::State& state, const std::string& spec, int threads,
-                         bool wide = true) {
+                         bool wide = true, bool soup = false) {
     const SceneInput& input = scene_input(spec);
     const std::vector<bvh::Triangle>* frames[2] = {&waved(input).triangles, &input.triangles};
+    std::vector<glm::vec3> corners[2];
+    bvh::TriangleSource sources[2] = {*frames[0], *frames[1]};
+    if (soup) {
+        for (int f = 0; f < 2; ++f) {
+            corners[f] = corners_of(*frames[f]);
+            sources[f] = bvh::TriangleSource::soup(corners[f]);
+        }
+    }
     bvh::BuildConfig config;
     config.wide = wide;
     bvh::TriangleBvh accel = bvh::build_triangle_bvh(input.triangles, config);
@@ -83,7 +102,7 @@ void BM_RefitTriangleBvh(benchmark::State& state, const std::string& spec, int t
     double waved_sah = 0.0;
     for (auto _ : state) {
         const bvh::RefitResult result =
-            arena.execute([&] { return bvh::refit(accel, *frames[frame], config.sah_costs()); });
+            arena.execute([&] { return bvh::refit(accel, sources[frame], config.sah_costs()); });
         if (frame == 0) waved_sah = result.sah_cost;
         frame ^= 1;
     }
@@ -152,6 +171,7 @@ const std::string kSoup = "soup:1000000";
 
 DYNRT_REFIT_BENCHMARK(BM_RefitTriangleBvh, sphere_1M, kSphere, 0)->UseRealTime();
 DYNRT_REFIT_BENCHMARK(BM_RefitTriangleBvh, soup_1M, kSoup, 0)->UseRealTime();
+DYNRT_REFIT_BENCHMARK(BM_RefitTriangleBvh, soup_1M_in_place, kSoup, 0, true, true)->UseRealTime();
 DYNRT_REFIT_BENCHMARK(BM_RefitTriangleBvh, sphere_1M_binary_only, kSphere, 0, false)->UseRealTime();
 DYNRT_REFIT_BENCHMARK(BM_RefitTriangleBvh, soup_1M_binary_only, kSoup, 0, false)->UseRealTime();
 DYNRT_REFIT_BENCHMARK(BM_RefitTriangleBvh, sphere_1M_1thread, kSphere, 1)->UseRealTime();

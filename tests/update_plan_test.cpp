@@ -279,18 +279,32 @@ Mesh grid(glm::vec3 center, int n, float size) {
     return mesh;
 }
 
+/// `mesh` with three vertices of its own per triangle, in order (a soup, which SceneAccel
+/// reads in place rather than through a copy).
+Mesh soup_of(const Mesh& mesh) {
+    Mesh soup;
+    for (const glm::uvec3& t : mesh.triangles) {
+        const unsigned v = unsigned(soup.positions.size());
+        for (const unsigned corner : {t.x, t.y, t.z}) soup.positions.push_back(mesh.positions[corner]);
+        soup.triangles.push_back({v, v + 1, v + 2});
+    }
+    return soup;
+}
+
 /// Four objects side by side, one per class in kClasses' order, each with a frame-dependent
 /// pose: a rigid one slides, a deformable one ripples, an exploding one scatters its triangles.
+/// Grids with shared vertices, or the same as soups.
 struct MatrixWorld final : FixedPositions {
     Scene scene;
     std::vector<std::vector<glm::vec3>> posed;  ///< per object, world positions this frame
     std::vector<glm::dmat4> transforms;
 
-    MatrixWorld() {
+    explicit MatrixWorld(bool soups = false) {
         for (std::size_t i = 0; i < kClasses.size(); ++i) {
             Object object;
             object.name = name(kClasses[i]);
             object.mesh = grid(glm::vec3(2.5f * float(i), 0.0f, 0.0f), 6, 2.0f);
+            if (soups) object.mesh = soup_of(object.mesh);
             scene.objects.push_back(object);
         }
         scene.materials.push_back(Material{});
@@ -371,39 +385,42 @@ void expect_same_hits(const SceneAccel& updated, const SceneAccel& fresh, const 
 // says (moved objects refitted or rebuilt, the others skipped), and its trees hit exactly what
 // trees built from scratch for the same frame hit.
 TEST(UpdatePlan, SceneAccelCarriesOutThePlanOverMovedSubsets) {
-    MatrixWorld world;
-    UpdatePolicy policy;
-    policy.method = UpdateMethod::threshold;
-    policy.rebuild_threshold = std::numeric_limits<double>::infinity();  // refits stand
-    SceneAccel accel;
-    FrameStats first;
-    accel.update(world.scene, world.states(0xF), world, policy, first, first);
-    EXPECT_EQ(first.objects_rebuilt, kClasses.size());
-    for (const TreeRebuild& r : first.rebuilds) EXPECT_EQ(r.reason, RebuildReason::first_build);
-    int step = 0;
-    for (unsigned moved = 0; moved < 16; ++moved) {
-        ++step;
-        for (std::size_t i = 0; i < kClasses.size(); ++i) {
-            if ((moved >> i) & 1u) world.pose(i, step);
+    for (const bool soups : {false, true}) {
+        SCOPED_TRACE(soups ? "soups (read in place)" : "shared vertices (read through a copy)");
+        MatrixWorld world(soups);
+        UpdatePolicy policy;
+        policy.method = UpdateMethod::threshold;
+        policy.rebuild_threshold = std::numeric_limits<double>::infinity();  // refits stand
+        SceneAccel accel;
+        FrameStats first;
+        accel.update(world.scene, world.states(0xF), world, policy, first, first);
+        EXPECT_EQ(first.objects_rebuilt, kClasses.size());
+        for (const TreeRebuild& r : first.rebuilds) EXPECT_EQ(r.reason, RebuildReason::first_build);
+        int step = 0;
+        for (unsigned moved = 0; moved < 16; ++moved) {
+            ++step;
+            for (std::size_t i = 0; i < kClasses.size(); ++i) {
+                if ((moved >> i) & 1u) world.pose(i, step);
+            }
+            const std::vector<ObjectState> states = world.states(moved);
+            FrameStats stats;
+            accel.update(world.scene, states, world, policy, stats, stats);
+            const std::string what = "moved mask " + std::to_string(moved);
+            const bool deformable_moved = (moved >> 2) & 1u;
+            const bool exploding_moved = (moved >> 3) & 1u;
+            EXPECT_EQ(stats.objects_refitted, deformable_moved ? 1u : 0u) << what;
+            EXPECT_EQ(stats.objects_rebuilt, exploding_moved ? 1u : 0u) << what;
+            EXPECT_EQ(stats.objects_skipped, kClasses.size() - deformable_moved - exploding_moved)
+                << what;
+            if (exploding_moved) {
+                ASSERT_EQ(stats.rebuilds.size(), 1u);
+                EXPECT_EQ(stats.rebuilds[0].reason, RebuildReason::exploding);
+            }
+            SceneAccel fresh;
+            FrameStats fresh_stats;
+            fresh.update(world.scene, states, world, policy, fresh_stats, fresh_stats);
+            expect_same_hits(accel, fresh, what);
         }
-        const std::vector<ObjectState> states = world.states(moved);
-        FrameStats stats;
-        accel.update(world.scene, states, world, policy, stats, stats);
-        const std::string what = "moved mask " + std::to_string(moved);
-        const bool deformable_moved = (moved >> 2) & 1u;
-        const bool exploding_moved = (moved >> 3) & 1u;
-        EXPECT_EQ(stats.objects_refitted, deformable_moved ? 1u : 0u) << what;
-        EXPECT_EQ(stats.objects_rebuilt, exploding_moved ? 1u : 0u) << what;
-        EXPECT_EQ(stats.objects_skipped, kClasses.size() - deformable_moved - exploding_moved)
-            << what;
-        if (exploding_moved) {
-            ASSERT_EQ(stats.rebuilds.size(), 1u);
-            EXPECT_EQ(stats.rebuilds[0].reason, RebuildReason::exploding);
-        }
-        SceneAccel fresh;
-        FrameStats fresh_stats;
-        fresh.update(world.scene, states, world, policy, fresh_stats, fresh_stats);
-        expect_same_hits(accel, fresh, what);
     }
 }
 
@@ -465,29 +482,32 @@ TEST(UpdatePlan, ObjectPartsHoldEveryTriangle) {
 // The plan says refit, the vertices say nothing moved: skipped, the tree untouched. And a
 // refit past the threshold is rebuilt for "sah degraded" with both costs in the report.
 TEST(UpdatePlan, SceneAccelChecksThePlanAgainstTheVertices) {
-    MatrixWorld world;
-    UpdatePolicy policy;
-    SceneAccel accel;
-    FrameStats stats;
-    accel.update(world.scene, world.states(0xF), world, policy, stats, stats);
-    FrameStats same;
-    accel.update(world.scene, world.states(0xF), world, policy, same, same);  // "moved", same vertices
-    EXPECT_EQ(same.objects_refitted, 0u);
-    EXPECT_EQ(same.objects_rebuilt, 0u);
-    EXPECT_EQ(same.objects_skipped, kClasses.size());
+    for (const bool soups : {false, true}) {
+        SCOPED_TRACE(soups ? "soups (read in place)" : "shared vertices (read through a copy)");
+        MatrixWorld world(soups);
+        UpdatePolicy policy;
+        SceneAccel accel;
+        FrameStats stats;
+        accel.update(world.scene, world.states(0xF), world, policy, stats, stats);
+        FrameStats same;
+        accel.update(world.scene, world.states(0xF), world, policy, same, same);  // "moved", same vertices
+        EXPECT_EQ(same.objects_refitted, 0u);
+        EXPECT_EQ(same.objects_rebuilt, 0u);
+        EXPECT_EQ(same.objects_skipped, kClasses.size());
 
-    policy.method = UpdateMethod::threshold;
-    policy.rebuild_threshold = 0.0;
-    // Scatter the deformable object's vertices: its refitted tree degrades.
-    std::mt19937 rng(7);
-    std::uniform_real_distribution<float> d(-1.0f, 1.0f);
-    for (glm::vec3& p : world.posed[2]) p += glm::vec3(d(rng), d(rng), d(rng));
-    FrameStats degraded;
-    accel.update(world.scene, world.states(1u << 2), world, policy, degraded, degraded);
-    ASSERT_EQ(degraded.rebuilds.size(), 1u);
-    EXPECT_EQ(degraded.rebuilds[0].reason, RebuildReason::sah_degraded);
-    EXPECT_GT(degraded.rebuilds[0].sah_refitted, degraded.rebuilds[0].sah_at_last_build);
-    EXPECT_EQ(degraded.objects_refitted, 1u);
+        policy.method = UpdateMethod::threshold;
+        policy.rebuild_threshold = 0.0;
+        // Scatter the deformable object's vertices: its refitted tree degrades.
+        std::mt19937 rng(7);
+        std::uniform_real_distribution<float> d(-1.0f, 1.0f);
+        for (glm::vec3& p : world.posed[2]) p += glm::vec3(d(rng), d(rng), d(rng));
+        FrameStats degraded;
+        accel.update(world.scene, world.states(1u << 2), world, policy, degraded, degraded);
+        ASSERT_EQ(degraded.rebuilds.size(), 1u);
+        EXPECT_EQ(degraded.rebuilds[0].reason, RebuildReason::sah_degraded);
+        EXPECT_GT(degraded.rebuilds[0].sah_refitted, degraded.rebuilds[0].sah_at_last_build);
+        EXPECT_EQ(degraded.objects_refitted, 1u);
+    }
 }
 
 }  // namespace

@@ -17,9 +17,11 @@
 #include <oneapi/tbb/parallel_reduce.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstddef>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 namespace dynrt::bvh {
 namespace {
@@ -43,17 +45,30 @@ using detail::half_area_d;
                                 what);
 }
 
+/// Asks the cache for primitive `id`'s lines: a box (24 bytes) may straddle two.
+inline void prefetch_prim(std::span<const Aabb> boxes, std::uint32_t id) {
+    const char* p = reinterpret_cast<const char*>(boxes.data() + id);
+    prefetch_line(p);
+    prefetch_line(p + sizeof(Aabb) - 1);
+}
+/// A triangle's corners (an indexed source's triple was asked for further ahead).
+inline void prefetch_prim(const TriangleSource& tris, std::uint32_t id) { tris.prefetch_corners(id); }
+
 /// Calls `visit(k, prims[ids[k]])` for each position k of the leaf [first, first + count),
-/// prefetching the primitive kPrefetchAhead positions on.
-template <class T, class Visit>
-inline void for_each_leaf_prim(std::span<const T> prims, std::span<const std::uint32_t> ids,
+/// prefetching the primitive kPrefetchAhead positions on (and an indexed source's index triple
+/// twice as far).
+template <class Prims, class Visit>
+inline void for_each_leaf_prim(const Prims& prims, std::span<const std::uint32_t> ids,
                                std::uint32_t first, std::uint32_t count, Visit&& visit) {
     for (std::uint32_t k = first; k < first + count; ++k) {
         if (k + kPrefetchAhead < ids.size() && ids[k + kPrefetchAhead] < prims.size()) {
-            // A triangle (36 bytes) or box (24) may straddle two cache lines.
-            const char* p = reinterpret_cast<const char*>(prims.data() + ids[k + kPrefetchAhead]);
-            prefetch_line(p);
-            prefetch_line(p + sizeof(T) - 1);
+            prefetch_prim(prims, ids[k + kPrefetchAhead]);
+        }
+        if constexpr (std::is_same_v<Prims, TriangleSource>) {
+            if (prims.indexed() && k + 2 * kPrefetchAhead < ids.size() &&
+                ids[k + 2 * kPrefetchAhead] < prims.size()) {
+                prims.prefetch(ids[k + 2 * kPrefetchAhead]);
+            }
         }
         const std::uint32_t id = ids[k];
         if (id >= prims.size()) {
@@ -65,20 +80,25 @@ inline void for_each_leaf_prim(std::span<const T> prims, std::span<const std::ui
 }
 
 /// Leaf boxes of a TriangleBvh: copies each leaf's triangles into leaf order while bounding
-/// them, so every triangle is read once.
+/// them, so every triangle is read once, and notes whether any differs from the copy it
+/// replaces.
 struct TriangleLeaves {
-    std::span<const Triangle> tris;
+    const TriangleSource& tris;
     std::span<const std::uint32_t> ids;
     Triangle* leaf_tris;
+    std::atomic<bool>& moved;
 
     Aabb operator()(std::uint32_t first, std::uint32_t count) const {
         Aabb box;
+        bool differs = false;
         for_each_leaf_prim(tris, ids, first, count, [&](std::uint32_t k, const Triangle& t) {
+            differs |= leaf_tris[k].v0 != t.v0 || leaf_tris[k].v1 != t.v1 || leaf_tris[k].v2 != t.v2;
             leaf_tris[k] = t;
             box.extend(t.v0);
             box.extend(t.v1);
             box.extend(t.v2);
         });
+        if (differs) moved.store(true, std::memory_order_relaxed);
         return box;
     }
 };
@@ -200,7 +220,7 @@ private:
 };
 
 /// The lowest caller index among `ids` whose triangle is not degenerate, or kInvalidId.
-std::uint32_t first_with_area(std::span<const std::uint32_t> ids, std::span<const Triangle> tris) {
+std::uint32_t first_with_area(std::span<const std::uint32_t> ids, const TriangleSource& tris) {
     auto scan = [&](std::size_t begin, std::size_t end, std::uint32_t found) {
         for (std::size_t k = begin; k < end; ++k) {
             const std::uint32_t id = ids[k];
@@ -223,7 +243,7 @@ std::uint32_t first_with_area(std::span<const std::uint32_t> ids, std::span<cons
 
 }  // namespace
 
-RefitResult refit(TriangleBvh& accel, std::span<const Triangle> tris, const SahCosts& costs) {
+RefitResult refit(TriangleBvh& accel, const TriangleSource& tris, const SahCosts& costs) {
     const std::size_t built_count = accel.triangle_count() + accel.degenerate_skipped;
     if (tris.size() != built_count) {
         throw std::invalid_argument("refit: " + std::to_string(tris.size()) +
@@ -251,11 +271,15 @@ RefitResult refit(TriangleBvh& accel, std::span<const Triangle> tris, const SahC
         return result;
     }
     if (!accel.wide.empty()) {
-        result.sah_cost = refit_wide(accel.wide, tris, costs);
+        const WideRefit wide = refit_wide(accel.wide, tris, costs);
+        result.sah_cost = wide.sah_cost;
+        result.moved = wide.moved;
         return result;
     }
-    const TriangleLeaves leaves{tris, accel.bvh.prim_ids, accel.tris.data()};
+    std::atomic<bool> moved{false};
+    const TriangleLeaves leaves{tris, accel.bvh.prim_ids, accel.tris.data(), moved};
     result.sah_cost = Refitter<TriangleLeaves>(accel.bvh, leaves, costs).run();
+    result.moved = moved.load();
     return result;
 }
 

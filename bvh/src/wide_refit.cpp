@@ -1,6 +1,8 @@
 // Refitting the wide tree in place (Wald, Boulos and Shirley 2007, "Ray Tracing Deformable
 // Scenes Using Dynamic Bounding Volume Hierarchies"): every block re-reads its triangles from
-// the caller's array, every slot box is recomputed bottom-up, the topology stays. A node's
+// the caller's source (its triangles, or its vertices through index triples), noting whether
+// any corner differs from what the block held, every slot box is recomputed bottom-up, the
+// topology stays. A node's
 // slots are refitted in slot order (as parallel tasks near the root), then its boxes and sums
 // are made in slot order; every box and every partial SAH sum is one expression over its
 // children's, so the schedule changes no bit. The tree's SAH cost is summed on the way (sah_terms.h), as sah_cost sums it.
@@ -13,6 +15,8 @@
 #include <oneapi/tbb/parallel_for.h>
 
 #include <array>
+#include <cstddef>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 
@@ -26,18 +30,24 @@ constexpr std::uint32_t kParallelLevels = N == 8 ? 2 : 3;
 /// How many blocks ahead a leaf prefetches the caller's triangles it will read. Blocks are in
 /// leaf order and the leaves are refitted in block order, so the triangles a later block reads
 /// are known ahead: the caller's order is usually another, and without the prefetch nearly
-/// every triangle is a cache miss.
+/// every triangle is a cache miss. An indexed source is read in two steps (the index triple,
+/// then the vertices it names), so its triples are asked for twice as far ahead.
 constexpr std::uint32_t kPrefetchBlocks = 8;
+
+/// A block's corners, v0, v1 and v2 one after another.
+constexpr std::size_t kCornerFloats = 3 * 3 * kBlockLanes;
+static_assert(offsetof(TriangleBlock, v2) + sizeof(TriangleBlock::v2) ==
+              offsetof(TriangleBlock, v0) + kCornerFloats * sizeof(float));
 
 template <int N>
 class WideRefitter {
 public:
-    WideRefitter(WideBvhOf<N>& wide, std::span<const Triangle> tris, const SahCosts& costs)
+    WideRefitter(WideBvhOf<N>& wide, const TriangleSource& tris, const SahCosts& costs)
         : wide_(wide), tris_(tris), costs_(costs) {}
 
-    /// Refits the tree; returns its SAH cost.
-    double run() {
-        if (wide_.empty()) return 0.0;
+    /// Refits the tree; returns its SAH cost and whether any corner moved.
+    WideRefit run() {
+        if (wide_.empty()) return {};
         if (wide_.compact) {
             // Its leaves read the triangles it was built from, which must not move.
             throw std::invalid_argument("refit_wide: a tree with compact leaves cannot be refitted");
@@ -53,7 +63,7 @@ public:
                                         std::to_string(wide_.triangle_count));
         }
         wide_.root_box = root.box;
-        return detail::wide_sah_total(root.sah, root.box, costs_);
+        return WideRefit{detail::wide_sah_total(root.sah, root.box, costs_), root.moved};
     }
 
 private:
@@ -61,6 +71,8 @@ private:
         Aabb box;
         std::uint32_t prims = 0;
         detail::WideSahSum sah;
+        /// Some corner below differs from what its block held.
+        bool moved = false;
     };
 
     [[noreturn]] static void malformed(std::uint32_t index, const std::string& what) {
@@ -97,6 +109,7 @@ private:
             node.set_box(i, below[i].box);
             total.box.extend(below[i].box);
             total.prims += below[i].prims;
+            total.moved |= below[i].moved;
             detail::add_wide_slot(total.sah, below[i].box, leaf, below[i].prims, below[i].sah,
                                   costs_);
         }
@@ -110,7 +123,12 @@ private:
         Subtree leaf;
         for (std::uint32_t b = first; b < first + count; ++b) {
             prefetch(b + kPrefetchBlocks);
+            if (tris_.indexed()) prefetch_triples(b + 4 * kPrefetchBlocks);
             TriangleBlock& block = wide_.blocks[b];
+            // The corners as they were, compared with what the lanes get as one block (the
+            // lane-by-lane compare cost a fifth of a refit from a copy).
+            float before[kCornerFloats];
+            std::memcpy(before, block.v0, sizeof before);
             for (int lane = 0; lane < kBlockLanes; ++lane) {
                 const std::uint32_t prim = block.prim[lane];
                 // Unused lanes repeat lane 0, which comes before them.
@@ -126,11 +144,12 @@ private:
                 leaf.box.extend(t.v2);
                 ++leaf.prims;
             }
+            leaf.moved |= std::memcmp(before, block.v0, sizeof before) != 0;
         }
         return leaf;
     }
 
-    const Triangle& triangle(std::uint32_t prim) const {
+    Triangle triangle(std::uint32_t prim) const {
         if (prim >= tris_.size()) {
             throw std::invalid_argument("refit_wide: primitive " + std::to_string(prim) +
                                         " is out of range (" + std::to_string(tris_.size()) +
@@ -139,30 +158,34 @@ private:
         return tris_[prim];
     }
 
+    /// Asks for the corners the block's lanes read (an indexed source's triples were asked
+    /// for earlier, prefetch_triples).
     void prefetch(std::uint32_t block) const {
         if (block >= wide_.blocks.size()) return;
         for (std::uint32_t prim : wide_.blocks[block].prim) {
-            if (prim < tris_.size()) {
-                const char* p = reinterpret_cast<const char*>(tris_.data() + prim);
-                prefetch_line(p);
-                prefetch_line(p + sizeof(Triangle) - 1);
-            }
+            if (prim < tris_.size()) tris_.prefetch_corners(prim);
+        }
+    }
+    void prefetch_triples(std::uint32_t block) const {
+        if (block >= wide_.blocks.size()) return;
+        for (std::uint32_t prim : wide_.blocks[block].prim) {
+            if (prim < tris_.size()) tris_.prefetch(prim);
         }
     }
 
     WideBvhOf<N>& wide_;
-    std::span<const Triangle> tris_;
+    const TriangleSource& tris_;
     SahCosts costs_;
 };
 
 }  // namespace
 
 template <int N>
-double refit_wide(WideBvhOf<N>& wide, std::span<const Triangle> tris, const SahCosts& costs) {
+WideRefit refit_wide(WideBvhOf<N>& wide, const TriangleSource& tris, const SahCosts& costs) {
     return WideRefitter<N>(wide, tris, costs).run();
 }
 
-template double refit_wide<4>(WideBvhOf<4>&, std::span<const Triangle>, const SahCosts&);
-template double refit_wide<8>(WideBvhOf<8>&, std::span<const Triangle>, const SahCosts&);
+template WideRefit refit_wide<4>(WideBvhOf<4>&, const TriangleSource&, const SahCosts&);
+template WideRefit refit_wide<8>(WideBvhOf<8>&, const TriangleSource&, const SahCosts&);
 
 }  // namespace dynrt::bvh

@@ -52,12 +52,17 @@ struct LeafGeometry {
 };
 
 struct ObjectTree {
-    /// The triangles the tree was built or refitted from, in the mesh's order: world space
-    /// for static, deformable and exploding objects, object space for rigid ones. The static
-    /// group keeps none (read_triangles_from_blocks).
+    /// A copy of the triangles the tree was built or refitted from, in the mesh's order (world
+    /// space for deformable and exploding objects, object space for rigid ones), for a mesh
+    /// with index triples. A soup's tree is built and refitted from its vertices in place and
+    /// its triangles read back from the blocks (read_triangles_from_blocks), as the static
+    /// group's are; either keeps this copy only where the tree has no blocks (binary-only).
     std::vector<bvh::Triangle> triangles;
     bvh::TriangleBvh tree;
-    /// After read_triangles_from_blocks(): where the tree's blocks hold its triangles.
+    /// After read_triangles_from_blocks(): where the tree's blocks hold its triangles. A refit
+    /// rewrites the blocks in place and keeps every triangle's lane, so the index stays true;
+    /// only its copies of the degenerate triangles the build left out may go stale, and no ray
+    /// hits those.
     bvh::BlockTriangles in_blocks;
     /// With compact leaves (tree.wide.compact): what they read.
     LeafGeometry leaf_geometry;
@@ -90,9 +95,9 @@ struct ObjectTree {
     bvh::BuildMethod built_with = bvh::BuildMethod::binned_sah;
     ObjectCosts costs;
 
-    /// For a tree never refitted (the static group), just built from `source`: triangle()
-    /// reads its blocks through an index (4 bytes a triangle) instead of a copy of the
-    /// triangles (36 bytes), or with compact leaves reads what they read (leaf_geometry,
+    /// For a tree just built from `source` (or a binary-only tree just refitted to it):
+    /// triangle() reads its blocks through an index (4 bytes a triangle) instead of a copy of
+    /// the triangles (36 bytes), or with compact leaves reads what they read (leaf_geometry,
     /// nothing more held). Where the tree has no blocks to read (a binary-only build) the
     /// copy is gathered from `source` into `triangles` after all.
     void read_triangles_from_blocks(const bvh::TriangleSource& source);

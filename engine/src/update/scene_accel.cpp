@@ -319,7 +319,7 @@ std::optional<std::size_t> SceneAccel::tree_to_share(std::size_t object, std::sp
     const bool same = owner.built && owner.shares_tree_of < 0 &&
                       owner.motion_class == anim::MotionClass::rigid &&
                       owner.built_from_positions == key.positions && owner.built_from_corners == key.corners &&
-                      owner.triangles.size() == mesh.triangles.size();
+                      owner.triangle_count() == mesh.triangles.size();
     if (!same) return std::nullopt;
     return found->second;
 }

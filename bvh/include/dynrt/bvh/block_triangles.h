@@ -1,9 +1,9 @@
 #pragma once
 // A wide tree's triangles read back from its own leaf blocks, by the index the caller gave
 // each triangle at the build. The blocks hold every triangle of the tree bit for bit (the
-// collapse copies them), so a caller whose tree is never refitted (the engine's static group)
-// can free its own copy of the triangles it built from, 36 bytes each, and keep this index,
-// 4 bytes each, for the few reads it still makes (a hit's corners for shading).
+// collapse copies them, a refit rewrites them in place, each in its lane), so a caller can
+// free its own copy of the triangles it built from, 36 bytes each, and keep this index, 4
+// bytes each, for the few reads it still makes (a hit's corners for shading).
 //
 // Embree makes the same trade in its compact mode (RTC_SCENE_FLAG_COMPACT): leaves that refer
 // to the application's vertices rather than a copy of them. Here the copy kept is the tree's
@@ -35,8 +35,9 @@ public:
     /// The number of triangles the tree was built from (the degenerate ones included).
     std::size_t size() const { return lane_.size(); }
 
-    /// Triangle `prim` (< size()), exactly as it was given to the build. `tree` is the tree
-    /// indexed, unchanged since. (Inline: shading reads one per hit.)
+    /// Triangle `prim` (< size()), exactly as it was given to the build or the last refit.
+    /// `tree` is the tree indexed, refitted since at most (a degenerate triangle it left out
+    /// then reads as it was built). (Inline: shading reads one per hit.)
     Triangle at(const TriangleBvh& tree, std::uint32_t prim) const {
         const std::uint32_t slot = lane_[prim];
         if (slot == kInvalidId) return skipped(tree, prim);

@@ -10,6 +10,7 @@
 #include "dynrt/bvh/ray.h"
 #include "dynrt/bvh/triangle.h"
 #include "dynrt/bvh/triangle_bvh.h"
+#include "dynrt/bvh/triangle_source.h"
 
 #include <cstdint>
 #include <span>
@@ -38,12 +39,18 @@ struct RefitResult {
     /// Compare it with the cost at the last build to decide when a rebuild pays off. 0 for an
     /// empty tree or when the refit was refused.
     double sah_cost = 0.0;
+    /// Whether any triangle differs from what the tree held before: false means the refit
+    /// changed no bit of the tree (a binary-only tree's copies are compared as floats, which
+    /// may also pass over the sign of a zero), so a caller may count the update as skipped.
+    /// False when the refit was refused.
+    bool moved = false;
 
     bool needs_rebuild() const { return status != RefitStatus::refitted; }
 };
 
 /// Refits `accel` to `tris`, the object's triangles after the move in the caller's order (the
-/// order given to build_triangle_bvh; borrowed for the call). First checks that every
+/// order given to build_triangle_bvh; a copy of them or the vertices read through index
+/// triples, borrowed for the call). First checks that every
 /// triangle left out at build (`accel.skipped_ids`) is still degenerate; if one is not,
 /// returns skipped_triangle_has_area and changes nothing. Otherwise refits the tree `accel`
 /// holds: the wide tree with refit_wide, or the binary tree by rewriting `accel.tris` in leaf
@@ -71,7 +78,7 @@ struct RefitResult {
 /// the very triangles of the build gives back the build's boxes (equal as floats; only the
 /// sign of a zero coordinate may differ, as min and max may pick either zero). Not
 /// thread-safe on one `accel`; reads `tris` and writes only `accel`.
-RefitResult refit(TriangleBvh& accel, std::span<const Triangle> tris, const SahCosts& costs);
+RefitResult refit(TriangleBvh& accel, const TriangleSource& tris, const SahCosts& costs);
 
 /// Refits a plain tree to new primitive boxes, `boxes[id]` being primitive id's box (the
 /// indexing of build_binned_sah's input; borrowed for the call): a leaf's box becomes the

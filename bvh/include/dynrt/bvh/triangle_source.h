@@ -1,9 +1,10 @@
 #pragma once
-// What a build reads its triangles from: the caller's array of triangles, or indexed meshes
-// (vertices and index triples; several meshes are numbered one after another). A caller that
-// holds indexed geometry, as a scene does, can then build without first gathering a copy of
-// every triangle (36 bytes each, at the build's peak). Either way a triangle reads the same
-// floats, so the tree is the same bit for bit.
+// What a build or a refit reads its triangles from: the caller's array of triangles, indexed
+// meshes (vertices and index triples; several meshes are numbered one after another), or a
+// soup's vertices, three per triangle in order. A caller that holds indexed geometry, as a
+// scene does, can then build without first gathering a copy of every triangle (36 bytes each,
+// at the build's peak). Either way a triangle reads the same floats, so the tree is the same
+// bit for bit.
 
 #include "dynrt/bvh/prefetch.h"
 #include "dynrt/bvh/triangle.h"
@@ -35,6 +36,18 @@ public:
     /// Meshes numbered one after another: mesh k's triangle t is triangle first(k) + t. The
     /// meshes and what they view must outlive the source.
     explicit TriangleSource(std::span<const IndexedMesh> meshes);
+    /// A soup: triangle t's corners are corners[3t], [3t + 1] and [3t + 2] (a mesh whose index
+    /// triples are (3t, 3t + 1, 3t + 2), read without them: one line a triangle, as a copy's,
+    /// where the triples would add a second). `corners.size()` must be a multiple of 3; they
+    /// must outlive the source.
+    static TriangleSource soup(std::span<const glm::vec3> corners) {
+        TriangleSource source;
+        source.soup_ = corners;
+        source.count_ = corners.size() / 3;
+        return source;
+    }
+    /// Whether `triangles` are (3t, 3t + 1, 3t + 2) for every t: a mesh to read as a soup.
+    static bool is_soup(std::span<const glm::uvec3> triangles);
 
     std::size_t size() const { return count_; }
     /// Heap bytes the source holds itself (its meshes' first numbers; what it views is the
@@ -46,7 +59,10 @@ public:
     bool indexed() const { return !meshes_.empty(); }
 
     Triangle operator[](std::size_t i) const {
-        if (meshes_.empty()) return tris_[i];
+        if (meshes_.empty()) {
+            if (!soup_.empty()) return Triangle{soup_[3 * i], soup_[3 * i + 1], soup_[3 * i + 2]};
+            return tris_[i];
+        }
         const std::size_t k = mesh_of(i);
         const IndexedMesh& m = meshes_[k];
         const glm::uvec3 v = m.triangles[i - first_[k]];
@@ -58,7 +74,8 @@ public:
     /// the wait is the caller's).
     void prefetch_corners(std::size_t i) const {
         if (meshes_.empty()) {
-            const char* p = reinterpret_cast<const char*>(tris_.data() + i);
+            const char* p = !soup_.empty() ? reinterpret_cast<const char*>(soup_.data() + 3 * i)
+                                           : reinterpret_cast<const char*>(tris_.data() + i);
             prefetch_line(p);
             prefetch_line(p + sizeof(Triangle) - 1);
             return;
@@ -98,6 +115,7 @@ private:
     static constexpr int kBucketShift = 6;
 
     std::span<const Triangle> tris_;
+    std::span<const glm::vec3> soup_;
     std::span<const IndexedMesh> meshes_;
     /// Mesh k's first triangle's number.
     std::vector<std::size_t> first_;

@@ -285,15 +285,25 @@ template <int N>
 WideBvhOf<N> collapse_to_wide_by_id(const Bvh& bvh, const TriangleSource& tris,
                                     const WideCosts& costs = {}, WideBvhOf<N>&& recycled = {});
 
+/// What refit_wide did.
+struct WideRefit {
+    /// The refitted tree's SAH cost, as sah_cost computes it (bit for bit: the same sums in the
+    /// same order), gathered during the refit.
+    double sah_cost = 0.0;
+    /// Whether any corner read differs from what its block held, bit for bit: false means the
+    /// tree came out as it was.
+    bool moved = false;
+};
+
 /// Refits the wide tree in place to `tris`, the caller's triangles after a move (indexed as
-/// TriangleBlock::prim): every block's vertices are re-read, every child box recomputed
-/// bottom-up (a leaf's as the union of its triangles' boxes, an inner node's as the union of
-/// its children's). The topology stays. Returns the refitted tree's SAH cost, as sah_cost
-/// computes it (bit for bit: the same sums in the same order), gathered during the refit.
-/// Parallel and deterministic. Throws std::invalid_argument for a prim index out of range or a
-/// malformed tree.
+/// TriangleBlock::prim; a copy of the triangles, or the vertices read through index triples):
+/// every block's vertices are re-read, every child box recomputed bottom-up (a leaf's as the
+/// union of its triangles' boxes, an inner node's as the union of its children's). The
+/// topology stays, and so does every triangle's block and lane (BlockTriangles still reads
+/// them). Parallel and deterministic. Throws std::invalid_argument for a prim index out of
+/// range or a malformed tree.
 template <int N>
-double refit_wide(WideBvhOf<N>& wide, std::span<const Triangle> tris, const SahCosts& costs);
+WideRefit refit_wide(WideBvhOf<N>& wide, const TriangleSource& tris, const SahCosts& costs);
 
 /// The SAH cost of the wide tree (MacDonald and Booth 1990, over wide nodes): the sum over
 /// inner nodes of A(n)/A(root) * traversal plus over leaves of A(leaf)/A(root) * triangles *

@@ -38,6 +38,7 @@ def ensure_valgrind():
     if shutil.which("valgrind"):
         return
     print("installing valgrind (apt-get)", file=sys.stderr)
+    subprocess.run(["apt-get", "update", "-q"], check=True)
     subprocess.run(["apt-get", "install", "-y", "-q", "valgrind"], check=True)
 
 

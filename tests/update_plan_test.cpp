@@ -479,6 +479,32 @@ TEST(UpdatePlan, ObjectPartsHoldEveryTriangle) {
     }
 }
 
+// A soup is found once per index array, not every frame: triples edited so that they are no
+// longer a soup's (the scene's array copied on the edit, as the tree holds the old one) are
+// read through from the next update on, and the tree holds the edited triangles.
+TEST(UpdatePlan, ASoupWhoseTriplesAreEditedIsReadThroughThemAfterwards) {
+    MatrixWorld world(/*soups=*/true);
+    UpdatePolicy policy;
+    SceneAccel accel;
+    FrameStats stats;
+    accel.update(world.scene, world.states(0xF), world, policy, stats, stats);
+    const std::size_t exploding = 3;
+    ASSERT_EQ(kClasses[exploding], MotionClass::exploding);
+    Mesh& mesh = world.scene.objects[exploding].mesh;
+    mesh.triangles.edit()[0] = glm::uvec3(3, 4, 5);  // triangle 1's corners: no longer a soup
+    world.pose(exploding, 1);
+    FrameStats edited;
+    accel.update(world.scene, world.states(1u << exploding), world, policy, edited, edited);
+    EXPECT_EQ(edited.objects_rebuilt, 1u);
+    for (std::uint32_t t = 0; t < 3; ++t) {
+        const glm::uvec3 corners = mesh.triangles[t];
+        const bvh::Triangle tri = accel.world_triangle(exploding, t);
+        EXPECT_EQ(tri.v0, world.posed[exploding][corners.x]) << "triangle " << t;
+        EXPECT_EQ(tri.v1, world.posed[exploding][corners.y]) << "triangle " << t;
+        EXPECT_EQ(tri.v2, world.posed[exploding][corners.z]) << "triangle " << t;
+    }
+}
+
 // The plan says refit, the vertices say nothing moved: skipped, the tree untouched. And a
 // refit past the threshold is rebuilt for "sah degraded" with both costs in the report.
 TEST(UpdatePlan, SceneAccelChecksThePlanAgainstTheVertices) {

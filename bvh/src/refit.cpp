@@ -19,6 +19,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cstddef>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -81,7 +82,7 @@ inline void for_each_leaf_prim(const Prims& prims, std::span<const std::uint32_t
 
 /// Leaf boxes of a TriangleBvh: copies each leaf's triangles into leaf order while bounding
 /// them, so every triangle is read once, and notes whether any differs from the copy it
-/// replaces.
+/// replaces (bit for bit, as refit_wide compares a block).
 struct TriangleLeaves {
     const TriangleSource& tris;
     std::span<const std::uint32_t> ids;
@@ -92,7 +93,7 @@ struct TriangleLeaves {
         Aabb box;
         bool differs = false;
         for_each_leaf_prim(tris, ids, first, count, [&](std::uint32_t k, const Triangle& t) {
-            differs |= leaf_tris[k].v0 != t.v0 || leaf_tris[k].v1 != t.v1 || leaf_tris[k].v2 != t.v2;
+            differs |= std::memcmp(&leaf_tris[k], &t, sizeof t) != 0;
             leaf_tris[k] = t;
             box.extend(t.v0);
             box.extend(t.v1);

@@ -1,11 +1,11 @@
 // Refitting the wide tree in place (Wald, Boulos and Shirley 2007, "Ray Tracing Deformable
 // Scenes Using Dynamic Bounding Volume Hierarchies"): every block re-reads its triangles from
-// the caller's source (its triangles, or its vertices through index triples), noting whether
-// any corner differs from what the block held, every slot box is recomputed bottom-up, the
-// topology stays. A node's
-// slots are refitted in slot order (as parallel tasks near the root), then its boxes and sums
-// are made in slot order; every box and every partial SAH sum is one expression over its
-// children's, so the schedule changes no bit. The tree's SAH cost is summed on the way (sah_terms.h), as sah_cost sums it.
+// the caller's source (a copy of its triangles, a soup's vertices, or vertices through index
+// triples), noting whether any corner differs from what the block held; every slot box is
+// recomputed bottom-up; the topology stays. A node's slots are refitted in slot order (as
+// parallel tasks near the root), then its boxes and sums are made in slot order; every box and
+// every partial SAH sum is one expression over its children's, so the schedule changes no bit.
+// The tree's SAH cost is summed on the way (sah_terms.h), as sah_cost sums it.
 
 #include "dynrt/bvh/prefetch.h"
 #include "dynrt/bvh/wide_bvh.h"
@@ -123,7 +123,7 @@ private:
         Subtree leaf;
         for (std::uint32_t b = first; b < first + count; ++b) {
             prefetch(b + kPrefetchBlocks);
-            if (tris_.indexed()) prefetch_triples(b + 4 * kPrefetchBlocks);
+            if (tris_.indexed()) prefetch_triples(b + 2 * kPrefetchBlocks);
             TriangleBlock& block = wide_.blocks[b];
             // The corners as they were, compared with what the lanes get as one block (the
             // lane-by-lane compare cost a fifth of a refit from a copy).

@@ -60,12 +60,6 @@ bool differs_from_tree(const ObjectTree& object, const bvh::TriangleSource& sour
     return differs.load();
 }
 
-/// Whether the mesh is a soup over `positions`: index triples (3t, 3t + 1, 3t + 2), read in
-/// place (TriangleSource::soup).
-bool is_soup(const Mesh& mesh, std::span<const glm::vec3> positions) {
-    return positions.size() >= 3 * mesh.triangles.size() && bvh::TriangleSource::is_soup(mesh.triangles);
-}
-
 /// One object's update in progress: its tree, what it was asked, and where its figures go.
 ///
 /// What the build and the refit read: a soup's vertices in place, each triangle's three corners
@@ -79,7 +73,7 @@ public:
     TreeUpdate(ObjectTree& object, const ObjectUpdate& update, const UpdatePolicy& policy,
                CostMemory& memory, UpdateStats& stats)
         : object_(object), update_(update), policy_(policy), memory_(memory), stats_(stats),
-          config_(update.config), soup_(is_soup(update.mesh, update.positions)) {}
+          config_(update.config), soup_(object.reads_as_soup(update.mesh, update.positions)) {}
 
     void rebuild();
     void refit();
@@ -274,6 +268,14 @@ void ObjectTree::read_triangles_from_blocks(const bvh::TriangleSource& source) {
     // compact leaves would have read is no longer needed, once `source` (which may view it)
     // has been read.
     leaf_geometry = {};
+}
+
+bool ObjectTree::reads_as_soup(const Mesh& mesh, std::span<const glm::vec3> positions) {
+    if (!soup_checked.shares_storage_with(mesh.triangles)) {
+        soup_checked = mesh.triangles;
+        soup_checked_is_soup = bvh::TriangleSource::is_soup(mesh.triangles);
+    }
+    return soup_checked_is_soup && positions.size() >= 3 * mesh.triangles.size();
 }
 
 void ObjectTree::prefetch_triangle(std::uint32_t prim) const {

@@ -66,6 +66,11 @@ struct ObjectTree {
     bvh::BlockTriangles in_blocks;
     /// With compact leaves (tree.wide.compact): what they read.
     LeafGeometry leaf_geometry;
+    /// The index triples last checked for a soup's (held, so that an edit of the scene's copies
+    /// them rather than changing them under this record), and whether they were: a soup is
+    /// found once, not by a pass over its triples every frame.
+    SharedArray<glm::uvec3> soup_checked;
+    bool soup_checked_is_soup = false;
     anim::MotionClass motion_class = anim::MotionClass::static_;
     /// Rigid objects: object to world this frame, and its inverse (the identity otherwise).
     glm::mat4 object_to_world{1.0f};
@@ -115,6 +120,9 @@ struct ObjectTree {
     void prefetch_triangle(std::uint32_t prim) const;
     /// Heap bytes of `triangles` or of the index that replaced them (or of leaf_geometry).
     std::size_t triangle_bytes() const;
+    /// Whether `mesh` is a soup over `positions` (TriangleSource::is_soup, checked again only
+    /// when its index triples are another array than last time).
+    bool reads_as_soup(const Mesh& mesh, std::span<const glm::vec3> positions);
 };
 
 /// Builds `object`'s tree from `source` (its own triangles, or the static group's meshes) with

@@ -39,9 +39,8 @@ struct RefitResult {
     /// Compare it with the cost at the last build to decide when a rebuild pays off. 0 for an
     /// empty tree or when the refit was refused.
     double sah_cost = 0.0;
-    /// Whether any triangle differs from what the tree held before: false means the refit
-    /// changed no bit of the tree (a binary-only tree's copies are compared as floats, which
-    /// may also pass over the sign of a zero), so a caller may count the update as skipped.
+    /// Whether any triangle differs from what the tree held before, bit for bit: false means
+    /// the refit changed no bit of the tree, so a caller may count the update as skipped.
     /// False when the refit was refused.
     bool moved = false;
 
@@ -49,8 +48,8 @@ struct RefitResult {
 };
 
 /// Refits `accel` to `tris`, the object's triangles after the move in the caller's order (the
-/// order given to build_triangle_bvh; a copy of them or the vertices read through index
-/// triples, borrowed for the call). First checks that every
+/// order given to build_triangle_bvh; a copy of them, a soup's vertices or vertices read
+/// through index triples, borrowed for the call). First checks that every
 /// triangle left out at build (`accel.skipped_ids`) is still degenerate; if one is not,
 /// returns skipped_triangle_has_area and changes nothing. Otherwise refits the tree `accel`
 /// holds: the wide tree with refit_wide, or the binary tree by rewriting `accel.tris` in leaf

@@ -296,12 +296,12 @@ struct WideRefit {
 };
 
 /// Refits the wide tree in place to `tris`, the caller's triangles after a move (indexed as
-/// TriangleBlock::prim; a copy of the triangles, or the vertices read through index triples):
-/// every block's vertices are re-read, every child box recomputed bottom-up (a leaf's as the
-/// union of its triangles' boxes, an inner node's as the union of its children's). The
-/// topology stays, and so does every triangle's block and lane (BlockTriangles still reads
-/// them). Parallel and deterministic. Throws std::invalid_argument for a prim index out of
-/// range or a malformed tree.
+/// TriangleBlock::prim; a copy of the triangles, a soup's vertices, or vertices read through
+/// index triples): every block's vertices are re-read, every child box recomputed bottom-up
+/// (a leaf's as the union of its triangles' boxes, an inner node's as the union of its
+/// children's). The topology stays, and so does every triangle's block and lane
+/// (BlockTriangles still reads them). Parallel and deterministic. Throws
+/// std::invalid_argument for a prim index out of range or a malformed tree.
 template <int N>
 WideRefit refit_wide(WideBvhOf<N>& wide, const TriangleSource& tris, const SahCosts& costs);
 

@@ -319,21 +319,27 @@ TEST(BvhBuilder, LeafSizeMinMakesEveryNodeThatSmallALeaf) {
     const std::vector<Aabb> boxes = boxes_of(random_soup(12, 100000, 1.0f, 0.01f));
     const Bvh plain = build_boxes(boxes, binary_config_with(8));
     BuildConfig config = binary_config_with(8);
-    config.leaf_size_min = 4;
-    const Bvh coarse = build_boxes(boxes, config);
-    EXPECT_EQ(validate(coarse, boxes, config.leaf_size_max), "");
-    // No inner node over four primitives or fewer.
-    int small_inner = 0;
-    const auto prims_below = [&](auto&& self, std::uint32_t i) -> std::uint32_t {
-        const BvhNode& n = coarse.nodes[i];
-        if (n.is_leaf()) return n.count;
-        const std::uint32_t below = self(self, n.first) + self(self, n.first + 1);
-        small_inner += below <= 4 ? 1 : 0;
-        return below;
-    };
-    EXPECT_EQ(prims_below(prims_below, 0), boxes.size());
-    EXPECT_EQ(small_inner, 0);
-    EXPECT_LT(coarse.nodes.size(), plain.nodes.size() * 7 / 10);
+    // Four and eight: the static group's lean builds (scene_accel.cpp, lean_leaf_size_min).
+    std::size_t nodes_at_four = 0;
+    for (const std::uint32_t min : {4u, 8u}) {
+        SCOPED_TRACE("leaf_size_min " + std::to_string(min));
+        config.leaf_size_min = min;
+        const Bvh coarse = build_boxes(boxes, config);
+        EXPECT_EQ(validate(coarse, boxes, config.leaf_size_max), "");
+        // No inner node over `min` primitives or fewer.
+        int small_inner = 0;
+        const auto prims_below = [&](auto&& self, std::uint32_t i) -> std::uint32_t {
+            const BvhNode& n = coarse.nodes[i];
+            if (n.is_leaf()) return n.count;
+            const std::uint32_t below = self(self, n.first) + self(self, n.first + 1);
+            small_inner += below <= min ? 1 : 0;
+            return below;
+        };
+        EXPECT_EQ(prims_below(prims_below, 0), boxes.size());
+        EXPECT_EQ(small_inner, 0);
+        EXPECT_LT(coarse.nodes.size(), (min == 4 ? plain.nodes.size() : nodes_at_four) * 7 / 10);
+        nodes_at_four = coarse.nodes.size();
+    }
     // Above leaf_size_max it is leaf_size_max; 0 is refused.
     config.leaf_size_min = 20;
     const Bvh capped = build_boxes(boxes, config);

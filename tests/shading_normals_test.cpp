@@ -106,13 +106,9 @@ TEST(VertexNormals, ProceduralSpheresAreSmoothPlanesAndSoupsFlat) {
     }
     EXPECT_GT(worst, 0.995f) << "a unit sphere's vertex normals are nearly radial";
     for (const glm::vec3& n : scene.objects[1].mesh.normals) EXPECT_EQ(n, glm::vec3(0, 1, 0));
-    const Mesh& soup = scene.objects[2].mesh;
-    for (std::size_t t = 0; t < soup.triangles.size(); ++t) {
-        const glm::uvec3& i = soup.triangles[t];
-        const glm::vec3 face = glm::normalize(glm::cross(soup.positions[i.y] - soup.positions[i.x],
-                                                         soup.positions[i.z] - soup.positions[i.x]));
-        EXPECT_TRUE(near(soup.normals[i.x], face, 1e-5f));
-    }
+    // A soup's area-weighted normals would be its faces' own: it keeps none, and is shaded
+    // with its triangles' geometric normals.
+    EXPECT_TRUE(scene.objects[2].mesh.normals.empty());
 }
 
 // ---- Loaders ---------------------------------------------------------------------------------
@@ -133,7 +129,22 @@ TEST(GltfNormals, NormalAttributeIsReadAndNormalisedAndItsAbsenceComputed) {
     EXPECT_TRUE(near(read[0], {0, 0, 1}, 1e-7f));
     EXPECT_TRUE(near(read[1], {0, 0.6f, 0.8f}, 1e-7f));
     EXPECT_TRUE(near(read[2], {0.6f, 0, 0.8f}, 1e-7f));
-    for (const glm::vec3& n : scene.objects[1].mesh.normals) EXPECT_TRUE(near(n, {0, 0, 1}, 1e-7f));
+    // Without NORMAL, a lone triangle (a soup) is shaded with its geometric normal and keeps
+    // none; the same corners indexed twice over (two triangles sharing an edge) are smoothed.
+    EXPECT_TRUE(scene.objects[1].mesh.normals.empty());
+    test::GltfTestFile indexed;
+    const int shared = indexed.add_mesh({0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, -1});
+    indexed.doc()["meshes"][shared]["primitives"][0]["indices"] =
+        indexed.add_accessor(std::vector<std::uint32_t>{0, 1, 2, 2, 1, 3}, "SCALAR", test::kGltfUnsignedInt);
+    indexed.add_node({{"name", "c"}, {"mesh", shared}});
+    const Scene smooth = load_gltf(indexed.write("computed_normals.gltf"));
+    const std::vector<glm::vec3>& made = smooth.objects[0].mesh.normals;
+    ASSERT_EQ(made.size(), 4u);
+    EXPECT_TRUE(near(made[0], {0, 0, 1}, 1e-7f)) << "one face";
+    // (2, 1, 3): (v1 - v2) x (v3 - v2) = (1, -1, 0) x (1, 0, -1) = (1, 1, 1).
+    const glm::vec3 tilted = glm::normalize(glm::vec3(1, 1, 1));
+    EXPECT_TRUE(near(made[3], tilted, 1e-6f)) << "the other";
+    EXPECT_FALSE(near(made[1], {0, 0, 1}, 1e-3f)) << "a shared corner leans between them";
 }
 
 TEST(GltfNormals, BadNormalAttributesAreErrorsNamingTheObject) {

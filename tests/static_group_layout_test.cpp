@@ -20,18 +20,19 @@ bool same(const StaticGroupLayout& a, const StaticGroupLayout& b) {
 }
 
 std::size_t peak(const StaticGroupLayout& layout, std::size_t triangles, std::size_t resident) {
-    return resident + triangles * layout_peak_bytes_per_triangle(layout);
+    return resident + triangles * layout_peak_bytes_per_triangle(layout, triangles);
 }
 
 TEST(StaticGroupLayout, TheLadderGetsSmallerAsItGetsSlower) {
-    EXPECT_GT(layout_peak_bytes_per_triangle(kFull), layout_peak_bytes_per_triangle(kCompact));
-    EXPECT_GT(layout_peak_bytes_per_triangle(kCompact), layout_peak_bytes_per_triangle(kSmallest));
+    constexpr std::size_t kMillion = 1'000'000;
+    EXPECT_GT(layout_peak_bytes_per_triangle(kFull, kMillion), layout_peak_bytes_per_triangle(kCompact, kMillion));
+    EXPECT_GT(layout_peak_bytes_per_triangle(kCompact, kMillion), layout_peak_bytes_per_triangle(kSmallest, kMillion));
     EXPECT_EQ(kFull.name(), "full leaves, float nodes");
     EXPECT_EQ(kSmallest.name(), "compact leaves, quantized nodes");
 }
 
 TEST(StaticGroupLayout, TheFastestLayoutWhosePeakFitsIsChosenAtEachBoundary) {
-    const std::size_t triangles = 20'000'000, resident = 400'000'000;
+    const std::size_t triangles = 4'000'000, resident = 400'000'000;
     struct Case {
         std::size_t budget;
         StaticGroupLayout want;
@@ -64,6 +65,27 @@ TEST(StaticGroupLayout, TheReasonNamesTheFigures) {
     EXPECT_EQ(choice.why,
               "budget 0.80 GB: predicted peak 0.72 GB (0.48 GB resident + 4000000 triangles x 60 B); "
               "full leaves, float nodes would peak at 0.92 GB");
+}
+
+TEST(StaticGroupLayout, FromTwoToTheTwentyThirdTheCompactLayoutsPeakAlikeAndTheFasterIsChosen) {
+    // Their builds' binary leaves take up to eight triangles from 2^23 (lean_leaf_size_min),
+    // less scratch than from 2^20, where they take four.
+    const std::size_t large = std::size_t(1) << 23;
+    EXPECT_EQ(lean_leaf_size_min(large - 1), 4u);
+    EXPECT_EQ(lean_leaf_size_min(large), 8u);
+    EXPECT_EQ(lean_leaf_size_min((std::size_t(1) << 20) - 1), 1u);
+    EXPECT_LT(layout_peak_bytes_per_triangle(kCompact, large), layout_peak_bytes_per_triangle(kCompact, large - 1));
+    EXPECT_EQ(layout_peak_bytes_per_triangle(kCompact, large), layout_peak_bytes_per_triangle(kSmallest, large));
+    EXPECT_GT(layout_peak_bytes_per_triangle(kFull, large), layout_peak_bytes_per_triangle(kCompact, large));
+    const std::size_t triangles = 20'000'000, resident = 1'100'000'000;
+    const std::size_t compact_peak = peak(kCompact, triangles, resident);
+    const StaticLayoutChoice fits = choose_static_group_layout(triangles, resident, compact_peak);
+    EXPECT_TRUE(same(fits.layout, kCompact)) << fits.layout.name();
+    EXPECT_TRUE(fits.fits);
+    const StaticLayoutChoice over = choose_static_group_layout(triangles, resident, compact_peak - 1);
+    EXPECT_TRUE(same(over.layout, kSmallest)) << over.layout.name();
+    EXPECT_FALSE(over.fits);
+    EXPECT_NE(over.why.find("x 40 B), over the budget"), std::string::npos) << over.why;
 }
 
 TEST(StaticGroupLayout, NoTrianglesKeepTheFullLayout) {

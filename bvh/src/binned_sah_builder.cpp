@@ -56,6 +56,13 @@ constexpr std::size_t kParallelTaskMin = 2 * 1024;
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
+/// Hands the allocator's free pages back to the system (every arena's, the workers' too).
+void return_freed_pages() {
+#if defined(__GLIBC__)
+    malloc_trim(0);
+#endif
+}
+
 /// A box as two four-lane vectors (lane 3 unused), the unit the binning loop works in.
 struct Box4 {
     Float4 lo, hi;
@@ -371,24 +378,26 @@ public:
             bvh.nodes.push_back(local.empty() ? convert(top_[slot])
                                               : convert(relocate(local[0], offset[slot])));
         }
+        // The subtrees came from the allocator's arenas in pieces too small to be mapped on
+        // their own, so freeing them leaves their pages resident: for a big tree they are
+        // handed back every kTrimAfterBytes as they are copied, else the subtrees and the final
+        // array (each 32 bytes a node, about one node per triangle) would both be resident at
+        // its end, the build's peak (18 bytes a triangle of it on soup:20000000). Small
+        // trees, rebuilt every frame, skip the arenas' walks.
+        const bool trim = total * sizeof(RawNode) >= kTrimAfterBytes;
+        std::size_t freed_since_trim = 0;
         for (std::size_t slot = 0; slot < top_used; ++slot) {
             std::vector<RawNode>& local = subtrees_[slot];
             for (std::size_t k = 1; k < local.size(); ++k) {
                 bvh.nodes.push_back(convert(relocate(local[k], offset[slot])));
             }
-            // Freed as soon as copied: the subtrees and the final array are each as
-            // large as the tree (32 bytes a node, about one node per triangle), and
-            // holding both was the build's peak.
+            freed_since_trim += local.capacity() * sizeof(RawNode);
             std::vector<RawNode>().swap(local);
+            if (trim && (freed_since_trim >= kTrimAfterBytes || slot + 1 == top_used)) {
+                return_freed_pages();
+                freed_since_trim = 0;
+            }
         }
-#if defined(__GLIBC__)
-        // The subtrees came from the allocator's arenas in pieces too small to be mapped on
-        // their own, so freeing them left their pages resident, unused by what comes next
-        // (the collapse's large arrays are mapped afresh): for a big tree they are handed
-        // back (13 bytes a triangle of resident peak on sphere:20000000). Small trees, rebuilt
-        // every frame, skip the arenas' walk.
-        if (total * sizeof(RawNode) >= kTrimAfterBytes) malloc_trim(0);
-#endif
         return bvh;
     }
 

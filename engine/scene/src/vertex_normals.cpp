@@ -59,6 +59,10 @@ void add_missing_normals(Scene& scene) {
         if (!mesh.normals.empty() || mesh.positions.empty()) continue;
         const auto [first, fresh] = made.try_emplace({mesh.positions.data(), mesh.triangles.data()}, &mesh);
         if (fresh) {
+            // A soup's area-weighted normals are its faces' own: it is shaded flat, from the
+            // posed triangles' geometric normals, without 36 bytes a triangle in the scene and
+            // again in every pose of a moving one.
+            if (!shares_a_vertex(mesh.positions.size(), mesh.triangles)) continue;
             mesh.normals = area_weighted_normals(mesh.positions, mesh.triangles);
         } else {
             mesh.normals = first->second->normals;

@@ -124,10 +124,6 @@ void SceneAccel::renew(std::size_t object) {
 
 namespace {
 
-/// Static groups of at least this many triangles are built with leaf_size_min 4 when their
-/// leaves are compact (build_static_group).
-constexpr std::size_t kLeanBuildTriangles = std::size_t(1) << 20;
-
 std::size_t tree_bytes(const bvh::TriangleBvh& tree) {
     // The Morton builder's scratch (TriangleBvh::morton_scratch) is private to bvh/ and left
     // out: the library API's updates build with binned SAH only.
@@ -516,13 +512,8 @@ void SceneAccel::build_static_group(const Scene& scene, std::span<const ObjectSt
     static_group_.motion_class = anim::MotionClass::static_;
     const bvh::TriangleSource source(meshes);
     bvh::BuildConfig build = config;
-    if (build.compact_leaves && first >= kLeanBuildTriangles) {
-        // Built for memory too: binary leaves of up to four triangles, about half the build's
-        // nodes at its peak, which the collapse regroups into blocks of four anyway. Measured
-        // 5% of MetalRoughSpheres' frame, so smaller groups (whose build peaks at tens of MB)
-        // keep the finer tree.
-        build.leaf_size_min = std::max(build.leaf_size_min, 4u);
-    }
+    // Built for memory too.
+    if (build.compact_leaves) build.leaf_size_min = std::max(build.leaf_size_min, lean_leaf_size_min(first));
     build_tree(static_group_, source, build, costs_);
     // The group is never refitted: shading reads a hit's corners back from the tree's own
     // blocks, or with compact leaves from what they read (timed with the build, whose last

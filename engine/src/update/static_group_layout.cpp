@@ -21,7 +21,7 @@ std::string gigabytes(std::size_t bytes) {
 }
 
 std::size_t predicted_peak(const StaticGroupLayout& layout, std::size_t triangles, std::size_t resident) {
-    return resident + triangles * layout_peak_bytes_per_triangle(layout);
+    return resident + triangles * layout_peak_bytes_per_triangle(layout, triangles);
 }
 
 }  // namespace
@@ -31,8 +31,15 @@ std::string StaticGroupLayout::name() const {
            (quantized_nodes ? "quantized" : "float") + " nodes";
 }
 
-std::size_t layout_peak_bytes_per_triangle(const StaticGroupLayout& layout) {
+std::uint32_t lean_leaf_size_min(std::size_t triangles) {
+    if (triangles >= (std::size_t(1) << 23)) return 8;
+    if (triangles >= (std::size_t(1) << 20)) return 4;
+    return 1;
+}
+
+std::size_t layout_peak_bytes_per_triangle(const StaticGroupLayout& layout, std::size_t triangles) {
     if (!layout.compact_leaves) return 110;
+    if (lean_leaf_size_min(triangles) >= 8) return 40;
     return layout.quantized_nodes ? 52 : 60;
 }
 
@@ -46,7 +53,7 @@ StaticLayoutChoice choose_static_group_layout(std::size_t triangles, std::size_t
     choice.fits = choice.predicted_peak <= budget;
     choice.why = "budget " + gigabytes(budget) + ": predicted peak " + gigabytes(choice.predicted_peak) + " (" +
                  gigabytes(resident) + " resident + " + std::to_string(triangles) + " triangles x " +
-                 std::to_string(layout_peak_bytes_per_triangle(choice.layout)) + " B)";
+                 std::to_string(layout_peak_bytes_per_triangle(choice.layout, triangles)) + " B)";
     if (!choice.fits) {
         choice.why += ", over the budget even with the smallest layout";
     } else if (chosen > 0) {

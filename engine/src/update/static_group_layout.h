@@ -5,14 +5,19 @@
 //
 // The layouts, fastest first, and what each adds to the resident set at its build's peak per
 // static triangle (the binned SAH build's scratch with the tree it writes; the finished tree is
-// smaller). Measured on sphere:N and soup:N at N = 4M and 20M (Intel Xeon, AVX-512; `dynrt
-// render ... --leaves L --nodes M`, the peak minus the scene model and a fixed ~140 MB of
-// libraries and buffers, as the slope between the two sizes), the larger of the two scenes,
-// rounded up:
+// smaller). Groups of 2^23 triangles or more with compact leaves are built with coarser binary
+// leaves (lean_leaf_size_min below), so the compact layouts have two figures. Measured on
+// sphere:N and soup:N (AMD EPYC, AVX-512; `dynrt render ... --leaves L --nodes M`, the peak
+// minus what was resident before the build, as `--memory-budget` reports it), the larger of the
+// two scenes, rounded up:
 //
-//   full leaves, float nodes            110 B  (sphere 73, soup 106)
-//   compact leaves, float nodes          60 B  (sphere 51, soup 56)
-//   compact leaves, quantized nodes      52 B  (sphere 45, soup 49)
+//                                    N = 4M                  N = 20M
+//   full leaves, float nodes        110 B  (sphere 73, soup 103)  (sphere 72, soup 101)
+//   compact leaves, float nodes      60 B  (sphere 50, soup 57)   40 B (sphere 39, soup 39)
+//   compact leaves, quantized nodes  52 B  (sphere 43, soup 50)   40 B (sphere 39, soup 39)
+//
+// From 2^23 triangles the two compact layouts peak alike (the peak is the binary build's, before
+// any node is quantised), so the faster of them is chosen whenever either fits.
 //
 // Quantised nodes with full leaves are not on the ladder: they halve the finished nodes (8 B a
 // triangle) but not the build's peak, which comes before them.
@@ -23,6 +28,7 @@
 // group (whose trees may be refitted and keep full leaves and float nodes) are not counted.
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 
 namespace dynrt {
@@ -46,8 +52,23 @@ struct StaticLayoutChoice {
     std::string why;
 };
 
-/// Predicted bytes the build of `layout` adds per static triangle at its peak (the table above).
-std::size_t layout_peak_bytes_per_triangle(const StaticGroupLayout& layout);
+/// The smallest binary leaf (bvh::BuildConfig::leaf_size_min) a static group of `triangles`
+/// with compact leaves is built with: the build's node arrays (binary nodes, then the
+/// collapse's records of them) shrink with its leaves, and from a million triangles they are
+/// its peak.
+///   - Below 2^20 triangles, 1: the finest tree (the build peaks at tens of MB; leaves of four
+///     cost 5% of MetalRoughSpheres' frame).
+///   - From 2^20, 4: about half the nodes, which the collapse regroups into blocks of four
+///     anyway.
+///   - From 2^23, 8: half as many again. soup:20000000 then peaks at 94 B/tri instead of 103
+///     (over the 100 of issue 43), and its frames and sphere:20000000's were no slower (AMD
+///     EPYC, AVX-512: 612 against 671 ms and 307 against 314 ms at 1920x1080, medians of
+///     three). At 4M triangles leaves of eight were 5% slower on the sphere, within the noise.
+std::uint32_t lean_leaf_size_min(std::size_t triangles);
+
+/// Predicted bytes the build of `layout` adds per static triangle at its peak, for a group of
+/// `triangles` (the table above).
+std::size_t layout_peak_bytes_per_triangle(const StaticGroupLayout& layout, std::size_t triangles);
 
 /// The fastest layout of the ladder above whose predicted peak, `resident` + `triangles` x its
 /// bytes per triangle, is at most `budget` bytes; the smallest layout (fits false) when none is.

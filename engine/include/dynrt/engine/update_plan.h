@@ -67,8 +67,8 @@ struct UpdatePolicy {
     /// The static group's tree with compact leaves (bvh::BuildConfig::compact_leaves): its
     /// leaves keep the triangles' indices and read the corners from the scene's own vertices,
     /// about 40 bytes a triangle fewer, the same images bit for bit (`--leaves compact`). From
-    /// 2^20 triangles on it is built for memory too (bvh::BuildConfig::leaf_size_min 4: half
-    /// the build's nodes at its peak). Other trees, which may be refitted, always keep full
+    /// 2^20 triangles on it is built for memory too (bvh::BuildConfig::leaf_size_min 4, from
+    /// 2^23 8: each about half the build's nodes at its peak). Other trees, which may be refitted, always keep full
     /// blocks (build.compact_leaves is ignored).
     bool compact_static_group = false;
     /// The static group's tree with quantised nodes (bvh::BuildConfig::quantized_nodes): its

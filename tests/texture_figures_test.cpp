@@ -27,6 +27,8 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
 namespace dynrt {
 namespace {
 
@@ -99,7 +101,9 @@ void write_figures_png(const fs::path& path, int size) {
 /// texture 1 (both 64x64 PNGs), material 3 maps texture 2, a file that is not there. So two
 /// readable textures, one of them mapped twice.
 struct FiguresScene {
-    fs::path dir = test::fresh_test_dir("texture_figures");
+    // Its own folder per process: ctest runs this file's cases at once, each a process of its
+    // own, and one emptying a shared folder while another read its textures failed the other.
+    fs::path dir = test::fresh_test_dir("texture_figures_" + std::to_string(::getpid()));
     Scene scene;
     Camera camera;
     RenderOptions options;

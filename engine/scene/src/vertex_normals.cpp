@@ -51,6 +51,14 @@ std::vector<glm::vec3> area_weighted_normals(std::span<const glm::vec3> position
     return normals;
 }
 
+std::vector<glm::vec3> missing_normals(std::span<const glm::vec3> positions, std::span<const glm::uvec3> triangles) {
+    // A soup's area-weighted normals are its faces' own: it is shaded flat, from the posed
+    // triangles' geometric normals, without 36 bytes a triangle in the scene and again in every
+    // pose of a moving one.
+    if (!shares_a_vertex(positions.size(), triangles)) return {};
+    return area_weighted_normals(positions, triangles);
+}
+
 void add_missing_normals(Scene& scene) {
     // Copies of one mesh (shared arrays) share the normals made for the first of them.
     std::map<std::pair<const glm::vec3*, const glm::uvec3*>, const Mesh*> made;
@@ -59,11 +67,7 @@ void add_missing_normals(Scene& scene) {
         if (!mesh.normals.empty() || mesh.positions.empty()) continue;
         const auto [first, fresh] = made.try_emplace({mesh.positions.data(), mesh.triangles.data()}, &mesh);
         if (fresh) {
-            // A soup's area-weighted normals are its faces' own: it is shaded flat, from the
-            // posed triangles' geometric normals, without 36 bytes a triangle in the scene and
-            // again in every pose of a moving one.
-            if (!shares_a_vertex(mesh.positions.size(), mesh.triangles)) continue;
-            mesh.normals = area_weighted_normals(mesh.positions, mesh.triangles);
+            mesh.normals = missing_normals(mesh.positions, mesh.triangles);
         } else {
             mesh.normals = first->second->normals;
         }

@@ -231,7 +231,8 @@ struct MeshSlot {
     /// World positions of a deformable or exploding mesh with a transform (scratch).
     std::vector<glm::vec3> world;
     /// Unit object-space shading normals, one per vertex: the caller's (normalised) or, when
-    /// computed_normals, area-weighted ones of the positions (recomputed when they change).
+    /// computed_normals, missing_normals of the positions (area-weighted, or none for a soup;
+    /// recomputed when they change).
     std::vector<glm::vec3> normals;
     bool computed_normals = true;
     /// World normals of a deformable or exploding mesh with a transform (scratch).
@@ -571,7 +572,7 @@ MeshId Engine::add_mesh(const MeshDesc& desc) {
                                     desc.indices[3 * t + 2]};
     }
     mesh.computed_normals = desc.normals.empty();
-    mesh.normals = mesh.computed_normals ? area_weighted_normals(positions, object.mesh.triangles)
+    mesh.normals = mesh.computed_normals ? missing_normals(positions, object.mesh.triangles)
                                          : Impl::checked_normals(desc.normals, vertices, what);
     Material material = material_of(desc.surface, name);
     // Every check passed: the mesh takes its id and a slot (a freed one when there is).
@@ -775,7 +776,7 @@ FrameStats Engine::Impl::update() {
                             motion_class == anim::MotionClass::exploding;
         if (mesh.positions_changed && mesh.computed_normals && !mesh.removed) {
             retired_normals.push_back(std::move(mesh.normals));
-            mesh.normals = area_weighted_normals(mesh.positions(), scene.objects[i].mesh.triangles);
+            mesh.normals = missing_normals(mesh.positions(), scene.objects[i].mesh.triangles);
         }
         if (moving) {
             if (mesh.identity) {

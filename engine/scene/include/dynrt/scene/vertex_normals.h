@@ -32,11 +32,15 @@ namespace dynrt {
 std::vector<glm::vec3> area_weighted_normals(std::span<const glm::vec3> positions,
                                              std::span<const glm::uvec3> triangles);
 
-/// Gives every object of `scene` without Mesh::normals the area-weighted normals of its mesh
-/// (of its rest shape: morph targets without NORMAL displacements do not move them), except a
-/// soup (no vertex used twice): its normals would be its faces' own, so it keeps none and is
-/// shaded with its posed triangles' geometric normals (flat, as renderer.h describes). The
-/// loaders call it last.
+/// The normals a mesh whose file (or caller) gives none is shaded with: its area-weighted
+/// normals, or none (empty) for a soup (no vertex used twice), whose area-weighted normals
+/// would be its faces' own: it is shaded with its posed triangles' geometric normals instead
+/// (flat, as renderer.h describes). The library API uses it too.
+std::vector<glm::vec3> missing_normals(std::span<const glm::vec3> positions, std::span<const glm::uvec3> triangles);
+
+/// Gives every object of `scene` without Mesh::normals its missing_normals (of its rest
+/// shape: morph targets without NORMAL displacements do not move them). The loaders call it
+/// last.
 void add_missing_normals(Scene& scene);
 
 /// cof(M) for the linear part M of a transform: normals transform as cof(M) n (see above).

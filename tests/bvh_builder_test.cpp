@@ -319,7 +319,7 @@ TEST(BvhBuilder, LeafSizeMinMakesEveryNodeThatSmallALeaf) {
     const std::vector<Aabb> boxes = boxes_of(random_soup(12, 100000, 1.0f, 0.01f));
     const Bvh plain = build_boxes(boxes, binary_config_with(8));
     BuildConfig config = binary_config_with(8);
-    // Four and eight: the static group's lean builds (scene_accel.cpp, lean_leaf_size_min).
+    // Four and eight: the static group's lean builds (lean_leaf_size_min, static_group_layout.h).
     std::size_t nodes_at_four = 0;
     for (const std::uint32_t min : {4u, 8u}) {
         SCOPED_TRACE("leaf_size_min " + std::to_string(min));

@@ -121,7 +121,11 @@ TEST(ProceduralCopies, BadCountsAreNamed) {
 
 TEST(GltfInstancing, NodesThatReferenceOneMeshShareItsArrays) {
     test::GltfTestFile file;
-    const int mesh = file.add_mesh({0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0});
+    // A quad of two triangles sharing an edge (indexed), so that its normals are computed: a
+    // soup would keep none.
+    const int mesh = file.add_mesh({0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0});
+    file.doc()["meshes"][mesh]["primitives"][0]["indices"] =
+        file.add_accessor(std::vector<std::uint32_t>{0, 1, 2, 1, 3, 2}, "SCALAR", test::kGltfUnsignedInt);
     file.add_node({{"name", "a"}, {"mesh", mesh}});
     file.add_node({{"name", "b"}, {"mesh", mesh}, {"translation", {3.0, 0.0, 0.0}}});
     file.add_node({{"name", "c"}, {"mesh", mesh}, {"scale", {2.0, 2.0, 2.0}}});
@@ -130,8 +134,9 @@ TEST(GltfInstancing, NodesThatReferenceOneMeshShareItsArrays) {
     for (const Object& object : scene.objects) {
         EXPECT_TRUE(object.mesh.positions.shares_storage_with(scene.objects[0].mesh.positions)) << object.name;
         EXPECT_TRUE(object.mesh.triangles.shares_storage_with(scene.objects[0].mesh.triangles)) << object.name;
-        // A soup (this lone triangle) keeps no normals, in any copy.
-        EXPECT_TRUE(object.mesh.normals.empty()) << object.name;
+        // Normals made for the first copy serve them all.
+        EXPECT_FALSE(object.mesh.normals.empty()) << object.name;
+        EXPECT_TRUE(object.mesh.normals.shares_storage_with(scene.objects[0].mesh.normals)) << object.name;
     }
     EXPECT_NE(scene.objects[1].transform, scene.objects[0].transform);
     // Drawn as three meshes of their own would be: the reference agrees.

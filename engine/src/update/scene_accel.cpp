@@ -512,7 +512,7 @@ void SceneAccel::build_static_group(const Scene& scene, std::span<const ObjectSt
     static_group_.motion_class = anim::MotionClass::static_;
     const bvh::TriangleSource source(meshes);
     bvh::BuildConfig build = config;
-    // Built for memory too.
+    // Built for memory too: coarser binary leaves for big groups (lean_leaf_size_min).
     if (build.compact_leaves) build.leaf_size_min = std::max(build.leaf_size_min, lean_leaf_size_min(first));
     build_tree(static_group_, source, build, costs_);
     // The group is never refitted: shading reads a hit's corners back from the tree's own

@@ -11,10 +11,10 @@
 // minus what was resident before the build, as `--memory-budget` reports it), the larger of the
 // two scenes, rounded up:
 //
-//                                    N = 4M                  N = 20M
-//   full leaves, float nodes        110 B  (sphere 73, soup 103)  (sphere 72, soup 101)
-//   compact leaves, float nodes      60 B  (sphere 50, soup 57)   40 B (sphere 39, soup 39)
-//   compact leaves, quantized nodes  52 B  (sphere 43, soup 50)   40 B (sphere 39, soup 39)
+//                                   below 2^23 (measured at 4M)    from 2^23 (measured at 20M)
+//   full leaves, float nodes         110 B  (sphere 73, soup 103)   110 B  (sphere 72, soup 101)
+//   compact leaves, float nodes       60 B  (sphere 50, soup 57)     40 B  (sphere 39, soup 39)
+//   compact leaves, quantized nodes   52 B  (sphere 43, soup 50)     40 B  (sphere 39, soup 39)
 //
 // From 2^23 triangles the two compact layouts peak alike (the peak is the binary build's, before
 // any node is quantised), so the faster of them is chosen whenever either fits.

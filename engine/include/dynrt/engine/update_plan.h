@@ -68,8 +68,8 @@ struct UpdatePolicy {
     /// leaves keep the triangles' indices and read the corners from the scene's own vertices,
     /// about 40 bytes a triangle fewer, the same images bit for bit (`--leaves compact`). From
     /// 2^20 triangles on it is built for memory too (bvh::BuildConfig::leaf_size_min 4, from
-    /// 2^23 8: each about half the build's nodes at its peak). Other trees, which may be refitted, always keep full
-    /// blocks (build.compact_leaves is ignored).
+    /// 2^23 8: each about half the build's nodes at its peak). Other trees, which may be
+    /// refitted, always keep full blocks (build.compact_leaves is ignored).
     bool compact_static_group = false;
     /// The static group's tree with quantised nodes (bvh::BuildConfig::quantized_nodes): its
     /// child boxes in 8-bit planes, 128 bytes a node instead of 256, the same images bit for

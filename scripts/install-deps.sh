@@ -7,6 +7,7 @@ required=(build-essential cmake ninja-build pkg-config ccache
           libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libtbb-dev
           libopenimageio-dev libbenchmark-dev libgtest-dev libcli11-dev
           libassimp-dev  # OBJ, PLY, FBX, Collada... scene files (engine/src/loaders/assimp_loader.cpp)
+          libmeshoptimizer-dev  # the simplified meshes of --lod (engine/src/rendering/simplified_levels.cpp)
           gnuplot-nox   # gnuplot draws the charts of `dynrt bench --plot`
           pybind11-dev python3-dev python3-numpy python3-pytest  # the Python module (engine/python)
           doxygen mkdocs)  # the API reference and the guide's site (scripts/docs.sh, their tests)

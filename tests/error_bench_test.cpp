@@ -72,6 +72,31 @@ TEST(ErrorBench, CostRatiosAndEveryCullingCombinationShowNoDeterminedHitDifferen
     EXPECT_EQ(labels.back(), "cost 1, ab+bp+edge+nf");
 }
 
+// Levels of detail are approximate: fewer triangles, an error above the exact floor that grows
+// with the allowance, and every row labelled with its allowance.
+TEST(ErrorBench, LevelsOfDetailTradeTrianglesForError) {
+    const Scene scene = load_scene("sphere:20000");
+    Camera camera;
+    camera.eye = glm::vec3(0.0f, 0.0f, 6.0f);
+    const RenderOptions base = small_options();
+    const SampledReference reference = sample_reference(scene, camera, base, 0, 1);
+    std::vector<ErrorRow> rows;
+    for (const float pixels : {0.0f, 1.0f, 16.0f}) {
+        ErrorConfiguration config{base, BenchUpdate::rebuild};
+        config.options.lod_pixels = pixels;
+        rows.push_back(bench_error_row(scene, camera, config, 1, 0, reference));
+        EXPECT_EQ(rows.back().timing.lod_pixels, pixels);
+    }
+    EXPECT_EQ(rows[0].timing.triangles, scene.triangle_count());
+    EXPECT_EQ(rows[0].error.determined_differs, 0);
+    EXPECT_LT(rows[1].timing.triangles, rows[0].timing.triangles);
+    EXPECT_LT(rows[2].timing.triangles, rows[1].timing.triangles);
+    EXPECT_GT(rows[1].error.rmse, 10.0 * rows[0].error.rmse);
+    EXPECT_GT(rows[2].error.rmse, rows[1].error.rmse);
+    const std::vector<std::string> labels = error_row_labels(rows);
+    EXPECT_EQ(labels, (std::vector<std::string>{"lod 0", "lod 1", "lod 16"}));
+}
+
 TEST(ErrorBench, RefitAndRebuildOfAWavingMeshShowNoDeterminedHitDifference) {
     Scene scene = load_scene("sphere:2000");
     const std::vector<std::string> wave = {"wave"};

@@ -82,13 +82,14 @@ int run_bench_sequence(const BenchArgs& args) {
 }
 
 /// The configurations a bench measures, from the base options and the sweeps: culling items
-/// vary slowest, then update, then adaptive tolerances, then the build sweeps as expand_sweeps
+/// vary slowest, then update, then adaptive tolerances, then levels of detail, then the build sweeps as expand_sweeps
 /// orders them. Without an update sweep every configuration rebuilds.
 std::vector<dynrt::reference::ErrorConfiguration> bench_configurations(
     const BenchArgs& args, const dynrt::RenderOptions& base) {
     std::vector<std::string> build_sweeps = args.sweeps;
     const std::vector<std::string> cullings = dynrt::take_culling_sweep(build_sweeps);
     std::vector<float> adaptives = dynrt::take_adaptive_sweep(build_sweeps);
+    std::vector<float> lods = dynrt::take_lod_sweep(build_sweeps);
     std::vector<dynrt::BenchUpdate> updates = dynrt::take_update_sweep(build_sweeps);
     if (!cullings.empty() && base.tracer != dynrt::Tracer::packet) {
         throw std::invalid_argument("--sweep culling=...: the culling stages are the packet "
@@ -99,6 +100,7 @@ std::vector<dynrt::reference::ErrorConfiguration> bench_configurations(
                                     "about by its error, so it needs --error");
     }
     if (adaptives.empty()) adaptives.push_back(base.adaptive_tolerance);
+    if (lods.empty()) lods.push_back(base.lod_pixels);
     if (updates.empty()) updates.push_back(dynrt::BenchUpdate::rebuild);
     for (float adaptive : adaptives) {
         if (adaptive > 0.0f && base.tracer != dynrt::Tracer::packet) {
@@ -114,14 +116,17 @@ std::vector<dynrt::reference::ErrorConfiguration> bench_configurations(
     for (const std::string& culling : culling_items) {
         for (dynrt::BenchUpdate update : updates) {
             for (float adaptive : adaptives) {
-                for (const dynrt::bvh::BuildConfig& build : builds) {
-                    dynrt::reference::ErrorConfiguration config{base, update};
-                    config.options.build = build;
-                    config.options.adaptive_tolerance = adaptive;
-                    if (!culling.empty()) {
-                        config.options.packet.culling = dynrt::parse_culling_item(culling);
+                for (float lod : lods) {
+                    for (const dynrt::bvh::BuildConfig& build : builds) {
+                        dynrt::reference::ErrorConfiguration config{base, update};
+                        config.options.build = build;
+                        config.options.adaptive_tolerance = adaptive;
+                        config.options.lod_pixels = lod;
+                        if (!culling.empty()) {
+                            config.options.packet.culling = dynrt::parse_culling_item(culling);
+                        }
+                        configs.push_back(config);
                     }
-                    configs.push_back(config);
                 }
             }
         }
@@ -289,6 +294,10 @@ int run_bench(const BenchArgs& args) {
         throw std::invalid_argument("--vs '" + args.vs + "': the only tracer to compare with is "
                                     "'embree'");
     }
+    if (args.vs == "embree" && (args.lod > 0.0f || sweeps_parameter(args, "lod"))) {
+        throw std::invalid_argument("--vs embree compares tracers on the same triangles; levels of "
+                                    "detail (--lod, --sweep lod=...) trace others: measure them with --error");
+    }
 #if !DYNRT_HAVE_EMBREE
     if (!args.vs.empty()) {
         throw std::runtime_error("--vs embree: this dynrt was built without Embree "
@@ -328,10 +337,10 @@ int run_bench(const BenchArgs& args) {
     // Culling items (if swept) vary slowest, then the build sweeps as expand_sweeps orders them.
     const std::vector<dynrt::reference::ErrorConfiguration> configs =
         bench_configurations(args, base);
-    if (!args.plot.empty() && (sweeps_parameter(args, "culling") ||
-                               sweeps_parameter(args, "adaptive"))) {
+    if (!args.plot.empty() &&
+        (sweeps_parameter(args, "culling") || sweeps_parameter(args, "adaptive") || sweeps_parameter(args, "lod"))) {
         throw std::invalid_argument("--plot draws against a build parameter; it does not take "
-                                    "a culling or adaptive sweep (with --error it draws time "
+                                    "a culling, adaptive or lod sweep (with --error it draws time "
                                     "against error for any sweep)");
     }
     const dynrt::Camera camera = camera_for(scene, args, base.pose);

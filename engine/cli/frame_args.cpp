@@ -214,6 +214,7 @@ dynrt::RenderOptions render_options(const FrameArgs& args) {
     if (args.backend != "dynrt") options.backend = backend_factory(args.backend);
     options.packet.culling = dynrt::packet::PacketCulling::parse(args.packet_culling);
     options.adaptive_tolerance = args.adaptive;
+    options.lod_pixels = args.lod;
     options.smooth_normals = args.normals != "flat";
     options.occluder_cache = args.occluder_cache != "off";
     options.sampling.spp = args.spp;

@@ -39,6 +39,8 @@ struct FrameArgs {
     std::string memory_budget;
     std::string packet_culling = "all";
     float adaptive = 0.0f;
+    /// RenderOptions::lod_pixels (`--lod`): 0, off.
+    float lod = 0.0f;
     /// Shading normals (TraceSettings::smooth_normals): smooth (the vertex normals) or flat.
     std::string normals = "smooth";
     /// TraceSettings::occluder_cache: on or off.

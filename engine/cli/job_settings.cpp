@@ -23,7 +23,7 @@ namespace dynrt::cli {
 // A field added to FrameArgs or RenderArgs must be classified in job_settings() below (part of
 // the job, or not) before this compiles again; then update these counts. RenderArgs counts
 // its FrameArgs base as one field.
-static_assert(field_count<FrameArgs>() == 38,
+static_assert(field_count<FrameArgs>() == 39,
               "a FrameArgs field was added or removed: classify it in job_settings()");
 static_assert(field_count<RenderArgs>() == 1 + 8,
               "a RenderArgs field was added or removed: classify it in job_settings()");
@@ -106,6 +106,7 @@ std::vector<JobSetting> job_settings(const RenderArgs& args, const dynrt::Render
     not_job("--memory-budget", args.memory_budget.empty() ? "none" : args.memory_budget);
     job("--packet-culling", dynrt::packet::PacketCulling::parse(args.packet_culling).to_string());
     job("--adaptive", number_text(args.adaptive));
+    job("--lod", number_text(args.lod));
     job("--normals", args.normals);
     job("--occluder-cache", args.occluder_cache);  // the same image either way
     job("--spp", std::to_string(args.spp));

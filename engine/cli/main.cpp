@@ -165,6 +165,10 @@ int main(int argc, char** argv) {
                         "Approximate: trace each tile on a sparse grid and interpolate cells "
                         "whose samples agree within this tolerance (packet tracer; 0: exact)")
             ->check(CLI::NonNegativeNumber)->capture_default_str();
+        cmd->add_option("--lod", args.lod,
+                        "Approximate: trace each static or rigid mesh with the coarsest of its "
+                        "simplified meshes whose error covers at most this many pixels (0: off)")
+            ->check(CLI::NonNegativeNumber)->capture_default_str();
         cmd->add_option("--normals", args.normals,
                         "Shading normals: smooth (the file's vertex normals interpolated, or "
                         "area-weighted ones where it has none) or flat (each triangle's own)")
@@ -327,8 +331,8 @@ int main(int argc, char** argv) {
     bench_cmd->add_option("--sweep", bench.sweeps,
                           "cost-ratio=V1,V2,..., leaf=N1,N2,..., culling=C1,C2,... (packet "
                           "culling, '+' joining stages: culling=none,ab,ab+bp,ab+bp+nf), "
-                          "adaptive=T1,T2,... (tolerances, packet tracer) or, with --error, "
-                          "update=rebuild,refit; with --frames and --error, only "
+                          "adaptive=T1,T2,... (tolerances, packet tracer), lod=P1,P2,... "
+                          "(levels of detail, pixels) or, with --error, update=rebuild,refit; with --frames and --error, only "
                           "reuse=off,exact,cache:0.25,frameless:8ms,... (pixel reuse modes "
                           "and budgets) and adaptive=...; repeatable, combined as a cross "
                           "product")

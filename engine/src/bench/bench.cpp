@@ -58,7 +58,7 @@ std::vector<bvh::BuildConfig> expand_sweeps(const std::vector<std::string>& swee
         if (name != "cost-ratio" && name != "leaf") {
             throw std::invalid_argument("--sweep '" + sweep + "': unknown parameter '" + name +
                                         "' (known: cost-ratio, leaf, culling, adaptive, "
-                                        "update)");
+                                        "lod, update)");
         }
         if (std::find(swept.begin(), swept.end(), name) != swept.end()) {
             throw std::invalid_argument("--sweep: '" + name + "' is swept twice");
@@ -150,20 +150,25 @@ std::vector<std::string> take_sweep(std::vector<std::string>& sweeps, const std:
     return items;
 }
 
-}  // namespace
-
-std::vector<float> take_adaptive_sweep(std::vector<std::string>& sweeps) {
+/// The values of the sweep `name`, each a finite number >= 0 (`what` names them in the error).
+std::vector<float> take_nonnegative_sweep(std::vector<std::string>& sweeps, const std::string& name,
+                                          const std::string& what) {
     std::vector<float> values;
-    for (const std::string& item : take_sweep(sweeps, "adaptive")) {
-        const std::string sweep = "adaptive=" + item;
+    for (const std::string& item : take_sweep(sweeps, name)) {
+        const std::string sweep = name + "=" + item;
         const double value = parse_number(item, sweep);
         if (!(value >= 0.0) || !std::isfinite(float(value))) {
-            throw std::invalid_argument("--sweep '" + sweep + "': adaptive tolerances are "
-                                        "finite numbers >= 0");
+            throw std::invalid_argument("--sweep '" + sweep + "': " + what + " are finite numbers >= 0");
         }
         values.push_back(float(value));
     }
     return values;
+}
+
+}  // namespace
+
+std::vector<float> take_adaptive_sweep(std::vector<std::string>& sweeps) {
+    return take_nonnegative_sweep(sweeps, "adaptive", "adaptive tolerances");
 }
 
 std::vector<int> take_spp_sweep(std::vector<std::string>& sweeps) {
@@ -180,16 +185,11 @@ std::vector<int> take_spp_sweep(std::vector<std::string>& sweeps) {
 }
 
 std::vector<float> take_aa_sweep(std::vector<std::string>& sweeps) {
-    std::vector<float> values;
-    for (const std::string& item : take_sweep(sweeps, "aa")) {
-        const double value = parse_number(item, "aa=" + item);
-        if (!(value >= 0.0) || !std::isfinite(float(value))) {
-            throw std::invalid_argument("--sweep 'aa=" + item + "': adaptive anti-aliasing contrasts are "
-                                        "finite numbers >= 0");
-        }
-        values.push_back(float(value));
-    }
-    return values;
+    return take_nonnegative_sweep(sweeps, "aa", "adaptive anti-aliasing contrasts");
+}
+
+std::vector<float> take_lod_sweep(std::vector<std::string>& sweeps) {
+    return take_nonnegative_sweep(sweeps, "lod", "levels of detail (pixels)");
 }
 
 std::vector<ReuseSettings> take_reuse_sweep(std::vector<std::string>& sweeps) {
@@ -269,6 +269,7 @@ BenchRow bench_configuration(const Scene& scene, const Camera& camera,
     BenchRow row;
     row.build = options.build;
     row.adaptive_tolerance = options.adaptive_tolerance;
+    row.lod_pixels = options.lod_pixels;
     row.triangles = out.stats.triangles;
     row.update_ms = spread_of(update_stage);
     row.build_ms = spread_of(build);
@@ -338,7 +339,7 @@ void print_bench_table(std::ostream& out, const std::vector<BenchRow>& rows) {
         << std::setw(22) << "trace ms"
         << std::setw(22) << "shade ms" << std::setw(22) << "secondary ms" << std::setw(22) << "total ms" << std::setw(22)
         << "Mrays/s" << std::setw(9) << "SAH" << std::setw(7) << "leaf" << std::setw(6)
-        << "depth" << std::setw(7) << "adapt" << "  " << std::left << std::setw(14) << "culling" << std::right
+        << "depth" << std::setw(7) << "adapt" << std::setw(6) << "lod" << "  " << std::left << std::setw(14) << "culling" << std::right
         << std::setw(10) << "tests M" << std::setw(10) << "culled M" << std::setw(7) << "width"
         << std::setw(7) << "B/tri" << std::setw(11) << "nodes/ray" << std::setw(10) << "tris/ray"
         << std::setw(12) << "scene B/tri" << std::setw(12) << "held B/tri" << std::setw(12) << "peak B/tri"
@@ -354,7 +355,8 @@ void print_bench_table(std::ostream& out, const std::vector<BenchRow>& rows) {
             << format_spread(r.total_ms, 2) << ' ' << std::setw(21) << format_spread(r.mrays_per_s, 2)
             << std::fixed << std::setprecision(1) << std::setw(9) << r.sah_cost
             << std::setprecision(2) << std::setw(7) << r.leaf_tris_mean << std::setw(6)
-            << r.depth << std::setw(7) << r.adaptive_tolerance << "  " << std::left << std::setw(14)
+            << r.depth << std::setw(7) << r.adaptive_tolerance << std::setw(6) << r.lod_pixels << "  "
+            << std::left << std::setw(14)
             << (r.packet_culling.empty() ? "-" : r.packet_culling) << std::right
             << std::setw(10) << double(r.ray_triangle_tests) / 1e6 << std::setw(10)
             << double(r.ray_triangle_culled) / 1e6 << std::setw(7) << r.tree_width

@@ -40,6 +40,7 @@ struct ForEachBenchColumn {
         visit("leaf_tris_mean", row.leaf_tris_mean);
         visit("depth", row.depth);
         visit("adaptive_tolerance", shortest_decimal(row.adaptive_tolerance));
+        visit("lod_pixels", shortest_decimal(row.lod_pixels));
         visit("packet_culling", row.packet_culling);
         visit("ray_triangle_tests", row.ray_triangle_tests);
         visit("ray_triangle_culled", row.ray_triangle_culled);

@@ -105,6 +105,7 @@ std::vector<std::string> error_row_labels(const std::vector<ErrorRow>& rows) {
     const bool culling = varies([](const ErrorRow& r) { return r.timing.packet_culling; });
     const bool update = varies([](const ErrorRow& r) { return r.update; });
     const bool adaptive = varies([](const ErrorRow& r) { return r.timing.adaptive_tolerance; });
+    const bool lod = varies([](const ErrorRow& r) { return r.timing.lod_pixels; });
     std::vector<std::string> labels;
     for (const ErrorRow& r : rows) {
         std::vector<std::string> parts;
@@ -113,6 +114,7 @@ std::vector<std::string> error_row_labels(const std::vector<ErrorRow>& rows) {
         if (culling) parts.push_back(culling_of(r));
         if (update) parts.push_back(to_string(r.update));
         if (adaptive) parts.push_back("adaptive " + shortest(r.timing.adaptive_tolerance));
+        if (lod) parts.push_back("lod " + shortest(r.timing.lod_pixels));
         std::string label;
         for (const std::string& part : parts) label += (label.empty() ? "" : ", ") + part;
         labels.push_back(label.empty() ? "default" : label);
@@ -122,7 +124,7 @@ std::vector<std::string> error_row_labels(const std::vector<ErrorRow>& rows) {
 
 void print_error_table(std::ostream& out, const std::vector<ErrorRow>& rows) {
     out << std::left << std::setw(8) << "cost" << std::setw(6) << "leaf" << std::setw(16)
-        << "culling" << std::setw(9) << "update" << std::setw(9) << "adaptive" << std::right
+        << "culling" << std::setw(9) << "update" << std::setw(9) << "adaptive" << std::setw(6) << "lod" << std::right
         << std::setw(24) << "total ms" << std::setw(14) << "hit differs %" << std::setw(8)
         << "ambig" << std::setw(12) << "RMSE" << std::setw(9) << "PSNR dB" << '\n';
     for (const ErrorRow& r : rows) {
@@ -133,7 +135,7 @@ void print_error_table(std::ostream& out, const std::vector<ErrorRow>& rows) {
         out << std::left << std::setw(8) << shortest(r.timing.build.cost_ratio) << std::setw(6)
             << r.timing.build.leaf_size_max << std::setw(16) << culling_of(r) << std::setw(9)
             << to_string(r.update) << std::setw(9) << shortest(r.timing.adaptive_tolerance)
-            << std::right << std::setw(24) << format_spread(r.timing.total_ms) << std::setw(14) << pct.str()
+            << std::setw(6) << shortest(r.timing.lod_pixels) << std::right << std::setw(24) << format_spread(r.timing.total_ms) << std::setw(14) << pct.str()
             << std::setw(8)
             << r.error.ambiguous_differs << std::setw(12) << rmse.str() << std::setw(9)
             << format_psnr(r.error.psnr_db) << '\n';

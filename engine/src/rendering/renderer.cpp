@@ -7,6 +7,7 @@
 #include "dynrt/packet/packet_shading.h"
 #include "dynrt/scene/scene_error.h"
 #include "dynrt/engine/stopwatch.h"
+#include "rendering/level_of_detail.h"
 #include "rendering/posed_lights.h"
 #include "rendering/frame_pipeline.h"
 #include "rendering/cpu_tracer.h"
@@ -42,6 +43,13 @@ struct Renderer::State {
     anim::PosedScene posed;
     /// The posed frame as the planner reads it.
     std::vector<ObjectState> states;
+    /// The levels of detail (RenderOptions::lod_pixels), and the scene the frame is traced in:
+    /// `scene`, or the levels' copy of it.
+    LevelOfDetail lod;
+    std::vector<std::size_t> lod_changed;
+    const Scene* traced = nullptr;
+    /// Since the pose of the frame being updated began.
+    Stopwatch frame_clock;
     FramePipeline pipeline;
 };
 
@@ -186,6 +194,10 @@ void check_options(const RenderOptions& options) {
         throw std::invalid_argument("adaptive sampling traces 16x16 packets: it needs the packet "
                                     "tracer, not the single-ray one");
     }
+    if (!std::isfinite(options.lod_pixels) || options.lod_pixels < 0.0f) {
+        throw std::invalid_argument("level of detail " + std::to_string(options.lod_pixels) +
+                                    " pixels: must be finite and >= 0 (0: off)");
+    }
 }
 
 }  // namespace
@@ -200,6 +212,12 @@ void Renderer::set_options(RenderOptions options) {
     check_options(options);
     options.pose = options_.pose;  // the poser was made with these
     options.backend = options_.backend;
+    // Trees built from levels of detail do not match the scene's own triangles, nor the
+    // reverse: switching levels of detail on or off starts the trees afresh.
+    if ((options.lod_pixels > 0.0f) != (options_.lod_pixels > 0.0f)) {
+        state_->pipeline.clear_trees();
+        state_->lod.reset();
+    }
     options_ = std::move(options);
 }
 
@@ -209,7 +227,9 @@ void Renderer::reset() {
     State& s = *state_;
     s.pipeline.clear();
     s.poser.reset();
+    s.lod.reset();
     s.scene = nullptr;
+    s.traced = nullptr;
 }
 
 void Renderer::forget_trees() { state_->pipeline.clear_trees(); }
@@ -255,22 +275,29 @@ const anim::PosedScene& Renderer::posed() const {
 }
 
 void Renderer::render(const Scene& scene, const Camera& camera, int frame, RenderedFrame& out) {
-    update(scene, frame);
+    pose(scene, frame);
+    update_trees(frame, &camera);
     trace(camera, out);
 }
 
 Camera Renderer::render(const Scene& scene, int frame, const CameraSource& view,
                         RenderedFrame& out) {
-    update(scene, frame);
+    pose(scene, frame);
     if (view.from_scene && !state_->posed.camera) {
         throw std::logic_error("Renderer::render: " + scene.source + " has no camera of its own");
     }
     const Camera camera = view.from_scene ? camera_from_scene(*state_->posed.camera) : view.camera;
+    update_trees(frame, &camera);
     trace(camera, out);
     return camera;
 }
 
 void Renderer::update(const Scene& scene, int frame) {
+    pose(scene, frame);
+    update_trees(frame, nullptr);
+}
+
+void Renderer::pose(const Scene& scene, int frame) {
     State& s = *state_;
     if (s.scene != &scene || !s.poser) {
         // A new scene: a poser for it (settings checked here), set up once per sequence.
@@ -284,7 +311,7 @@ void Renderer::update(const Scene& scene, int frame) {
         s.lights.clear();
         s.scene = &scene;
     }
-    const Stopwatch frame_clock;
+    s.frame_clock = Stopwatch{};
 
     // ---- Pose: evaluate the animation at the frame ----
     s.poser->pose(frame, s.posed);
@@ -294,9 +321,20 @@ void Renderer::update(const Scene& scene, int frame) {
         s.states[i] = ObjectState{pose.motion_class, pose.changed, pose.transform, pose.positions,
                                   pose.normals};
     }
+}
+
+void Renderer::update_trees(int frame, const Camera* camera) {
+    State& s = *state_;
+    const Scene& scene = *s.scene;
+    // ---- Levels of detail: the triangles each object is traced with ----
+    s.traced = &scene;
+    if (options_.lod_pixels > 0.0f) {
+        s.traced = &s.lod.choose(scene, s.states, camera, options_.height, options_.lod_pixels, s.lod_changed);
+        for (const std::size_t object : s.lod_changed) s.pipeline.invalidate(object);
+    }
     // ---- Plan and update the trees ----
-    s.pipeline.update(scene, s.states, PoserPositions(*s.poser, s.posed), options_, frame,
-                      frame_clock);
+    s.pipeline.update(*s.traced, s.states, PoserPositions(*s.poser, s.posed), options_, frame,
+                      s.frame_clock);
     // The lights, once per sequence and untimed. After the update, so that bad geometry is
     // reported at the frame asked for (the default light is placed from frame 0's bounds).
     if (s.sequence_lights.empty()) {
@@ -357,14 +395,14 @@ std::vector<ObjectMemory> largest_holders(const Scene& scene, std::span<const Ob
 void Renderer::trace(const Camera& camera, RenderedFrame& out) {
     State& s = *state_;
     if (!s.pipeline.updated()) throw std::logic_error("Renderer::trace before any update");
-    s.pipeline.trace(*s.scene, camera, options_, s.lights, out);
+    s.pipeline.trace(*s.traced, camera, options_, s.lights, out);
     // What the frame holds in memory, after its clocks (a walk over the objects' containers).
     s.pipeline.accel().memory_figures(out.stats);
     out.stats.scene_bytes = scene_bytes(*s.scene);
     std::size_t posed = held_bytes(s.posed.objects) + held_bytes(s.posed.node_world) + held_bytes(s.posed.node_weights) +
                         held_bytes(s.states);
     for (const anim::PosedObject& o : s.posed.objects) posed += held_bytes(o.positions) + held_bytes(o.normals);
-    out.stats.renderer_bytes = s.pipeline.memory_bytes() + posed;
+    out.stats.renderer_bytes = s.pipeline.memory_bytes() + posed + s.lod.memory_bytes();
     const ResidentMemory resident = resident_memory();
     out.stats.rss_bytes = resident.current;
     out.stats.peak_rss_bytes = resident.peak;

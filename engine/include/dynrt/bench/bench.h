@@ -47,6 +47,8 @@ struct BenchRow {
     std::string packet_culling;
     /// RenderOptions::adaptive_tolerance of the configuration (0: exact).
     float adaptive_tolerance = 0.0f;
+    /// RenderOptions::lod_pixels of the configuration (0: exact).
+    float lod_pixels = 0.0f;
     /// Primary and shadow ray/triangle pairs the packet tracer tested, and pairs its culling
     /// stages removed (FrameStats), from one extra untimed render with counting on, so the
     /// timed runs are not perturbed. 0 for the single-ray tracer.
@@ -101,6 +103,10 @@ std::vector<int> take_spp_sweep(std::vector<std::string>& sweeps);
 /// PixelSampling::adaptive_contrast values in order (0: every pixel takes every sample); none
 /// gives {}. Throws as take_adaptive_sweep.
 std::vector<float> take_aa_sweep(std::vector<std::string>& sweeps);
+
+/// Takes the level of detail sweep, if any: "lod=0,1,4" gives RenderOptions::lod_pixels values
+/// in order (0: off); none gives {}. Throws as take_adaptive_sweep.
+std::vector<float> take_lod_sweep(std::vector<std::string>& sweeps);
 
 /// Takes the pixel reuse sweep, if any, out of `sweeps`: "reuse=off,exact,cache:0.25,
 /// frameless:8ms" gives the TraceSettings::reuse values in order, each read by parse_reuse.

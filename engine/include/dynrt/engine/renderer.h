@@ -234,6 +234,16 @@ struct RenderOptions : UpdatePolicy, TraceSettings {
     /// Makes the tracer behind the trace seam for each Renderer made with these options
     /// (Renderer::use_backend; `--backend embree-...`); empty: dynrt's own.
     std::function<std::shared_ptr<FrameBackend>()> backend;
+    /// Level of detail (`--lod PIXELS`), an approximation, off at 0: each frame, every static
+    /// or rigid object that is neither skinned nor morphed, with a mesh of at least 256
+    /// triangles that is not a soup, is traced with the coarsest of its simplified meshes
+    /// (each a quarter of the one before, made once by meshoptimizer's simplifier) whose error
+    /// is estimated to cover at most this many pixels where the object comes nearest the
+    /// camera. Those objects are then traced as instances (rigid), never in the static group,
+    /// and the frame's `prim` buffer numbers the triangles of the level traced. Chosen by
+    /// render(), which knows the camera; update() alone keeps the levels it had.
+    /// docs/reuse.md, "Level of detail".
+    float lod_pixels = 0.0f;
 };
 
 /// Per-pixel results, row-major with y = 0 the top row.
@@ -309,7 +319,8 @@ public:
     Camera render(const Scene& scene, int frame, const CameraSource& view, RenderedFrame& out);
 
     /// Evaluates `scene` at `frame` and brings the trees up to date. `scene` must stay alive
-    /// and unchanged until the next update, reset or destruction.
+    /// and unchanged until the next update, reset or destruction. With lod_pixels, each
+    /// object keeps the level of detail the last render() chose (there is no camera to choose).
     void update(const Scene& scene, int frame);
 
     /// Traces and shades the frame of the last update as seen by `camera`. Its stats hold the
@@ -362,6 +373,11 @@ public:
     void use_backend(std::shared_ptr<FrameBackend> backend);
 
 private:
+    /// update() in two steps, so that render() can read the scene's camera from the pose
+    /// before the trees are updated with the levels of detail it sees.
+    void pose(const Scene& scene, int frame);
+    void update_trees(int frame, const Camera* camera);
+
     struct State;
     RenderOptions options_;
     std::unique_ptr<State> state_;

@@ -700,6 +700,59 @@ TEST_F(GltfLoaderTest, TruncatedAndCorruptGlb) {
     expect_error(path("text.glb"), {"not a GLB"});
 }
 
+/// A GLB of `text` (space-padded) and, when `bin_type` is not 0, a chunk of `bin` of that type.
+std::vector<unsigned char> glb_of(std::string text, std::vector<unsigned char> bin, std::uint32_t bin_type) {
+    while (text.size() % 4 != 0) text.push_back(' ');
+    while (bin.size() % 4 != 0) bin.push_back(0);
+    std::vector<unsigned char> out;
+    const auto u32 = [&](std::size_t v) {
+        for (int i = 0; i < 4; ++i) out.push_back(static_cast<unsigned char>(v >> (8 * i)));
+    };
+    u32(0x46546C67);
+    u32(2);
+    u32(12 + 8 + text.size() + (bin_type != 0 ? 8 + bin.size() : 0));
+    u32(text.size());
+    u32(0x4E4F534A);
+    out.insert(out.end(), text.begin(), text.end());
+    if (bin_type != 0) {
+        u32(bin.size());
+        u32(bin_type);
+        out.insert(out.end(), bin.begin(), bin.end());
+    }
+    return out;
+}
+
+// A .glb file is read without a second copy of its BIN chunk (gltf_file.cpp): buffer 0 is read
+// from the file straight into the model. Its mesh, the files it lists and tinygltf's refusals of
+// a bad BIN chunk stay what they were.
+TEST_F(GltfLoaderTest, GlbFilesReadTheirBinChunkOnce) {
+    GltfBuilder b = quad_builder(kUnsignedInt);
+    b.write_glb(path("quad.glb"));
+    const Scene scene = load_gltf(path("quad.glb"));
+    ASSERT_EQ(scene.objects.size(), 1u);
+    EXPECT_EQ(std::vector<glm::vec3>(scene.objects[0].mesh.positions.begin(), scene.objects[0].mesh.positions.end()),
+              kQuad);
+    EXPECT_EQ(scene.objects[0].mesh.triangles, (std::vector<glm::uvec3>{{0, 1, 2}, {0, 2, 3}}));
+    EXPECT_EQ(scene.files, std::vector<std::string>{path("quad.glb").string()});
+
+    json doc = b.doc();
+    const std::vector<unsigned char>& bin = b.bin();
+    // Buffer 0 claims more bytes than the BIN chunk holds.
+    doc["buffers"] = json::array({json{{"byteLength", bin.size() + 64}}});
+    GltfBuilder::write_bytes(path("long.glb"), glb_of(doc.dump(), bin, 0x004E4942));
+    expect_error(path("long.glb"), {"invalid glTF", "byteLength"});
+    // No BIN chunk for a buffer without a URI.
+    doc["buffers"] = json::array({json{{"byteLength", bin.size()}}});
+    GltfBuilder::write_bytes(path("nobin.glb"), glb_of(doc.dump(), {}, 0));
+    expect_error(path("nobin.glb"), {"invalid glTF", "empty BIN chunk"});
+    // A second chunk that is not BIN.
+    GltfBuilder::write_bytes(path("notbin.glb"), glb_of(doc.dump(), bin, 0x12345678));
+    expect_error(path("notbin.glb"), {"invalid glTF", "chunk1"});
+    // A BIN chunk too short to hold anything.
+    GltfBuilder::write_bytes(path("tiny.glb"), glb_of(doc.dump(), {}, 0x004E4942));
+    expect_error(path("tiny.glb"), {"invalid glTF", "Chunk1(BIN)"});
+}
+
 // ---- Documents in memory ---------------------------------------------------------------------
 
 TEST_F(GltfLoaderTest, FromMemoryLoadsLikeTheFile) {

@@ -307,51 +307,83 @@ std::vector<glm::vec3> read_positions(const tinygltf::Model& model, int accessor
     return positions;
 }
 
-std::vector<std::uint32_t> read_indices(const tinygltf::Model& model, int accessor,
-                                        std::size_t vertex_count) {
-    std::size_t size = 0;
-    if (accessor >= 0 && static_cast<std::size_t>(accessor) < model.accessors.size()) {
-        const tinygltf::Accessor& a = model.accessors[static_cast<std::size_t>(accessor)];
-        switch (a.componentType) {
-            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
-                size = 1;
-                break;
-            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
-                size = 2;
-                break;
-            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
-                size = 4;
-                break;
-            default:
-                break;
-        }
-        if (size == 0 || a.type != TINYGLTF_TYPE_SCALAR) {
-            fail(accessor, cat("indices must be SCALAR UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT, not ",
-                               component_type_name(a.componentType), " ", type_name(a.type)));
-        }
-    }
-    const ElementRange range = locate(model, accessor, size);
+namespace {
 
-    std::vector<std::uint32_t> indices(range.count);
-    for (std::size_t i = 0; i < range.count; ++i) {
-        const unsigned char* element = range.first + i * range.stride;
+/// An index accessor's elements, read one at a time, widened to 32 bits and checked below the
+/// vertex count.
+class IndexElements {
+public:
+    IndexElements(const tinygltf::Model& model, int accessor, std::size_t vertex_count)
+        : accessor_(accessor), vertex_count_(vertex_count) {
+        if (accessor >= 0 && static_cast<std::size_t>(accessor) < model.accessors.size()) {
+            const tinygltf::Accessor& a = model.accessors[static_cast<std::size_t>(accessor)];
+            switch (a.componentType) {
+                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+                    size_ = 1;
+                    break;
+                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+                    size_ = 2;
+                    break;
+                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+                    size_ = 4;
+                    break;
+                default:
+                    break;
+            }
+            if (size_ == 0 || a.type != TINYGLTF_TYPE_SCALAR) {
+                fail(accessor, cat("indices must be SCALAR UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT, not ",
+                                   component_type_name(a.componentType), " ", type_name(a.type)));
+            }
+        }
+        range_ = locate(model, accessor, size_);
+    }
+
+    std::size_t count() const { return range_.count; }
+
+    std::uint32_t operator[](std::size_t i) const {
+        const unsigned char* element = range_.first + i * range_.stride;
         std::uint32_t value = 0;
-        if (size == 1) {
+        if (size_ == 1) {
             value = element[0];
-        } else if (size == 2) {
+        } else if (size_ == 2) {
             std::uint16_t v16;
             std::memcpy(&v16, element, 2);
             value = v16;
         } else {
             std::memcpy(&value, element, 4);
         }
-        if (value >= vertex_count) {
-            fail(accessor,
-                 cat("index ", i, " (value ", value, ") out of range of ", vertex_count, " positions"));
+        if (value >= vertex_count_) {
+            fail(accessor_, cat("index ", i, " (value ", value, ") out of range of ", vertex_count_, " positions"));
         }
-        indices[i] = value;
+        return value;
     }
+
+private:
+    int accessor_;
+    std::size_t vertex_count_;
+    std::size_t size_ = 0;
+    ElementRange range_;
+};
+
+}  // namespace
+
+std::vector<std::uint32_t> read_indices(const tinygltf::Model& model, int accessor,
+                                        std::size_t vertex_count) {
+    const IndexElements elements(model, accessor, vertex_count);
+    std::vector<std::uint32_t> indices(elements.count());
+    for (std::size_t i = 0; i < indices.size(); ++i) indices[i] = elements[i];
     return indices;
+}
+
+std::vector<glm::uvec3> read_index_triples(const tinygltf::Model& model, int accessor, std::size_t vertex_count) {
+    const IndexElements elements(model, accessor, vertex_count);
+    std::vector<glm::uvec3> triangles(elements.count() / 3);
+    for (std::size_t t = 0; t < triangles.size(); ++t) {
+        triangles[t] = glm::uvec3(elements[3 * t], elements[3 * t + 1], elements[3 * t + 2]);
+    }
+    // A remainder is ignored, as assemble_triangles ignores it, but its indices are checked.
+    for (std::size_t i = 3 * triangles.size(); i < elements.count(); ++i) (void)elements[i];
+    return triangles;
 }
 
 }  // namespace dynrt

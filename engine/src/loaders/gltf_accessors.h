@@ -47,4 +47,8 @@ std::size_t accessor_count(const tinygltf::Model& model, int accessor);
 /// checked below `vertex_count`. Throws GltfDataError naming the accessor and the problem.
 std::vector<std::uint32_t> read_indices(const tinygltf::Model& model, int accessor, std::size_t vertex_count);
 
+/// The same read as a triangle list's corners, each three a triangle (assemble_triangles' list,
+/// without the indices held twice): a remainder of one or two indices is checked and ignored.
+std::vector<glm::uvec3> read_index_triples(const tinygltf::Model& model, int accessor, std::size_t vertex_count);
+
 }  // namespace dynrt

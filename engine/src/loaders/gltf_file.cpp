@@ -10,6 +10,8 @@
 
 #include "message_text.h"
 
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
 #include <cctype>
 #include <cstdint>
@@ -17,6 +19,7 @@
 #include <iterator>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace dynrt {
@@ -25,6 +28,7 @@ namespace {
 
 constexpr std::uint32_t kGlbMagic = 0x46546C67;   // "glTF"
 constexpr std::uint32_t kChunkJson = 0x4E4F534A;  // "JSON"
+constexpr std::uint32_t kChunkBin = 0x004E4942;   // "BIN\0"
 constexpr std::size_t kGlbHeaderSize = 12;
 constexpr std::size_t kChunkHeaderSize = 8;
 
@@ -91,48 +95,64 @@ void report_warnings(const std::string& name, const std::string& warnings) {
     }
 }
 
-std::vector<unsigned char> read_bytes(const std::filesystem::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) fail(path.string(), "cannot open file");
-    std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (in.bad()) fail(path.string(), "cannot read file");
-    return bytes;
-}
-
 std::uint32_t read_u32(std::span<const unsigned char> bytes, std::size_t offset) {
     return static_cast<std::uint32_t>(bytes[offset]) | static_cast<std::uint32_t>(bytes[offset + 1]) << 8 |
            static_cast<std::uint32_t>(bytes[offset + 2]) << 16 |
            static_cast<std::uint32_t>(bytes[offset + 3]) << 24;
 }
 
-/// Checks the GLB header and that every chunk lies within the declared length; returns it.
-std::size_t check_glb_container(const std::string& path, std::span<const unsigned char> bytes) {
-    if (bytes.size() < kGlbHeaderSize) {
-        fail(path, cat("truncated GLB: ", bytes.size(), " bytes, shorter than the 12-byte header"));
+/// One chunk of a GLB: where its data starts, its length and type.
+struct GlbChunk {
+    std::size_t offset = 0;
+    std::size_t length = 0;
+    std::uint32_t type = 0;
+};
+
+/// Checks the GLB header and that every chunk lies within the declared length, reading the
+/// container's `size` bytes through `read(offset, count)` (the header and chunk headers only);
+/// returns its chunks.
+template <class Read>
+std::vector<GlbChunk> check_glb_container(const std::string& path, std::size_t size, const Read& read) {
+    if (size < kGlbHeaderSize) {
+        fail(path, cat("truncated GLB: ", size, " bytes, shorter than the 12-byte header"));
     }
-    if (read_u32(bytes, 0) != kGlbMagic) fail(path, "not a GLB file (the first 4 bytes are not 'glTF')");
-    const std::uint32_t version = read_u32(bytes, 4);
+    const std::vector<unsigned char> header = read(0, kGlbHeaderSize);
+    if (read_u32(header, 0) != kGlbMagic) fail(path, "not a GLB file (the first 4 bytes are not 'glTF')");
+    const std::uint32_t version = read_u32(header, 4);
     if (version != 2) fail(path, cat("unsupported GLB version ", version, " (expected 2)"));
-    const std::size_t length = read_u32(bytes, 8);
-    if (length > bytes.size()) {
-        fail(path, cat("truncated GLB: the header says ", length, " bytes, the file has ", bytes.size()));
+    const std::size_t length = read_u32(header, 8);
+    if (length > size) {
+        fail(path, cat("truncated GLB: the header says ", length, " bytes, the file has ", size));
     }
+    std::vector<GlbChunk> chunks;
     std::size_t offset = kGlbHeaderSize;
     for (int chunk = 0; offset < length; ++chunk) {
         if (length - offset < kChunkHeaderSize) {
             fail(path, cat("truncated GLB: chunk ", chunk, " header at byte ", offset, " is cut off"));
         }
-        const std::size_t chunk_length = read_u32(bytes, offset);
-        const std::uint32_t chunk_type = read_u32(bytes, offset + 4);
+        const std::vector<unsigned char> chunk_header = read(offset, kChunkHeaderSize);
+        const std::size_t chunk_length = read_u32(chunk_header, 0);
+        const std::uint32_t chunk_type = read_u32(chunk_header, 4);
         if (chunk == 0 && chunk_type != kChunkJson) fail(path, "corrupt GLB: the first chunk is not JSON");
         if (chunk_length > length - offset - kChunkHeaderSize) {
             fail(path, cat("truncated GLB: chunk ", chunk, " at byte ", offset, " claims ", chunk_length,
                            " bytes, only ", length - offset - kChunkHeaderSize, " remain"));
         }
+        chunks.push_back(GlbChunk{offset + kChunkHeaderSize, chunk_length, chunk_type});
         offset += kChunkHeaderSize + chunk_length;
     }
     if (length == kGlbHeaderSize) fail(path, "truncated GLB: no JSON chunk");
-    return length;
+    return chunks;
+}
+
+/// check_glb_container over bytes in memory; returns the container's length.
+std::size_t check_glb_bytes(const std::string& path, std::span<const unsigned char> bytes) {
+    const std::vector<GlbChunk> chunks =
+        check_glb_container(path, bytes.size(), [&](std::size_t offset, std::size_t count) {
+            return std::vector<unsigned char>(bytes.begin() + std::ptrdiff_t(offset),
+                                              bytes.begin() + std::ptrdiff_t(offset + count));
+        });
+    return chunks.back().offset + chunks.back().length;
 }
 
 /// Runs `load` (a tinygltf call) and turns its result into a model or one SceneError line.
@@ -166,7 +186,7 @@ tinygltf::Model parse_model(tinygltf::TinyGLTF& loader, std::span<const unsigned
                             const std::string& name, const std::string& base_dir) {
     if (format == GltfFormat::binary) {
         // The checked length comes from the 32-bit header field, so the cast is lossless.
-        const std::size_t length = check_glb_container(name, bytes);
+        const std::size_t length = check_glb_bytes(name, bytes);
         return run_tinygltf(loader, name, [&](tinygltf::Model& model, std::string& error, std::string& warnings) {
             return loader.LoadBinaryFromMemory(&model, &error, &warnings, bytes.data(),
                                                static_cast<unsigned int>(length), base_dir);
@@ -193,6 +213,104 @@ bool refuse_file_write(std::string* error, const std::string&, const std::vector
     return false;
 }
 
+// A GLB read from its file, once: tinygltf copies a GLB's BIN chunk out of the bytes it is
+// given, so reading the whole file first held the data twice. Instead the JSON chunk alone is
+// read and handed to tinygltf as a .gltf document whose buffer 0 names the BIN chunk by a URI of
+// dynrt's own, which the filesystem callbacks below read from the file straight into the
+// buffer (tinygltf swaps the vector it is given into place).
+constexpr std::string_view kBinChunkUri = "dynrt-glb-bin-chunk:";
+
+/// Where buffer 0's bytes lie in the GLB file, for the callbacks.
+struct BinChunkSource {
+    std::filesystem::path file;
+    std::size_t offset = 0;
+    std::size_t length = 0;  ///< buffer 0's byteLength (at most the chunk's)
+};
+
+bool names_bin_chunk(const std::string& path) { return path.ends_with(kBinChunkUri); }
+
+bool glb_file_exists(const std::string& path, void* user) {
+    return names_bin_chunk(path) || tinygltf::FileExists(path, user);
+}
+
+bool read_glb_file(std::vector<unsigned char>* out, std::string* error, const std::string& path, void* user) {
+    if (!names_bin_chunk(path)) return tinygltf::ReadWholeFile(out, error, path, nullptr);
+    const BinChunkSource& source = *static_cast<const BinChunkSource*>(user);
+    std::ifstream in(source.file, std::ios::binary);
+    out->resize(source.length);
+    in.seekg(std::streamoff(source.offset));
+    in.read(reinterpret_cast<char*>(out->data()), std::streamsize(source.length));
+    if (!in) {
+        if (error) *error = "cannot read the GLB's BIN chunk";
+        return false;
+    }
+    return true;
+}
+
+/// Reads the GLB at `path` (its container checked first) into a model, its BIN chunk once.
+tinygltf::Model read_glb_file(const std::filesystem::path& path) {
+    const std::string name = path.string();
+    std::ifstream in(path, std::ios::binary);
+    if (!in) fail(name, "cannot open file");
+    std::error_code ec;
+    const std::uintmax_t size = std::filesystem::file_size(path, ec);
+    if (ec) fail(name, "cannot read file");
+    const auto read = [&](std::size_t offset, std::size_t count) {
+        std::vector<unsigned char> bytes(count);
+        in.seekg(std::streamoff(offset));
+        in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(count));
+        if (!in) fail(name, "cannot read file");
+        return bytes;
+    };
+    const std::vector<GlbChunk> chunks = check_glb_container(name, std::size_t(size), read);
+    const std::vector<unsigned char> json_bytes = read(chunks[0].offset, chunks[0].length);
+    std::string json(json_bytes.begin(), json_bytes.end());
+    BinChunkSource source{path, 0, 0};
+    // tinygltf's own checks of the BIN chunk, with its words.
+    if (chunks.size() > 1) {
+        const GlbChunk& bin = chunks[1];
+        if (bin.length < 4) fail(name, "invalid glTF: Insufficient Chunk1(BIN) data size.");
+        if (bin.length % 4 != 0) fail(name, "invalid glTF: BIN Chunk end does not aligned to a 4-byte boundary.");
+        if (bin.type != kChunkBin) fail(name, "invalid glTF: Invalid type for chunk1 data.");
+    }
+    // Buffer 0 without a URI is the BIN chunk (glTF 2.0 section 4.4.3.3): give it dynrt's URI.
+    // A document that does not parse here is handed over as it is, for tinygltf to report.
+    nlohmann::json document = nlohmann::json::parse(json, nullptr, false);
+    if (!document.is_discarded() && document.is_object() && document.contains("buffers") &&
+        document["buffers"].is_array() && !document["buffers"].empty() && document["buffers"][0].is_object() &&
+        !document["buffers"][0].contains("uri")) {
+        nlohmann::json& buffer = document["buffers"][0];
+        if (chunks.size() < 2) fail(name, "invalid glTF: Invalid binary data in `Buffer', or GLB with empty BIN chunk.");
+        if (buffer.contains("byteLength") && buffer["byteLength"].is_number_unsigned()) {
+            const std::uint64_t length = buffer["byteLength"].get<std::uint64_t>();
+            if (length > chunks[1].length) {
+                fail(name, cat("invalid glTF: Invalid `byteLength'. Must be equal or less than binary size: "
+                               "`byteLength' = ", length, ", binary size = ", chunks[1].length));
+            }
+            source.offset = chunks[1].offset;
+            source.length = std::size_t(length);
+            buffer["uri"] = std::string(kBinChunkUri);
+            json = document.dump();
+        }
+    }
+    document = nullptr;
+    tinygltf::TinyGLTF loader;
+    tinygltf::FsCallbacks files{.FileExists = &glb_file_exists,
+                                .ExpandFilePath = &tinygltf::ExpandFilePath,
+                                .ReadWholeFile = &read_glb_file,
+                                .WriteWholeFile = &tinygltf::WriteWholeFile,
+                                .user_data = &source};
+    loader.SetFsCallbacks(files);
+    if (json.size() > UINT32_MAX) fail(name, cat("a ", json.size(), "-byte glTF JSON chunk is larger than 4 GiB"));
+    tinygltf::Model model = run_tinygltf(loader, name, [&](tinygltf::Model& m, std::string& error, std::string& warnings) {
+        return loader.LoadASCIIFromString(&m, &error, &warnings, json.data(), static_cast<unsigned int>(json.size()),
+                                          path.parent_path().string());
+    });
+    // The URI was dynrt's, not the file's.
+    if (source.length != 0 && !model.buffers.empty()) model.buffers[0].uri.clear();
+    return model;
+}
+
 }  // namespace
 
 bool is_gltf_path(const std::filesystem::path& path) {
@@ -206,10 +324,7 @@ tinygltf::Model read_gltf_model(const std::filesystem::path& path) {
     if (std::filesystem::is_directory(path, ec)) fail(path.string(), "is a directory, not a glTF file");
 
     tinygltf::TinyGLTF loader;
-    if (lowercase_extension(path) == ".glb") {
-        const std::vector<unsigned char> bytes = read_bytes(path);
-        return parse_model(loader, bytes, GltfFormat::binary, path.string(), path.parent_path().string());
-    }
+    if (lowercase_extension(path) == ".glb") return read_glb_file(path);
     return run_tinygltf(loader, path.string(), [&](tinygltf::Model& model, std::string& error, std::string& warnings) {
         return loader.LoadASCIIFromFile(&model, &error, &warnings, path.string());
     });

@@ -18,7 +18,9 @@ bool is_gltf_path(const std::filesystem::path& path);
 
 /// Reads `path` as JSON glTF or as binary GLB, chosen by extension (case-insensitive). Images
 /// are neither decoded nor required (dynrt uses no textures); tinygltf's other warnings go to
-/// stderr. The GLB container is validated here before tinygltf sees it. Throws SceneError.
+/// stderr. The GLB container is validated here before tinygltf sees it, and its BIN chunk is
+/// read from the file once, straight into buffer 0 (no copy of the whole file). Throws
+/// SceneError.
 tinygltf::Model read_gltf_model(const std::filesystem::path& path);
 
 /// The same for a document in memory, named `name` in errors. Buffers and images given by a

@@ -26,6 +26,7 @@
 #include "triangle_assembly.h"
 
 #include <algorithm>
+#include <functional>
 #include <filesystem>
 #include <map>
 #include <cmath>
@@ -200,7 +201,9 @@ public:
     /// `name` is the file's path, or the name of a document loaded from memory.
     GltfSceneBuilder(const std::string& name, const tinygltf::Model& model) : name_(name), model_(model) {}
 
-    Scene build() {
+    /// The scene. `done_reading`, when given, is called once the document's bytes are no longer
+    /// read (before the missing normals are made), so that the caller may free its buffers.
+    Scene build(const std::function<void()>& done_reading = {}) {
         Scene scene;
         scene.source = name_;
         scene.materials.push_back(Material{.name = "default", .diffuse = glm::vec3(kDefaultGrey)});
@@ -246,6 +249,7 @@ public:
         // Primitives without NORMAL get area-weighted ones. glTF 2.0 section 3.7.2.1 asks for
         // flat normals there; dynrt smooths shared vertices instead (docs/rendering.md "Shading normals"),
         // and `--normals flat` gives the specification's flat shading.
+        if (done_reading) done_reading();
         add_missing_normals(scene);
         check_scene(scene);
         return scene;
@@ -413,14 +417,19 @@ private:
     void read_mesh(const tinygltf::Primitive& primitive, int position_accessor, TriangleTopology topology,
                    const std::string& name, const PrimitiveOwner& owner, Object& object) {
         object.mesh.positions = read_positions(model_, position_accessor);
-        std::vector<std::uint32_t> indices;
-        if (primitive.indices >= 0) {
-            indices = read_indices(model_, primitive.indices, object.mesh.positions.size());
+        if (primitive.indices >= 0 && topology == TriangleTopology::list) {
+            // The common case read straight into triangles: a big mesh's indices held once.
+            object.mesh.triangles = read_index_triples(model_, primitive.indices, object.mesh.positions.size());
         } else {
-            indices.resize(object.mesh.positions.size());
-            std::iota(indices.begin(), indices.end(), 0u);
+            std::vector<std::uint32_t> indices;
+            if (primitive.indices >= 0) {
+                indices = read_indices(model_, primitive.indices, object.mesh.positions.size());
+            } else {
+                indices.resize(object.mesh.positions.size());
+                std::iota(indices.begin(), indices.end(), 0u);
+            }
+            object.mesh.triangles = assemble_triangles(topology, indices);
         }
-        object.mesh.triangles = assemble_triangles(topology, indices);
         // NORMAL (glTF 2.0 section 3.7.2.1): unit vectors, renormalised as read (quantised
         // ones are not exactly unit). Without it add_missing_normals computes them below.
         if (const auto normal = primitive.attributes.find("NORMAL"); normal != primitive.attributes.end()) {
@@ -604,8 +613,11 @@ private:
 }  // namespace
 
 Scene load_gltf(const std::filesystem::path& path) {
-    const tinygltf::Model model = read_gltf_model(path);
-    Scene scene = GltfSceneBuilder(path.string(), model).build();
+    tinygltf::Model model = read_gltf_model(path);
+    // A big file's buffers are let go before the normals are made beside the scene's arrays.
+    Scene scene = GltfSceneBuilder(path.string(), model).build([&model] {
+        for (tinygltf::Buffer& buffer : model.buffers) std::vector<unsigned char>().swap(buffer.data);
+    });
     // Buffers in files of their own, resolved as tinygltf did (beside the document).
     std::vector<std::string> read{path.string()};
     for (const tinygltf::Buffer& buffer : model.buffers) {

@@ -10,6 +10,8 @@
 #include "dynrt/engine/renderer.h"
 #include "dynrt/engine/scene_loading.h"
 
+#include "reference_shot.h"
+
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -22,12 +24,7 @@
 namespace dynrt {
 namespace {
 
-RenderedFrame fresh_render(const Scene& scene, const RenderOptions& options, const Camera& camera) {
-    Renderer renderer(options);
-    RenderedFrame frame;
-    renderer.render(scene, camera, 0, frame);
-    return frame;
-}
+using test::renderer_shot;
 
 TEST(Cancel, AStoppedTraceReturnsAndTheNextFrameIsWhole) {
     const Scene scene = load_scene("sphere:100000+plane:4@0,-1,0,4#808080");
@@ -61,10 +58,10 @@ TEST(Cancel, AStoppedTraceReturnsAndTheNextFrameIsWhole) {
     RenderedFrame next;
     renderer.render(scene, b, 0, next);
     EXPECT_FALSE(next.stats.cancelled);
-    EXPECT_EQ(next.color, fresh_render(scene, options, b).color);
+    EXPECT_EQ(next.color, renderer_shot(scene, b, options).color);
     renderer.render(scene, a, 0, next);
-    EXPECT_EQ(next.color, fresh_render(scene, options, a).color);
-    EXPECT_FALSE(fresh_render(scene, options, b).stats.cancelled);
+    EXPECT_EQ(next.color, renderer_shot(scene, a, options).color);
+    EXPECT_FALSE(renderer_shot(scene, b, options).stats.cancelled);
 }
 
 // After a whole frame, every tile of the trace's share was counted once per sample pass: no

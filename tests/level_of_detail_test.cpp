@@ -7,6 +7,7 @@
 #include "dynrt/anim/procedural_motion.h"
 #include "dynrt/engine/renderer.h"
 #include "dynrt/engine/scene_loading.h"
+#include "reference_shot.h"
 #include "same_bits.h"
 
 #include <gtest/gtest.h>
@@ -19,6 +20,7 @@
 namespace dynrt {
 namespace {
 
+using dynrt::test::renderer_shot;
 using dynrt::test::same_bits;
 
 RenderOptions lod_options(float pixels) {
@@ -36,13 +38,6 @@ Camera camera_at(float distance) {
     camera.target = glm::vec3(0.0f);
     camera.fov_y_deg = 40.0f;
     return camera;
-}
-
-RenderedFrame render_once(const Scene& scene, const RenderOptions& options, const Camera& camera) {
-    Renderer renderer(options);
-    RenderedFrame out;
-    renderer.render(scene, camera, 0, out);
-    return out;
 }
 
 TEST(SimplifiedLevels, EachLevelIsCoarserOverTheMeshsOwnVertices) {
@@ -80,24 +75,24 @@ TEST(SimplifiedLevels, SmallMeshesAndSoupsGetNone) {
 TEST(LevelOfDetail, FarObjectsAreTracedWithFewerTrianglesNearOnesWithTheirOwn) {
     const Scene scene = load_scene("sphere:20000");
     const std::size_t full = scene.triangle_count();
-    const RenderedFrame off = render_once(scene, lod_options(0.0f), camera_at(40.0f));
+    const RenderedFrame off = renderer_shot(scene, camera_at(40.0f), lod_options(0.0f));
     EXPECT_EQ(off.stats.triangles, full);
-    const RenderedFrame far = render_once(scene, lod_options(1.0f), camera_at(12.0f));
+    const RenderedFrame far = renderer_shot(scene, camera_at(12.0f), lod_options(1.0f));
     EXPECT_LT(far.stats.triangles, full / 16);
     // Allowing more error gives a coarser level, never a finer one.
-    const RenderedFrame coarser = render_once(scene, lod_options(8.0f), camera_at(12.0f));
+    const RenderedFrame coarser = renderer_shot(scene, camera_at(12.0f), lod_options(8.0f));
     EXPECT_LT(coarser.stats.triangles, far.stats.triangles);
-    const RenderedFrame nearer = render_once(scene, lod_options(1.0f), camera_at(4.0f));
+    const RenderedFrame nearer = renderer_shot(scene, camera_at(4.0f), lod_options(1.0f));
     EXPECT_GT(nearer.stats.triangles, far.stats.triangles);
     // Inside the object's bounding sphere the mesh itself is traced, whatever the allowance.
-    const RenderedFrame inside = render_once(scene, lod_options(1000.0f), camera_at(0.5f));
+    const RenderedFrame inside = renderer_shot(scene, camera_at(0.5f), lod_options(1000.0f));
     EXPECT_EQ(inside.stats.triangles, full);
 }
 
 TEST(LevelOfDetail, TheFarImageStaysCloseToTheExactOne) {
     const Scene scene = load_scene("sphere:20000");
-    const RenderedFrame exact = render_once(scene, lod_options(0.0f), camera_at(12.0f));
-    const RenderedFrame lod = render_once(scene, lod_options(0.5f), camera_at(12.0f));
+    const RenderedFrame exact = renderer_shot(scene, camera_at(12.0f), lod_options(0.0f));
+    const RenderedFrame lod = renderer_shot(scene, camera_at(12.0f), lod_options(0.5f));
     ASSERT_LT(lod.stats.triangles, exact.stats.triangles);
     std::size_t covered_differs = 0, pixels = 0;
     double error = 0.0;
@@ -128,7 +123,7 @@ TEST(LevelOfDetail, AChangeOfLevelBetweenFramesLeavesNoStaleTreeOrPixel) {
             renderer.render(scene, camera_at(distances[k]), k, followed);
             if (k > 0 && followed.stats.triangles != last) changed = true;
             last = followed.stats.triangles;
-            const RenderedFrame fresh = render_once(scene, options, camera_at(distances[k]));
+            const RenderedFrame fresh = renderer_shot(scene, camera_at(distances[k]), options);
             EXPECT_EQ(followed.stats.triangles, fresh.stats.triangles);
             EXPECT_TRUE(same_bits(followed.color, fresh.color));
             EXPECT_EQ(followed.prim, fresh.prim);
@@ -145,9 +140,9 @@ TEST(LevelOfDetail, CopiesOfAMeshTakeTheLevelOfTheirOwnDistance) {
     camera.eye = glm::vec3(-4.0f, 1.0f, -4.0f);
     camera.target = glm::vec3(4.0f, 0.0f, 4.0f);
     camera.fov_y_deg = 50.0f;
-    const RenderedFrame exact = render_once(scene, lod_options(0.0f), camera);
+    const RenderedFrame exact = renderer_shot(scene, camera, lod_options(0.0f));
     EXPECT_EQ(exact.stats.triangles, 9 * full);
-    const RenderedFrame lod = render_once(scene, lod_options(1.0f), camera);
+    const RenderedFrame lod = renderer_shot(scene, camera, lod_options(1.0f));
     EXPECT_LT(lod.stats.triangles, 9 * full);
     // Not all at one level: the nearest copy is finer than a far copy's level.
     EXPECT_GT(lod.stats.triangles, 9 * simplified_levels(scene.objects.at(0).mesh).front().triangles.size() / 2);
@@ -156,13 +151,13 @@ TEST(LevelOfDetail, CopiesOfAMeshTakeTheLevelOfTheirOwnDistance) {
 TEST(LevelOfDetail, MovingShapesKeepTheirTriangles) {
     Scene scene = load_scene("sphere:20000");
     anim::add_procedural_motions(scene, std::vector<std::string>{"explode"});
-    const RenderedFrame far = render_once(scene, lod_options(8.0f), camera_at(40.0f));
+    const RenderedFrame far = renderer_shot(scene, camera_at(40.0f), lod_options(8.0f));
     EXPECT_EQ(far.stats.triangles, scene.triangle_count());
 }
 
 TEST(LevelOfDetail, SwitchedOffMidSequenceTheFramesAreExactAgain) {
     const Scene scene = load_scene("sphere:20000");
-    const RenderedFrame exact = render_once(scene, lod_options(0.0f), camera_at(12.0f));
+    const RenderedFrame exact = renderer_shot(scene, camera_at(12.0f), lod_options(0.0f));
     Renderer renderer(lod_options(2.0f));
     RenderedFrame out;
     renderer.render(scene, camera_at(12.0f), 0, out);

@@ -695,6 +695,12 @@ TEST_F(GltfLoaderTest, TruncatedAndCorruptGlb) {
     GltfBuilder::write_bytes(path("overrun.glb"), overrun);
     expect_error(path("overrun.glb"), {"truncated GLB"});
 
+    // A header that claims fewer bytes than itself (the fuzzer's find: no chunk to read at all).
+    std::vector<unsigned char> short_length = good;
+    short_length[8] = short_length[9] = short_length[10] = short_length[11] = 0;
+    GltfBuilder::write_bytes(path("short.glb"), short_length);
+    expect_error(path("short.glb"), {"corrupt GLB", "shorter than the header"});
+
     // Text where a GLB should be.
     std::ofstream(path("text.glb")) << "{ \"asset\": { \"version\": \"2.0\" } }";
     expect_error(path("text.glb"), {"not a GLB"});

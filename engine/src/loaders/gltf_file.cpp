@@ -124,6 +124,9 @@ std::vector<GlbChunk> check_glb_container(const std::string& path, std::size_t s
     if (length > size) {
         fail(path, cat("truncated GLB: the header says ", length, " bytes, the file has ", size));
     }
+    if (length < kGlbHeaderSize) {
+        fail(path, cat("corrupt GLB: the header says ", length, " bytes, shorter than the header itself"));
+    }
     std::vector<GlbChunk> chunks;
     std::size_t offset = kGlbHeaderSize;
     for (int chunk = 0; offset < length; ++chunk) {
@@ -141,7 +144,7 @@ std::vector<GlbChunk> check_glb_container(const std::string& path, std::size_t s
         chunks.push_back(GlbChunk{offset + kChunkHeaderSize, chunk_length, chunk_type});
         offset += kChunkHeaderSize + chunk_length;
     }
-    if (length == kGlbHeaderSize) fail(path, "truncated GLB: no JSON chunk");
+    if (chunks.empty()) fail(path, "truncated GLB: no JSON chunk");
     return chunks;
 }
 
@@ -233,7 +236,8 @@ bool glb_file_exists(const std::string& path, void* user) {
     return names_bin_chunk(path) || tinygltf::FileExists(path, user);
 }
 
-bool read_glb_file(std::vector<unsigned char>* out, std::string* error, const std::string& path, void* user) {
+bool read_file_or_bin_chunk(std::vector<unsigned char>* out, std::string* error, const std::string& path,
+                            void* user) {
     if (!names_bin_chunk(path)) return tinygltf::ReadWholeFile(out, error, path, nullptr);
     const BinChunkSource& source = *static_cast<const BinChunkSource*>(user);
     std::ifstream in(source.file, std::ios::binary);
@@ -290,14 +294,18 @@ tinygltf::Model read_glb_file(const std::filesystem::path& path) {
             source.offset = chunks[1].offset;
             source.length = std::size_t(length);
             buffer["uri"] = std::string(kBinChunkUri);
-            json = document.dump();
+            try {
+                json = document.dump();
+            } catch (const std::exception& e) {
+                fail(name, cat("invalid glTF: ", e.what()));
+            }
         }
     }
     document = nullptr;
     tinygltf::TinyGLTF loader;
     tinygltf::FsCallbacks files{.FileExists = &glb_file_exists,
                                 .ExpandFilePath = &tinygltf::ExpandFilePath,
-                                .ReadWholeFile = &read_glb_file,
+                                .ReadWholeFile = &read_file_or_bin_chunk,
                                 .WriteWholeFile = &tinygltf::WriteWholeFile,
                                 .user_data = &source};
     loader.SetFsCallbacks(files);

@@ -285,7 +285,7 @@ TEST(Cli, BenchFramesErrorRefusesWhatItCannotMeasure) {
     const std::pair<const char*, const char*> cases[] = {
         {"--frames 0-1 --error --vs embree", "--vs"},
         {"--frames 0-1 --error --error-frame 1", "--error-frame"},
-        {"--frames 0-1 --error --sweep cost-ratio=0.1,1", "only reuse=..., adaptive=..., spp=... and aa=..."},
+        {"--frames 0-1 --error --sweep cost-ratio=0.1,1", "only reuse=..., adaptive=..., spp=..., aa=... and lod=..."},
         {"--frames 0-1 --error --sweep reuse=cache:2", "reuse=cache:2"},
         {"--sweep reuse=off,exact", "give --frames A-B and --error"},
         {"--frames 0-1 --sweep reuse=off,exact", "give --frames A-B and --error"},

@@ -106,6 +106,25 @@ TEST(SequenceErrorBench, AdaptiveSamplingShowsItsError) {
     EXPECT_GT(points[1].error, 0.0);
 }
 
+// Levels of detail over a sequence: the full render stays exact (full_render_options turns
+// them off), and the row with them is labelled and measured against it.
+TEST(SequenceErrorBench, LevelsOfDetailAreMeasuredAgainstExactFullRenders) {
+    const Scene scene = load_scene("sphere:20000");
+    RenderOptions base = sequence_bench_options();
+    base.lod_pixels = 4.0f;
+    EXPECT_EQ(full_render_options(base).lod_pixels, 0.0f);
+    Camera camera;
+    camera.eye = glm::vec3(0.0f, 0.0f, 8.0f);
+    const SequenceErrorBench bench =
+        bench_sequence_error(scene, CameraSource::fixed(camera), base, {base}, FrameRange{0, 1}, 1, 0);
+    ASSERT_EQ(bench.rows.size(), 1u);
+    const SequenceErrorRow& row = bench.rows[0];
+    EXPECT_EQ(row.label, "exact + lod 4");
+    EXPECT_EQ(row.lod_pixels, 4.0f);
+    EXPECT_LT(row.mean_ssim, 1.0);
+    EXPECT_GT(row.mean_wrong_share, 0.0);
+}
+
 TEST(SequenceErrorBench, TableJsonAndCsvHaveTheDocumentedFields) {
     const Scene scene = waving_sphere();
     const RenderOptions base = sequence_bench_options();
@@ -130,7 +149,7 @@ TEST(SequenceErrorBench, TableJsonAndCsvHaveTheDocumentedFields) {
     EXPECT_TRUE(doc["full_render"]["psnr_db"].is_null());  // infinite
     for (const nlohmann::json& row : {doc["full_render"], doc["rows"][0], doc["rows"][1]}) {
         for (const char* key :
-             {"label", "reuse", "adaptive_tolerance", "total_ms", "mean_ms", "speedup", "psnr_db",
+             {"label", "reuse", "adaptive_tolerance", "lod_pixels", "total_ms", "mean_ms", "speedup", "psnr_db",
               "worst_psnr_db", "worst_psnr_frame", "mean_ssim", "min_ssim", "min_ssim_frame",
               "mean_wrong_pct", "max_wrong_pct", "max_wrong_frame", "mean_pixels_traced",
               "mean_pixels_reused", "per_frame"}) {
@@ -147,7 +166,7 @@ TEST(SequenceErrorBench, TableJsonAndCsvHaveTheDocumentedFields) {
     EXPECT_EQ(doc["rows"][0]["mean_ssim"], 1.0);
     EXPECT_TRUE(doc["rows"][1]["psnr_db"].is_number());
     const std::string csv = sequence_error_csv(bench);
-    EXPECT_EQ(csv.rfind("label,reuse,adaptive_tolerance,spp,aa_contrast,total_ms_median,", 0), 0u) << csv;
+    EXPECT_EQ(csv.rfind("label,reuse,adaptive_tolerance,lod_pixels,spp,aa_contrast,total_ms_median,", 0), 0u) << csv;
     EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 4);  // header, full render, 2 rows
 }
 

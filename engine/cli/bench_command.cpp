@@ -219,9 +219,10 @@ int run_bench_sequence_error(const BenchArgs& args) {
     std::vector<float> adaptives = dynrt::take_adaptive_sweep(sweeps);
     std::vector<int> spps = dynrt::take_spp_sweep(sweeps);
     std::vector<float> aas = dynrt::take_aa_sweep(sweeps);
+    std::vector<float> lods = dynrt::take_lod_sweep(sweeps);
     if (!sweeps.empty()) {
         throw std::invalid_argument("--sweep '" + sweeps.front() + "': with --frames --error "
-                                    "only reuse=..., adaptive=..., spp=... and aa=... are swept");
+                                    "only reuse=..., adaptive=..., spp=..., aa=... and lod=... are swept");
     }
     dynrt::RenderOptions base = render_options(args);
     const dynrt::FrameRange range = dynrt::parse_frame_range(args.frames);
@@ -237,6 +238,7 @@ int run_bench_sequence_error(const BenchArgs& args) {
     // take the swept values.
     if (spps.empty()) spps.push_back(base.sampling.spp);
     if (aas.empty()) aas.push_back(base.sampling.adaptive_contrast);
+    if (lods.empty()) lods.push_back(base.lod_pixels);
     std::vector<dynrt::RenderOptions> configs;
     for (const dynrt::ReuseSettings& reuse : reuses) {
         for (float adaptive : adaptives) {
@@ -249,12 +251,15 @@ int run_bench_sequence_error(const BenchArgs& args) {
                 for (const float aa : aas) {
                     // Nothing to refine at one sample; interpolation takes one sample.
                     if ((aa > 0.0f && spp == 1) || (adaptive > 0.0f && spp > 1)) continue;
-                    dynrt::RenderOptions config = base;
-                    config.reuse = reuse;
-                    config.adaptive_tolerance = adaptive;
-                    config.sampling.spp = spp;
-                    config.sampling.adaptive_contrast = aa;
-                    configs.push_back(config);
+                    for (const float lod : lods) {
+                        dynrt::RenderOptions config = base;
+                        config.reuse = reuse;
+                        config.adaptive_tolerance = adaptive;
+                        config.sampling.spp = spp;
+                        config.sampling.adaptive_contrast = aa;
+                        config.lod_pixels = lod;
+                        configs.push_back(config);
+                    }
                 }
             }
         }

@@ -334,7 +334,7 @@ int main(int argc, char** argv) {
                           "adaptive=T1,T2,... (tolerances, packet tracer), lod=P1,P2,... "
                           "(levels of detail, pixels) or, with --error, update=rebuild,refit; with --frames and --error, only "
                           "reuse=off,exact,cache:0.25,frameless:8ms,... (pixel reuse modes "
-                          "and budgets) and adaptive=...; repeatable, combined as a cross "
+                          "and budgets), adaptive=... and lod=...; repeatable, combined as a cross "
                           "product")
         ->allow_extra_args(false);
     bench_cmd->add_option("--csv", bench.csv, "Also write the rows as CSV to this file");

@@ -31,6 +31,7 @@ std::string label_of(const RenderOptions& options) {
     if (options.adaptive_tolerance > 0.0f) {
         label += " + adaptive " + shortest(options.adaptive_tolerance);
     }
+    if (options.lod_pixels > 0.0f) label += " + lod " + shortest(options.lod_pixels);
     if (options.sampling.spp > 1) label += " + " + std::to_string(options.sampling.spp) + " spp";
     if (options.sampling.spp > 1 && options.sampling.adaptive_contrast > 0.0f) {
         label += " aa " + shortest(options.sampling.adaptive_contrast);
@@ -106,6 +107,7 @@ struct ForEachSequenceErrorColumn {
         visit("label", r.label);
         visit("reuse", to_string(r.reuse));
         visit("adaptive_tolerance", r.adaptive_tolerance);
+        visit("lod_pixels", r.lod_pixels);
         visit("spp", r.sampling.spp);
         visit("aa_contrast", r.sampling.adaptive_contrast);
         visit("total_ms", r.total_ms);
@@ -169,6 +171,7 @@ RenderOptions full_render_options(const RenderOptions& base) {
     options.reuse.mode = PixelReuse::off;
     options.adaptive_tolerance = 0.0f;
     options.sampling.adaptive_contrast = 0.0f;
+    options.lod_pixels = 0.0f;
     return options;
 }
 
@@ -221,6 +224,7 @@ SequenceErrorBench bench_sequence_error(const Scene& scene, const CameraSource& 
         bench.rows[k].label = label_of(configs[k]);
         bench.rows[k].reuse = configs[k].reuse;
         bench.rows[k].adaptive_tolerance = configs[k].adaptive_tolerance;
+        bench.rows[k].lod_pixels = configs[k].lod_pixels;
         bench.rows[k].sampling = configs[k].sampling;
     }
     std::vector<Lane> lanes(configs.size());

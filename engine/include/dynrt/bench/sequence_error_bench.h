@@ -41,6 +41,8 @@ struct SequenceErrorRow {
     std::string label;
     ReuseSettings reuse;
     float adaptive_tolerance = 0.0f;
+    /// RenderOptions::lod_pixels (label: " + lod P" when above 0).
+    float lod_pixels = 0.0f;
     /// Samples per pixel and adaptive anti-aliasing (label: " + 16 spp", " + 16 spp aa 0.05").
     PixelSampling sampling;
     Spread total_ms;  ///< ms per frame, median (min-max)

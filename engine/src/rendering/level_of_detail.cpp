@@ -11,14 +11,19 @@ namespace dynrt {
 
 namespace {
 
-/// The largest factor by which `transform` stretches any length.
+/// At least the largest factor by which `transform` stretches any length (its largest singular
+/// value), and exactly that for glTF's translate-rotate-scale matrices: the square root of the
+/// largest row sum of |M^T M|, whose rows are the columns' dot products (any induced norm of a
+/// matrix bounds its largest eigenvalue; for orthogonal columns M^T M is diagonal).
 double largest_stretch(const glm::dmat4& transform) {
-    // The longest column bounds it for the uniform and axis-aligned scales glTF scenes use; in
-    // general the largest singular value is at most the Frobenius norm, taken for safety.
     const glm::dmat3 m(transform);
-    double sum = 0.0;
-    for (int c = 0; c < 3; ++c) sum += glm::dot(m[c], m[c]);
-    return std::sqrt(sum);
+    double largest = 0.0;
+    for (int i = 0; i < 3; ++i) {
+        double row = 0.0;
+        for (int j = 0; j < 3; ++j) row += std::abs(glm::dot(m[i], m[j]));
+        largest = std::max(largest, row);
+    }
+    return std::sqrt(largest);
 }
 
 }  // namespace

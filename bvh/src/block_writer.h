@@ -25,15 +25,16 @@ struct BlockTarget {
 };
 
 /// Sizes `wide`'s block array of its kind (wide.compact) to `count` blocks and returns where
-/// they are written.
+/// they are written. The other kind's storage, a recycled tree's of the other layout, is freed
+/// (kept, it held a full tree's blocks under a compact one).
 template <int N>
 BlockTarget allocate_blocks(WideBvhOf<N>& wide, std::size_t count) {
     if (wide.compact) {
-        wide.blocks.clear();
+        decltype(wide.blocks)().swap(wide.blocks);
         resize_with_huge_pages(wide.prim_blocks, count);
         return BlockTarget{nullptr, wide.prim_blocks.data()};
     }
-    wide.prim_blocks.clear();
+    decltype(wide.prim_blocks)().swap(wide.prim_blocks);
     resize_with_huge_pages(wide.blocks, count);
     return BlockTarget{wide.blocks.data(), nullptr};
 }

@@ -75,6 +75,17 @@ struct MortonKeys {
     }
 };
 
+/// Sorts `storage.keys[0, count)`, each `code << 32 | low`, by their codes (the radix sort is
+/// stable, so equal codes keep their order): returns the sorted keys, in `storage.keys` or
+/// `storage.other`.
+inline const std::uint64_t* sort_morton_keys(MortonKeys& storage, std::size_t count) {
+    return radix_sort_bits(storage.keys.get(), storage.other.get(), count, 32, kMortonCodeBits);
+}
+
+/// The centre a Morton build codes for a triangle whose box is [lo, hi]: BoxCenterRef::center's
+/// arithmetic, so a build from references and one from the triangles sort alike.
+inline glm::vec3 box_center(const glm::vec3& lo, const glm::vec3& hi) { return (lo + hi) * 0.5f; }
+
 /// Sorts refs[0, count) by the Morton codes of their centres in the grid over `center_box`
 /// (which must bound them): returns the sorted keys, `code << 32 | low(i)` for ref i, in
 /// `storage.keys` or `storage.other`. The sort is stable, so equal codes keep the refs' order
@@ -93,7 +104,7 @@ const std::uint64_t* morton_sorted_keys(const Ref* refs, std::size_t count, cons
                               keys[i] = std::uint64_t{grid.code(c)} << 32 | low(i);
                           }
                       });
-    return radix_sort_bits(keys, storage.other.get(), count, 32, kMortonCodeBits);
+    return sort_morton_keys(storage, count);
 }
 
 /// A BvhNode without default member initialisers, so millions of them can be allocated
@@ -141,19 +152,23 @@ Bvh build_morton_from_prim_refs(const Ref* refs, std::size_t count,
                                     alongside_output,
                                 MortonBuffers<Ref>& buffers, Bvh&& recycled = {});
 
-/// Builds the wide tree over the triangles of `refs[0, count)` (build_triangle_bvh's refs:
-/// each a non-degenerate triangle's box and its index into `tris`, in increasing index order)
-/// directly in the Morton order of their centres, with no binary tree: a node's children are
-/// made by splitting its range (morton_split), the child of most triangles first, until it has
-/// N children or every child is a leaf of at most `leaf_prims` triangles. `center_box` bounds
-/// the refs' centres; `count` >= 1 and < 2^31. The result does not depend on the thread count.
-/// Storage of `keys` and `recycled` is reused where large enough.
-WideBvh build_wide_morton(const TriangleSource& tris, const BoxCenterRef* refs,
-                          std::size_t count, const Aabb& center_box, std::uint32_t leaf_prims,
-                          MortonKeys& keys, WideBvh&& recycled);
+/// Builds the wide tree over `count` triangles of `tris` directly in the Morton order of their
+/// centres, with no binary tree: a node's children are made by splitting its range
+/// (morton_split), the child of most triangles first, until it has N children or every child
+/// is a leaf of at most `leaf_prims` triangles. `keys` holds the triangles' keys, sorted in
+/// `sorted` (sort_morton_keys: `code << 32 | index into tris`, ascending index among equal
+/// codes), and lends its other buffer to the build; with `free_sorted`, the buffer of the
+/// sorted keys is freed once they are split into codes and ids, before the tree is made (8
+/// bytes a triangle off the build's peak; `keys` then has to allocate it again). `count` >= 1
+/// and < 2^31. The result does not depend on the thread count. Storage of `recycled` is
+/// reused where large enough.
+WideBvh build_wide_morton(const TriangleSource& tris, const std::uint64_t* sorted, MortonKeys& keys,
+                          std::size_t count, std::uint32_t leaf_prims, bool free_sorted,
+                          WideBvh&& recycled);
 
 /// The Morton builders' storage kept with a TriangleBvh (TriangleBvh::morton_scratch): the
-/// binary builder's buffers (the wide builder uses their keys) and build_triangle_bvh's refs.
+/// binary builder's buffers (the wide builder uses only their keys, made straight from the
+/// triangles: 16 bytes a triangle held between builds) and the binary build's refs.
 struct MortonScratch {
     MortonBuffers<BoxCenterRef> buffers;
     std::unique_ptr<BoxCenterRef[]> refs;

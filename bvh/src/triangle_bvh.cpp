@@ -248,8 +248,12 @@ TriangleBvh build_triangle_bvh(const TriangleSource& tris, const BuildConfig& co
     }
 
     // Pass 2: references, the skipped ids (block b's start after the b * kBlock - kept ones of
-    // the blocks before it) and per-block bounds.
+    // the blocks before it) and per-block bounds. The wide Morton build makes no references:
+    // its sort keys are made from the triangles themselves (pass 3), 32 bytes a triangle
+    // fewer at its peak and between its builds.
     const bool morton = config.method == BuildMethod::morton;
+    const bool wide = config.wide && config.leaf_size_max <= kWideLeafSizeMax;
+    const bool wide_morton = morton && wide;
     // A copy of a tree shares its scratch: the copy being rebuilt gets its own.
     if (morton && (!accel.morton_scratch || accel.morton_scratch.use_count() > 1)) {
         accel.morton_scratch = std::make_shared<detail::MortonScratch>();
@@ -258,7 +262,7 @@ TriangleBvh build_triangle_bvh(const TriangleSource& tris, const BuildConfig& co
     std::unique_ptr<detail::BoxCenterRef[]> own_refs;
     if (!morton) own_refs = detail::make_uninitialized_buffer<detail::BoxCenterRef>(count);
     detail::BoxCenterRef* const refs =
-        morton ? accel.morton_scratch->reserve_refs(count) : own_refs.get();
+        wide_morton ? nullptr : morton ? accel.morton_scratch->reserve_refs(count) : own_refs.get();
     struct BlockBounds {
         Aabb box, centers;
     };
@@ -276,11 +280,10 @@ TriangleBvh build_triangle_bvh(const TriangleSource& tris, const BuildConfig& co
             const Triangle t = tris[i];
             const glm::vec3 lo = glm::min(glm::min(t.v0, t.v1), t.v2);
             const glm::vec3 hi = glm::max(glm::max(t.v0, t.v1), t.v2);
-            detail::BoxCenterRef& r = refs[out++];
-            r = detail::BoxCenterRef{lo, static_cast<std::uint32_t>(i), hi, 0};
+            if (refs) refs[out++] = detail::BoxCenterRef{lo, static_cast<std::uint32_t>(i), hi, 0};
             bounds.box.extend(lo);
             bounds.box.extend(hi);
-            bounds.centers.extend((lo + hi) * 0.5f);
+            bounds.centers.extend(detail::box_center(lo, hi));
         }
         block_bounds[b] = bounds;
     });
@@ -290,11 +293,31 @@ TriangleBvh build_triangle_bvh(const TriangleSource& tris, const BuildConfig& co
         root_centers.extend(b.centers);
     }
 
-    const bool wide = config.wide && config.leaf_size_max <= kWideLeafSizeMax;
-    if (morton && wide) {
+    if (wide_morton) {
+        // Pass 3: each kept triangle's key, `code << 32 | index`, in index order (the order
+        // of the references it replaces, so the sort and the tree are theirs bit for bit).
+        detail::MortonKeys& keys = accel.morton_scratch->buffers.keys;
+        keys.reserve(count);
+        const MortonGrid grid(root_centers);
+        tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
+            const std::size_t end = std::min(n, (b + 1) * kBlock);
+            std::uint64_t* out = keys.keys.get() + block_offset[b];
+            for (std::size_t i = b * kBlock; i < end; ++i) {
+                if (!keep[i]) continue;
+                const Triangle t = tris[i];
+                const glm::vec3 center = detail::box_center(glm::min(glm::min(t.v0, t.v1), t.v2),
+                                                            glm::max(glm::max(t.v0, t.v1), t.v2));
+                *out++ = std::uint64_t{grid.code(center)} << 32 | i;
+            }
+        });
+        keep.reset();
+        // A tree with compact leaves was asked for memory first: its scratch is freed as the
+        // build goes, and not kept for the next build (whose fresh pages then cost faults).
         accel.wide = detail::build_wide_morton(
-            tris, refs, count, root_centers, std::min(kWideMortonLeafPrims, config.leaf_size_max),
-            accel.morton_scratch->buffers.keys, std::move(recycled_wide));
+            tris, detail::sort_morton_keys(keys, count), keys, count,
+            std::min(kWideMortonLeafPrims, config.leaf_size_max), config.compact_leaves,
+            std::move(recycled_wide));
+        if (config.compact_leaves) accel.morton_scratch.reset();
         if (config.quantized_nodes) quantize_nodes(accel.wide);
         return accel;
     }

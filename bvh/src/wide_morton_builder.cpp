@@ -59,31 +59,30 @@ struct Size {
     }
 };
 
-/// A node's children: ranges in Morton order.
+/// A node's children: consecutive ranges in Morton order, child i over [bound[i],
+/// bound[i + 1]) (40 bytes, where N ranges took 68: the splits below the top levels are
+/// recorded for every inner node, 1.4M of them for 20M triangles, at the build's peak).
 struct Children {
-    std::array<Range, N> range;
-    int count = 0;
+    std::array<std::uint32_t, N + 1> bound;
+    std::uint32_t count = 0;
+
+    Range range(int i) const { return Range{bound[i], bound[i + 1]}; }
 };
+static_assert(sizeof(Children) == 4 * (N + 2));
 
 class WideMortonBuilder {
 public:
     /// `keys` sorted, `codes` room for their codes.
-    WideMortonBuilder(const TriangleSource& tris, const std::uint64_t* keys,
-                      std::uint32_t* codes, std::uint32_t count, std::uint32_t leaf_prims)
-        : tris_(tris), keys_(keys), codes_(codes), count_(count), leaf_prims_(leaf_prims) {}
+    /// `codes` and `ids`: the sorted keys' halves (split_keys).
+    WideMortonBuilder(const TriangleSource& tris, const std::uint32_t* codes, const std::uint32_t* ids,
+                      std::uint32_t count, std::uint32_t leaf_prims)
+        : tris_(tris), codes_(codes), ids_(ids), count_(count), leaf_prims_(leaf_prims) {}
 
     WideBvh run(WideBvh&& recycled) {
         WideBvh wide = std::move(recycled);
         wide.nodes.clear();
         wide.quantized = false;  // the builder writes float nodes (quantize_nodes may follow)
         wide.quantized_nodes.clear();
-        // The codes on their own, half the bytes for the splits' searches to read.
-        tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, count_, kMortonBlock),
-                          [&](const tbb::blocked_range<std::uint32_t>& r) {
-                              for (std::uint32_t k = r.begin(); k < r.end(); ++k) {
-                                  codes_[k] = static_cast<std::uint32_t>(keys_[k] >> 32);
-                              }
-                          });
         const Range all{0, count_};
         // The root is a node even over a single leaf.
         const bool root_leaf = is_leaf(all);
@@ -94,7 +93,8 @@ public:
         blocks_ = allocate_blocks(wide, total.blocks);
         if (root_leaf) {
             Children one;
-            one.range[0] = all;
+            one.bound[0] = all.begin;
+            one.bound[1] = all.end;
             one.count = 1;
             std::array<Aabb, N> boxes;
             boxes[0] = fill_leaf(all, 0);
@@ -107,7 +107,7 @@ public:
     }
 
 private:
-    std::uint32_t id(std::uint32_t k) const { return static_cast<std::uint32_t>(keys_[k]); }
+    std::uint32_t id(std::uint32_t k) const { return ids_[k]; }
     bool is_leaf(Range r) const { return r.size() <= leaf_prims_; }
     static std::uint32_t blocks_of(Range r) { return (r.size() + kBlockLanes - 1) / kBlockLanes; }
 
@@ -115,23 +115,23 @@ private:
     /// split (the first of equal ones), until there are N or none is left to split.
     Children split(Range r) const {
         Children c;
-        c.range[0] = r;
+        c.bound[0] = r.begin;
+        c.bound[1] = r.end;
         c.count = 1;
         while (c.count < N) {
             int largest = -1;
             std::uint32_t largest_size = leaf_prims_;
-            for (int i = 0; i < c.count; ++i) {
-                if (c.range[i].size() > largest_size) {
+            for (int i = 0; i < int(c.count); ++i) {
+                if (c.range(i).size() > largest_size) {
                     largest = i;
-                    largest_size = c.range[i].size();
+                    largest_size = c.range(i).size();
                 }
             }
             if (largest < 0) break;
-            const Range whole = c.range[largest];
-            const std::uint32_t mid = morton_split(codes_, whole.begin, whole.end);
-            for (int i = c.count; i > largest + 1; --i) c.range[i] = c.range[i - 1];
-            c.range[largest] = Range{whole.begin, mid};
-            c.range[largest + 1] = Range{mid, whole.end};
+            const Range whole = c.range(largest);
+            // The split point goes between the bounds of the child it splits.
+            for (int i = int(c.count) + 1; i > largest + 1; --i) c.bound[i] = c.bound[i - 1];
+            c.bound[largest + 1] = morton_split(codes_, whole.begin, whole.end);
             ++c.count;
         }
         return c;
@@ -145,7 +145,7 @@ private:
         const Children c = split(r);
         record.push_back(c);
         Size s{1, 0};
-        for (int i = 0; i < c.count; ++i) s += count(c.range[i], record);
+        for (int i = 0; i < int(c.count); ++i) s += count(c.range(i), record);
         return s;
     }
 
@@ -162,7 +162,7 @@ private:
     /// The nodes and blocks of a planned node's subtree, the node included.
     static Size size_of(const Planned& p) {
         Size s{1, 0};
-        for (int i = 0; i < p.children.count; ++i) s += p.sizes[i];
+        for (int i = 0; i < int(p.children.count); ++i) s += p.sizes[i];
         return s;
     }
 
@@ -171,10 +171,12 @@ private:
     std::unique_ptr<Planned> plan(Range r, std::uint32_t depth) const {
         auto node = std::make_unique<Planned>();
         node->children = split(r);
-        tbb::parallel_for(0, node->children.count, [&](int i) {
-            const Range child = node->children.range[i];
+        tbb::parallel_for(0, int(node->children.count), [&](int i) {
+            const Range child = node->children.range(i);
             if (is_leaf(child) || depth >= kParallelDepth) {
                 node->sizes[i] = count(child, node->recorded[i]);
+                // The growth's slack freed: the records are held until the subtree is made.
+                node->recorded[i].shrink_to_fit();
                 return;
             }
             node->below[i] = plan(child, depth + 1);
@@ -185,19 +187,19 @@ private:
 
     /// Makes the planned node at `at` with its subtrees, the children as parallel tasks.
     /// Returns the node's box.
-    Aabb make_planned(const Planned& p, std::uint32_t at, std::uint32_t first_block) {
+    Aabb make_planned(Planned& p, std::uint32_t at, std::uint32_t first_block) {
         const Children& c = p.children;
         std::array<std::uint32_t, N> child_at{}, child_block{};
         std::uint32_t next_node = at + 1, next_block = first_block;
-        for (int i = 0; i < c.count; ++i) {
+        for (int i = 0; i < int(c.count); ++i) {
             child_at[i] = next_node;
             child_block[i] = next_block;
             next_node += p.sizes[i].nodes;
             next_block += p.sizes[i].blocks;
         }
         std::array<Aabb, N> boxes;
-        tbb::parallel_for(0, c.count, [&](int i) {
-            const Range r = c.range[i];
+        tbb::parallel_for(0, int(c.count), [&](int i) {
+            const Range r = c.range(i);
             if (is_leaf(r)) {
                 boxes[i] = fill_leaf(r, child_block[i]);
             } else if (p.below[i]) {
@@ -207,6 +209,8 @@ private:
                 std::uint32_t node = child_at[i] + 1, block = child_block[i];
                 const Children& top = *next++;
                 boxes[i] = make_serial(top, child_at[i], node, block, next);
+                // Read for the last time: freed while the other subtrees are made.
+                std::vector<Children>().swap(p.recorded[i]);
             }
         });
         return write_node(c, at, child_at, child_block, boxes);
@@ -219,8 +223,8 @@ private:
                      std::uint32_t& next_block, const Children*& recorded) {
         std::array<std::uint32_t, N> child_at{}, child_block{};
         std::array<Aabb, N> boxes;
-        for (int i = 0; i < c.count; ++i) {
-            const Range r = c.range[i];
+        for (int i = 0; i < int(c.count); ++i) {
+            const Range r = c.range(i);
             child_block[i] = next_block;
             if (is_leaf(r)) {
                 boxes[i] = fill_leaf(r, next_block);
@@ -240,12 +244,12 @@ private:
                     const std::array<Aabb, N>& boxes) {
         Node node = Node::empty();
         Aabb box;
-        for (int i = 0; i < c.count; ++i) {
+        for (int i = 0; i < int(c.count); ++i) {
             node.set_box(i, boxes[i]);
             box.extend(boxes[i]);
-            if (is_leaf(c.range[i])) {
+            if (is_leaf(c.range(i))) {
                 node.child[i] = child_block[i];
-                node.blocks[i] = static_cast<std::uint16_t>(blocks_of(c.range[i]));
+                node.blocks[i] = static_cast<std::uint16_t>(blocks_of(c.range(i)));
             } else {
                 node.child[i] = child_at[i];
             }
@@ -271,8 +275,8 @@ private:
     }
 
     const TriangleSource& tris_;
-    const std::uint64_t* keys_;
-    std::uint32_t* codes_;
+    const std::uint32_t* codes_;
+    const std::uint32_t* ids_;
     std::uint32_t count_;
     std::uint32_t leaf_prims_;
     Node* nodes_ = nullptr;
@@ -281,17 +285,27 @@ private:
 
 }  // namespace
 
-WideBvh build_wide_morton(const TriangleSource& tris, const BoxCenterRef* refs,
-                          std::size_t count, const Aabb& center_box, std::uint32_t leaf_prims,
-                          MortonKeys& keys, WideBvh&& recycled) {
-    // The key's low half is the triangle's own index: refs are in increasing index order, so
-    // equal codes keep that order.
-    const std::uint64_t* sorted = morton_sorted_keys(
-        refs, count, center_box, keys, [refs](std::size_t i) { return refs[i].id; });
-    // The codes go into the sort's other buffer, no longer needed.
-    std::uint64_t* const other = sorted == keys.keys.get() ? keys.other.get() : keys.keys.get();
-    return WideMortonBuilder(tris, sorted, reinterpret_cast<std::uint32_t*>(other),
-                             static_cast<std::uint32_t>(count), leaf_prims)
+WideBvh build_wide_morton(const TriangleSource& tris, const std::uint64_t* sorted, MortonKeys& keys,
+                          std::size_t count, std::uint32_t leaf_prims, bool free_sorted,
+                          WideBvh&& recycled) {
+    // The sorted keys split into the sort's other buffer, no longer needed: the codes in its
+    // first half, half the bytes for the splits' searches to read, and the ids in its second.
+    std::unique_ptr<std::uint64_t[]>& sorted_buffer = sorted == keys.keys.get() ? keys.keys : keys.other;
+    std::unique_ptr<std::uint64_t[]>& other_buffer = sorted == keys.keys.get() ? keys.other : keys.keys;
+    auto* const codes = reinterpret_cast<std::uint32_t*>(other_buffer.get());
+    std::uint32_t* const ids = codes + count;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kMortonBlock),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                          for (std::size_t k = r.begin(); k < r.end(); ++k) {
+                              codes[k] = static_cast<std::uint32_t>(sorted[k] >> 32);
+                              ids[k] = static_cast<std::uint32_t>(sorted[k]);
+                          }
+                      });
+    if (free_sorted) {
+        sorted_buffer.reset();
+        keys.capacity = 0;
+    }
+    return WideMortonBuilder(tris, codes, ids, static_cast<std::uint32_t>(count), leaf_prims)
         .run(std::move(recycled));
 }
 

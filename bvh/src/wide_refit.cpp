@@ -1,7 +1,8 @@
 // Refitting the wide tree in place (Wald, Boulos and Shirley 2007, "Ray Tracing Deformable
 // Scenes Using Dynamic Bounding Volume Hierarchies"): every block re-reads its triangles from
 // the caller's source (a copy of its triangles, a soup's vertices, or vertices through index
-// triples), noting whether any corner differs from what the block held; every slot box is
+// triples), noting whether any corner differs from what the block held (a compact leaf, which
+// holds none, reads them for its box and then views the new source); every slot box is
 // recomputed bottom-up; the topology stays. A node's slots are refitted in slot order (as
 // parallel tasks near the root), then its boxes and sums are made in slot order; every box and
 // every partial SAH sum is one expression over its children's, so the schedule changes no bit.
@@ -48,10 +49,6 @@ public:
     /// Refits the tree; returns its SAH cost and whether any corner moved.
     WideRefit run() {
         if (wide_.empty()) return {};
-        if (wide_.compact) {
-            // Its leaves read the triangles it was built from, which must not move.
-            throw std::invalid_argument("refit_wide: a tree with compact leaves cannot be refitted");
-        }
         if (wide_.quantized) {
             // Its boxes were rounded against the exact ones it no longer holds.
             throw std::invalid_argument("refit_wide: a tree with quantised nodes cannot be refitted");
@@ -63,6 +60,8 @@ public:
                                         std::to_string(wide_.triangle_count));
         }
         wide_.root_box = root.box;
+        // Compact leaves read the triangles refitted to from now on (the caller keeps them).
+        if (wide_.compact) wide_.source = tris_;
         return WideRefit{detail::wide_sah_total(root.sah, root.box, costs_), root.moved};
     }
 
@@ -117,9 +116,10 @@ private:
     }
 
     Subtree refit_leaf(std::uint32_t index, std::uint32_t first, std::uint32_t count) {
-        if (first > wide_.blocks.size() || count > wide_.blocks.size() - first) {
+        if (first > wide_.block_count() || count > wide_.block_count() - first) {
             malformed(index, "has a leaf range outside the blocks");
         }
+        if (wide_.compact) return refit_compact_leaf(first, count);
         Subtree leaf;
         for (std::uint32_t b = first; b < first + count; ++b) {
             prefetch(b + kPrefetchBlocks);
@@ -149,6 +149,27 @@ private:
         return leaf;
     }
 
+    /// A compact leaf holds no corners: its box is made from the new triangles alone, and it
+    /// counts as moved, having nothing to compare them with (the triangles it read before may
+    /// be the very memory the caller rewrote).
+    Subtree refit_compact_leaf(std::uint32_t first, std::uint32_t count) {
+        Subtree leaf;
+        leaf.moved = true;
+        for (std::uint32_t b = first; b < first + count; ++b) {
+            prefetch(b + kPrefetchBlocks);
+            if (tris_.indexed()) prefetch_triples(b + 2 * kPrefetchBlocks);
+            for (const std::uint32_t prim : wide_.prim_blocks[b].prim) {
+                if (prim == kInvalidId) continue;
+                const Triangle t = triangle(prim);
+                leaf.box.extend(t.v0);
+                leaf.box.extend(t.v1);
+                leaf.box.extend(t.v2);
+                ++leaf.prims;
+            }
+        }
+        return leaf;
+    }
+
     Triangle triangle(std::uint32_t prim) const {
         if (prim >= tris_.size()) {
             throw std::invalid_argument("refit_wide: primitive " + std::to_string(prim) +
@@ -161,14 +182,16 @@ private:
     /// Asks for the corners the block's lanes read (an indexed source's triples were asked
     /// for earlier, prefetch_triples).
     void prefetch(std::uint32_t block) const {
-        if (block >= wide_.blocks.size()) return;
-        for (std::uint32_t prim : wide_.blocks[block].prim) {
+        if (block >= wide_.block_count()) return;
+        for (int lane = 0; lane < kBlockLanes; ++lane) {
+            const std::uint32_t prim = wide_.prim(block, lane);
             if (prim < tris_.size()) tris_.prefetch_corners(prim);
         }
     }
     void prefetch_triples(std::uint32_t block) const {
-        if (block >= wide_.blocks.size()) return;
-        for (std::uint32_t prim : wide_.blocks[block].prim) {
+        if (block >= wide_.block_count()) return;
+        for (int lane = 0; lane < kBlockLanes; ++lane) {
+            const std::uint32_t prim = wide_.prim(block, lane);
             if (prim < tris_.size()) tris_.prefetch(prim);
         }
     }

@@ -48,8 +48,11 @@ struct BuildConfig {
     BuildMethod method = BuildMethod::binned_sah;
     /// build_triangle_bvh with the wide tree only: compact leaves (WideBvhOf::compact), which
     /// hold the triangles' indices and read their corners from the build's TriangleSource at
-    /// the trace. That source, and what it views, must then outlive the tree unchanged. About
-    /// 40 bytes a triangle fewer; the same hits bit for bit. Such a tree cannot be refitted.
+    /// the trace. That source, and what it views, must then outlive the tree unchanged (or
+    /// until a refit hands the tree new triangles, which it views from then on). About 40
+    /// bytes a triangle fewer; the same hits bit for bit. Asked for memory first, so a Morton
+    /// build keeps no scratch between builds either (TriangleBvh::morton_scratch: 16 bytes a
+    /// triangle).
     bool compact_leaves = false;
     /// build_triangle_bvh with the wide tree only: quantised nodes (quantize_nodes,
     /// quantized_node.h), 128 bytes instead of 256 for the same tree, whose boxes hold the exact

@@ -41,7 +41,8 @@ struct TriangleBvh {
     /// refit (refit.h) checks them: it can only move boxes, never add a triangle, so one of
     /// them gaining area means the tree needs a rebuild.
     std::vector<std::uint32_t> skipped_ids;
-    /// The Morton builder's working storage (BuildMethod::morton only, else null), kept with
+    /// The Morton builder's working storage (BuildMethod::morton without compact leaves, which
+    /// put memory first, else null), kept with
     /// the tree so that rebuilding it every frame writes memory already faulted in: fresh
     /// buffers cost a page fault and the kernel's zeroing per 4 KB page, about a tenth of a
     /// million-triangle build.

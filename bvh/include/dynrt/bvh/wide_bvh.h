@@ -152,9 +152,9 @@ struct WideBvhOf {
     std::vector<PrimBlock, UninitializedAllocator<PrimBlock>> prim_blocks;
     /// Whether the leaves are compact (prim_blocks and source) rather than full blocks.
     bool compact = false;
-    /// With compact leaves, the triangles the tree was built from, viewed: whoever holds the
-    /// tree keeps them alive and unchanged while it is traced (a tree over moving triangles
-    /// is not compact: refit_wide refuses one).
+    /// With compact leaves, the triangles the tree was built or last refitted from, viewed:
+    /// whoever holds the tree keeps them alive and unchanged while it is traced (a tree over
+    /// moving triangles views the new ones at each refit, refit_wide).
     TriangleSource source;
     /// The root's box (the union of its children's), for callers that cull whole trees.
     Aabb root_box;
@@ -291,7 +291,8 @@ struct WideRefit {
     /// same order), gathered during the refit.
     double sah_cost = 0.0;
     /// Whether any corner read differs from what its block held, bit for bit: false means the
-    /// tree came out as it was.
+    /// tree came out as it was. Always true for compact leaves, which hold no corners to
+    /// compare with.
     bool moved = false;
 };
 
@@ -300,8 +301,11 @@ struct WideRefit {
 /// index triples): every block's vertices are re-read, every child box recomputed bottom-up
 /// (a leaf's as the union of its triangles' boxes, an inner node's as the union of its
 /// children's). The topology stays, and so does every triangle's block and lane
-/// (BlockTriangles still reads them). Parallel and deterministic. Throws
-/// std::invalid_argument for a prim index out of range or a malformed tree.
+/// (BlockTriangles still reads them). Compact leaves hold no vertices: their boxes are made
+/// from `tris`, which the tree views from then on (WideBvhOf::source; the caller keeps it
+/// alive and unchanged while the tree is traced). Parallel and deterministic. Throws
+/// std::invalid_argument for a prim index out of range or a malformed tree, or a tree with
+/// quantised nodes.
 template <int N>
 WideRefit refit_wide(WideBvhOf<N>& wide, const TriangleSource& tris, const SahCosts& costs);
 

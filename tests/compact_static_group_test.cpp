@@ -15,28 +15,17 @@
 #include "dynrt/scene/scene.h"
 
 #include "reference_shot.h"
+#include "same_frame.h"
 
 #include <gtest/gtest.h>
 
-#include <cstring>
 #include <string>
 #include <vector>
 
 namespace dynrt {
 namespace {
 
-template <class T>
-bool same_bytes(const std::vector<T>& a, const std::vector<T>& b) {
-    return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
-}
-
-void expect_same_frame(const RenderedFrame& a, const RenderedFrame& b) {
-    EXPECT_TRUE(same_bytes(a.color, b.color));
-    EXPECT_TRUE(same_bytes(a.depth, b.depth));
-    EXPECT_TRUE(same_bytes(a.object, b.object));
-    EXPECT_TRUE(same_bytes(a.prim, b.prim));
-    EXPECT_TRUE(same_bytes(a.normal, b.normal));
-}
+using test::expect_same_frame;
 
 TEST(CompactStaticGroup, DrawsEveryFrameAsFullBlocksDoAndHoldsFewerBytes) {
     // A plane and a sphere at the identity, nine transformed soups, and the bundled glTF
@@ -64,10 +53,9 @@ TEST(CompactStaticGroup, DrawsEveryFrameAsFullBlocksDoAndHoldsFewerBytes) {
                 Renderer compact_renderer(other);
                 for (int f : {0, 1, 5}) {
                     SCOPED_TRACE("frame " + std::to_string(f));
-                    RenderedFrame full, compact;
-                    full_renderer.render(scene, camera, f, full);
-                    compact_renderer.render(scene, camera, f, compact);
-                    expect_same_frame(compact, full);
+                    const test::FramePair frame = test::render_alike(full_renderer, compact_renderer, scene, camera, f);
+                    const RenderedFrame& full = frame.reference;
+                    const RenderedFrame& compact = frame.candidate;
                     EXPECT_GT(compact.stats.static_objects, 0u);
                     EXPECT_EQ(compact.stats.triangles, full.stats.triangles);
                     if (f != 0) continue;

@@ -8,6 +8,7 @@
 
 #include "moving_scene.h"
 #include "same_bits.h"
+#include "same_frame.h"
 #include "dynrt/anim/procedural_motion.h"
 #include "dynrt/engine/camera.h"
 #include "dynrt/engine/renderer.h"
@@ -34,16 +35,8 @@ using test::kRigid;
 using test::kWave;
 using test::moving_scene;
 
+using dynrt::test::expect_same_frame;
 using dynrt::test::same_bits;
-
-/// Every buffer of the two frames, bit for bit.
-void expect_same_frame(const RenderedFrame& a, const RenderedFrame& b) {
-    EXPECT_TRUE(same_bits(a.color, b.color)) << "colour";
-    EXPECT_TRUE(same_bits(a.depth, b.depth)) << "depth";
-    EXPECT_TRUE(same_bits(a.object, b.object)) << "object";
-    EXPECT_TRUE(same_bits(a.prim, b.prim)) << "prim";
-    EXPECT_TRUE(same_bits(a.normal, b.normal)) << "normal";
-}
 
 struct Totals {
     std::size_t reused = 0, traced = 0, shadows = 0, pixels = 0;

@@ -204,7 +204,7 @@ dynrt::RenderOptions render_options(const FrameArgs& args) {
     options.build.cost_ratio = args.cost_ratio;
     options.build.leaf_size_max = args.leaf_size;
     options.build.wide = args.bvh == "wide";
-    options.compact_static_group = args.leaves == "compact";
+    options.compact_static_group = options.compact_moving_objects = args.leaves == "compact";
     options.quantized_static_group = args.nodes == "quantized";
     if (!args.memory_budget.empty()) options.memory_budget = parse_memory_budget(args.memory_budget);
     options.build.method =

@@ -140,10 +140,10 @@ int main(int argc, char** argv) {
                         "triangles in SIMD blocks of 4) or binary; the same hits either way")
             ->check(CLI::IsMember({"wide", "binary"}))->capture_default_str();
         CLI::Option* leaves = cmd->add_option("--leaves", args.leaves,
-                        "Leaves of the static objects' tree: full (each triangle's corners copied "
-                        "into the tree's SIMD blocks) or compact (its index only, the corners read "
-                        "from the scene's vertices: about 40 bytes a triangle fewer); the same "
-                        "hits either way")
+                        "Leaves of the static and moving objects' trees: full (each triangle's "
+                        "corners copied into the tree's SIMD blocks) or compact (its index only, "
+                        "the corners read from the scene's or the posed vertices: about 40 bytes "
+                        "a triangle fewer); the same hits either way")
             ->check(CLI::IsMember({"full", "compact"}))->capture_default_str();
         CLI::Option* nodes = cmd->add_option("--nodes", args.nodes,
                         "Nodes of the static objects' tree: float (child boxes as floats, 256 "

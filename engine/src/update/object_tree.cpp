@@ -67,13 +67,17 @@ bool differs_from_tree(const ObjectTree& object, const bvh::TriangleSource& sour
 /// tree's blocks (4 bytes a triangle instead of 36). A mesh with index triples is gathered
 /// into a copy (ObjectTree::triangles) first: read through the triples, a triangle costs a
 /// second cache line (the triple, then its vertices), and refitting a 4M-triangle sphere
-/// through them took 1.7x as long as from the copy, more than the gather saved.
+/// through them took 1.7x as long as from the copy, more than the gather saved. With compact
+/// leaves (UpdatePolicy::compact_moving_objects) memory comes first: the mesh is read through
+/// its triples, no copy is made, and the tree keeps reading the posed vertices.
 class TreeUpdate {
 public:
     TreeUpdate(ObjectTree& object, const ObjectUpdate& update, const UpdatePolicy& policy,
                CostMemory& memory, UpdateStats& stats)
         : object_(object), update_(update), policy_(policy), memory_(memory), stats_(stats),
-          config_(update.config), soup_(object.reads_as_soup(update.mesh, update.positions)) {}
+          config_(update.config), soup_(object.reads_as_soup(update.mesh, update.positions)),
+          compact_(update.config.compact_leaves && update.config.wide &&
+                   update.config.leaf_size_max <= bvh::kWideLeafSizeMax) {}
 
     void rebuild();
     void refit();
@@ -86,8 +90,10 @@ private:
             update_.index, update_.name,
             choice.method == bvh::BuildMethod::morton ? "rebuild (fast)" : "rebuild (sah)", why});
     }
-    /// The triangles to build or refit from: the soup in place, or the copy gather() made.
+    /// The triangles to build or refit from: the soup in place, the posed vertices a compact
+    /// tree reads, or the copy gather() made.
     bvh::TriangleSource source() const {
+        if (compact_) return object_.moving_source(update_.mesh, update_.positions);
         if (soup_) return bvh::TriangleSource::soup(update_.positions.first(3 * update_.mesh.triangles.size()));
         return bvh::TriangleSource(object_.triangles);
     }
@@ -102,13 +108,16 @@ private:
         object_.built = false;
         build_tree(object_, source(), config_, memory_);
         // A soup's triangles are read back from the blocks from now on (but for a binary-only
-        // tree, which gathers a copy after all).
-        if (soup_) object_.read_triangles_from_blocks(source());
+        // tree, which gathers a copy after all), and compact leaves' from the posed vertices.
+        if (soup_ || compact_) object_.read_triangles_from_blocks(source());
         stats_.rebuild_ms += clock_.lap_ms();
     }
     /// Whether the positions moved any triangle from where the tree has it; a mesh with index
     /// triples gathers its copy on the way. Timed as update_ms, evaluating the scene.
     bool moved() {
+        // Compact leaves keep nothing to compare with: the tree they would be compared with
+        // reads the very vertices (in place) the pose may have rewritten.
+        if (compact_) return true;
         clock_.lap_ms();
         bool moved = false;
         if (soup_) {
@@ -131,6 +140,8 @@ private:
     bvh::BuildConfig config_;
     /// The mesh is a soup, read in place (else through a copy).
     const bool soup_;
+    /// The tree has or gets compact leaves (it reads the posed vertices; no copy).
+    const bool compact_;
     Stopwatch clock_;
 };
 
@@ -155,6 +166,13 @@ void TreeUpdate::rebuild() {
 }
 
 void TreeUpdate::refit() {
+    if (object_.built && !object_.tree.wide.empty() && object_.tree.wide.compact != compact_) {
+        // A tree of the other layout (UpdatePolicy::compact_moving_objects changed between
+        // updates) is replaced, as if there were none: a refit keeps the layout it has.
+        if (!soup_ && !compact_) moved();  // gathers the copy the build reads
+        build(RebuildReason::first_build);
+        return;
+    }
     // A soup finds out whether anything moved as it refits (RefitResult::moved), unless the
     // refit is skipped for a rebuild.
     if (!soup_ && !moved()) {
@@ -268,6 +286,17 @@ void ObjectTree::read_triangles_from_blocks(const bvh::TriangleSource& source) {
     // compact leaves would have read is no longer needed, once `source` (which may view it)
     // has been read.
     leaf_geometry = {};
+}
+
+bvh::TriangleSource ObjectTree::moving_source(const Mesh& mesh, std::span<const glm::vec3> positions) {
+    if (reads_as_soup(mesh, positions)) return bvh::TriangleSource::soup(positions.first(3 * mesh.triangles.size()));
+    leaf_geometry.scene_corners.assign(1, mesh.triangles);
+    leaf_geometry.meshes.assign(1, bvh::TriangleSource::IndexedMesh{positions, mesh.triangles});
+    return bvh::TriangleSource(std::span<const bvh::TriangleSource::IndexedMesh>(leaf_geometry.meshes));
+}
+
+void ObjectTree::view_moving_positions(const Mesh& mesh, std::span<const glm::vec3> positions) {
+    tree.wide.source = moving_source(mesh, positions);
 }
 
 bool ObjectTree::reads_as_soup(const Mesh& mesh, std::span<const glm::vec3> positions) {

@@ -64,7 +64,8 @@ struct ObjectTree {
     /// only its copies of the degenerate triangles the build left out may go stale, and no ray
     /// hits those.
     bvh::BlockTriangles in_blocks;
-    /// With compact leaves (tree.wide.compact): what they read.
+    /// With compact leaves (tree.wide.compact): what they read (the static group's meshes, or
+    /// a moving object's mesh over its posed vertices, moving_source).
     LeafGeometry leaf_geometry;
     /// The index triples last checked for a soup's (held, so that an edit of the scene's copies
     /// them rather than changing them under this record), and whether they were: a soup is
@@ -123,6 +124,13 @@ struct ObjectTree {
     /// Whether `mesh` is a soup over `positions` (TriangleSource::is_soup, checked again only
     /// when its index triples are another array than last time).
     bool reads_as_soup(const Mesh& mesh, std::span<const glm::vec3> positions);
+    /// What a deformable or exploding object's tree with compact leaves reads: `positions` (its
+    /// world-space vertices this update) in place as a soup, or through the mesh's index
+    /// triples, held in leaf_geometry.
+    bvh::TriangleSource moving_source(const Mesh& mesh, std::span<const glm::vec3> positions);
+    /// Points such a tree, kept as it is, at this update's `positions` (equal to the ones it
+    /// was built or refitted from, perhaps in other storage).
+    void view_moving_positions(const Mesh& mesh, std::span<const glm::vec3> positions);
 };
 
 /// Builds `object`'s tree from `source` (its own triangles, or the static group's meshes) with

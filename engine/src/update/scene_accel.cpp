@@ -267,9 +267,21 @@ void SceneAccel::update_object(std::size_t i, const Update& run, UpdateStats& st
     // Builds are binned SAH unless the method says otherwise: the fast method always uses the
     // Morton builder, the automatic one where it predicts a lower cost (object_tree.cpp).
     if (run.policy.method == UpdateMethod::fast) update.config.method = bvh::BuildMethod::morton;
-    // An object's tree may be refitted, which compact leaves and quantised nodes cannot be.
-    update.config.compact_leaves = false;
+    // An object's tree may be refitted, which quantised nodes cannot be. Compact leaves read
+    // the posed vertices of a deformable or exploding object (a rigid one's keep full blocks).
+    const bool moving = pose.motion_class == anim::MotionClass::deformable ||
+                        pose.motion_class == anim::MotionClass::exploding;
+    update.config.compact_leaves = moving && run.policy.compact_moving_objects;
     update.config.quantized_nodes = false;
+    // Built for memory too, as the static group is (lean_leaf_size_min).
+    if (update.config.compact_leaves) {
+        update.config.leaf_size_min = std::max(update.config.leaf_size_min, lean_leaf_size_min(mesh.triangles.size()));
+    }
+    // A kept compact tree views this update's vertices (the same values: nothing moved), so
+    // that it never outlives the storage it reads.
+    if (moving && object.tree.wide.compact && planned.action == TreeAction::keep) {
+        object.view_moving_positions(mesh, pose.world_positions);
+    }
     if (planned.action == TreeAction::rebuild || planned.action == TreeAction::refit) {
         // Read only when the triangles are (the library API checks a borrowed buffer as it
         // reads it). A rigid object's are in object space; the planner never refits one.

@@ -52,8 +52,9 @@ struct StaticLayoutChoice {
     std::string why;
 };
 
-/// The smallest binary leaf (bvh::BuildConfig::leaf_size_min) a static group of `triangles`
-/// with compact leaves is built with: the build's node arrays (binary nodes, then the
+/// The smallest binary leaf (bvh::BuildConfig::leaf_size_min) a tree of `triangles` with
+/// compact leaves (the static group's, or a moving object's, UpdatePolicy::
+/// compact_moving_objects) is built with: the build's node arrays (binary nodes, then the
 /// collapse's records of them) shrink with its leaves, and from a million triangles they are
 /// its peak.
 ///   - Below 2^20 triangles, 1: the finest tree (the build peaks at tens of MB; leaves of four

@@ -170,6 +170,8 @@ struct EngineOptions {
     /// corners from the meshes' vertices as rays reach them: about 40 bytes a triangle fewer,
     /// the same hits bit for bit, slower rays (1.08-1.16x on our scenes; `--leaves compact`,
     /// docs/animation.md "Compact leaves"). Borrowed static vertices are then copied once.
+    /// Moving meshes keep full blocks here (`--leaves compact` makes theirs compact too): their
+    /// vertices are borrowed for update() only, and compact leaves would read them later.
     bool compact_leaves = false;
     /// The static meshes' tree keeps its child boxes in 8-bit planes: 128 bytes a node instead
     /// of 256, the same hits bit for bit (`--nodes quantized`, docs/animation.md "Quantised

@@ -68,9 +68,18 @@ struct UpdatePolicy {
     /// leaves keep the triangles' indices and read the corners from the scene's own vertices,
     /// about 40 bytes a triangle fewer, the same images bit for bit (`--leaves compact`). From
     /// 2^20 triangles on it is built for memory too (bvh::BuildConfig::leaf_size_min 4, from
-    /// 2^23 8: each about half the build's nodes at its peak). Other trees, which may be
-    /// refitted, always keep full blocks (build.compact_leaves is ignored).
+    /// 2^23 8: each about half the build's nodes at its peak). Other trees keep full blocks
+    /// unless compact_moving_objects says otherwise (build.compact_leaves is ignored).
     bool compact_static_group = false;
+    /// Deformable and exploding objects' trees with compact leaves too (`--leaves compact`):
+    /// they read the posed vertices in place, about 40 bytes a triangle fewer, and a mesh with
+    /// index triples keeps no copy of its triangles (36 more); the same images bit for bit.
+    /// Their ObjectState::world_positions must then stay valid and unchanged until the next
+    /// update, as world_normals must (the Renderer's posed scene does; the library API does
+    /// not set it). A refit of such a tree cannot tell whether any vertex moved (the leaves
+    /// keep none to compare with), so it counts as a refit where full blocks would find nothing
+    /// moved and skip the object. Rigid objects' trees keep full blocks.
+    bool compact_moving_objects = false;
     /// The static group's tree with quantised nodes (bvh::BuildConfig::quantized_nodes): its
     /// child boxes in 8-bit planes, 128 bytes a node instead of 256, the same images bit for
     /// bit (`--nodes quantized`). Other trees, which may be refitted, keep float nodes.

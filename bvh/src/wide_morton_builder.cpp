@@ -72,8 +72,7 @@ static_assert(sizeof(Children) == 4 * (N + 2));
 
 class WideMortonBuilder {
 public:
-    /// `keys` sorted, `codes` room for their codes.
-    /// `codes` and `ids`: the sorted keys' halves (split_keys).
+    /// `codes` and `ids`: the sorted keys' halves (build_wide_morton splits them).
     WideMortonBuilder(const TriangleSource& tris, const std::uint32_t* codes, const std::uint32_t* ids,
                       std::uint32_t count, std::uint32_t leaf_prims)
         : tris_(tris), codes_(codes), ids_(ids), count_(count), leaf_prims_(leaf_prims) {}

@@ -7,6 +7,7 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <pthread.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -191,7 +192,18 @@ private:
             shell_quote(partial_.string());
         // An ffmpeg that exits early must make fwrite fail (EPIPE), not kill dynrt (SIGPIPE).
         previous_sigpipe_ = std::signal(SIGPIPE, SIG_IGN);
+        // setsid takes ffmpeg out of dynrt's process group only once it runs: a signal to the
+        // group between the fork and then killed the shell, and the stopped render reported a
+        // failed video instead of its stop. The child starts with SIGINT and SIGTERM blocked
+        // (a mask survives fork and exec), so only dynrt answers them; dynrt's own mask is
+        // put back at once, and a signal that came meanwhile is delivered to it then.
+        sigset_t stops, previous;
+        sigemptyset(&stops);
+        sigaddset(&stops, SIGINT);
+        sigaddset(&stops, SIGTERM);
+        pthread_sigmask(SIG_BLOCK, &stops, &previous);
         pipe_ = popen(command.c_str(), "w");
+        pthread_sigmask(SIG_SETMASK, &previous, nullptr);
         if (!pipe_) throw std::runtime_error(path_.string() + ": cannot start ffmpeg");
     }
 

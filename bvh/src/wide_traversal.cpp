@@ -12,6 +12,8 @@
 #include "watertight_block.h"
 #include "wide_simd.h"
 
+#include <algorithm>
+
 namespace dynrt::bvh {
 namespace {
 
@@ -168,11 +170,19 @@ bool traverse(const WideBvhOf<N>& wide, const Node* nodes, ChildRef current, boo
             }
         } else {
             if constexpr (kCount) ++stats->leaves_visited;
-            // A compact leaf's blocks are gathered here, one at a time, as they are tested.
-            wide.prefetch_leaf(current.child, current.blocks);
-            TriangleBlock gathered;
-            for (std::uint32_t b = current.child; b != current.child + current.blocks; ++b) {
-                const TriangleBlock* block = &wide.block(b, gathered);
+            // A compact leaf's blocks are gathered here, kGatherBlocks at a time, as they are
+            // tested.
+            TriangleBlock gathered[WideBvhOf<N>::kGatherBlocks];
+            const std::uint32_t end = current.child + current.blocks;
+            for (std::uint32_t b = current.child; b != end; ++b) {
+                const TriangleBlock* block;
+                if (wide.compact) {
+                    const std::uint32_t part = (b - current.child) % WideBvhOf<N>::kGatherBlocks;
+                    if (part == 0) wide.gather_blocks(b, std::min(WideBvhOf<N>::kGatherBlocks, end - b), gathered);
+                    block = &gathered[part];
+                } else {
+                    block = &wide.blocks[b];
+                }
                 if constexpr (kCount) {
                     for (int lane = 0; lane < kBlockLanes; ++lane) {
                         stats->triangles_tested += block->prim[lane] != kInvalidId ? 1 : 0;

@@ -32,6 +32,7 @@
 #include "packet_kernels.h"
 #include "range_tracer.h"
 
+#include <algorithm>
 #include <bit>
 #include <cstdint>
 #include <type_traits>
@@ -124,12 +125,24 @@ public:
             if (n == 0) continue;
             const std::uint32_t slots = below.blocks * bvh::kBlockLanes;
             if (wide_.compact) {
-                // The corners read through the source; an unused lane's are not read at all.
-                wide_.prefetch_leaf(below.child, below.blocks);
+                // The corners read through the source, kGatherBlocks blocks at a time as the
+                // slots are asked for in order.
+                constexpr std::uint32_t kPart = bvh::TriangleSource::kGatherMax;
+                bvh::Triangle part[kPart];
+                std::uint32_t part_read = ~0u;  // which kPart slots `part` holds
                 const bvh::PrimBlock* blocks = wide_.prim_blocks.data() + below.child;
                 this->template intersect_leaf<TM>(n, slots, [&](std::uint32_t k, bvh::Triangle& tri) {
                     const std::uint32_t prim = blocks[k / bvh::kBlockLanes].prim[k % bvh::kBlockLanes];
-                    if (prim != bvh::kInvalidId) tri = wide_.source[prim];
+                    if (prim == bvh::kInvalidId) return prim;
+                    if (k / kPart != part_read) {
+                        part_read = k / kPart;
+                        const std::uint32_t first_block = part_read * (kPart / bvh::kBlockLanes);
+                        wide_.gather_leaf(below.child + first_block,
+                                          std::min(kPart / bvh::kBlockLanes, below.blocks - first_block),
+                                          [&](std::uint32_t j, const glm::vec3& v0, const glm::vec3& v1,
+                                              const glm::vec3& v2) { part[j] = bvh::Triangle{v0, v1, v2}; });
+                    }
+                    tri = part[k % kPart];
                     return prim;
                 });
             } else {

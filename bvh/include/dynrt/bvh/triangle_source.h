@@ -69,6 +69,19 @@ public:
         return Triangle{m.positions[v.x], m.positions[v.y], m.positions[v.z]};
     }
 
+    /// Most triangles gather() reads at once.
+    static constexpr int kGatherMax = 16;
+
+    /// Reads triangles ids[0], ..., ids[n - 1] (n <= kGatherMax; each below size(), or
+    /// kInvalidId to pass over), the same floats operator[] reads, handing triangle ids[j]'s
+    /// corners to `corners(j, v0, v1, v2)`. Each stage's loads are all issued before the next
+    /// stage waits on them: every index triple is asked for, then each is read and its
+    /// vertices asked for, then the vertices are read, so a trace's misses at a leaf overlap
+    /// instead of following one another. Each triangle's mesh is found once, trying the last
+    /// one found first (a leaf's triangles mostly share a mesh).
+    template <class Corners>
+    void gather(const std::uint32_t* ids, int n, Corners&& corners) const;
+
     /// Asks the cache for the corners operator[](i) reads: a triangle's lines, or an indexed
     /// mesh's three vertices (reading the index triple, which should be cached by then, or
     /// the wait is the caller's).
@@ -137,6 +150,50 @@ inline TriangleSource::TriangleSource(std::span<const IndexedMesh> meshes) : mes
         const std::size_t i = b << kBucketShift;
         while (k + 1 < first_.size() && first_[k + 1] <= i) ++k;
         bucket_mesh_[b] = static_cast<std::uint32_t>(k);
+    }
+}
+
+template <class Corners>
+inline void TriangleSource::gather(const std::uint32_t* ids, int n, Corners&& corners) const {
+    constexpr std::uint32_t kNone = 0xffffffffu;  // bvh::kInvalidId
+    if (meshes_.empty()) {
+        for (int j = 0; j < n; ++j) {
+            if (ids[j] != kNone) prefetch_corners(ids[j]);
+        }
+        for (int j = 0; j < n; ++j) {
+            if (ids[j] == kNone) continue;
+            const Triangle t = (*this)[ids[j]];
+            corners(j, t.v0, t.v1, t.v2);
+        }
+        return;
+    }
+    const glm::uvec3* triple[kGatherMax];
+    const glm::vec3* positions[kGatherMax];
+    const IndexedMesh* mesh = nullptr;
+    std::size_t lo = 0, count = 0;  // the mesh found last: triangles [lo, lo + count)
+    for (int j = 0; j < n; ++j) {
+        const std::size_t i = ids[j];
+        if (i == kNone) continue;
+        if (i - lo >= count) {
+            const std::size_t k = mesh_of(i);
+            mesh = &meshes_[k];
+            lo = first_[k];
+            count = mesh->triangles.size();
+        }
+        triple[j] = mesh->triangles.data() + (i - lo);
+        positions[j] = mesh->positions.data();
+        prefetch_line(triple[j]);
+    }
+    glm::uvec3 v[kGatherMax];
+    for (int j = 0; j < n; ++j) {
+        if (ids[j] == kNone) continue;
+        v[j] = *triple[j];
+        prefetch_line(positions[j] + v[j].x);
+        prefetch_line(positions[j] + v[j].y);
+        prefetch_line(positions[j] + v[j].z);
+    }
+    for (int j = 0; j < n; ++j) {
+        if (ids[j] != kNone) corners(j, positions[j][v[j].x], positions[j][v[j].y], positions[j][v[j].z]);
     }
 }
 

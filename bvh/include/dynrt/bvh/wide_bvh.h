@@ -183,50 +183,53 @@ struct WideBvhOf {
     std::uint32_t prim(std::size_t b, int lane) const {
         return compact ? prim_blocks[b].prim[lane] : blocks[b].prim[lane];
     }
-    /// Block `b` as the triangle test reads it: the stored block, or with compact leaves its
-    /// corners gathered into `scratch` (the same floats, so the same hits bit for bit).
-    const TriangleBlock& block(std::size_t b, TriangleBlock& scratch) const {
-        if (!compact) return blocks[b];
-        gather_block(prim_blocks[b], scratch);
-        return scratch;
-    }
-    /// With compact leaves, asks the cache for the corners of the leaf of blocks [first,
-    /// first + count) before they are gathered: every lane's index triple first, then every
-    /// lane's vertices, so that the leaf's misses overlap instead of following one another
-    /// (soup:4000000 at 512x512, whose triangles lie in random order: primary rays 77 -> 66 ms;
-    /// no change measured on scenes that fit the caches).
-    void prefetch_leaf(std::uint32_t first, std::uint32_t count) const {
-        if (!compact) return;
-        const PrimBlock* leaf = prim_blocks.data() + first;
+    /// Most blocks of a compact leaf gathered at once (gather_leaf, gather_blocks).
+    static constexpr std::uint32_t kGatherBlocks = TriangleSource::kGatherMax / kBlockLanes;
+    /// With compact leaves, the triangles of blocks [first, first + count) (count <=
+    /// kGatherBlocks) read through the source, block first + b's lane l handed to
+    /// `corners(b * kBlockLanes + l, v0, v1, v2)` (unused lanes are passed over). The source
+    /// reads them in stages (TriangleSource::gather), so the misses of a leaf overlap
+    /// (soup:4000000 at 512x512, whose triangles lie in random order: primary rays 77 -> 66 ms
+    /// when that was first done, by prefetching), and finds each triangle's mesh once.
+    template <class Corners>
+    void gather_leaf(std::uint32_t first, std::uint32_t count, Corners&& corners) const {
+        std::uint32_t ids[TriangleSource::kGatherMax];
         for (std::uint32_t b = 0; b < count; ++b) {
-            for (const std::uint32_t prim : leaf[b].prim) {
-                if (prim != kInvalidId) source.prefetch(prim);
+            for (int lane = 0; lane < kBlockLanes; ++lane) {
+                ids[b * kBlockLanes + lane] = prim_blocks[first + b].prim[lane];
             }
         }
+        source.gather(ids, int(count * kBlockLanes), corners);
+    }
+    /// gather_leaf into blocks as the triangle test reads them: block first + b into out[b],
+    /// its prims with it, an unused lane repeating lane 0's corners as a full block's does (the
+    /// same floats as full blocks', so the same hits bit for bit).
+    void gather_blocks(std::uint32_t first, std::uint32_t count, TriangleBlock* out) const {
+        gather_leaf(first, count, [&](std::uint32_t k, const glm::vec3& v0, const glm::vec3& v1, const glm::vec3& v2) {
+            TriangleBlock& block = out[k / kBlockLanes];
+            const std::uint32_t lane = k % kBlockLanes;
+            for (int axis = 0; axis < 3; ++axis) {
+                block.v0[axis][lane] = v0[axis];
+                block.v1[axis][lane] = v1[axis];
+                block.v2[axis][lane] = v2[axis];
+            }
+        });
         for (std::uint32_t b = 0; b < count; ++b) {
-            for (const std::uint32_t prim : leaf[b].prim) {
-                if (prim != kInvalidId) source.prefetch_corners(prim);
+            TriangleBlock& block = out[b];
+            for (int lane = 0; lane < kBlockLanes; ++lane) {
+                block.prim[lane] = prim_blocks[first + b].prim[lane];
+                if (block.prim[lane] != kInvalidId) continue;
+                for (int axis = 0; axis < 3; ++axis) {
+                    block.v0[axis][lane] = block.v0[axis][0];
+                    block.v1[axis][lane] = block.v1[axis][0];
+                    block.v2[axis][lane] = block.v2[axis][0];
+                }
             }
         }
     }
     /// Lane `lane`'s triangle of block `b` (a used lane).
     Triangle triangle(std::size_t b, int lane) const {
         return compact ? source[prim_blocks[b].prim[lane]] : blocks[b].triangle(lane);
-    }
-
-private:
-    void gather_block(const PrimBlock& p, TriangleBlock& out) const {
-        for (int lane = 0; lane < kBlockLanes; ++lane) {
-            const std::uint32_t prim = p.prim[lane];
-            out.prim[lane] = prim;
-            // An unused lane repeats lane 0, as a full block's does (the test masks it out).
-            const Triangle t = source[prim != kInvalidId ? prim : p.prim[0]];
-            for (int axis = 0; axis < 3; ++axis) {
-                out.v0[axis][lane] = t.v0[axis];
-                out.v1[axis][lane] = t.v1[axis];
-                out.v2[axis][lane] = t.v2[axis];
-            }
-        }
     }
 };
 

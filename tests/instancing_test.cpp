@@ -146,6 +146,54 @@ TEST(GltfInstancing, NodesThatReferenceOneMeshShareItsArrays) {
     expect_matches_reference(scene, options, 0, render(scene, options, 0));
 }
 
+TEST(GltfInstancing, MeshesThatReadTheSameAccessorsShareTheirArrays) {
+    // Three glTF meshes over one quad's accessors (as MetalRoughSpheres' 102 meshes are one
+    // sphere's): two read the same positions, normals and indices; the third the same
+    // positions with other indices; a fourth morphs the same positions by a target.
+    test::GltfTestFile file;
+    const int quad = file.add_mesh({0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0});
+    nlohmann::json& primitive = file.doc()["meshes"][quad]["primitives"][0];
+    primitive["indices"] =
+        file.add_accessor(std::vector<std::uint32_t>{0, 1, 2, 1, 3, 2}, "SCALAR", test::kGltfUnsignedInt);
+    primitive["attributes"]["NORMAL"] = file.add_floats({0, 0, 2, 0, 0, 2, 0, 0, 2, 0, 0, 2}, "VEC3");
+    const nlohmann::json same = file.doc()["meshes"][quad];
+    file.doc()["meshes"].push_back(same);
+    nlohmann::json other_indices = same;
+    other_indices["primitives"][0]["indices"] =
+        file.add_accessor(std::vector<std::uint32_t>{0, 1, 3}, "SCALAR", test::kGltfUnsignedInt);
+    file.doc()["meshes"].push_back(other_indices);
+    nlohmann::json morphed = same;
+    morphed["primitives"][0]["targets"] = nlohmann::json::array(
+        {{{"POSITION", file.add_floats({0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1}, "VEC3")}}});
+    morphed["weights"] = {1.0};
+    file.doc()["meshes"].push_back(morphed);
+    for (int m = 0; m < 4; ++m) {
+        file.add_node({{"name", "n" + std::to_string(m)}, {"mesh", m}, {"translation", {2.0 * m, 0.0, 0.0}}});
+    }
+    const Scene scene = load_scene(file.write("instancing_shared_accessors.gltf").string());
+    ASSERT_EQ(scene.objects.size(), 4u);
+    const Mesh& first = scene.objects[0].mesh;
+    const Mesh& second = scene.objects[1].mesh;
+    EXPECT_TRUE(second.positions.shares_storage_with(first.positions));
+    EXPECT_TRUE(second.triangles.shares_storage_with(first.triangles));
+    EXPECT_TRUE(second.normals.shares_storage_with(first.normals));
+    // Normalised once, as read.
+    EXPECT_EQ(first.normals[0], glm::vec3(0, 0, 1));
+    const Mesh& third = scene.objects[2].mesh;
+    EXPECT_TRUE(third.positions.shares_storage_with(first.positions));
+    EXPECT_FALSE(third.triangles.shares_storage_with(first.triangles));
+    EXPECT_EQ(third.triangles.size(), 1u);
+    // The morphed mesh's vertices are its own, and the others' are left as they were.
+    const Mesh& fourth = scene.objects[3].mesh;
+    EXPECT_FALSE(fourth.positions.shares_storage_with(first.positions));
+    EXPECT_EQ(fourth.positions[0], glm::vec3(0, 0, 1));
+    EXPECT_EQ(first.positions[0], glm::vec3(0, 0, 0));
+    RenderOptions options;
+    options.width = 48;
+    options.height = 32;
+    expect_matches_reference(scene, options, 0, render(scene, options, 0));
+}
+
 TEST(FileCopies, ShareTheFilesMeshesOnAGrid) {
     const std::filesystem::path obj = std::filesystem::path(::testing::TempDir()) / "instancing_two_quads.obj";
     {

@@ -416,10 +416,14 @@ private:
     /// `object`'s mesh.
     void read_mesh(const tinygltf::Primitive& primitive, int position_accessor, TriangleTopology topology,
                    const std::string& name, const PrimitiveOwner& owner, Object& object) {
-        object.mesh.positions = read_positions(model_, position_accessor);
+        object.mesh.positions = read_shared(positions_read_, {position_accessor, 0},
+                                            [&] { return read_positions(model_, position_accessor); });
+        const std::size_t vertices = object.mesh.positions.size();
         if (primitive.indices >= 0 && topology == TriangleTopology::list) {
             // The common case read straight into triangles: a big mesh's indices held once.
-            object.mesh.triangles = read_index_triples(model_, primitive.indices, object.mesh.positions.size());
+            object.mesh.triangles = read_shared(triples_read_, {primitive.indices, vertices}, [&] {
+                return read_index_triples(model_, primitive.indices, vertices);
+            });
         } else {
             std::vector<std::uint32_t> indices;
             if (primitive.indices >= 0) {
@@ -433,8 +437,11 @@ private:
         // NORMAL (glTF 2.0 section 3.7.2.1): unit vectors, renormalised as read (quantised
         // ones are not exactly unit). Without it add_missing_normals computes them below.
         if (const auto normal = primitive.attributes.find("NORMAL"); normal != primitive.attributes.end()) {
-            object.mesh.normals = read_vec3_attribute(model_, normal->second, object.mesh.positions.size(), "NORMAL");
-            for (glm::vec3& n : object.mesh.normals.edit()) n = normalize_or_zero(n);
+            object.mesh.normals = read_shared(normals_read_, {normal->second, vertices}, [&] {
+                std::vector<glm::vec3> normals = read_vec3_attribute(model_, normal->second, vertices, "NORMAL");
+                for (glm::vec3& n : normals) n = normalize_or_zero(n);
+                return normals;
+            });
         }
         add_morph_targets(primitive, owner, object);
         read_texcoords(primitive, name, object);
@@ -608,6 +615,23 @@ private:
     /// The mesh of every primitive read so far without morph targets: a later node that
     /// references the same glTF mesh shares its arrays.
     std::unordered_map<const tinygltf::Primitive*, Mesh> meshes_read_;
+    /// Arrays read so far, by accessor and the vertex count they were checked against:
+    /// primitives of different glTF meshes that read the same accessors share them too
+    /// (MetalRoughSpheresNoTextures' 102 meshes are one sphere's vertices and indices), so
+    /// they are held once and a trace reading them through compact leaves finds them cached.
+    using AccessorKey = std::pair<int, std::size_t>;
+    std::map<AccessorKey, SharedArray<glm::vec3>> positions_read_, normals_read_;
+    std::map<AccessorKey, SharedArray<glm::uvec3>> triples_read_;
+
+    /// The array `read` makes of an accessor, read once per `key`.
+    template <class T, class Read>
+    static SharedArray<T> read_shared(std::map<AccessorKey, SharedArray<T>>& arrays, AccessorKey key,
+                                      Read&& read) {
+        if (const auto found = arrays.find(key); found != arrays.end()) return found->second;
+        SharedArray<T> array(read());
+        arrays.emplace(key, array);
+        return array;
+    }
 };
 
 }  // namespace

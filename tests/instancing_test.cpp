@@ -147,9 +147,9 @@ TEST(GltfInstancing, NodesThatReferenceOneMeshShareItsArrays) {
 }
 
 TEST(GltfInstancing, MeshesThatReadTheSameAccessorsShareTheirArrays) {
-    // Three glTF meshes over one quad's accessors (as MetalRoughSpheres' 102 meshes are one
-    // sphere's): two read the same positions, normals and indices; the third the same
-    // positions with other indices; a fourth morphs the same positions by a target.
+    // Four glTF meshes over one quad's accessors (as MetalRoughSpheres' 102 meshes are one
+    // sphere's): the first two read the same positions, normals and indices; the third the
+    // same positions with other indices; the fourth morphs the same positions by a target.
     test::GltfTestFile file;
     const int quad = file.add_mesh({0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0});
     nlohmann::json& primitive = file.doc()["meshes"][quad]["primitives"][0];

@@ -136,9 +136,10 @@ public:
                     if (prim == bvh::kInvalidId) return prim;
                     if (k / kPart != part_read) {
                         part_read = k / kPart;
-                        const std::uint32_t first_block = part_read * (kPart / bvh::kBlockLanes);
+                        constexpr std::uint32_t kPartBlocks = bvh::WideBvh::kGatherBlocks;
+                        const std::uint32_t first_block = part_read * kPartBlocks;
                         wide_.gather_leaf(below.child + first_block,
-                                          std::min(kPart / bvh::kBlockLanes, below.blocks - first_block),
+                                          std::min(kPartBlocks, below.blocks - first_block),
                                           [&](std::uint32_t j, const glm::vec3& v0, const glm::vec3& v1,
                                               const glm::vec3& v2) { part[j] = bvh::Triangle{v0, v1, v2}; });
                     }

@@ -7,6 +7,7 @@
 // bit for bit.
 
 #include "dynrt/bvh/prefetch.h"
+#include "dynrt/bvh/ray.h"
 #include "dynrt/bvh/triangle.h"
 
 #include <glm/vec3.hpp>
@@ -155,13 +156,12 @@ inline TriangleSource::TriangleSource(std::span<const IndexedMesh> meshes) : mes
 
 template <class Corners>
 inline void TriangleSource::gather(const std::uint32_t* ids, int n, Corners&& corners) const {
-    constexpr std::uint32_t kNone = 0xffffffffu;  // bvh::kInvalidId
     if (meshes_.empty()) {
         for (int j = 0; j < n; ++j) {
-            if (ids[j] != kNone) prefetch_corners(ids[j]);
+            if (ids[j] != kInvalidId) prefetch_corners(ids[j]);
         }
         for (int j = 0; j < n; ++j) {
-            if (ids[j] == kNone) continue;
+            if (ids[j] == kInvalidId) continue;
             const Triangle t = (*this)[ids[j]];
             corners(j, t.v0, t.v1, t.v2);
         }
@@ -173,7 +173,7 @@ inline void TriangleSource::gather(const std::uint32_t* ids, int n, Corners&& co
     std::size_t lo = 0, count = 0;  // the mesh found last: triangles [lo, lo + count)
     for (int j = 0; j < n; ++j) {
         const std::size_t i = ids[j];
-        if (i == kNone) continue;
+        if (i == kInvalidId) continue;
         if (i - lo >= count) {
             const std::size_t k = mesh_of(i);
             mesh = &meshes_[k];
@@ -186,14 +186,14 @@ inline void TriangleSource::gather(const std::uint32_t* ids, int n, Corners&& co
     }
     glm::uvec3 v[kGatherMax];
     for (int j = 0; j < n; ++j) {
-        if (ids[j] == kNone) continue;
+        if (ids[j] == kInvalidId) continue;
         v[j] = *triple[j];
         prefetch_line(positions[j] + v[j].x);
         prefetch_line(positions[j] + v[j].y);
         prefetch_line(positions[j] + v[j].z);
     }
     for (int j = 0; j < n; ++j) {
-        if (ids[j] != kNone) corners(j, positions[j][v[j].x], positions[j][v[j].y], positions[j][v[j].z]);
+        if (ids[j] != kInvalidId) corners(j, positions[j][v[j].x], positions[j][v[j].y], positions[j][v[j].z]);
     }
 }
 
